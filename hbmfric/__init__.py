@@ -1,0 +1,30 @@
+"""hbmfric: harmonic balance and arc-length continuation for structures with
+dry-friction contacts, with Numba-compiled AFT kernels.
+
+>>> import hbmfric as hf
+>>> law = hf.Jenkins(stiffness=3.0, slip_force=1.0)
+>>> osc = hf.Oscillator(mass=1.0, damping=0.02, stiffness=1.0, contact=law)
+>>> branch = hf.frf(osc, force=0.5, omega=(0.5, 3.0), harmonics=15)
+"""
+
+from . import validation
+from .api import frf, periodic_solution
+from .continuation import ContinuationOptions
+from .laws import ContactLaw, Cubic, Jenkins
+from .results import Branch, PeriodicSolution
+from .systems import Oscillator
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "Branch",
+    "ContactLaw",
+    "ContinuationOptions",
+    "Cubic",
+    "Jenkins",
+    "Oscillator",
+    "PeriodicSolution",
+    "frf",
+    "periodic_solution",
+    "validation",
+]

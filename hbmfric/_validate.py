@@ -1,0 +1,46 @@
+"""Input checks for the public edge: clear ``ValueError`` messages that name
+the parameter and the allowed range. Kernels trust their input."""
+
+import math
+
+import numpy as np
+
+
+def finite_float(name: str, value, *, low=None, high=None, low_open=False) -> float:
+    """Return ``value`` as a finite float, checking ``low <= value <= high``.
+
+    With ``low_open=True`` the lower bound is strict (``value > low``).
+    """
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a real number, got {value!r}") from None
+    if not math.isfinite(x):
+        raise ValueError(f"{name} must be finite, got {x}")
+    if low is not None:
+        if low_open and not x > low:
+            raise ValueError(f"{name} must be > {low}, got {x}")
+        if not low_open and not x >= low:
+            raise ValueError(f"{name} must be >= {low}, got {x}")
+    if high is not None and not x <= high:
+        raise ValueError(f"{name} must be <= {high}, got {x}")
+    return x
+
+
+def positive_int(name: str, value, *, low: int = 1) -> int:
+    """Return ``value`` as an int ``>= low``."""
+    if isinstance(value, bool) or not isinstance(value, int | np.integer):
+        raise ValueError(f"{name} must be an integer >= {low}, got {value!r}")
+    if value < low:
+        raise ValueError(f"{name} must be an integer >= {low}, got {value}")
+    return int(value)
+
+
+def finite_array(name: str, value, *, ndim: int = 1) -> np.ndarray:
+    """Return ``value`` as a C-contiguous float64 array with no NaN or inf."""
+    a = np.ascontiguousarray(value, dtype=np.float64)
+    if a.ndim != ndim:
+        raise ValueError(f"{name} must be a {ndim}-d array, got shape {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must contain only finite values (no NaN or inf)")
+    return a

@@ -1,0 +1,222 @@
+"""Public entry points: ``frf`` (a continuation run) and ``periodic_solution``
+(Newton at one frequency)."""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+
+import numpy as np
+
+from ._validate import finite_float
+from .continuation import Continuation, ContinuationOptions
+from .hbm import HBMProblem
+from .kernels import newton as _newton
+from .kernels.aft import STATE_NAMES
+from .results import Branch, PeriodicSolution
+
+
+def _omega_range(omega) -> tuple[float, float]:
+    try:
+        lo, hi = omega
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"omega must be a pair (low, high) in rad/s, got {omega!r}"
+        ) from None
+    lo = finite_float("omega[0]", lo, low=0.0, low_open=True)
+    hi = finite_float("omega[1]", hi, low=0.0, low_open=True)
+    if not hi > lo:
+        raise ValueError(
+            f"omega range must be increasing and non-empty (low < high), got "
+            f"({lo}, {hi}); use sweep='down' to trace from high to low"
+        )
+    return lo, hi
+
+
+def _describe(system, problem: HBMProblem, extra: dict) -> dict:
+    def plain(obj):
+        if dataclasses.is_dataclass(obj):
+            d = {"type": type(obj).__name__}
+            for f in dataclasses.fields(obj):
+                d[f.name] = plain(getattr(obj, f.name))
+            return d
+        if isinstance(obj, float | int | str | bool) or obj is None:
+            return obj
+        return repr(obj)
+
+    info = {
+        "system": plain(system),
+        "harmonics": problem.harmonics,
+        "odd_only": problem.odd,
+        "n_time": problem.n_time,
+        "aft": problem.aft,
+    }
+    info.update(extra)
+    return info
+
+
+def frf(
+    system,
+    force: float,
+    omega: tuple[float, float],
+    harmonics: int = 15,
+    *,
+    n_time: int | None = None,
+    symmetry: bool | None = None,
+    aft: str = "auto",
+    sweep: str = "up",
+    options: ContinuationOptions | None = None,
+    amplitude_scale: float | None = None,
+    **option_overrides,
+) -> Branch:
+    """Trace the forced response (FRF) of ``system`` over a frequency range.
+
+    Parameters
+    ----------
+    system : Oscillator or compatible system
+    force : float
+        Amplitude ``F`` of the forcing ``F cos Ωt``, N.
+    omega : (float, float)
+        Frequency range ``(low, high)``, rad/s, ``0 < low < high``.
+    harmonics : int, default 15
+        Highest harmonic ``H``.
+    n_time : int, optional
+        AFT samples per period (> 2 H); default depends on the AFT scheme.
+    symmetry : bool, optional
+        Odd harmonics only; default: whenever the system is symmetric.
+    aft : {"auto", "events", "samples"}
+        AFT scheme (see :mod:`hbmfric.kernels.aft`).
+    sweep : {"up", "down"}
+        Start at the low end and sweep up, or at the high end and sweep down.
+    options : ContinuationOptions, optional
+    amplitude_scale : float, optional
+        Displacement scale of the arc length, m.
+    **option_overrides
+        Fields of :class:`ContinuationOptions` to override.
+
+    Returns
+    -------
+    Branch
+        Points in path order; ``stop_reason`` says why the run ended. A run
+        that cannot go on returns the points so far, never NaN points.
+    """
+    lo, hi = _omega_range(omega)
+    if sweep not in ("up", "down"):
+        raise ValueError(f"sweep must be 'up' or 'down', got {sweep!r}")
+    options = options or ContinuationOptions()
+    if option_overrides:
+        options = dataclasses.replace(options, **option_overrides)
+    problem = HBMProblem(system, force, harmonics, n_time, symmetry, aft)
+    if amplitude_scale is not None:
+        amplitude_scale = finite_float(
+            "amplitude_scale", amplitude_scale, low=0.0, low_open=True
+        )
+    cont = Continuation(
+        problem, (lo, hi), 1 if sweep == "up" else -1, options, amplitude_scale
+    )
+    state, elapsed = cont.run()
+    n = problem.n_unknowns
+    pts = np.array(state.points).reshape(-1, n + 1)
+    return Branch(
+        omega=pts[:, n].copy(),
+        coefficients=pts[:, :n].reshape(-1, problem.n_dof, problem.n_coef).copy(),
+        harmonic_numbers=problem.harmonic_numbers.copy(),
+        force=problem.force,
+        folds=np.array(state.folds, dtype=np.int64),
+        stop_reason=state.stop_reason,
+        n_steps=state.n_steps,
+        n_rejected=state.n_rejected,
+        newton_iterations=state.n_newton,
+        elapsed=elapsed,
+        info=_describe(system, problem, {"omega_range": [lo, hi], "sweep": sweep}),
+    )
+
+
+def periodic_solution(
+    system,
+    force: float,
+    omega: float,
+    harmonics: int = 15,
+    *,
+    n_time: int | None = None,
+    symmetry: bool | None = None,
+    aft: str = "auto",
+    initial_guess=None,
+    options: ContinuationOptions | None = None,
+) -> PeriodicSolution:
+    """Periodic steady state at one frequency by Newton's method.
+
+    Parameters
+    ----------
+    system, force, harmonics, n_time, symmetry, aft
+        As in :func:`frf`.
+    omega : float
+        Forcing pulsation, rad/s (> 0).
+    initial_guess : PeriodicSolution or ndarray, optional
+        Start for Newton (selects the branch where several coexist); an
+        array holds the coefficients of all DOFs in the layout of this
+        discretisation. Default: tries the stuck and the free linearisations.
+    options : ContinuationOptions, optional
+        Newton tolerances and iteration limit.
+
+    Returns
+    -------
+    PeriodicSolution
+        ``converged`` tells whether Newton met the tolerances.
+    """
+    omega = finite_float("omega", omega, low=0.0, low_open=True)
+    options = options or ContinuationOptions()
+    start = time.perf_counter()
+    problem = HBMProblem(system, force, harmonics, n_time, symmetry, aft)
+    cont = Continuation(problem, (0.5 * omega, 1.5 * omega), 1, options, None)
+    n = problem.n_unknowns
+    guesses = []
+    if initial_guess is not None:
+        guesses.append(_guess_vector(initial_guess, problem))
+    guesses += [g[:n] for g in problem.initial_guesses(omega)]
+    best = None
+    total_it = 0
+    for g in guesses:
+        y, status, it = cont.solve_at(omega, g)
+        total_it += it
+        if status == _newton.CONVERGED:
+            best = y
+            break
+    converged = best is not None
+    if best is None:
+        best = y if np.all(np.isfinite(y)) else np.concatenate((guesses[-1], [omega]))
+    R, _, state = problem.residual(best)
+    return PeriodicSolution(
+        omega=omega,
+        force=problem.force,
+        harmonic_numbers=problem.harmonic_numbers.copy(),
+        coefficients=best[:n].reshape(problem.n_dof, problem.n_coef).copy(),
+        converged=converged,
+        newton_iterations=total_it,
+        residual_norm=float(np.max(np.abs(R))),
+        elapsed=time.perf_counter() - start,
+        contact_state=STATE_NAMES.get(state, str(state)),
+    )
+
+
+def _guess_vector(guess, problem: HBMProblem) -> np.ndarray:
+    """Coefficients of a guess re-laid onto this problem's harmonics."""
+    if isinstance(guess, PeriodicSolution):
+        X = np.zeros((problem.n_dof, problem.n_coef))
+        src = {int(k): i for i, k in enumerate(guess.harmonic_numbers)}
+        src_col = np.cumsum([0] + [1 if k == 0 else 2 for k in guess.harmonic_numbers])
+        col = 0
+        for k in problem.harmonic_numbers:
+            width = 1 if k == 0 else 2
+            if int(k) in src:
+                c = src_col[src[int(k)]]
+                X[:, col : col + width] = guess.coefficients[:, c : c + width]
+            col += width
+        return X.reshape(-1)
+    g = np.ascontiguousarray(guess, dtype=np.float64).reshape(-1)
+    if g.size != problem.n_unknowns or not np.all(np.isfinite(g)):
+        raise ValueError(
+            f"initial_guess must hold {problem.n_unknowns} finite coefficients, "
+            f"got {g.size}"
+        )
+    return g

@@ -1,0 +1,237 @@
+"""Pseudo-arclength continuation of HBM solutions in ``(X, Ω)``.
+
+The continuation is an iterator with explicit state: :meth:`Continuation.init`
+solves the first point and returns a :class:`ContinuationState`;
+:meth:`Continuation.step` advances it by one accepted (or rejected) step; the
+driver :meth:`Continuation.run` is a short loop over ``step`` that a user can
+also write by hand.
+
+One step: tangent predictor ``y_p = y + ds t`` (``t`` from
+``[J; t_prevᵀ] t = [0; 1]``, normalised, direction kept), corrector on the
+hyperplane through ``y_p`` orthogonal to ``t``, then acceptance tests: Newton
+converged, tangent turned less than ``max_angle``, corrected point not far
+from the predictor (a short step is accepted at a corner of the branch,
+where a contact transition turns the tangent abruptly). Folds (turning
+points) are flagged when the Ω-component of the tangent changes sign. The run ends at the end of the frequency range
+(the last point solved exactly at the boundary), at ``max_steps``, or when
+the step falls below ``min_step``; it never raises on a numerical failure
+and never stores a non-finite point.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..kernels import newton as _newton
+from .options import ContinuationOptions
+from .step_control import StepController
+
+#: stop reasons
+RANGE_END = "end of frequency range reached"
+MAX_STEPS = "maximum number of steps reached"
+MIN_STEP = "step size fell below min_step"
+NO_START = "no converged starting point"
+
+
+@dataclass
+class ContinuationState:
+    """Mutable state of a continuation run (points in physical units)."""
+
+    y: np.ndarray
+    tangent: np.ndarray
+    step: float
+    J: np.ndarray
+    points: list = field(default_factory=list)
+    tangents_omega: list = field(default_factory=list)
+    folds: list = field(default_factory=list)
+    corners: list = field(default_factory=list)
+    n_steps: int = 0
+    n_rejected: int = 0
+    n_newton: int = 0
+    finished: bool = False
+    stop_reason: str = ""
+
+
+class Continuation:
+    """Pseudo-arclength continuation of an :class:`~hbmfric.hbm.HBMProblem`.
+
+    Parameters
+    ----------
+    problem : HBMProblem
+    omega_range : (float, float)
+        ``(low, high)`` in rad/s, ``0 < low < high``.
+    direction : {+1, -1}
+        +1 starts at ``low`` and sweeps up, -1 starts at ``high`` and sweeps
+        down.
+    options : ContinuationOptions
+    amplitude_scale : float or None
+        Scale of the displacement coefficients, m; None: from the linearised
+        system.
+    """
+
+    def __init__(
+        self,
+        problem,
+        omega_range: tuple[float, float],
+        direction: int = 1,
+        options: ContinuationOptions | None = None,
+        amplitude_scale: float | None = None,
+    ) -> None:
+        self.problem = problem
+        self.low, self.high = float(omega_range[0]), float(omega_range[1])
+        self.direction = 1 if direction >= 0 else -1
+        self.options = options or ContinuationOptions()
+        self.controller = StepController(self.options)
+        n = problem.n_unknowns
+        if amplitude_scale is None:
+            amplitude_scale = problem.amplitude_scale((self.low, self.high))
+        self.scale = np.full(n + 1, float(amplitude_scale))
+        self.scale[n] = self.high - self.low
+        self.tol_residual = self.options.tol_residual * max(
+            float(np.max(np.abs(problem.load))), 1e-300
+        )
+        self._R = np.empty(n)
+        self._J = np.empty((n, n + 1))
+        self._A = np.empty((n + 1, n + 1))
+
+    # ------------------------------------------------------------------
+    def _correct(self, y, y_pred, constraint):
+        o = self.options
+        status, iterations = _newton.correct(
+            self.problem.kernel_problem,
+            y,
+            y_pred,
+            constraint,
+            self.scale,
+            self.tol_residual,
+            o.tol_step,
+            o.max_newton,
+            self._R,
+            self._J,
+            self._A,
+        )
+        return int(status), int(iterations)
+
+    def solve_at(self, omega: float, guess: np.ndarray) -> tuple[np.ndarray, int, int]:
+        """Newton's method at fixed Ω from ``guess`` (flat X).
+
+        Returns ``(y, status, iterations)``.
+        """
+        n = self.problem.n_unknowns
+        y = np.empty(n + 1)
+        y[:n] = guess
+        y[n] = omega
+        e_omega = np.zeros(n + 1)
+        e_omega[n] = 1.0
+        status, it = self._correct(y, y.copy(), e_omega)
+        return y, status, it
+
+    def init(self, guess: np.ndarray | None = None) -> ContinuationState:
+        """Solve the first point and set up the state."""
+        n = self.problem.n_unknowns
+        omega0 = self.low if self.direction > 0 else self.high
+        guesses = [guess] if guess is not None else []
+        guesses += [g[:n] for g in self.problem.initial_guesses(omega0)]
+        t0 = np.zeros(n + 1)
+        t0[n] = float(self.direction)
+        state = ContinuationState(
+            y=np.full(n + 1, np.nan),
+            tangent=t0,
+            step=self.options.initial_step,
+            J=self._J,
+        )
+        for g in guesses:
+            y, status, it = self.solve_at(omega0, g)
+            state.n_newton += it
+            if status == _newton.CONVERGED:
+                state.y = y
+                state.tangent = self._tangent(t0)
+                state.points.append(y.copy())
+                state.tangents_omega.append(state.tangent[n])
+                return state
+        state.finished = True
+        state.stop_reason = NO_START
+        return state
+
+    def _tangent(self, previous: np.ndarray) -> np.ndarray:
+        return _newton.tangent(self._J, previous, self.scale, self._A)
+
+    def step(self, state: ContinuationState) -> ContinuationState:
+        """One predictor–corrector step (accepted or rejected)."""
+        if state.finished:
+            return state
+        o = self.options
+        n = self.problem.n_unknowns
+        if state.n_steps + state.n_rejected >= o.max_steps:
+            return self._finish(state, MAX_STEPS)
+        ds = state.step
+        y_pred = state.y + ds * state.tangent * self.scale
+        y = y_pred.copy()
+        status, it = self._correct(y, y_pred, state.tangent)
+        state.n_newton += it
+        ok = status == _newton.CONVERGED and np.all(np.isfinite(y))
+        angle = 0.0
+        if ok:
+            distance = float(np.max(np.abs((y - y_pred) / self.scale)))
+            new_tangent = self._tangent(state.tangent)
+            ok = bool(np.all(np.isfinite(new_tangent)))
+            if ok:
+                angle = StepController.angle(new_tangent, state.tangent)
+                smooth = angle <= o.max_angle and distance <= o.max_correction * ds
+                corner = not smooth and ds <= o.corner_step and distance <= 2.0 * ds
+                ok = smooth or corner
+                if corner:
+                    state.corners.append(len(state.points))
+                    angle = 0.0
+        if not ok:
+            state.n_rejected += 1
+            state.step = self.controller.reject(ds)
+            if state.step < o.min_step:
+                return self._finish(state, MIN_STEP)
+            return state
+        # accepted
+        omega = y[n]
+        if omega > self.high or omega < self.low:
+            return self._land_on_boundary(state, y)
+        if np.sign(new_tangent[n]) != np.sign(state.tangent[n]) and new_tangent[n] != 0:
+            state.folds.append(len(state.points))
+        state.y = y
+        state.tangent = new_tangent
+        state.points.append(y.copy())
+        state.tangents_omega.append(new_tangent[n])
+        state.n_steps += 1
+        state.step = self.controller.accept(ds, it, angle)
+        return state
+
+    def _land_on_boundary(self, state: ContinuationState, y_out: np.ndarray):
+        """The step left the range: solve the last point on the boundary."""
+        n = self.problem.n_unknowns
+        y_in = state.y
+        bound = self.high if y_out[n] > self.high else self.low
+        s = (bound - y_in[n]) / (y_out[n] - y_in[n])
+        guess = y_in[:n] + s * (y_out[:n] - y_in[:n])
+        y, status, it = self.solve_at(bound, guess)
+        state.n_newton += it
+        if status == _newton.CONVERGED and np.all(np.isfinite(y)):
+            state.points.append(y.copy())
+            state.tangents_omega.append(state.tangent[n])
+            state.y = y
+            state.n_steps += 1
+        return self._finish(state, RANGE_END)
+
+    @staticmethod
+    def _finish(state: ContinuationState, reason: str) -> ContinuationState:
+        state.finished = True
+        state.stop_reason = reason
+        return state
+
+    def run(self, guess: np.ndarray | None = None) -> tuple[ContinuationState, float]:
+        """Trace the branch; returns the final state and the elapsed time, s."""
+        start = time.perf_counter()
+        state = self.init(guess)
+        while not state.finished:
+            state = self.step(state)
+        return state, time.perf_counter() - start

@@ -1,0 +1,201 @@
+"""Harmonic-balance discretisation of a system: the plain-Python layer that
+validates the input, chooses the harmonics and samples, and packs the flat
+problem tuple that the kernels see."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._validate import finite_float, positive_int
+from .kernels.dft import fourier_matrices
+from .kernels.hbm import AFT_EVENTS, AFT_SAMPLES, NO_CONTACT, hbm_residual
+from .kernels.laws import JENKINS
+from .signals import coefficient_columns
+
+AFT_SCHEMES = ("auto", "events", "samples")
+
+
+def select_harmonics(harmonics: int, odd: bool) -> np.ndarray:
+    """Harmonic numbers ``0 … H`` or, for a symmetric scene, ``1, 3, … ≤ H``."""
+    harmonics = positive_int("harmonics", harmonics, low=1)
+    if odd:
+        return np.arange(1, harmonics + 1, 2, dtype=np.int64)
+    return np.arange(0, harmonics + 1, dtype=np.int64)
+
+
+def default_n_time(harmonic_numbers: np.ndarray, aft: str) -> int:
+    """Default samples per period.
+
+    ``events``: the samples only detect stick/slip events, ``4 H`` (at least
+    32) is plenty. ``samples``: a multiple of 8 above ``4 H``, which is
+    alias-free for a cubic law and keeps the friction aliasing small.
+    """
+    h_max = int(harmonic_numbers[-1])
+    if aft == "events":
+        return max(32, 8 * ((4 * h_max + 7) // 8))
+    return max(32, 8 * ((16 * h_max + 7) // 8))
+
+
+class HBMProblem:
+    """A system under harmonic forcing, discretised by harmonic balance.
+
+    Parameters
+    ----------
+    system : Oscillator or compatible
+        Provides ``matrices()``, ``load_vector(force)``, ``contact``,
+        ``contact_dof``, ``n_dof`` and ``symmetric``.
+    force : float
+        Forcing amplitude ``F`` of ``F cos Ωt``, N.
+    harmonics : int
+        Highest harmonic ``H`` (>= 1).
+    n_time : int or None
+        Samples per period for the AFT, ``> 2 H``; None picks a default.
+    symmetry : bool or None
+        Solve for odd harmonics only. None: when the system allows it.
+    aft : {"auto", "events", "samples"}
+        AFT scheme; "auto" uses event location for Jenkins, samples otherwise.
+    """
+
+    def __init__(
+        self,
+        system,
+        force: float,
+        harmonics: int = 15,
+        n_time: int | None = None,
+        symmetry: bool | None = None,
+        aft: str = "auto",
+    ) -> None:
+        self.system = system
+        self.force = finite_float("force", force)
+        if symmetry is None:
+            symmetry = bool(system.symmetric)
+        elif symmetry and not system.symmetric:
+            raise ValueError(
+                "symmetry=True (odd harmonics only) needs a symmetric system; "
+                "this contact law is not odd"
+            )
+        self.odd = bool(symmetry)
+        self.harmonic_numbers = select_harmonics(harmonics, self.odd)
+        self.harmonics = int(harmonics)
+        if aft not in AFT_SCHEMES:
+            raise ValueError(f"aft must be one of {AFT_SCHEMES}, got {aft!r}")
+        law = system.contact
+        if aft == "auto":
+            aft = "events" if law is not None and law.code == JENKINS else "samples"
+        if aft == "events" and (law is None or law.code != JENKINS):
+            aft = "samples"
+        self.aft = aft
+        if n_time is None:
+            n_time = default_n_time(self.harmonic_numbers, aft)
+        n_time = positive_int("n_time", n_time, low=1)
+        if n_time <= 2 * self.harmonics:
+            raise ValueError(
+                f"n_time must be > 2 * harmonics = {2 * self.harmonics}, got {n_time}"
+            )
+        self.n_time = n_time
+        inverse, forward, derivative = fourier_matrices(self.harmonic_numbers, n_time)
+        self.n_coef = inverse.shape[1]
+        self.n_dof = int(system.n_dof)
+        self.n_unknowns = self.n_dof * self.n_coef
+        mass, damping, stiffness = (
+            np.ascontiguousarray(a, dtype=np.float64) for a in system.matrices()
+        )
+        load = np.zeros((self.n_dof, self.n_coef))
+        col1 = coefficient_columns(self.harmonic_numbers)[1]
+        load[:, col1] = system.load_vector(self.force)
+        self.load = load.reshape(-1)
+        if law is None:
+            code, params = NO_CONTACT, np.zeros(1)
+        else:
+            code, params = law.code, np.ascontiguousarray(law.params, dtype=np.float64)
+        self.kernel_problem = (
+            self.harmonic_numbers,
+            mass,
+            damping,
+            stiffness,
+            self.load,
+            np.int64(system.contact_dof),
+            np.int64(code),
+            params,
+            np.int64(AFT_EVENTS if aft == "events" else AFT_SAMPLES),
+            inverse,
+            forward,
+            derivative,
+        )
+
+    # ------------------------------------------------------------------
+    def residual(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
+        """Residual and Jacobian at ``y = [X, Ω]`` (for checks and tests).
+
+        Returns
+        -------
+        R : ndarray, shape (n_unknowns,)
+        J : ndarray, shape (n_unknowns, n_unknowns + 1)
+        state : int
+            Contact-state code of the AFT.
+        """
+        y = np.ascontiguousarray(y, dtype=np.float64)
+        R = np.empty(self.n_unknowns)
+        J = np.empty((self.n_unknowns, self.n_unknowns + 1))
+        state = hbm_residual(y, self.kernel_problem, R, J)
+        return R, J, int(state)
+
+    def linear_response(self, omega, contact: str = "stuck") -> np.ndarray:
+        """First-harmonic response of the linearised system.
+
+        Parameters
+        ----------
+        omega : float or ndarray, shape (n_omega,)
+            Pulsation(s), rad/s.
+        contact : {"stuck", "free"}
+            ``"stuck"`` adds the law's stuck stiffness at the contact DOF,
+            ``"free"`` leaves the contact out.
+
+        Returns
+        -------
+        ndarray, shape (n_unknowns,) or (n_omega, n_unknowns)
+            Coefficients ``X`` (only the first-harmonic ones are non-zero).
+        """
+        w = np.atleast_1d(np.asarray(omega, dtype=float))
+        mass, damping, stiffness = self.kernel_problem[1:4]
+        K = stiffness.copy()
+        if contact == "stuck" and self.system.contact is not None:
+            c = self.system.contact_dof
+            K[c, c] += self.system.contact.stuck_stiffness
+        Z = K - w[:, None, None] ** 2 * mass + 1j * w[:, None, None] * damping
+        col1 = coefficient_columns(self.harmonic_numbers)[1]
+        p = self.load.reshape(self.n_dof, self.n_coef)[:, col1].astype(complex)
+        x = np.zeros((w.size, self.n_dof), dtype=complex)
+        ok = np.abs(np.linalg.det(Z)) > 0
+        if np.any(ok):
+            x[ok] = np.linalg.solve(
+                Z[ok], np.broadcast_to(p, (ok.sum(), self.n_dof))[..., None]
+            )[..., 0]
+        X = np.zeros((w.size, self.n_dof, self.n_coef))
+        # x(t) = Re(x e^{iΩt}) = Re x cos Ωt - Im x sin Ωt
+        X[:, :, col1] = x.real
+        X[:, :, col1 + 1] = -x.imag
+        X = X.reshape(w.size, -1)
+        return X[0] if np.ndim(omega) == 0 else X
+
+    def amplitude_scale(self, omega_range: tuple[float, float]) -> float:
+        """Typical displacement amplitude over the frequency range, m: the
+        peak first-harmonic response of the stuck and free linearisations."""
+        grid = np.linspace(omega_range[0], omega_range[1], 65)
+        peak = max(
+            float(np.max(np.abs(self.linear_response(grid, contact))))
+            for contact in ("stuck", "free")
+        )
+        if not np.isfinite(peak) or peak <= 0.0:
+            peak = 1.0
+        return peak
+
+    def initial_guesses(self, omega: float) -> list[np.ndarray]:
+        """Starting points ``y = [X, Ω]`` for Newton at fixed Ω."""
+        guesses = []
+        for contact in ("stuck", "free"):
+            y = np.empty(self.n_unknowns + 1)
+            y[:-1] = self.linear_response(omega, contact)
+            y[-1] = omega
+            guesses.append(y)
+        return guesses

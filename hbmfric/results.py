@@ -1,0 +1,202 @@
+"""Results: a periodic solution and an FRF branch, with their work counters,
+amplitude measures, plots (matplotlib imported lazily) and ``.npz``
+persistence without pickle."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .signals import half_peak_to_peak, harmonic_amplitude, synthesis_matrix
+
+
+def _check_dof(dof, n_dof: int) -> int:
+    if isinstance(dof, bool) or not isinstance(dof, int | np.integer):
+        raise ValueError(f"dof must be an integer in [0, {n_dof - 1}], got {dof!r}")
+    if not 0 <= dof < n_dof:
+        raise ValueError(f"dof must be in [0, {n_dof - 1}], got {dof}")
+    return int(dof)
+
+
+@dataclass
+class PeriodicSolution:
+    """One periodic HBM solution.
+
+    Attributes
+    ----------
+    omega : float
+        Forcing pulsation Ω, rad/s.
+    force : float
+        Forcing amplitude, N.
+    harmonic_numbers : ndarray of int, shape (n_harmonics,)
+    coefficients : ndarray, shape (n_dof, n_coef)
+        Fourier coefficients per DOF, m.
+    converged : bool
+    newton_iterations : int
+    residual_norm : float
+        ``max |R|`` at the solution, N.
+    elapsed : float
+        Wall time, s.
+    contact_state : str
+    """
+
+    omega: float
+    force: float
+    harmonic_numbers: np.ndarray
+    coefficients: np.ndarray
+    converged: bool
+    newton_iterations: int
+    residual_norm: float
+    elapsed: float = 0.0
+    contact_state: str = ""
+
+    def amplitude(self, harmonic: int | None = None, dof: int = 0) -> float:
+        """Amplitude of ``x_dof``: of one harmonic (``sqrt(Xc² + Xs²)``), or
+        with ``harmonic=None`` half the peak-to-peak of ``x(t)``, m."""
+        X = self.coefficients[_check_dof(dof, self.coefficients.shape[0])]
+        if harmonic is None:
+            return float(half_peak_to_peak(self.harmonic_numbers, X))
+        return float(harmonic_amplitude(self.harmonic_numbers, X, harmonic))
+
+    def time_response(
+        self, n: int = 256, dof: int = 0
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """``(t, x)`` over one period at ``n`` equidistant instants (s, m)."""
+        if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 2:
+            raise ValueError(f"n must be an integer >= 2, got {n!r}")
+        X = self.coefficients[_check_dof(dof, self.coefficients.shape[0])]
+        theta = 2.0 * np.pi * np.arange(n) / n
+        return theta / self.omega, synthesis_matrix(self.harmonic_numbers, theta) @ X
+
+
+@dataclass
+class Branch:
+    """A branch of periodic solutions traced by continuation (an FRF).
+
+    Attributes
+    ----------
+    omega : ndarray, shape (n_points,)
+        Ω in path order, rad/s (non-monotone across folds).
+    coefficients : ndarray, shape (n_points, n_dof, n_coef)
+        Fourier coefficients of every DOF at every point, m.
+    harmonic_numbers : ndarray of int, shape (n_harmonics,)
+    force : float
+        Forcing amplitude, N.
+    folds : ndarray of int
+        Index ``i`` of each fold: the turning point lies between points
+        ``i - 1`` and ``i``.
+    stop_reason : str
+    n_steps, n_rejected, newton_iterations : int
+        Work counters.
+    elapsed : float
+        Wall time of the continuation, s.
+    info : dict
+        Description of the run (system, law, options), JSON-serialisable.
+    """
+
+    omega: np.ndarray
+    coefficients: np.ndarray
+    harmonic_numbers: np.ndarray
+    force: float
+    folds: np.ndarray
+    stop_reason: str
+    n_steps: int
+    n_rejected: int
+    newton_iterations: int
+    elapsed: float
+    info: dict = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return self.omega.size
+
+    @property
+    def n_points(self) -> int:
+        return self.omega.size
+
+    def amplitude(self, harmonic: int | None = None, dof: int = 0) -> np.ndarray:
+        """Amplitude at every point, shape (n_points,), m.
+
+        ``harmonic=k``: ``sqrt(Xc_k² + Xs_k²)`` (``|X0|`` for k = 0);
+        ``harmonic=None``: half the peak-to-peak of ``x(t)`` over the period.
+        """
+        X = self.coefficients[:, _check_dof(dof, self.coefficients.shape[1])]
+        if harmonic is None:
+            return half_peak_to_peak(self.harmonic_numbers, X)
+        return harmonic_amplitude(self.harmonic_numbers, X, harmonic)
+
+    def point(self, index: int) -> PeriodicSolution:
+        """The periodic solution at one point of the branch."""
+        return PeriodicSolution(
+            omega=float(self.omega[index]),
+            force=self.force,
+            harmonic_numbers=self.harmonic_numbers,
+            coefficients=self.coefficients[index].copy(),
+            converged=True,
+            newton_iterations=0,
+            residual_norm=float("nan"),
+        )
+
+    def plot(self, ax=None, harmonic: int | None = None, dof: int = 0, **kwargs):
+        """Draw amplitude against Ω (folds marked); returns the axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots()
+        amp = self.amplitude(harmonic=harmonic, dof=dof)
+        (line,) = ax.plot(self.omega, amp, **kwargs)
+        if self.folds.size:
+            ax.plot(
+                self.omega[self.folds], amp[self.folds], "x", color=line.get_color()
+            )
+        ax.set_xlabel("Ω (rad/s)")
+        label = "amplitude" if harmonic is None else f"harmonic {harmonic} amplitude"
+        ax.set_ylabel(f"{label} (m)")
+        return ax
+
+    # ------------------------------------------------------------------
+    def save(self, path: str | Path) -> Path:
+        """Write the branch to ``path`` (``.npz``, no pickle)."""
+        path = Path(path)
+        meta = {
+            "force": self.force,
+            "stop_reason": self.stop_reason,
+            "n_steps": self.n_steps,
+            "n_rejected": self.n_rejected,
+            "newton_iterations": self.newton_iterations,
+            "elapsed": self.elapsed,
+            "info": self.info,
+            "format": "hbmfric.Branch/1",
+        }
+        np.savez(
+            path,
+            omega=self.omega,
+            coefficients=self.coefficients,
+            harmonic_numbers=self.harmonic_numbers,
+            folds=self.folds,
+            meta=np.array(json.dumps(meta)),
+        )
+        return path if path.suffix == ".npz" else path.with_suffix(path.suffix + ".npz")
+
+    @classmethod
+    def load(cls, path: str | Path) -> Branch:
+        """Read a branch written by :meth:`save`."""
+        with np.load(Path(path), allow_pickle=False) as data:
+            meta = json.loads(str(data["meta"]))
+            if meta.get("format") != "hbmfric.Branch/1":
+                raise ValueError(f"{path} is not an hbmfric branch file")
+            return cls(
+                omega=data["omega"].copy(),
+                coefficients=data["coefficients"].copy(),
+                harmonic_numbers=data["harmonic_numbers"].copy(),
+                force=float(meta["force"]),
+                folds=data["folds"].copy(),
+                stop_reason=meta["stop_reason"],
+                n_steps=int(meta["n_steps"]),
+                n_rejected=int(meta["n_rejected"]),
+                newton_iterations=int(meta["newton_iterations"]),
+                elapsed=float(meta["elapsed"]),
+                info=meta["info"],
+            )
