@@ -12,10 +12,11 @@ hyperplane through ``y_p`` orthogonal to ``t``, then acceptance tests: Newton
 converged, tangent turned less than ``max_angle``, corrected point not far
 from the predictor (a short step is accepted at a corner of the branch,
 where a contact transition turns the tangent abruptly). Folds (turning
-points) are flagged when the Ω-component of the tangent changes sign. The run ends at the end of the frequency range
-(the last point solved exactly at the boundary), at ``max_steps``, or when
-the step falls below ``min_step``; it never raises on a numerical failure
-and never stores a non-finite point.
+points) are flagged when the Ω-component of the tangent changes sign. The
+run ends at the end of the frequency range (the last point solved exactly
+at the boundary), at ``max_steps``, or when the step falls below
+``min_step``; it never raises on a numerical failure and never stores a
+non-finite point.
 """
 
 from __future__ import annotations
