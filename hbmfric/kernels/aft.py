@@ -412,6 +412,7 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
     basis_at(harmonic_numbers, th_max, basis_r)
     seg_start = th_max
     prev = th_max
+    prev_slope = 0.0
     n_events = 0
     for j in range(1, n_time + 1):
         theta = (i_max + j) * h
@@ -433,7 +434,8 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
                 g = kt * (val - z)
                 # an extremum inside the interval may graze the slip limit
                 # although both ends stay inside it
-                slope_lo = evaluate(harmonic_numbers, X, lo)[1]
+                # (a stick segment starts at a reversal, where u' = 0)
+                slope_lo = prev_slope if prev > seg_start else 0.0
                 if slope_lo * slope < 0.0 and abs(g) <= slip_force:
                     th_e = _locate(harmonic_numbers, X, lo, theta, 0.0, True)
                     g_e = kt * (evaluate(harmonic_numbers, X, th_e)[0] - z)
@@ -488,6 +490,7 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
                 basis_at(harmonic_numbers, event, basis_r)
                 z = evaluate(harmonic_numbers, X, event)[0] - sign * slip_force / kt
         prev = theta
+        prev_slope = slope
         if last:
             break
     _segment_integrals(harmonic_numbers, seg_start, theta_end, cos_int, sin_int)
