@@ -51,10 +51,15 @@ def test_frf_branch_h15(benchmark):
     benchmark.extra_info["newton"] = branch.newton_iterations
 
 
-def test_frf_branch_numpy_baseline(benchmark):
-    """The same branch by a plain NumPy/SciPy HBM with finite differences."""
-    baseline = pytest.importorskip("baseline_numpy")
-    result = benchmark.pedantic(baseline.trace_frf, rounds=3, iterations=1)
+@pytest.mark.parametrize("max_step", [0.08, 0.01])
+def test_frf_branch_numpy_baseline(benchmark, max_step):
+    """The same branch by a plain NumPy HBM with finite differences; with the
+    engine's largest step (coarser trace than the engine's) and with a step
+    that gives about as many points as the engine."""
+    baseline = pytest.importorskip("numpy_hbm")
+    result = benchmark.pedantic(
+        baseline.trace_frf, kwargs={"ds_max": max_step}, rounds=3, iterations=1
+    )
     benchmark.extra_info["points"] = len(result["omega"])
 
 
