@@ -252,16 +252,18 @@ def test_kernels_compile_once_and_no_eager_imports():
         import json, sys
         import hbmfric as hf
         from hbmfric.kernels import aft, dft, hbm, laws, linalg, newton
+        from hbmfric.validation import integrator
         for fs in (0.3, 1.0, 1e9):
             for force in (0.1, 2.0):
                 law = hf.Jenkins(stiffness=3.0, slip_force=fs)
                 osc = hf.Oscillator(1.0, 0.02, 1.0, law)
                 hf.frf(osc, force, (0.5, 3.0), harmonics=7)
                 hf.periodic_solution(osc, force, 1.1, harmonics=7)
+                hf.validation.steady_state(osc, force, 1.1, steps_per_period=64)
         hf.frf(hf.Oscillator(1.0, 0.05, 1.0, hf.Cubic(0.1)), 0.2, (0.5, 2.0))
         hf.frf(hf.Oscillator(1.0, 0.05, 1.0, hf.Cubic(0.2)), 0.3, (0.5, 2.0))
         counts = {}
-        for mod in (aft, dft, hbm, laws, linalg, newton):
+        for mod in (aft, dft, hbm, laws, linalg, newton, integrator):
             for name in dir(mod):
                 obj = getattr(mod, name)
                 if hasattr(obj, "signatures") and obj.__module__ == mod.__name__:
@@ -278,7 +280,12 @@ def test_kernels_compile_once_and_no_eager_imports():
     used = {k: v for k, v in report["counts"].items() if v > 0}
     # kernels called from Python; the AFT and residual kernels they call are
     # compiled into them, so one signature here means no recompilation below
-    for name in ("newton.correct", "newton.tangent", "dft.fourier_matrices"):
+    for name in (
+        "newton.correct",
+        "newton.tangent",
+        "dft.fourier_matrices",
+        "integrator.newmark_periods",
+    ):
         assert any(k.endswith(name) for k in used), name
     assert all(v == 1 for v in used.values()), used
     assert not report["mpl"]
