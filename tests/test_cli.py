@@ -1,0 +1,48 @@
+"""The main job: ``hbmfric paper`` writes the Fig. 8 family, and its extreme
+curves are the linear stuck and slipping FRFs."""
+
+import csv
+
+import numpy as np
+
+from hbmfric.cli import main
+from hbmfric.paper import PAPER_SDOF
+
+
+def test_paper_writes_fig8(tmp_path, capsys):
+    assert main(["paper", "--out", str(tmp_path), "--harmonics", "7"]) == 0
+    out = capsys.readouterr().out
+    assert out.count("fig8 Masing") == len(PAPER_SDOF["ratios"])
+    assert (tmp_path / "fig08_masing.png").stat().st_size > 10_000
+    with open(tmp_path / "fig08_masing.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    curves = {}
+    for r in rows:
+        curves.setdefault(float(r["ratio"]), []).append(
+            (float(r["omega_rad_s"]), float(r["amplitude_h1_per_force_m_per_N"]))
+        )
+    assert set(curves) == set(PAPER_SDOF["ratios"])
+    m, k, kt = (
+        PAPER_SDOF["mass"],
+        PAPER_SDOF["stiffness"],
+        PAPER_SDOF["tangential_stiffness"],
+    )
+    c = 2 * PAPER_SDOF["damping_ratio"] * np.sqrt(k * m)
+    for ratio, stiffness in ((0.001, k + kt), (10.0, k)):
+        w, a = np.array(curves[ratio]).T
+        linear = 1 / np.abs(stiffness - m * w**2 + 1j * c * w)
+        # Fex/Fn = 0.001 is stuck everywhere; Fex/Fn = 10 slips with a small
+        # friction force (f_s = Fex/10) that damps the peak only a little
+        tol = 1e-9 if ratio < 1 else 0.15
+        np.testing.assert_allclose(a, linear, rtol=tol)
+    # in between, the peaks are flattened below the stuck peak (paper Fig. 8)
+    stuck_peak = max(a for _, a in curves[0.001])
+    for ratio in (0.5, 0.2, 0.1):
+        assert max(a for _, a in curves[ratio]) < 0.5 * stuck_peak
+
+
+def test_paper_rejects_bad_harmonics(tmp_path):
+    import pytest
+
+    with pytest.raises(SystemExit):
+        main(["paper", "--out", str(tmp_path), "--harmonics", "0"])
