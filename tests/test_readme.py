@@ -1,0 +1,16 @@
+"""The README's example runs as written, and its HBM and time-integration
+amplitudes agree."""
+
+import re
+from pathlib import Path
+
+
+def test_readme_example_runs(tmp_path, monkeypatch):
+    text = (Path(__file__).parents[1] / "README.md").read_text()
+    code = re.findall(r"```python\n(.*?)```", text, re.S)[0]
+    monkeypatch.chdir(tmp_path)
+    namespace: dict = {}
+    exec(compile(code, "README.md", "exec"), namespace)
+    sol, ref = namespace["sol"], namespace["ref"]
+    assert abs(sol.amplitude(harmonic=1) / ref.amplitude(harmonic=1) - 1) < 1e-3
+    assert (tmp_path / "frf.npz").exists()
