@@ -44,3 +44,12 @@ def finite_array(name: str, value, *, ndim: int = 1) -> np.ndarray:
     if not np.all(np.isfinite(a)):
         raise ValueError(f"{name} must contain only finite values (no NaN or inf)")
     return a
+
+
+def dof_index(dof, n_dof: int) -> int:
+    """Return ``dof`` as an int in ``[0, n_dof)``."""
+    if isinstance(dof, bool) or not isinstance(dof, int | np.integer):
+        raise ValueError(f"dof must be an integer in [0, {n_dof - 1}], got {dof!r}")
+    if not 0 <= dof < n_dof:
+        raise ValueError(f"dof must be in [0, {n_dof - 1}], got {dof}")
+    return int(dof)

@@ -10,15 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ._validate import dof_index
 from .signals import half_peak_to_peak, harmonic_amplitude, synthesis_matrix
-
-
-def _check_dof(dof, n_dof: int) -> int:
-    if isinstance(dof, bool) or not isinstance(dof, int | np.integer):
-        raise ValueError(f"dof must be an integer in [0, {n_dof - 1}], got {dof!r}")
-    if not 0 <= dof < n_dof:
-        raise ValueError(f"dof must be in [0, {n_dof - 1}], got {dof}")
-    return int(dof)
 
 
 @dataclass
@@ -56,7 +49,7 @@ class PeriodicSolution:
     def amplitude(self, harmonic: int | None = None, dof: int = 0) -> float:
         """Amplitude of ``x_dof``: of one harmonic (``sqrt(Xc² + Xs²)``), or
         with ``harmonic=None`` half the peak-to-peak of ``x(t)``, m."""
-        X = self.coefficients[_check_dof(dof, self.coefficients.shape[0])]
+        X = self.coefficients[dof_index(dof, self.coefficients.shape[0])]
         if harmonic is None:
             return float(half_peak_to_peak(self.harmonic_numbers, X))
         return float(harmonic_amplitude(self.harmonic_numbers, X, harmonic))
@@ -67,7 +60,7 @@ class PeriodicSolution:
         """``(t, x)`` over one period at ``n`` equidistant instants (s, m)."""
         if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 2:
             raise ValueError(f"n must be an integer >= 2, got {n!r}")
-        X = self.coefficients[_check_dof(dof, self.coefficients.shape[0])]
+        X = self.coefficients[dof_index(dof, self.coefficients.shape[0])]
         theta = 2.0 * np.pi * np.arange(n) / n
         return theta / self.omega, synthesis_matrix(self.harmonic_numbers, theta) @ X
 
@@ -122,7 +115,7 @@ class Branch:
         ``harmonic=k``: ``sqrt(Xc_k² + Xs_k²)`` (``|X0|`` for k = 0);
         ``harmonic=None``: half the peak-to-peak of ``x(t)`` over the period.
         """
-        X = self.coefficients[:, _check_dof(dof, self.coefficients.shape[1])]
+        X = self.coefficients[:, dof_index(dof, self.coefficients.shape[1])]
         if harmonic is None:
             return half_peak_to_peak(self.harmonic_numbers, X)
         return harmonic_amplitude(self.harmonic_numbers, X, harmonic)

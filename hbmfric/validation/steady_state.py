@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validate import finite_float, positive_int
+from .._validate import dof_index, finite_float, positive_int
 from ..kernels.hbm import NO_CONTACT
 from ..signals import half_peak_to_peak, harmonic_amplitude
 from .integrator import MESSAGES, OK, initial_acceleration, newmark_periods
@@ -67,7 +67,7 @@ class SteadyState:
     def amplitude(self, harmonic: int | None = None, dof: int = 0) -> float:
         """Amplitude of harmonic ``k`` (``sqrt(Xc² + Xs²)``), or with
         ``harmonic=None`` half the peak-to-peak of ``x(t)``, m."""
-        X = self.coefficients[_dof(dof, self.coefficients.shape[0])]
+        X = self.coefficients[dof_index(dof, self.coefficients.shape[0])]
         if harmonic is None:
             # all harmonics the sampling resolves, extremes refined on the series
             return float(half_peak_to_peak(*_spectrum(self.samples[dof])))
@@ -79,7 +79,7 @@ class SteadyState:
         """``(t, x)`` at ``n`` equidistant instants of the last period, from
         the Fourier series of the samples (s, m)."""
         n = positive_int("n", n, low=2)
-        x = self.samples[_dof(dof, self.samples.shape[0])]
+        x = self.samples[dof_index(dof, self.samples.shape[0])]
         m = x.size
         spec = np.fft.rfft(x) / m
         out = np.zeros(n // 2 + 1, dtype=complex)
@@ -89,14 +89,6 @@ class SteadyState:
             out[-1] = out[-1].real  # Nyquist term of a real signal
         t = 2.0 * np.pi / self.omega * np.arange(n) / n
         return t, np.fft.irfft(out * n, n)
-
-
-def _dof(dof, n_dof: int) -> int:
-    if isinstance(dof, bool) or not isinstance(dof, int | np.integer):
-        raise ValueError(f"dof must be an integer in [0, {n_dof - 1}], got {dof!r}")
-    if not 0 <= dof < n_dof:
-        raise ValueError(f"dof must be in [0, {n_dof - 1}], got {dof}")
-    return int(dof)
 
 
 def _spectrum(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
