@@ -10,7 +10,7 @@ dry-friction contacts, with Numba-compiled AFT kernels.
 from . import validation
 from .api import frf, periodic_solution
 from .continuation import ContinuationOptions
-from .laws import ContactLaw, Cubic, Jenkins
+from .laws import ContactLaw, Cubic, Jenkins, Roughness, hertz_mindlin_stiffness
 from .results import Branch, PeriodicSolution
 from .systems import Oscillator
 
@@ -24,7 +24,9 @@ __all__ = [
     "Jenkins",
     "Oscillator",
     "PeriodicSolution",
+    "Roughness",
     "frf",
+    "hertz_mindlin_stiffness",
     "periodic_solution",
     "validation",
 ]

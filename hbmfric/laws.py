@@ -70,16 +70,26 @@ class ContactLaw:
 class Jenkins(ContactLaw):
     """Jenkins element (Masing macroslip): a spring in series with a slider.
 
+    Give the slip force directly, or a friction coefficient and a normal
+    load (``f_s = μ F_n``); only the latter can be moved to another normal
+    load with :meth:`with_normal_load`.
+
     Parameters
     ----------
     stiffness : float
         Tangential (stuck) stiffness ``kt``, N/m, > 0.
-    slip_force : float
-        Slip force ``f_s = μ F_n``, N, >= 0.
+    slip_force : float, optional
+        Slip force ``f_s``, N, >= 0.
+    friction_coefficient : float, optional
+        ``μ >= 0`` (with ``normal_load``).
+    normal_load : float, optional
+        ``F_n >= 0``, N (with ``friction_coefficient``).
     """
 
     stiffness: float
-    slip_force: float
+    slip_force: float | None = None
+    friction_coefficient: float | None = None
+    normal_load: float | None = None
     code: ClassVar[int] = _k.JENKINS
 
     def __post_init__(self) -> None:
@@ -88,8 +98,43 @@ class Jenkins(ContactLaw):
             "stiffness",
             finite_float("stiffness", self.stiffness, low=0.0, low_open=True),
         )
+        by_load = self.friction_coefficient is not None or self.normal_load is not None
+        if by_load:
+            if self.friction_coefficient is None or self.normal_load is None:
+                raise ValueError(
+                    "give both friction_coefficient and normal_load (or slip_force)"
+                )
+            mu = finite_float(
+                "friction_coefficient", self.friction_coefficient, low=0.0
+            )
+            fn = finite_float("normal_load", self.normal_load, low=0.0)
+            if self.slip_force is not None and not np.isclose(
+                float(self.slip_force), mu * fn, rtol=1e-12, atol=0.0
+            ):
+                raise ValueError(
+                    "give either slip_force or friction_coefficient with normal_load, "
+                    f"not both (slip_force={self.slip_force}, μ F_n={mu * fn})"
+                )
+            object.__setattr__(self, "friction_coefficient", mu)
+            object.__setattr__(self, "normal_load", fn)
+            object.__setattr__(self, "slip_force", mu * fn)
+        elif self.slip_force is None:
+            raise ValueError("give slip_force, or friction_coefficient and normal_load")
         object.__setattr__(
             self, "slip_force", finite_float("slip_force", self.slip_force, low=0.0)
+        )
+
+    def with_normal_load(self, normal_load: float) -> Jenkins:
+        """The same element at another normal load, N (same μ and kt)."""
+        if self.friction_coefficient is None:
+            raise ValueError(
+                "this law was given a slip_force; define it by friction_coefficient "
+                "and normal_load to change the normal load"
+            )
+        return Jenkins(
+            stiffness=self.stiffness,
+            friction_coefficient=self.friction_coefficient,
+            normal_load=normal_load,
         )
 
     @property
@@ -145,3 +190,108 @@ class Cubic(ContactLaw):
     @property
     def params(self) -> np.ndarray:
         return np.array([self.coefficient])
+
+
+def hertz_mindlin_stiffness(
+    asymptotic_stiffness: float, normal_load: float, limit_load: float
+) -> float:
+    """Default roughness law: ``kt = kt_∞ (F_n / F_lim)^(1/3)`` below the
+    limit load, ``kt_∞`` above (asperities crushed), N/m."""
+    if normal_load >= limit_load:
+        return asymptotic_stiffness
+    return asymptotic_stiffness * (normal_load / limit_load) ** (1.0 / 3.0)
+
+
+@dataclass(frozen=True)
+class Roughness(ContactLaw):
+    """A friction law whose tangential stiffness depends on the normal load.
+
+    Below the limit load the surfaces are not fully adherent and the
+    stiffness is ``stiffness_law(kt_∞, F_n, F_lim)`` (default
+    :func:`hertz_mindlin_stiffness`); above it, the wrapped law's own
+    stiffness ``kt_∞``. The wrapped law must be defined by a friction
+    coefficient and a normal load, so that :meth:`with_normal_load` can move
+    both the slip force and the stiffness.
+
+    Parameters
+    ----------
+    law : Jenkins
+        The law at full adherence (its stiffness is ``kt_∞``).
+    limit_load : float
+        ``F_lim``, N, > 0 (300 N in the paper).
+    stiffness_law : callable, optional
+        ``(kt_inf, normal_load, limit_load) -> kt`` in N/m; must return a
+        positive finite value.
+    """
+
+    law: ContactLaw
+    limit_load: float = 300.0
+    stiffness_law: object = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.law, Jenkins):
+            raise ValueError(
+                f"law must be a Jenkins element, got {type(self.law).__name__}"
+            )
+        if self.law.normal_load is None:
+            raise ValueError(
+                "the wrapped law needs friction_coefficient and normal_load "
+                "(the roughness stiffness depends on the normal load)"
+            )
+        object.__setattr__(
+            self,
+            "limit_load",
+            finite_float("limit_load", self.limit_load, low=0.0, low_open=True),
+        )
+        if self.stiffness_law is not None and not callable(self.stiffness_law):
+            raise ValueError(
+                "stiffness_law must be callable (kt_inf, Fn, Fn_lim) -> kt"
+            )
+        self.effective  # validates the stiffness law's value  # noqa: B018
+
+    @property
+    def code(self) -> int:  # type: ignore[override]
+        return self.law.code
+
+    @property
+    def normal_load(self) -> float:
+        """Normal load, N."""
+        return self.law.normal_load
+
+    @property
+    def tangential_stiffness(self) -> float:
+        """Stiffness at the current normal load, N/m."""
+        rule = self.stiffness_law or hertz_mindlin_stiffness
+        kt = rule(self.law.stiffness, self.law.normal_load, self.limit_load)
+        return finite_float("stiffness_law(...)", kt, low=0.0, low_open=True)
+
+    @property
+    def effective(self) -> Jenkins:
+        """The plain law with the load-dependent stiffness."""
+        return Jenkins(
+            stiffness=self.tangential_stiffness,
+            friction_coefficient=self.law.friction_coefficient,
+            normal_load=self.law.normal_load,
+        )
+
+    @property
+    def params(self) -> np.ndarray:
+        return self.effective.params
+
+    @property
+    def odd(self) -> bool:
+        return self.law.odd
+
+    def with_normal_load(self, normal_load: float) -> Roughness:
+        """The same contact at another normal load, N."""
+        return Roughness(
+            self.law.with_normal_load(normal_load), self.limit_load, self.stiffness_law
+        )
+
+    def first_harmonic(self, amplitude: float) -> tuple[float, float]:
+        """Closed-form first harmonic under ``u = a cos θ`` (see Jenkins)."""
+        return self.effective.first_harmonic(amplitude)
+
+    def energy_per_cycle(self, amplitude: float) -> float:
+        """Energy dissipated per cycle under ``u = a cos θ``, J."""
+        return self.effective.energy_per_cycle(amplitude)
