@@ -26,13 +26,15 @@ def select_harmonics(harmonics: int, odd: bool) -> np.ndarray:
 def default_n_time(harmonic_numbers: np.ndarray, aft: str) -> int:
     """Default samples per period.
 
-    ``events``: the samples only detect stick/slip events, ``4 H`` (at least
-    32) is plenty. ``samples``: a multiple of 8 above ``4 H``, which is
-    alias-free for a cubic law and keeps the friction aliasing small.
+    ``events``: the samples only detect stick/slip events; two reversals
+    inside one sample interval would go unseen, so take 8 samples per period
+    of the highest harmonic (at least 32). ``samples``: ``16 H`` rounded to a
+    multiple of 8, alias-free for a cubic law and keeping the friction
+    aliasing small.
     """
     h_max = int(harmonic_numbers[-1])
     if aft == "events":
-        return max(32, 8 * ((4 * h_max + 7) // 8))
+        return max(32, 8 * h_max)
     return max(32, 8 * ((16 * h_max + 7) // 8))
 
 

@@ -200,12 +200,13 @@ def jenkins_update(f_prev, u_prev, u, kt, fs):
     return trial
 
 
-def jenkins_march(u, kt, fs, u_ref=0.0, max_periods=200):
+def jenkins_march(u, kt, fs, u_ref=0.0, max_periods=200, rtol=1e-13):
     """Steady-state Jenkins force over one sampled period, the naive way.
 
     The contact closes at rest at ``u_ref`` (slider at ``u_ref``, zero force),
     then the sampled period is repeated until the force at the period start
-    repeats exactly; the last period is returned.
+    repeats (to ``rtol`` times the force scale: a stuck element accumulates
+    rounding); the last period is returned.
 
     Parameters
     ----------
@@ -219,6 +220,8 @@ def jenkins_march(u, kt, fs, u_ref=0.0, max_periods=200):
         Position where the contact closed, m.
     max_periods : int, optional
         Give up (``RuntimeError``) after this many periods.
+    rtol : float, optional
+        Loop-closure tolerance relative to ``max(fs, kt max|u - u_ref|)``.
 
     Returns
     -------
@@ -232,12 +235,13 @@ def jenkins_march(u, kt, fs, u_ref=0.0, max_periods=200):
     u_prev = u_ref
     loop = np.empty_like(u)
     start = None
+    tol = rtol * max(fs, kt * np.max(np.abs(u - u_ref)))
     for period in range(1, max_periods + 1):
         for i in range(u.size):
             f = jenkins_update(f, u_prev, u[i], kt, fs)
             u_prev = u[i]
             loop[i] = f
-        if start is not None and loop[0] == start:
+        if start is not None and abs(loop[0] - start) <= tol:
             return loop, period
         start = loop[0]
     raise RuntimeError("the Jenkins loop did not close")

@@ -374,19 +374,31 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
     h = two_pi / n_time
     u = inverse @ X
     v = derivative @ X
+    # global extremes: refine every sampled local extreme (sign change of
+    # the sampled slope) and keep the largest and the smallest, so that two
+    # nearly equal peaks cannot be confused
     i_max = np.argmax(u)
     i_min = np.argmin(u)
-    # refine the extremes: roots of u' next to the extreme samples
-    th_max = _locate(harmonic_numbers, X, (i_max - 1) * h, (i_max + 1) * h, 0.0, True)
-    th_min = _locate(harmonic_numbers, X, (i_min - 1) * h, (i_min + 1) * h, 0.0, True)
-    u_max = evaluate(harmonic_numbers, X, th_max)[0]
-    u_min = evaluate(harmonic_numbers, X, th_min)[0]
-    if u_max < u[i_max]:
-        th_max = i_max * h
-        u_max = u[i_max]
-    if u_min > u[i_min]:
-        th_min = i_min * h
-        u_min = u[i_min]
+    th_max = i_max * h
+    th_min = i_min * h
+    u_max = u[i_max]
+    u_min = u[i_min]
+    for i in range(n_time):
+        j = (i + 1) % n_time
+        if v[i] > 0.0 and v[j] <= 0.0:
+            th = _locate(harmonic_numbers, X, i * h, (i + 1) * h, 0.0, True)
+            val = evaluate(harmonic_numbers, X, th)[0]
+            if val > u_max:
+                u_max = val
+                th_max = th
+                i_max = i
+        elif v[i] < 0.0 and v[j] >= 0.0:
+            th = _locate(harmonic_numbers, X, i * h, (i + 1) * h, 0.0, True)
+            val = evaluate(harmonic_numbers, X, th)[0]
+            if val < u_min:
+                u_min = val
+                th_min = th
+                i_min = i
     basis_r = np.empty(n_coef)
     if kt * (u_max - u_min) <= 2.0 * slip_force:
         z, which = _stuck_slider(kt, slip_force, u_max, u_min)
@@ -414,7 +426,9 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
     prev = th_max
     prev_slope = 0.0
     n_events = 0
-    for j in range(1, n_time + 1):
+    # one sample more than a period: the refined maximum may lie after its
+    # sample, and the last partial interval must be scanned too
+    for j in range(1, n_time + 2):
         theta = (i_max + j) * h
         if theta <= seg_start:
             continue
