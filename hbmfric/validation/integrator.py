@@ -1,17 +1,34 @@
-"""Fixed-step time integration of a linear structure with one contact.
+"""Fixed-step time integration of a linear structure with one contact to ground.
 
-System: ``M ẍ + C ẋ + K x + e_c f_c(x_c) = p cos(Ω t)``. Scheme: Newmark's
-average-acceleration rule (trapezoidal, second order, unconditionally
-stable). The contact force enters implicitly: each step solves the scalar
-equation of the contact DOF,
+System: ``M ẍ + C ẋ + K x + e_c f_c(x_c) = p cos(Ω t)``, with ``e_c`` the unit
+vector of the contact DOF ``c``.
 
-    u + g_c f(u) = x_lin,c ,     f(u) = law_update(code, params, f_n, u_n, u),
+Scheme: Newmark's average-acceleration rule, which is the trapezoidal rule on
+``(x, v)``: second order, unconditionally stable, no numerical damping.
+Eliminating the acceleration, one step of length ``h`` reads
 
-by a safeguarded Newton iteration, where ``x_lin`` is the step's solution
-without the contact force and ``g = K_eff⁻¹ e_c``. The law is evaluated only
-through :func:`hbmfric.kernels.laws.law_update`, the same function the AFT
-march uses. For Jenkins the update is piecewise linear, so the iteration
-ends exactly on the right branch.
+    K_eff x₁ = (K_eff - 2 K) x₀ + (4/h) M v₀ + p (cos Ωt₀ + cos Ωt₁)
+               - e_c (f₀ + f₁),
+    v₁ = (2/h)(x₁ - x₀) - v₀,         K_eff = (4/h²) M + (2/h) C + K,
+
+so with ``S = K_eff⁻¹`` factorised once (by the caller) every step is
+
+    x_lin = x₀ + A x₀ + B v₀ + q (cos Ωt₀ + cos Ωt₁) - g f₀,
+    A = -2 S K,  B = (4/h) S M,  q = S p,  g = S e_c,
+
+two matrix-vector products, then a scalar equation for the contact DOF
+
+    u + g_c f(u) = x_lin[c],     f(u) = law_update(code, params, f₀, u₀, u),
+
+and ``x₁ = x_lin - g f₁``. The contact force is therefore implicit and
+updated exactly at every step instant: the law is evaluated only through
+:func:`hbmfric.kernels.laws.law_update`, the function the AFT march of the
+harmonic balance uses too. The scalar equation is solved by Newton's method
+on ``df/du`` with a bisection safeguard; for the piecewise-linear Jenkins law
+Newton ends on the right branch after at most two steps, to rounding.
+
+The state carried from step to step is ``(x, v, f)``; the acceleration is
+never formed. Kernels report problems by the status codes below.
 """
 
 import numpy as np
@@ -19,182 +36,341 @@ import numpy as np
 from .._jit import jit
 from ..kernels.laws import law_update
 
+#: law code meaning "no contact" (``g`` and the contact force are ignored)
+NO_CONTACT = -1
+
+#: status codes returned by the kernels
 OK = 0
 NEWTON_FAILED = 1
 NOT_FINITE = 2
 
 MESSAGES = {
     OK: "ok",
-    NEWTON_FAILED: "contact update did not converge",
-    NOT_FINITE: "non-finite state",
+    NEWTON_FAILED: "the contact update (scalar Newton) did not converge",
+    NOT_FINITE: "the state became non-finite (NaN or inf)",
 }
+
+#: Newton iterations allowed for one contact update
+MAX_CONTACT_ITERATIONS = 60
+#: relative residual at which the contact update is accepted
+CONTACT_RTOL = 1e-14
 
 
 @jit
-def _contact_solve(code, params, f_prev, u_prev, x_lin_c, g_c, u0):
-    """Solve ``u + g_c f(u) = x_lin_c`` for the contact displacement ``u``.
+def contact_update(code, params, f_prev, u_prev, target, g_c):
+    """Solve ``u + g_c f(u) = target`` for the contact displacement ``u``.
 
-    Returns ``(u, f, converged)``.
+    ``f(u) = law_update(code, params, f_prev, u_prev, u)``. Newton's method
+    from ``u_prev`` (the stick predictor), kept inside the bracket that the
+    signs of the residual define (bisection when a step leaves it or the
+    slope is not positive).
+
+    Parameters
+    ----------
+    code : int
+        Law code.
+    params : ndarray, shape (n_params,)
+        Law parameters.
+    f_prev, u_prev : float
+        Contact force (N) and displacement (m) at the start of the step.
+    target : float
+        Contact displacement the step would reach without the contact
+        force, m.
+    g_c : float
+        Compliance of the step at the contact DOF, ``(K_eff⁻¹)_cc``, m/N
+        (> 0).
+
+    Returns
+    -------
+    u : float
+        Contact displacement at the end of the step, m.
+    f : float
+        Contact force at ``u``, N.
+    iterations : int
+        Newton (or bisection) updates of ``u``.
+    converged : bool
     """
-    u = u0
+    u = u_prev
+    f, _, _, df_du = law_update(code, params, f_prev, u_prev, u)
+    phi = u + g_c * f - target
+    if abs(phi) <= CONTACT_RTOL * (abs(u) + abs(target) + abs(g_c * f)):
+        return u, f, 0, True
     lo = -np.inf
     hi = np.inf
-    for _ in range(60):
-        f, _, _, df_du = law_update(code, params, f_prev, u_prev, u)
-        phi = u + g_c * f - x_lin_c
+    for iteration in range(1, MAX_CONTACT_ITERATIONS + 1):
         if phi > 0.0:
             hi = min(hi, u)
         else:
             lo = max(lo, u)
-        dphi = 1.0 + g_c * df_du
-        new = u - phi / dphi if dphi > 0.0 else 0.5 * (lo + hi)
-        if not (lo <= new <= hi) and np.isfinite(lo) and np.isfinite(hi):
-            new = 0.5 * (lo + hi)
-        if abs(new - u) <= 1e-15 * (abs(u) + abs(x_lin_c)) + 1e-300:
-            f = law_update(code, params, f_prev, u_prev, new)[0]
-            return new, f, True
-        u = new
-    f = law_update(code, params, f_prev, u_prev, u)[0]
-    return u, f, abs(u + g_c * f - x_lin_c) <= 1e-10 * (abs(x_lin_c) + 1e-300)
+        slope = 1.0 + g_c * df_du
+        u_new = u - phi / slope if slope > 0.0 else u - phi
+        if not (lo < u_new < hi) and lo > -np.inf and hi < np.inf:
+            u_new = 0.5 * (lo + hi)
+        f, _, _, df_du = law_update(code, params, f_prev, u_prev, u_new)
+        phi = u_new + g_c * f - target
+        scale = abs(u_new) + abs(target) + abs(g_c * f)
+        if abs(phi) <= CONTACT_RTOL * scale:
+            return u_new, f, iteration, True
+        if u_new == u:
+            # stagnation at rounding level
+            return u, f, iteration, abs(phi) <= 1e3 * CONTACT_RTOL * scale
+        u = u_new
+    return u, f, MAX_CONTACT_ITERATIONS, False
 
 
 @jit
-def initial_acceleration(
-    mass, damping, stiffness, load, contact_dof, law_code, law_params, x, v, f
+def _period(
+    A_t,
+    B_t,
+    q,
+    g,
+    cos_sum,
+    contact_dof,
+    law_code,
+    law_params,
+    two_over_h,
+    x,
+    v,
+    force_state,
+    x_new,
+    peaks,
+    record,
+    samples,
+    contact_force,
 ):
-    """Acceleration at t = 0 from the equation of motion (``f`` contact
-    force, N)."""
-    rhs = load - damping @ v - stiffness @ x
-    if law_code >= 0:
-        rhs[contact_dof] -= f
-    return np.linalg.solve(mass, rhs)
+    """Advance ``(x, v, f)`` over one forcing period, in place.
+
+    ``peaks`` receives ``max |x|``, ``max |v|`` (over all DOFs) and
+    ``max |f|`` over the step instants of the period; with ``record`` the
+    displacements and contact force at the ``N`` step instants (period start
+    included, end excluded) go to ``samples`` and ``contact_force``.
+
+    Returns ``(status, newton_iterations)``.
+    """
+    n = x.size
+    n_steps = cos_sum.size
+    has_contact = law_code != NO_CONTACT
+    f = force_state[0]
+    x_peak = 0.0
+    v_peak = 0.0
+    f_peak = abs(f)
+    for i in range(n):
+        x_peak = max(x_peak, abs(x[i]))
+        v_peak = max(v_peak, abs(v[i]))
+    check = 0.0
+    iterations = 0
+    for step in range(n_steps):
+        if record:
+            for i in range(n):
+                samples[i, step] = x[i]
+            contact_force[step] = f
+        s = cos_sum[step]
+        for i in range(n):
+            x_new[i] = x[i] + q[i] * s - g[i] * f
+        # column by column (rows of the transposes): contiguous, vectorised
+        for j in range(n):
+            x_j = x[j]
+            v_j = v[j]
+            for i in range(n):
+                x_new[i] += A_t[j, i] * x_j + B_t[j, i] * v_j
+        if has_contact:
+            u, f_new, its, ok = contact_update(
+                law_code,
+                law_params,
+                f,
+                x[contact_dof],
+                x_new[contact_dof],
+                g[contact_dof],
+            )
+            iterations += its
+            if not ok:
+                force_state[0] = f
+                if not np.isfinite(x_new[contact_dof]):
+                    return NOT_FINITE, iterations
+                return NEWTON_FAILED, iterations
+            for i in range(n):
+                x_new[i] -= g[i] * f_new
+            # the law's state is (f, u): keep x_c exactly the u it was given
+            x_new[contact_dof] = u
+            f = f_new
+            f_peak = max(f_peak, abs(f))
+        for i in range(n):
+            v_i = two_over_h * (x_new[i] - x[i]) - v[i]
+            v[i] = v_i
+            x[i] = x_new[i]
+            ax = abs(x_new[i])
+            av = abs(v_i)
+            x_peak = max(x_peak, ax)
+            v_peak = max(v_peak, av)
+            check += ax + av
+        check += abs(f)
+    force_state[0] = f
+    peaks[0] = x_peak
+    peaks[1] = v_peak
+    peaks[2] = f_peak
+    if not np.isfinite(check):
+        return NOT_FINITE, iterations
+    return OK, iterations
 
 
 @jit
 def newmark_periods(
-    mass,
-    damping,
-    stiffness,
-    load,
+    A_t,
+    B_t,
+    q,
+    g,
+    cos_sum,
     contact_dof,
     law_code,
     law_params,
-    omega,
-    steps_per_period,
-    max_periods,
-    tol,
+    two_over_h,
     x,
     v,
-    a,
     force_state,
-    samples,
+    x_new,
+    starts,
+    peaks,
 ):
-    """Integrate whole forcing periods until the periodic steady state.
+    """Integrate whole forcing periods and record the state at each start.
 
     Parameters
     ----------
-    mass, damping, stiffness : ndarray, shape (n_dof, n_dof)
-    load : ndarray, shape (n_dof,)
-        Amplitude of the ``cos(Ω t)`` forcing per DOF, N.
+    A_t : ndarray, shape (n_dof, n_dof)
+        Transpose of ``A = -2 K_eff⁻¹ K`` (dimensionless), C-contiguous, so
+        that ``A x`` runs over contiguous memory column by column.
+    B_t : ndarray, shape (n_dof, n_dof)
+        Transpose of ``B = (4/h) K_eff⁻¹ M``, s.
+    q : ndarray, shape (n_dof,)
+        ``K_eff⁻¹ p``, m (per unit of ``cos``).
+    g : ndarray, shape (n_dof,)
+        ``K_eff⁻¹ e_c``, m/N (zeros without contact).
+    cos_sum : ndarray, shape (N,)
+        ``cos Ωt_k + cos Ωt_{k+1}`` for the ``N`` steps of a period.
     contact_dof : int
-        DOF of the contact (to ground).
+        DOF of the contact to ground.
     law_code : int
-        Law code, ``-1`` for no contact.
-    law_params : ndarray
+        Law code, ``NO_CONTACT`` for none.
+    law_params : ndarray, shape (n_params,)
         Law parameters.
-    omega : float
-        Forcing pulsation, rad/s.
-    steps_per_period : int
-        Time steps per forcing period.
-    max_periods : int
-        Upper limit on integrated periods.
-    tol : float
-        Steady state: the relative change of ``x``, ``v`` and the contact
-        force between successive period starts is below ``tol``.
-    x, v, a : ndarray, shape (n_dof,)
-        State at t = 0 (multiple of the period); updated in place.
+    two_over_h : float
+        ``2/h``, 1/s.
+    x, v : ndarray, shape (n_dof,)
+        Displacement (m) and velocity (m/s) at a period start; advanced in
+        place.
     force_state : ndarray, shape (1,)
-        Contact force at the start; updated in place.
-    samples : ndarray, shape (n_dof + 1, steps_per_period)
-        Output: displacements (rows ``0 … n_dof-1``) and contact force (last
-        row) at the step instants of the last period.
+        Contact force, N, consistent with ``x[contact_dof]``; advanced in
+        place.
+    x_new : ndarray, shape (n_dof,)
+        Workspace.
+    starts : ndarray, shape (n_periods + 1, 2 n_dof + 1)
+        Output: ``[x, v, f]`` at the start of each period, row 0 the input
+        state, row ``p`` the state after ``p`` periods.
+    peaks : ndarray, shape (n_periods, 3)
+        Output: ``max |x|``, ``max |v|``, ``max |f|`` over each period.
 
     Returns
     -------
     status : int
+        ``OK``, ``NEWTON_FAILED`` or ``NOT_FINITE``.
     periods : int
-        Periods integrated.
-    change : float
-        Last period-to-period relative change.
+        Periods completed (``n_periods`` unless the status is not ``OK``).
+    newton_iterations : int
+        Contact-update iterations, summed over all steps.
     """
     n = x.size
-    h = 2.0 * np.pi / omega / steps_per_period
-    k_eff = stiffness + (2.0 / h) * damping + (4.0 / (h * h)) * mass
-    k_inv = np.linalg.inv(k_eff)
-    g = k_inv[:, contact_dof].copy()
-    g_c = g[contact_dof]
-    has_contact = law_code >= 0
-    f = force_state[0]
-    rhs = np.empty(n)
-    x_new = np.empty(n)
-    x_start = x.copy()
-    v_start = v.copy()
-    change = np.inf
-    for period in range(1, max_periods + 1):
-        x_start[:] = x
-        v_start[:] = v
-        f_start = f
-        x_peak = 0.0
-        f_peak = 0.0
-        for step in range(steps_per_period):
-            for d in range(n):
-                samples[d, step] = x[d]
-            samples[n, step] = f
-            t1 = (step + 1) * h
-            c1 = np.cos(omega * t1)
-            # rhs = p1 + M (4/h² x + 4/h v + a) + C (2/h x + v)
-            for i in range(n):
-                acc = load[i] * c1
-                for j in range(n):
-                    acc += mass[i, j] * (
-                        (4.0 / (h * h)) * x[j] + (4.0 / h) * v[j] + a[j]
-                    ) + damping[i, j] * ((2.0 / h) * x[j] + v[j])
-                rhs[i] = acc
-            for i in range(n):
-                acc = 0.0
-                for j in range(n):
-                    acc += k_inv[i, j] * rhs[j]
-                x_new[i] = acc
-            if has_contact:
-                u_prev = x[contact_dof]
-                u, f_new, ok = _contact_solve(
-                    law_code, law_params, f, u_prev, x_new[contact_dof], g_c, u_prev
-                )
-                if not ok:
-                    return NEWTON_FAILED, period, change
-                for i in range(n):
-                    x_new[i] -= g[i] * f_new
-                x_new[contact_dof] = u
-                f = f_new
-            for i in range(n):
-                a_new = (4.0 / (h * h)) * (x_new[i] - x[i]) - (4.0 / h) * v[i] - a[i]
-                v[i] = v[i] + 0.5 * h * (a[i] + a_new)
-                a[i] = a_new
-                x[i] = x_new[i]
-                if abs(x[i]) > x_peak:
-                    x_peak = abs(x[i])
-            if abs(f) > f_peak:
-                f_peak = abs(f)
-            if not np.isfinite(x[0] + v[0] + f):
-                return NOT_FINITE, period, change
-        change = 0.0
-        v_peak = omega * x_peak + 1e-300
-        for i in range(n):
-            change = max(change, abs(x[i] - x_start[i]) / (x_peak + 1e-300))
-            change = max(change, abs(v[i] - v_start[i]) / v_peak)
-        if has_contact and f_peak > 0.0:
-            change = max(change, abs(f - f_start) / f_peak)
-        force_state[0] = f
-        if change <= tol:
-            return OK, period, change
-    return OK, max_periods, change
+    n_periods = peaks.shape[0]
+    no_samples = np.empty((0, 0))
+    no_forces = np.empty(0)
+    _store_state(starts, 0, x, v, force_state[0], n)
+    iterations = 0
+    for period in range(n_periods):
+        status, its = _period(
+            A_t,
+            B_t,
+            q,
+            g,
+            cos_sum,
+            contact_dof,
+            law_code,
+            law_params,
+            two_over_h,
+            x,
+            v,
+            force_state,
+            x_new,
+            peaks[period],
+            False,
+            no_samples,
+            no_forces,
+        )
+        iterations += its
+        if status != OK:
+            return status, period, iterations
+        _store_state(starts, period + 1, x, v, force_state[0], n)
+    return OK, n_periods, iterations
+
+
+@jit
+def record_period(
+    A_t,
+    B_t,
+    q,
+    g,
+    cos_sum,
+    contact_dof,
+    law_code,
+    law_params,
+    two_over_h,
+    x,
+    v,
+    force_state,
+    x_new,
+    peaks,
+    samples,
+    contact_force,
+):
+    """Integrate one period and record it at the step instants.
+
+    Arguments as :func:`newmark_periods`, except:
+
+    Parameters
+    ----------
+    peaks : ndarray, shape (3,)
+        Output: ``max |x|``, ``max |v|``, ``max |f|`` over the period.
+    samples : ndarray, shape (n_dof, N)
+        Output: displacements at ``t_k = k T / N``, ``k = 0 … N-1``, m.
+    contact_force : ndarray, shape (N,)
+        Output: contact force at the same instants, N.
+
+    Returns
+    -------
+    status : int
+    newton_iterations : int
+    """
+    return _period(
+        A_t,
+        B_t,
+        q,
+        g,
+        cos_sum,
+        contact_dof,
+        law_code,
+        law_params,
+        two_over_h,
+        x,
+        v,
+        force_state,
+        x_new,
+        peaks,
+        True,
+        samples,
+        contact_force,
+    )
+
+
+@jit
+def _store_state(starts, row, x, v, f, n):
+    for i in range(n):
+        starts[row, i] = x[i]
+        starts[row, n + i] = v[i]
+    starts[row, 2 * n] = f

@@ -1,17 +1,41 @@
-"""The time-integration reference: periodic steady state by fixed-step
-integration, analysed into harmonics."""
+"""The time-integration reference: periodic steady state reached by fixed-step
+integration, analysed into harmonics.
+
+Independent of the harmonic-balance path except for the contact-law kernel
+:func:`hbmfric.kernels.laws.law_update`, which both evaluate (so that they
+cannot disagree on the law). The Newmark kernels are in
+:mod:`hbmfric.validation.integrator`.
+"""
 
 from __future__ import annotations
 
+import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .._validate import dof_index, finite_float, positive_int
-from ..kernels.hbm import NO_CONTACT
-from ..signals import half_peak_to_peak, harmonic_amplitude
-from .integrator import MESSAGES, OK, initial_acceleration, newmark_periods
+from ..kernels.laws import law_update
+from ..signals import harmonic_amplitude
+from .integrator import (
+    MESSAGES,
+    NO_CONTACT,
+    OK,
+    newmark_periods,
+    record_period,
+)
+
+if TYPE_CHECKING:
+    from ..systems import Oscillator
+
+#: periods per kernel call: first call, and bounds of the adaptive size
+_FIRST_CHUNK = 4
+_MIN_CHUNK = 2
+_MAX_CHUNK = 32
+#: changes used to fit the decay rate
+_RATE_WINDOW = 16
 
 
 @dataclass
@@ -21,123 +45,139 @@ class SteadyState:
     Attributes
     ----------
     omega : float
-        Forcing pulsation, rad/s.
+        Forcing pulsation Ω, rad/s.
     force : float
         Forcing amplitude, N.
     harmonic_numbers : ndarray of int, shape (H + 1,)
         ``0, 1, …, H``.
     coefficients : ndarray, shape (n_dof, 2 H + 1)
-        Fourier coefficients of the last period per DOF, m (layout
-        ``[X0, Xc1, Xs1, …]``).
+        Fourier coefficients of the last period, per DOF, m, in the layout
+        ``[X0, Xc1, Xs1, …, XcH, XsH]`` with
+        ``x(t) = X0 + Σ Xc_k cos kΩt + Xs_k sin kΩt``.
     samples : ndarray, shape (n_dof, steps_per_period)
-        Displacements at the step instants of the last period, m.
+        Displacements at the step instants ``t_k = k T / N`` of the last
+        period (``T = 2π/Ω``, ``t = 0`` a forcing-phase origin), m.
     contact_force : ndarray, shape (steps_per_period,)
-        Contact force over the last period, N.
+        Contact force at the same instants, N (zeros without contact).
     periods : int
-        Periods integrated.
+        Periods integrated (the recorded last one included).
+    steps : int
+        Time steps integrated, ``periods * steps_per_period``.
+    newton_iterations : int
+        Iterations of the scalar contact update, summed over all steps.
     converged : bool
-        The period-to-period change fell below ``tol``.
+        The period-to-period change fell below ``tol`` (and no kernel
+        failure).
     change : float
-        Last period-to-period relative change.
+        Period-to-period change over the recorded last period: the largest
+        of ``max|Δx| / max|x|``, ``max|Δv| / max|v|`` and ``|Δf| / max|f|``
+        between its start and end states.
     steps_per_period : int
+        ``N``.
     error_estimate : float
-        From step halving: relative change of the first-harmonic amplitude
-        (of ``dof`` 0) when the step is halved; NaN if not computed. For a
-        second-order scheme the error of this result is about that much and
-        the error of the halved run a quarter of it.
+        From step halving (``check_halving=True``): change of the
+        first-harmonic amplitude when the step is halved, relative to the
+        largest first-harmonic amplitude of all DOFs (for one DOF simply
+        ``|a₁(N) / a₁(2N) - 1|``). For the second-order scheme the error of
+        this result is about 4/3 of it. NaN if not computed.
+    halving_periods : int
+        Periods integrated with the halved step (0 if not computed).
     elapsed : float
         Wall time, s.
+    status : int
+        Kernel status code (0 = ok).
     message : str
+        Why the integration stopped.
     """
 
     omega: float
     force: float
-    harmonic_numbers: np.ndarray
-    coefficients: np.ndarray
-    samples: np.ndarray
-    contact_force: np.ndarray
+    harmonic_numbers: np.ndarray = field(repr=False)
+    coefficients: np.ndarray = field(repr=False)
+    samples: np.ndarray = field(repr=False)
+    contact_force: np.ndarray = field(repr=False)
     periods: int
+    steps: int
+    newton_iterations: int
     converged: bool
     change: float
     steps_per_period: int
     error_estimate: float
+    halving_periods: int
     elapsed: float
+    status: int
     message: str
 
+    @property
+    def n_dof(self) -> int:
+        """Number of DOFs."""
+        return self.samples.shape[0]
+
+    @property
+    def period(self) -> float:
+        """Forcing period ``2π/Ω``, s."""
+        return 2.0 * np.pi / self.omega
+
     def amplitude(self, harmonic: int | None = None, dof: int = 0) -> float:
-        """Amplitude of harmonic ``k`` (``sqrt(Xc² + Xs²)``), or with
-        ``harmonic=None`` half the peak-to-peak of ``x(t)``, m."""
-        X = self.coefficients[dof_index(dof, self.coefficients.shape[0])]
+        """Amplitude of the displacement of ``dof``, m.
+
+        Parameters
+        ----------
+        harmonic : int or None
+            ``k >= 1``: ``sqrt(Xc_k² + Xs_k²)``; ``0``: ``|X0|``; ``None``:
+            half the peak-to-peak value of ``x(t)`` over the last period,
+            from the step samples (each extreme refined by the parabola
+            through its sample and the two neighbours).
+        dof : int
+            DOF index.
+        """
+        d = dof_index(dof, self.n_dof)
         if harmonic is None:
-            # all harmonics the sampling resolves, extremes refined on the series
-            return float(half_peak_to_peak(*_spectrum(self.samples[dof])))
-        return float(harmonic_amplitude(self.harmonic_numbers, X, harmonic))
+            return _half_peak_to_peak(self.samples[d])
+        return float(
+            harmonic_amplitude(self.harmonic_numbers, self.coefficients[d], harmonic)
+        )
 
     def time_response(
         self, n: int = 256, dof: int = 0
     ) -> tuple[np.ndarray, np.ndarray]:
-        """``(t, x)`` at ``n`` equidistant instants of the last period, from
-        the Fourier series of the samples (s, m)."""
+        """Displacement over one period at ``n`` equidistant instants.
+
+        Evaluated from the trigonometric interpolant of the step samples
+        (all harmonics up to ``n/2`` that the samples resolve), so that
+        ``n = steps_per_period`` returns the samples themselves.
+
+        Parameters
+        ----------
+        n : int
+            Number of instants (>= 2).
+        dof : int
+            DOF index.
+
+        Returns
+        -------
+        t : ndarray, shape (n,)
+            ``k T / n``, s.
+        x : ndarray, shape (n,)
+            Displacement, m.
+        """
         n = positive_int("n", n, low=2)
-        x = self.samples[dof_index(dof, self.samples.shape[0])]
-        m = x.size
-        spec = np.fft.rfft(x) / m
-        out = np.zeros(n // 2 + 1, dtype=complex)
-        keep = min(spec.size, out.size)
-        out[:keep] = spec[:keep]
-        if n % 2 == 0 and keep == out.size:
-            out[-1] = out[-1].real  # Nyquist term of a real signal
-        t = 2.0 * np.pi / self.omega * np.arange(n) / n
-        return t, np.fft.irfft(out * n, n)
+        samples = self.samples[dof_index(dof, self.n_dof)]
+        t = self.period * np.arange(n) / n
+        return t, _resample(samples, n)
 
-
-def _spectrum(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Harmonics ``0 … m/2 - 1`` of one sampled period in the HBM layout."""
-    m = x.size
-    h_max = m // 2 - 1
-    c = np.fft.rfft(x) / m
-    coef = np.empty(2 * h_max + 1)
-    coef[0] = c[0].real
-    coef[1::2] = 2.0 * c[1 : h_max + 1].real
-    coef[2::2] = -2.0 * c[1 : h_max + 1].imag
-    return np.arange(h_max + 1), coef
-
-
-def _run(system, force, omega, steps, max_periods, tol, x, v, f):
-    mass, damping, stiffness = (
-        np.ascontiguousarray(m, dtype=np.float64) for m in system.matrices()
-    )
-    load = np.ascontiguousarray(system.load_vector(force), dtype=np.float64)
-    law = system.contact
-    code = NO_CONTACT if law is None else law.code
-    params = np.zeros(1) if law is None else law.params
-    samples = np.empty((system.n_dof + 1, steps))
-    a = initial_acceleration(
-        mass, damping, stiffness, load, system.contact_dof, code, params, x, v, f[0]
-    )
-    status, periods, change = newmark_periods(
-        mass,
-        damping,
-        stiffness,
-        load,
-        np.int64(system.contact_dof),
-        np.int64(code),
-        params,
-        omega,
-        np.int64(steps),
-        np.int64(max_periods),
-        tol,
-        x,
-        v,
-        a,
-        f,
-        samples,
-    )
-    return int(status), int(periods), float(change), samples
+    def __repr__(self) -> str:
+        return (
+            f"SteadyState(omega={self.omega:g}, force={self.force:g}, "
+            f"n_dof={self.n_dof}, amplitude={self.amplitude():.6g}, "
+            f"periods={self.periods}, converged={self.converged}, "
+            f"change={self.change:.2e}, error_estimate={self.error_estimate:.2e}, "
+            f"elapsed={self.elapsed:.3g} s, message={self.message!r})"
+        )
 
 
 def steady_state(
-    system,
+    system: Oscillator,
     force: float,
     omega: float,
     *,
@@ -145,44 +185,73 @@ def steady_state(
     steps_per_period: int = 2048,
     tol: float = 1e-10,
     max_periods: int = 20000,
-    initial_state=None,
+    initial_state: tuple | str | None = None,
     check_halving: bool = False,
 ) -> SteadyState:
-    """Periodic steady state of ``system`` under ``force cos(Ω t)`` by time
-    integration (Newmark average acceleration, exact contact update).
+    """Periodic steady state under ``force cos(Ω t)`` by time integration.
 
-    Independent of the HBM path except for the contact-law kernel they
-    share. Integrates whole periods from ``initial_state`` until the
-    period-to-period change of displacement, velocity and contact force is
-    below ``tol``, then takes the harmonics of the last period.
+    Integrates ``M ẍ + C ẋ + K x + e_c f_c(x_c) = p cos(Ω t)`` with Newmark's
+    average-acceleration rule (fixed step ``h = T/N``, contact force updated
+    implicitly and exactly through the law kernel), whole period by whole
+    period, until the change of displacement, velocity and contact force
+    between successive period starts is below ``tol`` relative to their
+    peaks over the period; then takes the harmonics of the last period by a
+    DFT of its ``N`` step samples (the trapezoidal rule over one period,
+    spectrally accurate for a smooth periodic signal).
 
     Parameters
     ----------
     system : Oscillator or compatible
+        Any object with ``n_dof``, ``contact_dof``, ``contact`` (a contact
+        law or None), ``matrices() -> (M, C, K)`` each of shape
+        (n_dof, n_dof), and ``load_vector(force) -> p`` of shape (n_dof,).
     force : float
         Forcing amplitude, N.
     omega : float
-        Forcing pulsation, rad/s (> 0).
+        Forcing pulsation Ω, rad/s, > 0.
     harmonics : int
-        Harmonics ``0 … H`` kept in ``coefficients``.
+        Highest harmonic ``H`` kept in ``coefficients`` (>= 1).
     steps_per_period : int
-        Time steps per period (>= 16, and > 2 H).
+        Time steps per period ``N`` (>= 16 and > 2 H).
     tol : float
-        Steady-state tolerance (relative).
+        Steady-state tolerance (relative), > 0.
     max_periods : int
-        Limit; if reached, ``converged`` is False.
-    initial_state : (x0, v0), optional
-        Initial displacement and velocity (scalars for one DOF, else arrays
-        of shape (n_dof,)); the contact starts from its virgin state at 0
-        moved to ``x0``. Default: rest. Chooses the basin where several
-        steady states coexist.
+        Upper limit on the periods integrated; if reached, the last period
+        is analysed all the same and ``converged`` is False.
+    initial_state : (x0, v0), "linear" or None
+        Where the integration starts (it chooses the basin where several
+        steady states coexist, as on a Duffing fold):
+
+        * None (default): rest, ``x = v = 0``, contact force 0.
+        * ``(x0, v0)``: displacement (m) and velocity (m/s), scalars for one
+          DOF (or broadcast to all DOFs), else arrays of shape (n_dof,).
+        * ``"linear"``: the periodic solution of the stuck linearisation
+          (stiffness ``K + k_t e_c e_cᵀ``, ``k_t`` the law's stiffness at
+          rest, 0 for a cubic spring) under the Newmark scheme itself, in
+          closed form: ``(K + k_t e_c e_cᵀ - Ω̃² M + iΩ̃ C) X = p`` with
+          ``Ω̃ = (2/h) tan(Ω h / 2)``. When the contact sticks this is the
+          steady state to rounding (a few periods instead of hundreds);
+          otherwise it shortens the transient. It is independent of the
+          harmonic balance.
+
+        The contact starts from its virgin state at 0 moved to ``x0[c]``:
+        ``f0 = law_update(code, params, 0, 0, x0[c])``.
     check_halving : bool
-        Also integrate with half the step (from the converged state) and
-        report ``error_estimate``.
+        Also integrate with the step halved (``2 N`` steps per period) from
+        the converged state, to the same ``tol``, and report
+        ``error_estimate``.
 
     Returns
     -------
     SteadyState
+        The last period and its harmonics, the work done and whether the
+        steady state was reached; a kernel failure is reported by
+        ``converged=False`` and ``message``, not raised.
+
+    Raises
+    ------
+    ValueError
+        On invalid input, naming the parameter.
     """
     start = time.perf_counter()
     force = finite_float("force", force)
@@ -191,70 +260,400 @@ def steady_state(
     steps_per_period = positive_int("steps_per_period", steps_per_period, low=16)
     if steps_per_period <= 2 * harmonics:
         raise ValueError(
-            f"steps_per_period must be > 2 * harmonics = {2 * harmonics}, "
+            f"steps_per_period must be > 2 * harmonics = {2 * harmonics} "
+            f"(the DFT of N samples resolves harmonics below N/2), "
             f"got {steps_per_period}"
         )
     tol = finite_float("tol", tol, low=0.0, low_open=True)
     max_periods = positive_int("max_periods", max_periods)
-    n_dof = system.n_dof
-    x = np.zeros(n_dof)
-    v = np.zeros(n_dof)
-    if initial_state is not None:
-        try:
-            x0, v0 = initial_state
-        except (TypeError, ValueError):
-            raise ValueError("initial_state must be a pair (x0, v0)") from None
-        x[:] = np.broadcast_to(np.asarray(x0, dtype=float), (n_dof,))
-        v[:] = np.broadcast_to(np.asarray(v0, dtype=float), (n_dof,))
-        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
-            raise ValueError("initial_state must be finite")
-    law = system.contact
-    f = np.zeros(1)
-    if law is not None:
-        from ..kernels.laws import law_update
+    if not isinstance(check_halving, bool | np.bool_):
+        raise ValueError(f"check_halving must be True or False, got {check_halving!r}")
+    problem = _Problem.build(system, force)
+    x, v = problem.initial_state(initial_state, omega, steps_per_period)
+    f = np.array([problem.initial_force(x)])
 
-        f[0] = law_update(law.code, law.params, 0.0, 0.0, x[system.contact_dof])[0]
-    status, periods, change, samples = _run(
-        system, force, omega, steps_per_period, max_periods, tol, x, v, f
-    )
-    converged = status == OK and change <= tol
-    error_estimate = float("nan")
-    coefficients = _coefficients(samples[:n_dof], harmonics)
-    if check_halving and status == OK:
-        x2, v2, f2 = x.copy(), v.copy(), f.copy()
-        status2, periods2, change2, samples2 = _run(
-            system, force, omega, 2 * steps_per_period, max_periods, tol, x2, v2, f2
-        )
-        if status2 == OK:
-            fine = _coefficients(samples2[:n_dof], harmonics)
-            h = np.arange(harmonics + 1)
-            a_coarse = harmonic_amplitude(h, coefficients[0], 1)
-            a_fine = harmonic_amplitude(h, fine[0], 1)
-            error_estimate = float(abs(a_coarse - a_fine) / max(abs(a_fine), 1e-300))
+    run = problem.integrate(omega, steps_per_period, tol, max_periods, x, v, f)
+    coefficients = _fourier_coefficients(run.samples, harmonics)
+
+    error_estimate = math.nan
+    halving_periods = 0
+    if check_halving and run.status == OK:
+        fine = problem.integrate(omega, 2 * steps_per_period, tol, max_periods, x, v, f)
+        halving_periods = fine.periods
+        if fine.status == OK:
+            a_coarse = np.hypot(coefficients[:, 1], coefficients[:, 2])
+            fine_coefficients = _fourier_coefficients(fine.samples, 1)
+            a_fine = np.hypot(fine_coefficients[:, 1], fine_coefficients[:, 2])
+            scale = float(np.max(a_fine))
+            error_estimate = (
+                float(np.max(np.abs(a_coarse - a_fine)) / scale) if scale > 0 else 0.0
+            )
+
     return SteadyState(
         omega=omega,
         force=force,
         harmonic_numbers=np.arange(harmonics + 1),
         coefficients=coefficients,
-        samples=samples[:n_dof].copy(),
-        contact_force=samples[n_dof].copy(),
-        periods=periods,
-        converged=converged,
-        change=change,
+        samples=run.samples,
+        contact_force=run.contact_force,
+        periods=run.periods,
+        steps=run.periods * steps_per_period,
+        newton_iterations=run.newton_iterations,
+        converged=run.converged,
+        change=run.change,
         steps_per_period=steps_per_period,
         error_estimate=error_estimate,
+        halving_periods=halving_periods,
         elapsed=time.perf_counter() - start,
-        message=MESSAGES.get(status, str(status)),
+        status=run.status,
+        message=_message(run, tol),
     )
 
 
-def _coefficients(samples: np.ndarray, harmonics: int) -> np.ndarray:
-    """Fourier coefficients ``[X0, Xc1, Xs1, …]`` of sampled periods,
-    shape (n_dof, 2 H + 1)."""
-    m = samples.shape[1]
-    c = np.fft.rfft(samples, axis=1) / m
+def _message(run: _Run, tol: float) -> str:
+    if run.status != OK:
+        return MESSAGES.get(run.status, f"kernel status {run.status}")
+    if not run.converged:
+        return f"max_periods reached, period-to-period change {run.change:.2e} > tol"
+    return MESSAGES[OK]
+
+
+@dataclass(frozen=True)
+class _Run:
+    """Outcome of one integration to the steady state."""
+
+    status: int
+    periods: int
+    newton_iterations: int
+    converged: bool
+    change: float
+    samples: np.ndarray
+    contact_force: np.ndarray
+
+
+@dataclass(frozen=True)
+class _Problem:
+    """The system as flat float64 arrays, ready for the kernels."""
+
+    mass: np.ndarray
+    damping: np.ndarray
+    stiffness: np.ndarray
+    load: np.ndarray
+    contact_dof: int
+    law_code: int
+    law_params: np.ndarray
+    stuck_stiffness: float
+
+    @classmethod
+    def build(cls, system, force) -> _Problem:
+        try:
+            n_dof = int(system.n_dof)
+            contact_dof = system.contact_dof
+            law = system.contact
+            matrices = system.matrices()
+        except AttributeError:
+            raise ValueError(
+                "system must be an hbmfric system (such as hf.Oscillator) with "
+                "n_dof, contact_dof, contact, matrices() and load_vector(force), "
+                f"got {type(system).__name__}"
+            ) from None
+        force = finite_float("force", force)
+        contact_dof = dof_index(contact_dof, n_dof)
+        mass, damping, stiffness = (
+            _square("system." + name, m, n_dof)
+            for name, m in zip(("mass", "damping", "stiffness"), matrices, strict=True)
+        )
+        load = np.ascontiguousarray(system.load_vector(force), dtype=np.float64)
+        if load.shape != (n_dof,) or not np.all(np.isfinite(load)):
+            raise ValueError(
+                f"system.load_vector(force) must be finite with shape ({n_dof},), "
+                f"got shape {load.shape}"
+            )
+        if law is None:
+            code, params, k_stuck = NO_CONTACT, np.zeros(1), 0.0
+        else:
+            code = int(law.code)
+            params = np.ascontiguousarray(law.params, dtype=np.float64)
+            if params.ndim != 1 or not np.all(np.isfinite(params)):
+                raise ValueError("system.contact.params must be a finite 1-d array")
+            k_stuck = float(law.stuck_stiffness)
+        return cls(mass, damping, stiffness, load, contact_dof, code, params, k_stuck)
+
+    @property
+    def n_dof(self) -> int:
+        return self.load.size
+
+    def initial_state(
+        self, state, omega: float, steps: int
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """``(x0, v0)`` as fresh float64 arrays of shape (n_dof,)."""
+        n = self.n_dof
+        if state is None:
+            return np.zeros(n), np.zeros(n)
+        if isinstance(state, str):
+            if state != "linear":
+                raise ValueError(
+                    f"initial_state must be None, 'linear' or a pair (x0, v0), "
+                    f"got {state!r}"
+                )
+            return self.linear_steady_state(omega, steps)
+        try:
+            x0, v0 = state
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"initial_state must be None, 'linear' or a pair (x0, v0), "
+                f"got {state!r}"
+            ) from None
+        out = []
+        for name, value in (("x0", x0), ("v0", v0)):
+            try:
+                a = np.broadcast_to(np.asarray(value, dtype=np.float64), (n,))
+            except (TypeError, ValueError):
+                raise ValueError(
+                    f"initial_state {name} must be a scalar or an array of shape "
+                    f"({n},), got {value!r}"
+                ) from None
+            if not np.all(np.isfinite(a)):
+                raise ValueError(f"initial_state {name} must be finite, got {value!r}")
+            out.append(np.array(a))
+        return out[0], out[1]
+
+    def linear_steady_state(
+        self, omega: float, steps: int
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Periodic Newmark solution of the stuck linearisation at ``t = 0``.
+
+        The trapezoidal rule maps ``x_k = Re(X e^{iΩ t_k})`` to
+        ``v_k = Re(iΩ̃ X e^{iΩ t_k})`` with ``Ω̃ = (2/h) tan(Ωh/2)``, so its
+        periodic response is the linear FRF at the modified pulsation.
+        """
+        h = 2.0 * np.pi / (omega * steps)
+        omega_h = (2.0 / h) * np.tan(0.5 * omega * h)
+        k = self.stiffness.astype(complex)
+        c = self.contact_dof
+        k[c, c] += self.stuck_stiffness
+        dynamic = k - omega_h**2 * self.mass + 1j * omega_h * self.damping
+        try:
+            X = np.linalg.solve(dynamic, self.load)
+        except np.linalg.LinAlgError:
+            raise ValueError(
+                "initial_state='linear': the stuck linearisation is singular at "
+                f"omega={omega} (undamped resonance); give (x0, v0) instead"
+            ) from None
+        return np.ascontiguousarray(X.real), np.ascontiguousarray(-omega_h * X.imag)
+
+    def initial_force(self, x: np.ndarray) -> float:
+        """Virgin contact state at 0 moved to ``x[c]``, N."""
+        if self.law_code == NO_CONTACT:
+            return 0.0
+        return float(
+            law_update(self.law_code, self.law_params, 0.0, 0.0, x[self.contact_dof])[0]
+        )
+
+    def operators(self, omega: float, steps: int):
+        """Newmark operators ``(Aᵀ, Bᵀ, q, g, cos_sum, 2/h)`` for ``h = T/N``
+        (see :mod:`hbmfric.validation.integrator`)."""
+        n = self.n_dof
+        h = 2.0 * np.pi / (omega * steps)
+        k_eff = (4.0 / h**2) * self.mass + (2.0 / h) * self.damping + self.stiffness
+        unit = np.zeros(n)
+        unit[self.contact_dof] = 1.0
+        rhs = np.column_stack((self.stiffness, self.mass, self.load, unit))
+        try:
+            solved = np.linalg.solve(k_eff, rhs)
+        except np.linalg.LinAlgError:
+            raise ValueError(
+                "the effective stiffness (4/h²) M + (2/h) C + K is singular; "
+                "check the system matrices"
+            ) from None
+        # the kernels take the transposes (column-wise products)
+        A_t = np.ascontiguousarray(-2.0 * solved[:, :n].T)
+        B_t = np.ascontiguousarray((4.0 / h) * solved[:, n : 2 * n].T)
+        q = np.ascontiguousarray(solved[:, 2 * n])
+        g = np.ascontiguousarray(solved[:, 2 * n + 1])
+        if self.law_code != NO_CONTACT and not g[self.contact_dof] > 0.0:
+            raise ValueError(
+                "the effective stiffness must be positive definite at the contact "
+                "DOF; check the system matrices"
+            )
+        phase = 2.0 * np.pi * np.arange(steps + 1) / steps
+        cosine = np.cos(phase)
+        cos_sum = np.ascontiguousarray(cosine[:-1] + cosine[1:])
+        return A_t, B_t, q, g, cos_sum, 2.0 / h
+
+    def integrate(self, omega, steps, tol, max_periods, x, v, f) -> _Run:
+        """Integrate from ``(x, v, f)`` (advanced in place) until the change
+        over a period is below ``tol`` or ``max_periods`` are done.
+
+        Python checks the convergence: the kernel returns the state at every
+        period start, and the number of periods of the next kernel call is
+        predicted from the decay rate of the last changes. The last period
+        of every call is recorded at the step instants, so the period that
+        passes the test is the one analysed.
+        """
+        A_t, B_t, q, g, cos_sum, two_over_h = self.operators(omega, steps)
+        args = (
+            A_t,
+            B_t,
+            q,
+            g,
+            cos_sum,
+            np.int64(self.contact_dof),
+            np.int64(self.law_code),
+            self.law_params,
+            two_over_h,
+        )
+        n = self.n_dof
+        work = np.empty(n)
+        samples = np.empty((n, steps))
+        contact_force = np.empty(steps)
+        record_peaks = np.empty((1, 3))
+        periods = 0
+        iterations = 0
+        converged = False
+        change = math.inf
+        chunk = _FIRST_CHUNK
+        history: list[float] = []
+        while True:
+            # a chunk: (chunk - 1) plain periods, then one recorded period whose
+            # change decides convergence
+            chunk = min(chunk, max_periods - periods)
+            if chunk > 1:
+                starts = np.empty((chunk, 2 * n + 1))
+                peaks = np.empty((chunk - 1, 3))
+                status, done, its = newmark_periods(*args, x, v, f, work, starts, peaks)
+                periods += int(done)
+                iterations += int(its)
+                if status != OK:
+                    return self._failed(status, periods, iterations, steps)
+                history.extend(_period_changes(starts, peaks, n).tolist())
+            before = np.concatenate((x, v, f))
+            status, its = record_period(
+                *args, x, v, f, work, record_peaks[0], samples, contact_force
+            )
+            periods += 1
+            iterations += int(its)
+            if status != OK:
+                return self._failed(status, periods, iterations, steps)
+            after = np.concatenate((x, v, f))
+            change = float(
+                _period_changes(np.vstack((before, after)), record_peaks, n)[0]
+            )
+            history.append(change)
+            if change <= tol:
+                converged = True
+                break
+            if periods >= max_periods:
+                break
+            chunk = _next_chunk(history, tol)
+        return _Run(OK, periods, iterations, converged, change, samples, contact_force)
+
+    def _failed(self, status, periods, iterations, steps) -> _Run:
+        nan = np.full((self.n_dof, steps), np.nan)
+        return _Run(status, periods, iterations, False, math.nan, nan, nan[0].copy())
+
+
+def _square(name: str, value, n: int) -> np.ndarray:
+    a = np.ascontiguousarray(value, dtype=np.float64)
+    if a.shape != (n, n):
+        raise ValueError(f"{name} must have shape ({n}, {n}), got {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must contain only finite values")
+    return a
+
+
+def _period_changes(starts: np.ndarray, peaks: np.ndarray, n: int) -> np.ndarray:
+    """Relative change of ``[x, v, f]`` over each period, shape (n_periods,).
+
+    ``starts`` has shape (n_periods + 1, 2 n + 1), ``peaks`` (n_periods, 3).
+    Each part is measured against its own peak over the period; a part that
+    is zero throughout counts as unchanged.
+    """
+    diff = np.abs(np.diff(starts, axis=0))
+    parts = np.column_stack(
+        (diff[:, :n].max(axis=1), diff[:, n : 2 * n].max(axis=1), diff[:, 2 * n])
+    )
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(parts == 0.0, 0.0, parts / peaks)
+    return ratio.max(axis=1)
+
+
+def _next_chunk(history: list[float], tol: float) -> int:
+    """Periods for the next kernel call.
+
+    The decay rate of the changes, fitted (least squares on their logarithm,
+    which smooths the ripple of a transient seen once per period) over the
+    last periods, predicts how many periods remain, so that little is
+    integrated past convergence.
+    """
+    recent = np.asarray(history[-_RATE_WINDOW:])
+    recent = recent[recent > 0]
+    if recent.size < 3:
+        return _FIRST_CHUNK
+    slope = np.polyfit(np.arange(recent.size), np.log(recent), 1)[0]
+    if not slope < 0.0:
+        return _MAX_CHUNK
+    remaining = math.log(tol / recent[-1]) / slope
+    if not remaining < _MAX_CHUNK:
+        return _MAX_CHUNK
+    return min(_MAX_CHUNK, max(_MIN_CHUNK, math.ceil(remaining) + 1))
+
+
+def _fourier_coefficients(samples: np.ndarray, harmonics: int) -> np.ndarray:
+    """Coefficients ``[X0, Xc1, Xs1, …, XcH, XsH]`` of sampled periods.
+
+    Parameters
+    ----------
+    samples : ndarray, shape (n_dof, N)
+        One period at ``t_k = k T / N``.
+    harmonics : int
+        ``H < N / 2``.
+
+    Returns
+    -------
+    ndarray, shape (n_dof, 2 H + 1)
+    """
+    spectrum = np.fft.rfft(samples, axis=1) / samples.shape[1]
     out = np.empty((samples.shape[0], 2 * harmonics + 1))
-    out[:, 0] = c[:, 0].real
-    out[:, 1::2] = 2.0 * c[:, 1 : harmonics + 1].real
-    out[:, 2::2] = -2.0 * c[:, 1 : harmonics + 1].imag
+    out[:, 0] = spectrum[:, 0].real
+    out[:, 1::2] = 2.0 * spectrum[:, 1 : harmonics + 1].real
+    out[:, 2::2] = -2.0 * spectrum[:, 1 : harmonics + 1].imag
     return out
+
+
+def _resample(samples: np.ndarray, n: int) -> np.ndarray:
+    """Trigonometric interpolant of one sampled period, at ``n`` instants.
+
+    Harmonics ``k < n/2`` are kept whole; the harmonic ``n/2`` (``n`` even)
+    contributes what sampling it at ``n`` points gives; the Nyquist term of
+    the input (``N`` even) is the usual split ``c cos(N θ / 2)``.
+    """
+    m = samples.size
+    spectrum = np.fft.rfft(samples) / m  # c_k, x = Σ c_k e^{ikθ} + c.c.
+    top = min(m // 2, n // 2)
+    # one-sided cosine/sine amplitudes a_k - i b_k
+    one_sided = 2.0 * spectrum[: top + 1]
+    one_sided[0] = spectrum[0]
+    if m % 2 == 0 and top == m // 2:
+        one_sided[top] = spectrum[top].real  # input Nyquist: c cos(m θ / 2)
+    out = np.zeros(n // 2 + 1, dtype=complex)
+    out[: top + 1] = 0.5 * one_sided
+    out[0] = one_sided[0]
+    if n % 2 == 0 and top == n // 2:
+        out[top] = one_sided[top].real  # sampled at n points: a cos(n θ / 2)
+    return np.fft.irfft(out * n, n)
+
+
+def _half_peak_to_peak(x: np.ndarray) -> float:
+    """Half the peak-to-peak value of one sampled period, each extreme
+    refined by the parabola through three neighbouring samples, m."""
+    m = x.size
+    extremes = []
+    for i in (int(np.argmax(x)), int(np.argmin(x))):
+        y_minus, y0, y_plus = x[i - 1], x[i], x[(i + 1) % m]
+        curvature = y_plus - 2.0 * y0 + y_minus
+        value = y0
+        if curvature != 0.0:
+            value = y0 - (y_plus - y_minus) ** 2 / (8.0 * curvature)
+        extremes.append(value)
+    return float(0.5 * (extremes[0] - extremes[1]))
