@@ -10,6 +10,7 @@ dry-friction contacts, with Numba-compiled AFT kernels.
 from . import validation
 from .api import frf, periodic_solution
 from .continuation import ContinuationOptions
+from .coulomb import Coulomb
 from .laws import ContactLaw, Cubic, Jenkins, Roughness, hertz_mindlin_stiffness
 from .results import Branch, PeriodicSolution
 from .systems import Oscillator
@@ -20,6 +21,7 @@ __all__ = [
     "Branch",
     "ContactLaw",
     "ContinuationOptions",
+    "Coulomb",
     "Cubic",
     "Jenkins",
     "Oscillator",
