@@ -9,7 +9,7 @@ import numpy as np
 from ._validate import finite_float, positive_int
 from .kernels.dft import fourier_matrices
 from .kernels.hbm import AFT_EVENTS, AFT_SAMPLES, NO_CONTACT, hbm_residual
-from .kernels.laws import JENKINS
+from .kernels.laws import JENKINS, MASING
 from .signals import coefficient_columns
 
 AFT_SCHEMES = ("auto", "events", "samples")
@@ -26,9 +26,10 @@ def select_harmonics(harmonics: int, odd: bool) -> np.ndarray:
 def default_n_time(harmonic_numbers: np.ndarray, aft: str) -> int:
     """Default samples per period.
 
-    ``events``: the samples only detect stick/slip events; two reversals
-    inside one sample interval would go unseen, so take 8 samples per period
-    of the highest harmonic (at least 32). ``samples``: ``16 H`` rounded to a
+    ``events``: the samples only detect stick/slip events (Jenkins) or
+    reversal points (Masing laws); two reversals inside one sample interval
+    would go unseen, so take 8 samples per period of the highest harmonic
+    (at least 32). ``samples``: ``16 H`` rounded to a
     multiple of 8, alias-free for a cubic law and keeping the friction
     aliasing small.
     """
@@ -55,7 +56,9 @@ class HBMProblem:
     symmetry : bool or None
         Solve for odd harmonics only. None: when the system allows it.
     aft : {"auto", "events", "samples"}
-        AFT scheme; "auto" uses event location for Jenkins, samples otherwise.
+        AFT scheme; "auto" uses event location for Jenkins (exact Fourier
+        integrals) and for the Masing laws Menq and Iwan (located reversal
+        points, :mod:`hbmfric.kernels.masing`), samples otherwise.
     """
 
     def __init__(
@@ -82,9 +85,10 @@ class HBMProblem:
         if aft not in AFT_SCHEMES:
             raise ValueError(f"aft must be one of {AFT_SCHEMES}, got {aft!r}")
         law = system.contact
+        located = law is not None and (law.code == JENKINS or law.code in MASING)
         if aft == "auto":
-            aft = "events" if law is not None and law.code == JENKINS else "samples"
-        if aft == "events" and (law is None or law.code != JENKINS):
+            aft = "events" if located else "samples"
+        if aft == "events" and not located:
             aft = "samples"
         self.aft = aft
         if n_time is None:

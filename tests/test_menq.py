@@ -6,18 +6,11 @@ checks."""
 
 import numpy as np
 import pytest
-from naive import (
-    loop_work,
-    menq_virgin,
-    shear_lag_bar,
-    synthesis_matrix,
-)
+from naive import loop_work, menq_virgin, shear_lag_bar
 from scipy.integrate import quad
 
 import hbmfric as hf
-from hbmfric.hbm import HBMProblem
 from hbmfric.kernels import laws as kl
-from hbmfric.kernels.aft import GROSS_SLIP, MICROSLIP, STUCK, aft_samples
 
 LAW = hf.Menq.from_stiffness(stiffness=3e4, slip_force=10.0, microslip_onset=0.5)
 BAR = (LAW.axial_rigidity, LAW.length, LAW.shear_stiffness, LAW.friction_limit)
@@ -157,48 +150,6 @@ def test_energy_in_gross_slip_grows_like_jenkins():
     a = 2.0 * D_GS
     slope = (LAW.energy_per_cycle(a * 1.01) - LAW.energy_per_cycle(a)) / (0.01 * a)
     assert slope == pytest.approx(4.0 * LAW.slip_force, rel=1e-9)
-
-
-def _aft(law, harmonics, X, n_time=64):
-    inverse = synthesis_matrix(harmonics, n_time)
-    problem = HBMProblem(
-        hf.Oscillator(1.0, 0.0, 1.0, law), 1.0, max(harmonics), n_time, symmetry=False
-    )
-    _, _, _, _, _, _, code, params, _, inv, fwd, _ = problem.kernel_problem
-    np.testing.assert_allclose(inv, inverse, atol=1e-14)
-
-    def run(x):
-        F = np.empty(inv.shape[1])
-        dF = np.empty((inv.shape[1], inv.shape[1]))
-        state = aft_samples(code, params, x, inv, fwd, F, dF)
-        return F, dF, state
-
-    return run
-
-
-@pytest.mark.parametrize(
-    ("coefficients", "expected_state"),
-    [
-        ([0.0, 0.5, 0.2, 0.0, 0.0, 0.0, 0.0], STUCK),
-        ([1.0, 0.3, 0.0, 0.0, 0.0, 0.0, 0.0], STUCK),  # shifted, linear
-        ([0.2, 1.2, 0.4, 0.1, 0.3, 0.35, -0.2], MICROSLIP),  # inner loops
-        ([0.3, 3.0, 1.0, 0.2, -0.5, 0.6, 0.4], GROSS_SLIP),
-    ],
-)
-def test_aft_jacobian_against_finite_differences(coefficients, expected_state):
-    harmonics = np.arange(0, 4)
-    X = LAW.slip_displacement * np.asarray(coefficients)
-    run = _aft(LAW, harmonics, X)
-    F, dF, state = run(X)
-    assert state == expected_state
-    h = 1e-6 * LAW.slip_displacement
-    fd = np.empty_like(dF)
-    for c in range(X.size):
-        e = np.zeros(X.size)
-        e[c] = h
-        fd[:, c] = (run(X + e)[0] - run(X - e)[0]) / (2.0 * h)
-    scale = LAW.stiffness
-    np.testing.assert_allclose(dF, fd, rtol=0, atol=1e-6 * scale)
 
 
 def test_stuck_loop_is_linear_and_skips_the_march():
