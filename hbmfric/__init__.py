@@ -12,12 +12,14 @@ from .api import frf, periodic_solution
 from .continuation import ContinuationOptions
 from .laws import ContactLaw, Cubic, Jenkins, Roughness, hertz_mindlin_stiffness
 from .results import Branch, PeriodicSolution
-from .systems import Oscillator
+from .systems import BeamCalibration, CantileverBeam, Oscillator
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "BeamCalibration",
     "Branch",
+    "CantileverBeam",
     "ContactLaw",
     "ContinuationOptions",
     "Cubic",
