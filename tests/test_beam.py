@@ -261,3 +261,41 @@ def test_branch_save_load_keeps_names(tmp_path, calibration):
     np.testing.assert_array_equal(
         back.amplitude(1, dof="force"), branch.amplitude(1, dof="force")
     )
+
+
+def test_paper_families_show_the_measured_regimes():
+    """Fig. 13: stuck at 40 N (peak at 87 Hz, contact force below μ Fn), no
+    resonance peak left near 1 N, slipping peak at 24 Hz at 0.5 N; Fig. 14:
+    the twelve curves collapse by Fex/Fn."""
+    from hbmfric.paper import (
+        beam_normal_load_family,
+        beam_ratio_family,
+        family_records,
+        ratio_collapse,
+    )
+
+    fig = beam_normal_load_family(harmonics=7, normal_loads=(40.0, 1.0, 0.5))
+    peaks = {}
+    for b, par in zip(fig.branches, fig.parameters, strict=True):
+        assert b.stop_reason.startswith("end")
+        a = b.amplitude(harmonic=1, dof="tip")
+        peaks[par["normal_load"]] = (b.omega[np.argmax(a)] / HZ, a.max())
+    assert peaks[40.0][0] == pytest.approx(87.0, abs=0.5)
+    assert peaks[40.0][1] * fig.branches[0].info["system"]["contact"]["stiffness"] < (
+        MU * 40.0
+    )
+    assert peaks[0.5][0] == pytest.approx(24.0, abs=0.5)
+    # flat: the 1 N curve peaks far below both resonances' peaks
+    assert peaks[1.0][1] < 0.25 * peaks[40.0][1]
+    assert peaks[1.0][1] < 0.1 * peaks[0.5][1]
+
+    fig14 = beam_ratio_family(
+        harmonics=5, ratios=(0.5, 2.0), ratio_normal_loads=(2.5, 10.0)
+    )
+    spread = ratio_collapse(fig14)
+    assert set(spread) == {0.5, 2.0}
+    assert max(spread.values()) < 1e-6
+    records = family_records(fig14)
+    assert len(records) == 4
+    assert {r["force"] / r["normal_load"] for r in records} == {0.5, 2.0}
+    assert all(r["omega"].shape == r["amplitude"].shape for r in records)
