@@ -12,6 +12,7 @@ from .kernels.condensed import (
     AFT_EVENTS,
     AFT_SAMPLES,
     CondensedProblem,
+    condensed_modal_coefficients,
     condensed_recover,
     condensed_residual,
 )
@@ -160,11 +161,10 @@ class CondensedHBMProblem(HBMProblem):
         ndarray, shape (n_points, n_dof, n_coef), m
         """
         points = np.ascontiguousarray(np.atleast_2d(points), dtype=np.float64)
-        out = np.empty((points.shape[0], self.n_dof, self.n_coef))
-        F = np.empty(self.n_coef)
-        for i in range(points.shape[0]):
-            condensed_recover(points[i], self.kernel_problem, self.shapes, out[i], F)
-        return out
+        n_modes = self.shapes.shape[1]
+        modal = np.empty((points.shape[0], n_modes, self.n_coef))
+        condensed_modal_coefficients(points, self.kernel_problem, modal)
+        return np.matmul(self.shapes, modal)
 
     def contact_force(self, y: np.ndarray) -> np.ndarray:
         """Contact-force coefficients (N) at ``y = [X_c, Ω]``, shape (n_coef,)."""

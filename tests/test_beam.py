@@ -299,3 +299,15 @@ def test_paper_families_show_the_measured_regimes():
     assert len(records) == 4
     assert {r["force"] / r["normal_load"] for r in records} == {0.5, 2.0}
     assert all(r["omega"].shape == r["amplitude"].shape for r in records)
+
+
+def test_readme_beam_example_runs():
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).parents[1] / "README.md").read_text()
+    code = [c for c in re.findall(r"```python\n(.*?)```", text, re.S) if "Beam" in c]
+    namespace: dict = {}
+    exec(compile(code[0], "README.md", "exec"), namespace)
+    assert namespace["branch"].info["condensed"]
+    assert not namespace["full"].info["condensed"]

@@ -218,3 +218,55 @@ def condensed_recover(y, problem, shapes, X, F):
                 X[j, col + 1] = -s.imag
         col += 1 if k == 0 else 2
     return status
+
+
+@jit
+def condensed_modal_coefficients(points, problem, modal):
+    """Modal coordinates of the full response at condensed solutions.
+
+    ``η̂_r = (q̂_r - φ_cr F̂) / d_r`` per harmonic, ``F`` the contact force
+    (AFT at each solution); the response of every DOF is then
+    ``X = Φ η`` (one matrix product, done by the caller).
+
+    Parameters
+    ----------
+    points : ndarray, shape (n_points, n_coef + 1)
+        Condensed solutions ``[X_c, Ω]``.
+    problem : CondensedProblem
+    modal : ndarray, shape (n_points, n_modes, n_coef)
+        Output: real coefficients of each modal coordinate (layout of the
+        DOF coefficients), m·kg^½.
+
+    Returns
+    -------
+    int
+        Lowest AFT status met (negative on a failure).
+    """
+    n = problem.inverse.shape[1]
+    F = np.empty(n)
+    dF = np.empty((n, n))
+    phi = problem.contact_shapes
+    w2 = problem.omega_squared
+    c = problem.modal_damping
+    q = problem.modal_load
+    worst = 1 << 30
+    for i in range(points.shape[0]):
+        status = _contact_force(points[i, :n].copy(), problem, F, dF)
+        if status < worst:
+            worst = status
+        omega = points[i, n]
+        col = 0
+        for k in problem.harmonic_numbers:
+            w = k * omega
+            for r in range(phi.size):
+                d = w2[r] - w * w + 1j * w * c[r]
+                if k == 0:
+                    modal[i, r, col] = (q[r, col] - phi[r] * F[col]) / w2[r]
+                else:
+                    qr = q[r, col] - 1j * q[r, col + 1]
+                    f = F[col] - 1j * F[col + 1]
+                    eta = (qr - phi[r] * f) / d
+                    modal[i, r, col] = eta.real
+                    modal[i, r, col + 1] = -eta.imag
+            col += 1 if k == 0 else 2
+    return worst
