@@ -311,3 +311,49 @@ def test_readme_beam_example_runs():
     exec(compile(code[0], "README.md", "exec"), namespace)
     assert namespace["branch"].info["condensed"]
     assert not namespace["full"].info["condensed"]
+
+
+def test_condensed_kernels_compile_once():
+    """A fresh process: beams at new loads, damping, harmonics and forcing
+    points add no kernel signature after the first batch."""
+    import json
+    import subprocess
+    import sys
+    import textwrap
+
+    code = textwrap.dedent(
+        """
+        import json
+        import numpy as np
+        import hbmfric as hf
+        from hbmfric.kernels import condensed, newton
+
+        def counts():
+            out = {}
+            for mod in (condensed, newton):
+                for name in dir(mod):
+                    obj = getattr(mod, name)
+                    if hasattr(obj, "signatures") and obj.__module__ == mod.__name__:
+                        out[mod.__name__ + "." + name] = len(obj.signatures)
+            return out
+
+        def runs(loads, zeta, H, force_dof):
+            cal = hf.CantileverBeam.calibrate(damping_ratio=zeta, force_dof=force_dof)
+            for fn in loads:
+                beam = cal.beam.with_contact(cal.contact(fn, 1.5))
+                hf.frf(beam, 2.0, (500.0, 600.0), H)
+                hf.periodic_solution(beam, 2.0, 540.0, H)
+
+        runs((5.0,), 0.03, 5, None)
+        first = counts()
+        runs((2.0, 40.0), 0.01, 7, "tip")
+        print(json.dumps({"first": first, "second": counts()}))
+        """
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    )
+    report = json.loads(out.stdout.strip().splitlines()[-1])
+    assert report["second"] == report["first"]
+    assert report["first"]["hbmfric.kernels.condensed.condensed_residual"] == 1
+    assert report["first"]["hbmfric.kernels.newton.correct"] == 1
