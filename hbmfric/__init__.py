@@ -20,12 +20,14 @@ from .laws import (
     hertz_mindlin_stiffness,
 )
 from .results import Branch, PeriodicSolution
-from .systems import Oscillator
+from .systems import BeamCalibration, CantileverBeam, Oscillator
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "BeamCalibration",
     "Branch",
+    "CantileverBeam",
     "ContactLaw",
     "ContinuationOptions",
     "Cubic",

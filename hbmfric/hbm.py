@@ -146,6 +146,18 @@ class HBMProblem:
         state = hbm_residual(y, self.kernel_problem, R, J)
         return R, J, int(state)
 
+    def full_coefficients(self, points: np.ndarray) -> np.ndarray:
+        """Coefficients of every DOF, shape (n_points, n_dof, n_coef), from
+        solutions ``points = [X, Ω]`` of shape (n_points, n_unknowns + 1)
+        (a condensed problem recovers the eliminated DOFs here)."""
+        points = np.atleast_2d(points)
+        X = points[:, : self.n_unknowns]
+        return X.reshape(-1, self.n_dof, self.n_coef).copy()
+
+    def unknowns_from_full(self, X: np.ndarray) -> np.ndarray:
+        """The unknowns from coefficients ``X`` of shape (n_dof, n_coef)."""
+        return np.ascontiguousarray(X, dtype=np.float64).reshape(-1)
+
     def linear_response(self, omega, contact: str = "stuck") -> np.ndarray:
         """First-harmonic response of the linearised system.
 
