@@ -11,19 +11,31 @@ from . import validation
 from .api import frf, periodic_solution
 from .continuation import ContinuationOptions
 from .coulomb import Coulomb
-from .laws import ContactLaw, Cubic, Jenkins, Roughness, hertz_mindlin_stiffness
+from .laws import (
+    ContactLaw,
+    Cubic,
+    Iwan,
+    Jenkins,
+    Menq,
+    Roughness,
+    hertz_mindlin_stiffness,
+)
 from .results import Branch, PeriodicSolution
-from .systems import Oscillator
+from .systems import BeamCalibration, CantileverBeam, Oscillator
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "BeamCalibration",
     "Branch",
+    "CantileverBeam",
     "ContactLaw",
     "ContinuationOptions",
     "Coulomb",
     "Cubic",
+    "Iwan",
     "Jenkins",
+    "Menq",
     "Oscillator",
     "PeriodicSolution",
     "Roughness",

@@ -10,7 +10,7 @@ from ._validate import finite_float, positive_int
 from .kernels.dft import fourier_matrices
 from .kernels.dlft import COULOMB
 from .kernels.hbm import AFT_EVENTS, AFT_SAMPLES, NO_CONTACT, hbm_residual
-from .kernels.laws import JENKINS
+from .kernels.laws import JENKINS, MASING
 from .signals import coefficient_columns
 
 AFT_SCHEMES = ("auto", "events", "samples")
@@ -27,9 +27,10 @@ def select_harmonics(harmonics: int, odd: bool) -> np.ndarray:
 def default_n_time(harmonic_numbers: np.ndarray, aft: str) -> int:
     """Default samples per period.
 
-    ``events``: the samples only detect stick/slip events; two reversals
-    inside one sample interval would go unseen, so take 8 samples per period
-    of the highest harmonic (at least 32). ``samples``: ``16 H`` rounded to a
+    ``events``: the samples only detect stick/slip events (Jenkins) or
+    reversal points (Masing laws); two reversals inside one sample interval
+    would go unseen, so take 8 samples per period of the highest harmonic
+    (at least 32). ``samples``: ``16 H`` rounded to a
     multiple of 8, alias-free for a cubic law and keeping the friction
     aliasing small.
     """
@@ -56,9 +57,11 @@ class HBMProblem:
     symmetry : bool or None
         Solve for odd harmonics only. None: when the system allows it.
     aft : {"auto", "events", "samples"}
-        AFT scheme; "auto" uses event location for Jenkins, samples otherwise.
-        A rigid :class:`~hbmfric.Coulomb` contact is always solved by the
-        sampled DLFT scheme (``self.aft == "dlft"``).
+        AFT scheme; "auto" uses event location for Jenkins (exact Fourier
+        integrals) and for the Masing laws Menq and Iwan (located reversal
+        points, :mod:`hbmfric.kernels.masing`), samples otherwise. A rigid
+        :class:`~hbmfric.Coulomb` contact is always solved by the sampled
+        DLFT scheme (``self.aft == "dlft"``).
     """
 
     def __init__(
@@ -86,11 +89,12 @@ class HBMProblem:
             raise ValueError(f"aft must be one of {AFT_SCHEMES}, got {aft!r}")
         law = system.contact
         rigid = law is not None and law.code == COULOMB
+        located = law is not None and (law.code == JENKINS or law.code in MASING)
         if rigid:
             aft = "dlft"
         elif aft == "auto":
-            aft = "events" if law is not None and law.code == JENKINS else "samples"
-        if aft == "events" and (law is None or law.code != JENKINS):
+            aft = "events" if located else "samples"
+        if aft == "events" and not located:
             aft = "samples"
         self.aft = aft
         if n_time is None:
@@ -173,6 +177,18 @@ class HBMProblem:
         J = np.empty((self.n_unknowns, self.n_unknowns + 1))
         state = hbm_residual(y, self.kernel_problem, R, J)
         return R, J, int(state)
+
+    def full_coefficients(self, points: np.ndarray) -> np.ndarray:
+        """Coefficients of every DOF, shape (n_points, n_dof, n_coef), from
+        solutions ``points = [X, Ω]`` of shape (n_points, n_unknowns + 1)
+        (a condensed problem recovers the eliminated DOFs here)."""
+        points = np.atleast_2d(points)
+        X = points[:, : self.n_unknowns]
+        return X.reshape(-1, self.n_dof, self.n_coef).copy()
+
+    def unknowns_from_full(self, X: np.ndarray) -> np.ndarray:
+        """The unknowns from coefficients ``X`` of shape (n_dof, n_coef)."""
+        return np.ascontiguousarray(X, dtype=np.float64).reshape(-1)
 
     def linear_response(self, omega, contact: str = "stuck") -> np.ndarray:
         """First-harmonic response of the linearised system.

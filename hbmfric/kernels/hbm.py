@@ -15,7 +15,8 @@ import numpy as np
 from .._jit import jit
 from .aft import aft_jenkins_events, aft_samples
 from .dlft import COULOMB, dlft_contact
-from .laws import JENKINS
+from .laws import JENKINS, is_masing
+from .masing import aft_masing
 
 NO_CONTACT = -1
 #: AFT scheme codes
@@ -110,6 +111,18 @@ def hbm_residual(y, problem, R, J):
         if law_code == JENKINS and aft_scheme == AFT_EVENTS:
             status = aft_jenkins_events(
                 law_params, harmonic_numbers, x_c, inverse, derivative, F, dF
+            )
+        elif is_masing(law_code) and aft_scheme == AFT_EVENTS:
+            status = aft_masing(
+                law_code,
+                law_params,
+                harmonic_numbers,
+                x_c,
+                inverse,
+                forward,
+                derivative,
+                F,
+                dF,
             )
         else:
             status = aft_samples(law_code, law_params, x_c, inverse, forward, F, dF)
