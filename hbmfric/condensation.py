@@ -16,6 +16,7 @@ from .kernels.condensed import (
     condensed_recover,
     condensed_residual,
 )
+from .kernels.dlft import COULOMB
 from .signals import coefficient_columns
 
 #: largest off-diagonal term of Φᵀ C Φ, relative to its diagonal, accepted
@@ -38,6 +39,8 @@ def can_condense(system) -> bool:
     """True when condensation is possible and pays: several DOFs, a contact,
     positive definite stiffness and classical damping."""
     if system.contact is None or int(system.n_dof) < 2:
+        return False
+    if system.contact.code == COULOMB:  # DLFT is not in the condensed kernel
         return False
     try:
         _modal_data(system)
@@ -91,6 +94,11 @@ class CondensedHBMProblem(HBMProblem):
         super().__init__(system, force, harmonics, n_time, symmetry, aft)
         if system.contact is None:
             raise ValueError("condensation needs a contact law on the system")
+        if system.contact.code == COULOMB:
+            raise ValueError(
+                "a rigid Coulomb contact (DLFT) is solved on the full system "
+                "only; use condense=False"
+            )
         omega, shapes, modal_c = _modal_data(system)
         self.shapes = np.ascontiguousarray(shapes)
         self.contact_dof = int(system.contact_dof)

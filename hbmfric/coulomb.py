@@ -42,12 +42,12 @@ class Coulomb(ContactLaw):
     penalty : float, optional
         DLFT penalty ``ε``, N/m, > 0: a numerical parameter of the harmonic
         balance, not of the physics (the converged solution does not depend
-        on it beyond the harmonic truncation error). Default (None): ten
-        times the static stiffness of the structure at the contact DOF,
-        ``10 K[c, c]`` (for the oscillator ``m ẍ + c ẋ + k x``: ``10 k``),
-        within the range of the contact DOF's dynamic stiffness over the
-        harmonics; Newton converges in fewer iterations there than at
-        ``K[c, c]``.
+        on it beyond the harmonic truncation error; without stick phases
+        not at all). Default (None): the static stiffness of the structure
+        at the contact DOF, ``K[c, c]`` (for the oscillator
+        ``m ẍ + c ẋ + k x``: ``k``), the smallest dynamic stiffness of the
+        contact DOF below its resonance; Newton fails at some stick/slip
+        points from about ``10 K[c, c]`` on.
 
     Notes
     -----

@@ -14,7 +14,7 @@ import numpy as np
 
 from .._jit import jit
 from .aft import aft_jenkins_events, aft_samples
-from .dlft import COULOMB, dlft_contact
+from .dlft import COULOMB, dlft_contact, dlft_located
 from .laws import JENKINS, is_masing
 from .masing import aft_masing
 
@@ -38,8 +38,10 @@ def hbm_residual(y, problem, R, J):
         with ``mass``, ``damping``, ``stiffness`` of shape (n_dof, n_dof),
         ``load`` of shape (n_dof * n_coef,) (coefficients of ``p(t)``, N),
         ``law_code = -1`` for no contact; ``law_code = COULOMB`` (rigid
-        Coulomb, ``law_params = [slip_force, penalty]``) is solved by the
-        DLFT method (:mod:`hbmfric.kernels.dlft`) instead of an AFT.
+        Coulomb, ``law_params = [slip_force, penalty, penalty_damping]``)
+        is solved by DLFT (:mod:`hbmfric.kernels.dlft`) instead of an AFT:
+        with located reversals for ``aft_scheme = AFT_EVENTS``, the classic
+        sampled scheme otherwise.
     R : ndarray, shape (n_dof * n_coef,)
         Output: residual, N.
     J : ndarray, shape (n_dof * n_coef, n_dof * n_coef + 1)
@@ -99,7 +101,20 @@ def hbm_residual(y, problem, R, J):
                     J[rp + 1, n] += ddiag * xs - cpq * k * xc
         col += 1 if k == 0 else 2
     status = 0
-    if law_code == COULOMB:
+    if law_code == COULOMB and aft_scheme == AFT_EVENTS:
+        status = dlft_located(
+            law_params,
+            harmonic_numbers,
+            contact_dof * n_coef,
+            mass[contact_dof, contact_dof],
+            y,
+            inverse,
+            forward,
+            derivative,
+            R,
+            J,
+        )
+    elif law_code == COULOMB:
         status = dlft_contact(
             law_params, contact_dof * n_coef, y, inverse, forward, R, J
         )
