@@ -38,6 +38,20 @@ maximum ``v`` with ``λ = +f_s``; a contact stuck over the whole period keeps
 The Jacobian is carried analytically through the march (``dλ_i/dV``), then
 chained with ``dV/dy = E_c - (dR_lin/dy)_c / ε`` over all unknowns
 ``y = [X, Ω]``, which gives ``dR/dΩ`` for continuation too.
+
+Two schemes
+-----------
+:func:`dlft_contact` is the classic scheme above (``aft="samples"``). Its
+stick/slip decision rides on the predicted force, whose truncated Fourier
+series rings where the Coulomb force jumps; against Den Hartog's exact
+solution it is 1.4e-2 off at H = 31 for F_s/P = 0.3 (first order in H).
+:func:`dlft_located` (the default, ``aft="events"``) keeps the DLFT idea
+(prediction from the linear residual, correction in time, residual
+``ε (U - W)``-like) but ends slip where the relative velocity changes sign
+(located between samples), decides stick there from the holding force
+(the linear residual without the contact DOF's own inertia, which does
+not ring), and corrects the DFT for the position of each jump: 2e-3 at
+H = 31 for the same case.
 """
 
 import numpy as np
