@@ -98,6 +98,8 @@ class HBMProblem:
         law = system.contact
         rigid = law is not None and law.code == COULOMB
         self._rigid = rigid
+        #: Newton iterations spent in the start-point presolve (rigid Coulomb)
+        self.presolve_iterations = 0
         located = law is not None and (
             law.code in (JENKINS, COULOMB) or law.code in MASING
         )
@@ -269,10 +271,10 @@ class HBMProblem:
         """Starting points ``y = [X, Ω]`` for Newton at fixed Ω.
 
         The stuck and the free linearisations; for a rigid Coulomb contact
-        first the point a long damped Newton iteration reaches from them
-        (the DLFT residual is piecewise linear with many seams, so that from
-        a linear guess Newton needs tens of backtracked steps, more than a
-        continuation corrector allows).
+        first the point a long backtracked Newton iteration reaches from
+        them (the DLFT residual has a seam at every stick/slip change; from
+        a linear guess in the stop regime Newton needs tens of backtracked
+        steps, more than a continuation corrector allows).
         """
         guesses = []
         for contact in ("stuck", "free"):
@@ -291,7 +293,10 @@ class HBMProblem:
     def _presolve(
         self, y: np.ndarray, max_iter: int = 300, tol: float = 1e-10
     ) -> np.ndarray | None:
-        """Backtracked Newton at fixed Ω from ``y``; the point or None."""
+        """Backtracked Newton at fixed Ω from ``y``; the point or None.
+
+        Its iterations add up in ``self.presolve_iterations``.
+        """
         n = self.n_unknowns
         y = y.copy()
         R, J, _ = self.residual(y)
@@ -300,6 +305,7 @@ class HBMProblem:
         for _ in range(max_iter):
             if res <= target:
                 return y
+            self.presolve_iterations += 1
             try:
                 dx = np.linalg.solve(J[:, :n], -R)
             except np.linalg.LinAlgError:
