@@ -13,15 +13,21 @@ Law codes and their parameter arrays
     Predictor ``f = f_prev + kt (u - u_prev)``, then ``|f| <= f_s``.
 ``CUBIC`` (smooth, memoryless): ``params = [coefficient]``
     ``f = k3 u**3``.
+``DAHL`` (modified Dahl restoring force): ``params = [β, μ, a, b, d, e]``
+    Rate-independent relaxation towards the envelopes ``h_u = a u + b``
+    (loading) and ``h_l = d u + e`` (unloading); see
+    :mod:`hbmfric.kernels.dahl`.
 """
 
 from .._jit import jit
+from .dahl import dahl_update
 
 JENKINS = 0
 CUBIC = 1
+DAHL = 2
 
 #: laws whose force depends on the displacement history
-HYSTERETIC = (JENKINS,)
+HYSTERETIC = (JENKINS, DAHL)
 
 STICK = 0
 SLIP = 1
@@ -59,6 +65,8 @@ def law_update(code, params, f_prev, u_prev, u):
         if trial < -slip_force:
             return -slip_force, 0.0, 0.0, 0.0
         return trial, 1.0, -kt, kt
+    if code == DAHL:
+        return dahl_update(params, f_prev, u_prev, u)
     # CUBIC
     k3 = params[0]
     return k3 * u * u * u, 0.0, 0.0, 3.0 * k3 * u * u
@@ -69,4 +77,7 @@ def linear_stiffness(code, params):
     """Tangent stiffness of the law at rest (stuck contact), N/m."""
     if code == JENKINS:
         return params[0]
+    if code == DAHL:
+        # small-loop stiffness at u = 0: β ((b - e) / 2)^μ
+        return params[0] * max(0.5 * (params[3] - params[5]), 0.0) ** params[1]
     return 0.0
