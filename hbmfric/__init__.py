@@ -10,6 +10,7 @@ dry-friction contacts, with Numba-compiled AFT kernels.
 from . import validation
 from .api import frf, periodic_solution
 from .continuation import ContinuationOptions
+from .dahl import ModifiedDahl
 from .laws import ContactLaw, Cubic, Jenkins, Roughness, hertz_mindlin_stiffness
 from .results import Branch, PeriodicSolution
 from .systems import Oscillator
@@ -22,6 +23,7 @@ __all__ = [
     "ContinuationOptions",
     "Cubic",
     "Jenkins",
+    "ModifiedDahl",
     "Oscillator",
     "PeriodicSolution",
     "Roughness",

@@ -20,7 +20,7 @@ exact exponential solution
     unloading: F = h_l(u) + d/β + (F₀ − h_l(u₀) − d/β) exp(−β |Δu|),
 
 so the branches tend to ``h_u − a/β`` and ``h_l + d/β``. For μ ≠ 1 the
-increment is integrated by classical Runge–Kutta with ``1 + ⌊4 β_eff |Δu|⌋``
+increment is integrated by classical Runge–Kutta with ``1 + ⌊8 β_eff |Δu|⌋``
 substeps (β_eff the local slope rate) and its derivatives are carried
 through the stages (forward mode), so they are those of the discrete map.
 
@@ -107,8 +107,9 @@ def dahl_update(params, f_prev, u_prev, u):
     # μ != 1: RK4 in τ ∈ [0, 1], u(τ) = u_prev + τ du, dF/dτ = du φ(u, F),
     # φ = β σ(s (p u + q - F)); tangents w.r.t. (f_prev, u_prev, u) carried along
     x0 = s * (slope * u_prev + offset - f_prev)
-    rate = beta * mu * max(abs(x0), 1e-300) ** (mu - 1.0)
-    n_sub = 1 + int(4.0 * rate * abs(du))
+    # relaxation rate |∂φ/∂F| at the start and on the asymptote σ(x) = p/β
+    rate = beta * mu * max(abs(x0), (abs(slope) / beta) ** (1.0 / mu)) ** (mu - 1.0)
+    n_sub = 1 + int(8.0 * rate * abs(du))
     if n_sub > 200:
         n_sub = 200
     h = 1.0 / n_sub
