@@ -7,7 +7,7 @@ dry-friction contacts, with Numba-compiled AFT kernels.
 >>> branch = hf.frf(osc, force=0.5, omega=(0.5, 3.0), harmonics=15)
 """
 
-from . import validation
+from . import identify, validation
 from .api import frf, periodic_solution
 from .continuation import ContinuationOptions
 from .dahl import ModifiedDahl
@@ -29,6 +29,7 @@ __all__ = [
     "Roughness",
     "frf",
     "hertz_mindlin_stiffness",
+    "identify",
     "periodic_solution",
     "validation",
 ]

@@ -317,3 +317,24 @@ def aft_dahl(params, X, inverse, forward, F, dF):
                 for c in range(n_coef):
                     dF[r, c] += w * grad[i, c]
     return status
+
+
+@jit
+def dahl_march(params, u, f0, force):
+    """March the law along a displacement record (a transient, not a loop).
+
+    Parameters
+    ----------
+    params : ndarray, shape (6,)
+    u : ndarray, shape (n,)
+        Displacement path, m.
+    f0 : float
+        Force at ``u[0]``, N.
+    force : ndarray, shape (n,)
+        Output: force along the path, N.
+    """
+    f = f0
+    force[0] = f
+    for i in range(1, u.size):
+        f = dahl_update(params, f, u[i - 1], u[i])[0]
+        force[i] = f
