@@ -7,9 +7,10 @@ dry-friction contacts, with Numba-compiled AFT kernels.
 >>> branch = hf.frf(osc, force=0.5, omega=(0.5, 3.0), harmonics=15)
 """
 
-from . import validation
+from . import identify, validation
 from .api import frf, periodic_solution
 from .continuation import ContinuationOptions
+from .dahl import ModifiedDahl
 from .laws import (
     ContactLaw,
     Cubic,
@@ -34,11 +35,13 @@ __all__ = [
     "Iwan",
     "Jenkins",
     "Menq",
+    "ModifiedDahl",
     "Oscillator",
     "PeriodicSolution",
     "Roughness",
     "frf",
     "hertz_mindlin_stiffness",
+    "identify",
     "periodic_solution",
     "validation",
 ]
