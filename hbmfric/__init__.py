@@ -10,6 +10,7 @@ dry-friction contacts, with Numba-compiled AFT kernels.
 from . import identify, validation
 from .api import frf, periodic_solution
 from .continuation import ContinuationOptions
+from .coulomb import Coulomb
 from .dahl import ModifiedDahl
 from .laws import (
     ContactLaw,
@@ -31,6 +32,7 @@ __all__ = [
     "CantileverBeam",
     "ContactLaw",
     "ContinuationOptions",
+    "Coulomb",
     "Cubic",
     "Iwan",
     "Jenkins",

@@ -8,6 +8,7 @@ import numpy as np
 
 from ._validate import finite_float, positive_int
 from .kernels.dft import fourier_matrices
+from .kernels.dlft import COULOMB
 from .kernels.hbm import AFT_EVENTS, AFT_SAMPLES, NO_CONTACT, hbm_residual
 from .kernels.laws import JENKINS, MASING
 from .signals import coefficient_columns
@@ -58,7 +59,9 @@ class HBMProblem:
     aft : {"auto", "events", "samples"}
         AFT scheme; "auto" uses event location for Jenkins (exact Fourier
         integrals) and for the Masing laws Menq and Iwan (located reversal
-        points, :mod:`hbmfric.kernels.masing`), samples otherwise.
+        points, :mod:`hbmfric.kernels.masing`), samples otherwise. A rigid
+        :class:`~hbmfric.Coulomb` contact is always solved by the sampled
+        DLFT scheme (``self.aft == "dlft"``).
     subharmonic : int
         ``ν >= 1``: the unknowns are harmonics of ``Ω/ν`` (the Ω of ``y``
         is then the fundamental ``Ω/ν``) and the forcing sits on harmonic
@@ -111,8 +114,11 @@ class HBMProblem:
         if aft not in AFT_SCHEMES:
             raise ValueError(f"aft must be one of {AFT_SCHEMES}, got {aft!r}")
         law = system.contact
+        rigid = law is not None and law.code == COULOMB
         located = law is not None and (law.code == JENKINS or law.code in MASING)
-        if aft == "auto":
+        if rigid:
+            aft = "dlft"
+        elif aft == "auto":
             aft = "events" if located else "samples"
         if aft == "events" and not located:
             aft = "samples"
@@ -143,6 +149,9 @@ class HBMProblem:
         self.load = load.reshape(-1)
         if law is None:
             code, params = NO_CONTACT, np.zeros(1)
+        elif rigid:
+            code = COULOMB
+            params = np.array([law.slip_force, self._penalty(law, stiffness)])
         else:
             code, params = law.code, np.ascontiguousarray(law.params, dtype=np.float64)
         self.kernel_problem = (
@@ -159,6 +168,29 @@ class HBMProblem:
             forward,
             derivative,
         )
+
+    def _penalty(self, law, stiffness: np.ndarray) -> float:
+        """DLFT penalty ``ε`` of a rigid Coulomb contact, N/m: the law's own,
+        else the static stiffness ``K[c, c]`` at the contact DOF."""
+        if law.penalty is not None:
+            return float(law.penalty)
+        c = int(self.system.contact_dof)
+        k_cc = float(stiffness[c, c])
+        if not k_cc > 0.0:
+            raise ValueError(
+                "hf.Coulomb on a contact DOF without static stiffness (K[c, c] = "
+                f"{k_cc}): give the DLFT penalty explicitly, hf.Coulomb(..., "
+                "penalty=eps) in N/m, of the order of the dynamic stiffness "
+                "m Ω² at the contact"
+            )
+        return k_cc
+
+    @property
+    def penalty(self) -> float | None:
+        """DLFT penalty ``ε`` (N/m) of a rigid Coulomb contact, else None."""
+        if self.kernel_problem[6] != COULOMB:
+            return None
+        return float(self.kernel_problem[7][1])
 
     # ------------------------------------------------------------------
     def residual(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
@@ -197,7 +229,8 @@ class HBMProblem:
         omega : float or ndarray, shape (n_omega,)
             Pulsation(s), rad/s.
         contact : {"stuck", "free"}
-            ``"stuck"`` adds the law's stuck stiffness at the contact DOF,
+            ``"stuck"`` adds the law's stuck stiffness at the contact DOF
+            (a rigid Coulomb contact holds the contact DOF at 0),
             ``"free"`` leaves the contact out.
 
         Returns
@@ -208,14 +241,22 @@ class HBMProblem:
         w = self.subharmonic * np.atleast_1d(np.asarray(omega, dtype=float))
         mass, damping, stiffness = self.kernel_problem[1:4]
         K = stiffness.copy()
-        if contact == "stuck" and self.system.contact is not None:
-            c = self.system.contact_dof
-            K[c, c] += self.system.contact.stuck_stiffness
+        law = self.system.contact
+        c = self.system.contact_dof
+        pinned = contact == "stuck" and law is not None and law.code == COULOMB
+        if contact == "stuck" and law is not None and not pinned:
+            K[c, c] += law.stuck_stiffness
         Z = K - w[:, None, None] ** 2 * mass + 1j * w[:, None, None] * damping
         col1 = coefficient_columns(self.harmonic_numbers)[self.subharmonic]
         load = self.load.reshape(self.n_dof, self.n_coef)
         # p cos(Ωt - φ) = Re(p e^{-iφ} e^{iΩt})
         p = load[:, col1] - 1j * load[:, col1 + 1]
+        if pinned:
+            # x_c = 0: replace the contact DOF's equation by x_c = 0
+            Z[:, c, :] = 0.0
+            Z[:, :, c] = 0.0
+            Z[:, c, c] = 1.0
+            p[c] = 0.0
         x = np.zeros((w.size, self.n_dof), dtype=complex)
         ok = np.abs(np.linalg.det(Z)) > 0
         if np.any(ok):

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .._validate import dof_index, finite_float, positive_int
+from ..kernels.dlft import COULOMB
 from ..kernels.laws import law_init, state_size
 from ..signals import harmonic_amplitude
 from .integrator import (
@@ -375,6 +376,13 @@ class _Problem:
             )
         if law is None:
             code, params, k_stuck = NO_CONTACT, np.zeros(1), 0.0
+        elif law.code == COULOMB:
+            raise ValueError(
+                "the time-integration reference has no rigid Coulomb contact "
+                "(hf.Coulomb is solved by harmonic balance only); use a stiff "
+                "hf.Jenkins element here, e.g. stiffness = 1e3-1e4 times the "
+                "structure's stiffness at the contact, with the same slip force"
+            )
         else:
             code = int(law.code)
             params = np.ascontiguousarray(law.params, dtype=np.float64)
