@@ -28,6 +28,10 @@ AUTO_WIDTH_FACTOR = 0.5
 TRIM_KEEP = 0.95
 #: the ratio-invariance threshold is at least this multiple of the noise
 NOISE_SPREAD_FACTOR = 2.5
+#: mostly stuck curves have Fex/Fn at most this fraction of the flattest
+#: peak's ratio (closer to it, a Masing curve slips enough to soften and
+#: rise a little above the stuck envelope)
+MOSTLY_STUCK_FRACTION = 0.5
 
 
 @dataclass(frozen=True, eq=False)
@@ -457,7 +461,9 @@ def choose_contact_model(
         flattest = min(curves, key=lambda c: c["peak"][1])
         ind["flattest_ratio"] = flattest["ratio"]
         for c in candidates:
-            if c["ratio"] >= flattest["ratio"]:
+            if c["ratio"] > MOSTLY_STUCK_FRACTION * flattest["ratio"] * (
+                1.0 + ratio_rtol
+            ):
                 continue
             ok = np.isfinite(c["curve"]) & np.isfinite(ref)
             if np.count_nonzero(ok) < min_overlap:
@@ -470,8 +476,9 @@ def choose_contact_model(
     if not mostly and not missing:
         missing.append(
             "no mostly stuck curve: none lies between the stuck reference and "
-            "the flattest peak (add ratios below the one that flattens the "
-            "peak most, but above the fully stuck one)"
+            "half the ratio of the flattest peak (add values of Fex/Fn below "
+            "half the one that flattens the peak most, but above the fully "
+            "stuck one)"
         )
 
     # -- the envelope test ---------------------------------------------------
@@ -509,7 +516,8 @@ def choose_contact_model(
         )
         text.append(
             f"Step 2: the stuck reference is {ref_name}, resonance at {w_ref:.4g}. "
-            f"Mostly stuck curves (ratios below the flattest peak, at Fex/Fn = "
+            f"Mostly stuck curves (at most half the ratio of the flattest peak, "
+            f"Fex/Fn = "
             f"{ind['flattest_ratio']:.3g}): "
             + ", ".join(f"{c['ratio']:.3g}" for c in mostly)
             + f"; their peaks move by {shifts} from the stuck resonance. The "
