@@ -1,84 +1,10 @@
-"""Noise-tolerant resampling of FRFs: local quadratic regression of the log
-amplitude onto a common frequency grid, and sub-grid peak location."""
+"""Noise-tolerant resampling of FRFs: interpolation of the log amplitude onto
+a common uniform frequency grid, local quadratic smoothing there, noise
+estimate, sub-grid peak location and flank crossings."""
 
 from __future__ import annotations
 
 import numpy as np
-
-
-def smooth_log(
-    omega: np.ndarray,
-    log_amp: np.ndarray,
-    grid: np.ndarray,
-    half_width: float,
-    min_points: int = 7,
-) -> np.ndarray:
-    """Local quadratic regression (tricube weights) of ``log_amp(omega)``
-    evaluated at ``grid``.
-
-    Parameters
-    ----------
-    omega : ndarray, shape (n,)
-        Sample frequencies, increasing (uneven spacing allowed).
-    log_amp : ndarray, shape (n,)
-        Log amplitude at the samples.
-    grid : ndarray, shape (m,)
-        Where to evaluate; points outside ``[omega[0], omega[-1]]`` get NaN.
-    half_width : float
-        Half width of the regression window, same unit as ``omega``; it is
-        widened locally to hold at least ``min_points`` samples.
-    min_points : int, default 7
-
-    Returns
-    -------
-    ndarray, shape (m,)
-        Smoothed log amplitude (NaN outside the sampled range).
-
-    Notes
-    -----
-    A quadratic keeps the height of a resonance peak whose width exceeds the
-    window, which a moving average would shave off; in log amplitude the
-    multiplicative noise of measurements becomes additive.
-    """
-    out = np.full(grid.shape, np.nan)
-    inside = (grid >= omega[0]) & (grid <= omega[-1])
-    g = grid[inside]
-    if g.size == 0:
-        return out
-    d = omega[None, :] - g[:, None]  # (m, n)
-    k = min(min_points, omega.size) - 1
-    kth = np.partition(np.abs(d), k, axis=1)[:, k]
-    # samples on both sides (where there are any): a one-sided window lets
-    # the parabola swing across a gap of an uneven grid
-    side = []
-    for mask in (d <= 0.0, d >= 0.0):
-        dist = np.where(mask, np.abs(d), np.inf)
-        m = min(2, omega.size - 1)
-        near = np.partition(dist, m - 1, axis=1)[:, m - 1]
-        side.append(np.where(np.isfinite(near), near, 0.0))
-    h = np.maximum.reduce([np.full(g.shape, half_width), kth, *side])
-    h = (h * 1.0001)[:, None]
-    w = np.clip(1.0 - (np.abs(d) / h) ** 3, 0.0, None) ** 3
-    x = d / h
-    s = [np.sum(w * x**p, axis=1) for p in range(5)]
-    t = [np.sum(w * x**p * log_amp[None, :], axis=1) for p in range(3)]
-    A = np.stack(
-        [
-            np.stack([s[0], s[1], s[2]], axis=-1),
-            np.stack([s[1], s[2], s[3]], axis=-1),
-            np.stack([s[2], s[3], s[4]], axis=-1),
-        ],
-        axis=-2,
-    )
-    A += 1e-12 * s[0][:, None, None] * np.eye(3)
-    b = np.stack(t, axis=-1)[..., None]
-    coef = np.linalg.solve(A, b)[..., 0]
-    # never leave the range of the samples in the window
-    inwin = w > 0.0
-    hi = np.max(np.where(inwin, log_amp[None, :], -np.inf), axis=1)
-    lo = np.min(np.where(inwin, log_amp[None, :], np.inf), axis=1)
-    out[inside] = np.clip(coef[:, 0], lo, hi)
-    return out
 
 
 def peak(grid: np.ndarray, log_amp: np.ndarray) -> tuple[float, float, bool]:
@@ -156,17 +82,43 @@ def noise_level(omega: np.ndarray, log_amp: np.ndarray) -> float:
 
 
 def smooth_grid(grid: np.ndarray, values: np.ndarray, half_width: float) -> np.ndarray:
-    """Local quadratic smoothing of curves already on the uniform ``grid``
-    (NaN outside their range); ``half_width <= 0`` returns them unchanged.
+    """Local quadratic smoothing (tricube weights) of a curve already on the
+    uniform ``grid`` (NaN outside its range); ``half_width <= 0`` returns it
+    unchanged.
 
     The same linear operator acts on every curve, so stretches where two
     curves coincide stay identical after smoothing.
     """
     if half_width <= 0.0:
         return values.copy()
-    ok = np.isfinite(values)
+    dx = grid[1] - grid[0]
+    hp = max(int(np.ceil(half_width / dx)), 2)
+    h = (hp + 1) * dx
+    pad = np.full(values.size + 2 * hp, np.nan)
+    pad[hp:-hp] = values
+    win = np.lib.stride_tricks.sliding_window_view(pad, 2 * hp + 1)  # (n, 2hp+1)
+    x = np.arange(-hp, hp + 1) * dx / h
+    ok = np.isfinite(win)
+    w = np.where(ok, (1.0 - np.abs(x) ** 3) ** 3, 0.0)
+    y = np.where(ok, win, 0.0)
+    s = [w.sum(axis=1)] + [(w * x**p).sum(axis=1) for p in range(1, 5)]
+    t = [(w * y).sum(axis=1), (w * x * y).sum(axis=1), (w * x**2 * y).sum(axis=1)]
+    A = np.stack(
+        [
+            np.stack([s[0], s[1], s[2]], axis=-1),
+            np.stack([s[1], s[2], s[3]], axis=-1),
+            np.stack([s[2], s[3], s[4]], axis=-1),
+        ],
+        axis=-2,
+    )
     out = np.full(values.shape, np.nan)
-    if np.count_nonzero(ok) < 3:
+    inside = np.isfinite(values)
+    if np.count_nonzero(inside) < 3:
         return out
-    out[ok] = smooth_log(grid[ok], values[ok], grid[ok], half_width, min_points=3)
+    A = A[inside] + 1e-12 * s[0][inside, None, None] * np.eye(3)
+    b = np.stack(t, axis=-1)[inside, :, None]
+    coef = np.linalg.solve(A, b)[..., 0]
+    hi = np.max(np.where(ok, win, -np.inf), axis=1)[inside]
+    lo = np.min(np.where(ok, win, np.inf), axis=1)[inside]
+    out[inside] = np.clip(coef[:, 0], lo, hi)
     return out
