@@ -10,7 +10,15 @@ dry-friction contacts, with Numba-compiled AFT kernels.
 from . import validation
 from .api import frf, periodic_solution
 from .continuation import ContinuationOptions
-from .laws import ContactLaw, Cubic, Jenkins, Roughness, hertz_mindlin_stiffness
+from .laws import (
+    ContactLaw,
+    Cubic,
+    Iwan,
+    Jenkins,
+    Menq,
+    Roughness,
+    hertz_mindlin_stiffness,
+)
 from .results import Branch, PeriodicSolution
 from .systems import Oscillator
 
@@ -21,7 +29,9 @@ __all__ = [
     "ContactLaw",
     "ContinuationOptions",
     "Cubic",
+    "Iwan",
     "Jenkins",
+    "Menq",
     "Oscillator",
     "PeriodicSolution",
     "Roughness",
