@@ -7,7 +7,7 @@ dry-friction contacts, with Numba-compiled AFT kernels.
 >>> branch = hf.frf(osc, force=0.5, omega=(0.5, 3.0), harmonics=15)
 """
 
-from . import validation
+from . import criterion, validation
 from .api import frf, periodic_solution
 from .continuation import ContinuationOptions
 from .laws import (
@@ -35,6 +35,7 @@ __all__ = [
     "Oscillator",
     "PeriodicSolution",
     "Roughness",
+    "criterion",
     "frf",
     "hertz_mindlin_stiffness",
     "periodic_solution",

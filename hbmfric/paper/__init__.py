@@ -3,6 +3,24 @@
 Machine Theory 43, 1211–1224."""
 
 from .scenes import PAPER_SDOF, paper_oscillator
-from .sdof import FigureResult, masing_family
+from .sdof import (
+    FigureResult,
+    masing_family,
+    menq_family,
+    rough_masing_family,
+    rough_menq_family,
+    sdof_family,
+    sdof_figures,
+)
 
-__all__ = ["PAPER_SDOF", "FigureResult", "masing_family", "paper_oscillator"]
+__all__ = [
+    "PAPER_SDOF",
+    "FigureResult",
+    "masing_family",
+    "menq_family",
+    "paper_oscillator",
+    "rough_masing_family",
+    "rough_menq_family",
+    "sdof_family",
+    "sdof_figures",
+]
