@@ -7,7 +7,7 @@ dry-friction contacts, with Numba-compiled AFT kernels.
 >>> branch = hf.frf(osc, force=0.5, omega=(0.5, 3.0), harmonics=15)
 """
 
-from . import identify, validation
+from . import criterion, identify, validation
 from .api import frf, periodic_solution
 from .continuation import ContinuationOptions
 from .coulomb import Coulomb
@@ -41,6 +41,7 @@ __all__ = [
     "Oscillator",
     "PeriodicSolution",
     "Roughness",
+    "criterion",
     "frf",
     "hertz_mindlin_stiffness",
     "identify",
