@@ -70,6 +70,19 @@ class HBMProblem:
         "events" with located reversals and the holding force
         (:func:`hbmfric.kernels.dlft.dlft_located`), "samples" by the
         classic sampled DLFT (:func:`hbmfric.kernels.dlft.dlft_contact`).
+    subharmonic : int
+        ``ν >= 1``: the unknowns are harmonics of ``Ω/ν`` (the Ω of ``y``
+        is then the fundamental ``Ω/ν``) and the forcing sits on harmonic
+        ``ν``; ``ν = 1`` is the usual ``T``-periodic balance.
+
+    Notes
+    -----
+    Optional system hooks (read with defaults, so plain systems need none):
+    ``static_load() -> p0`` of shape (n_dof,), N, a constant load on
+    harmonic 0 (a system with one is never solved for odd harmonics only);
+    ``load_phase`` (rad), the forcing being ``p cos(Ωt − φ)`` (π/2 for
+    ``p sin Ωt``); ``static_solution() -> x0`` of shape (n_dof,), m, added
+    to the linear starting guesses.
     """
 
     def __init__(
@@ -80,12 +93,20 @@ class HBMProblem:
         n_time: int | None = None,
         symmetry: bool | None = None,
         aft: str = "auto",
+        subharmonic: int = 1,
     ) -> None:
         self.system = system
         self.force = finite_float("force", force)
+        self.subharmonic = positive_int("subharmonic", subharmonic, low=1)
+        static = getattr(system, "static_load", None)
+        static = None if static is None else np.asarray(static(), dtype=np.float64)
+        if static is not None and not np.any(static):
+            static = None
+        self.load_phase = finite_float("load_phase", getattr(system, "load_phase", 0))
+        symmetric = bool(system.symmetric) and static is None and subharmonic == 1
         if symmetry is None:
-            symmetry = bool(system.symmetric)
-        elif symmetry and not system.symmetric:
+            symmetry = symmetric
+        elif symmetry and not symmetric:
             raise ValueError(
                 "symmetry=True (odd harmonics only) needs a symmetric system; "
                 "this contact law is not odd"
@@ -93,6 +114,11 @@ class HBMProblem:
         self.odd = bool(symmetry)
         self.harmonic_numbers = select_harmonics(harmonics, self.odd)
         self.harmonics = int(harmonics)
+        if self.subharmonic > self.harmonics:
+            raise ValueError(
+                f"harmonics must be >= subharmonic = {self.subharmonic} (the "
+                f"forcing is harmonic ν of Ω/ν), got {self.harmonics}"
+            )
         if aft not in AFT_SCHEMES:
             raise ValueError(f"aft must be one of {AFT_SCHEMES}, got {aft!r}")
         law = system.contact
@@ -126,8 +152,13 @@ class HBMProblem:
             np.ascontiguousarray(a, dtype=np.float64) for a in system.matrices()
         )
         load = np.zeros((self.n_dof, self.n_coef))
-        col1 = coefficient_columns(self.harmonic_numbers)[1]
-        load[:, col1] = system.load_vector(self.force)
+        columns = coefficient_columns(self.harmonic_numbers)
+        col1 = columns[self.subharmonic]
+        amplitude = np.asarray(system.load_vector(self.force), dtype=np.float64)
+        load[:, col1] = amplitude * np.cos(self.load_phase)
+        load[:, col1 + 1] = amplitude * np.sin(self.load_phase)
+        if static is not None:
+            load[:, columns[0]] = static
         self.load = load.reshape(-1)
         if law is None:
             code, params = NO_CONTACT, np.zeros(1)
@@ -225,7 +256,7 @@ class HBMProblem:
         ndarray, shape (n_unknowns,) or (n_omega, n_unknowns)
             Coefficients ``X`` (only the first-harmonic ones are non-zero).
         """
-        w = np.atleast_1d(np.asarray(omega, dtype=float))
+        w = self.subharmonic * np.atleast_1d(np.asarray(omega, dtype=float))
         mass, damping, stiffness = self.kernel_problem[1:4]
         K = stiffness.copy()
         law = self.system.contact
@@ -234,8 +265,10 @@ class HBMProblem:
         if contact == "stuck" and law is not None and not pinned:
             K[c, c] += law.stuck_stiffness
         Z = K - w[:, None, None] ** 2 * mass + 1j * w[:, None, None] * damping
-        col1 = coefficient_columns(self.harmonic_numbers)[1]
-        p = self.load.reshape(self.n_dof, self.n_coef)[:, col1].astype(complex)
+        col1 = coefficient_columns(self.harmonic_numbers)[self.subharmonic]
+        load = self.load.reshape(self.n_dof, self.n_coef)
+        # p cos(Ωt - φ) = Re(p e^{-iφ} e^{iΩt})
+        p = load[:, col1] - 1j * load[:, col1 + 1]
         if pinned:
             # x_c = 0: replace the contact DOF's equation by x_c = 0
             Z[:, c, :] = 0.0
@@ -277,9 +310,12 @@ class HBMProblem:
         steps, more than a continuation corrector allows).
         """
         guesses = []
+        static = getattr(self.system, "static_solution", None)
         for contact in ("stuck", "free"):
             y = np.empty(self.n_unknowns + 1)
             y[:-1] = self.linear_response(omega, contact)
+            if static is not None and self.harmonic_numbers[0] == 0:
+                y[: self.n_unknowns : self.n_coef] += np.asarray(static(), dtype=float)
             y[-1] = omega
             guesses.append(y)
         if self._rigid:

@@ -14,8 +14,9 @@ import numpy as np
 
 from .._jit import jit
 from .aft import aft_jenkins_events, aft_samples
+from .dahl import aft_dahl
 from .dlft import COULOMB, dlft_contact, dlft_located
-from .laws import JENKINS, is_masing
+from .laws import DAHL, JENKINS, is_masing
 from .masing import aft_masing
 
 NO_CONTACT = -1
@@ -139,6 +140,8 @@ def hbm_residual(y, problem, R, J):
                 F,
                 dF,
             )
+        elif law_code == DAHL:
+            status = aft_dahl(law_params, x_c, inverse, forward, F, dF)
         else:
             status = aft_samples(law_code, law_params, x_c, inverse, forward, F, dF)
         for r in range(n_coef):
