@@ -420,3 +420,23 @@ def test_bad_options(families):
         choose_contact_model(fam, stuck="no")
     with pytest.raises(ValueError, match="n_grid"):
         choose_contact_model(fam, n_grid=3)
+
+
+def test_curves_leaving_the_envelope_upwards_are_undecided():
+    """A family whose partly stuck curves stiffen (resonance above the stuck
+    one) fits neither friction model: closed-form linear FRFs."""
+    w = np.linspace(100.0, 300.0, 400)
+
+    def lin(w0, zeta):
+        return 1.0 / np.abs(w0**2 - w**2 + 2j * zeta * w0 * w)
+
+    curves = {0.001: lin(200.0, 0.02), 0.1: lin(215.0, 0.1), 1.0: lin(230.0, 0.5)}
+    fam = [
+        FRFRecord(force, force / ratio, w, force * a)
+        for force in (1.0, 10.0)
+        for ratio, a in curves.items()
+    ]
+    res = choose_contact_model(fam)
+    assert res.model == "undecided"
+    assert "high-frequency side" in res.explanation
+    assert res.indicators["envelope_excess_frequency"] > 200.0
