@@ -440,3 +440,13 @@ def test_curves_leaving_the_envelope_upwards_are_undecided():
     assert res.model == "undecided"
     assert "high-frequency side" in res.explanation
     assert res.indicators["envelope_excess_frequency"] > 200.0
+
+
+def test_result_saves_as_json(tmp_path, families):
+    import json
+
+    res = choose_contact_model(families("paper", "macroslip", True))
+    data = json.loads(res.save(tmp_path / "verdict.json").read_text())
+    assert data["verdict"] == "macroslip with roughness"
+    assert data["indicators"]["ratio_spread"] == res.indicators["ratio_spread"]
+    assert set(data["indicators"]["peak_shift"]) == {"0.1", "0.2"}

@@ -3,9 +3,12 @@ conclusion; SPEC §8), read from a family of FRFs."""
 
 from __future__ import annotations
 
+import json
 import math
+import time
 from collections.abc import Iterable
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -77,6 +80,36 @@ class CriterionResult:
 
     def __str__(self) -> str:
         return f"{self.verdict}: {self.explanation}"
+
+    def to_dict(self) -> dict:
+        """Verdict, explanation and indicators as JSON-compatible data
+        (dictionary keys that are ratios become strings)."""
+
+        def plain(x):
+            if isinstance(x, dict):
+                return {
+                    (k if isinstance(k, str) else f"{k:.12g}"): plain(v)
+                    for k, v in x.items()
+                }
+            if isinstance(x, list | tuple):
+                return [plain(v) for v in x]
+            if isinstance(x, np.generic):
+                return x.item()
+            return x
+
+        return {
+            "model": self.model,
+            "roughness": self.roughness,
+            "verdict": self.verdict,
+            "explanation": self.explanation,
+            "indicators": plain(self.indicators),
+        }
+
+    def save(self, path) -> Path:
+        """Write :meth:`to_dict` to ``path`` as JSON (no pickle)."""
+        path = Path(path)
+        path.write_text(json.dumps(self.to_dict(), indent=1))
+        return path
 
     def plot(self, fig=None):
         """Draw the evidence (matplotlib, imported here).
@@ -280,9 +313,11 @@ def choose_contact_model(
         by which a curve's rising flank lies left of the reference's, over
         levels from 50 to 97 % of its peak, fraction of the stuck resonance;
         about 0 or negative = inside), ``noise`` (robust estimate of the
-        data's noise in log amplitude, median over records) and
-        ``smoothing_half_width``.
+        data's noise in log amplitude, median over records),
+        ``smoothing_half_width``, ``n_records``, ``n_grid`` and ``elapsed``
+        (wall time, s).
     """
+    start = time.perf_counter()
     recs = tuple(records)
     for i, r in enumerate(recs):
         if not isinstance(r, FRFRecord):
@@ -342,7 +377,7 @@ def choose_contact_model(
     ratios = np.array([r.ratio for r in recs])
     loads = np.array([r.normal_load for r in recs])
     groups = _groups(ratios, ratio_rtol)
-    group_ratio = [float(np.exp(np.mean(np.log(ratios[g])))) for g in groups]
+    group_ratio = [float(f"{np.exp(np.mean(np.log(ratios[g]))):.12g}") for g in groups]
     group_of = [0.0] * len(recs)
     for g, gr in zip(groups, group_ratio, strict=True):
         for i in g:
@@ -551,6 +586,8 @@ def choose_contact_model(
         text.append("Undecided: " + "; ".join(missing) + ".")
     else:
         text.append(f"Verdict: {model} {'with' if roughness else 'without'} roughness.")
+    ind["n_grid"] = n_grid
+    ind["elapsed"] = time.perf_counter() - start
     return CriterionResult(
         model, bool(roughness), ind, " ".join(text), grid, recs, evidence
     )
