@@ -430,7 +430,7 @@ def test_curves_leaving_the_envelope_upwards_are_undecided():
     def lin(w0, zeta):
         return 1.0 / np.abs(w0**2 - w**2 + 2j * zeta * w0 * w)
 
-    curves = {0.001: lin(200.0, 0.02), 0.1: lin(215.0, 0.1), 1.0: lin(230.0, 0.5)}
+    curves = {0.001: lin(200.0, 0.02), 0.1: lin(230.0, 0.05), 1.0: lin(260.0, 0.5)}
     fam = [
         FRFRecord(force, force / ratio, w, force * a)
         for force in (1.0, 10.0)
