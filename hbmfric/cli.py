@@ -34,9 +34,16 @@ def _paper(args: argparse.Namespace) -> int:
 def _print_verdict(fig) -> None:
     """One line: the contact-model criterion's verdict on a computed family
     (figures that are not FRF families, without ``criterion``, are skipped)."""
-    if not hasattr(fig, "criterion"):
+    params = getattr(fig, "parameters", None) or [{}]
+    if not hasattr(fig, "criterion") or not all(
+        "normal_load" in p and "force" in p for p in params
+    ):
         return
-    res = fig.criterion()
+    try:
+        res = fig.criterion()
+    except ValueError as err:  # e.g. a curve with zero amplitude somewhere
+        print(f"{fig.name} criterion: not applicable ({err})", flush=True)
+        return
     ind = res.indicators
     parts = []
     if ind.get("ratio_spread") is not None:
