@@ -451,3 +451,21 @@ def test_result_saves_as_json(tmp_path, families):
     assert data["verdict"] == "macroslip with roughness"
     assert data["indicators"]["ratio_spread"] == res.indicators["ratio_spread"]
     assert set(data["indicators"]["peak_shift"]) == {"0.1", "0.2"}
+
+
+def test_paper_beam_figures_13_and_14_together_are_macroslip():
+    """The paper's beam (39 DOFs, Jenkins tip contact): Fig. 13 alone has no
+    two loads at one ratio, Fig. 14 alone no stuck curve; together they give
+    the paper's verdict, also with noise on resampled grids."""
+    from hbmfric.paper import beam_normal_load_family, beam_ratio_family
+
+    fig13 = beam_normal_load_family(harmonics=H).records()
+    fig14 = beam_ratio_family(harmonics=H).records()
+    assert choose_contact_model(fig13).model == "undecided"
+    assert "no mostly stuck" in choose_contact_model(fig14).explanation
+    res = choose_contact_model(fig13 + fig14)
+    assert res.verdict == "macroslip without roughness", res.explanation
+    assert res.indicators["ratio_spread"] < 1e-6
+    for seed in (21, 22):
+        noisy = choose_contact_model(perturb(fig13 + fig14, seed))
+        assert noisy.verdict == "macroslip without roughness", noisy.explanation

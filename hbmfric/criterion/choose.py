@@ -34,7 +34,7 @@ NOISE_SPREAD_FACTOR = 2.5
 #: mostly stuck curves have Fex/Fn at most this fraction of the flattest
 #: peak's ratio (closer to it, a Masing curve slips enough to soften and
 #: rise a little above the stuck envelope)
-MOSTLY_STUCK_FRACTION = 0.5
+MOSTLY_STUCK_FRACTION = 0.4
 
 
 @dataclass(frozen=True, eq=False)
@@ -513,9 +513,9 @@ def choose_contact_model(
     if not mostly and not missing:
         missing.append(
             "no mostly stuck curve: none lies between the stuck reference and "
-            "half the ratio of the flattest peak (add values of Fex/Fn below "
-            "half the one that flattens the peak most, but above the fully "
-            "stuck one)"
+            "0.4 times the ratio of the flattest peak (add values of Fex/Fn "
+            "below 0.4 times the one that flattens the peak most, but above the "
+            "fully stuck one)"
         )
 
     # -- the envelope test ---------------------------------------------------
@@ -559,7 +559,8 @@ def choose_contact_model(
         )
         text.append(
             f"Step 2: the stuck reference is {ref_name}, resonance at {w_ref:.4g}. "
-            f"Mostly stuck curves (at most half the ratio of the flattest peak, "
+            f"Mostly stuck curves (at most 0.4 times the ratio of the flattest "
+            f"peak, "
             f"Fex/Fn = "
             f"{ind['flattest_ratio']:.3g}): "
             + ", ".join(f"{c['ratio']:.3g}" for c in mostly)
