@@ -26,6 +26,8 @@ MODELS = ("macroslip", "microslip", "undecided")
 #: below this log-amplitude noise the curves are compared unsmoothed
 AUTO_NOISE_FLOOR = 0.002
 AUTO_WIDTH_FACTOR = 0.5
+#: largest smoothing half width, fraction of the band
+AUTO_MAX_WIDTH = 0.05
 #: fraction of the band kept in the ratio-invariance RMS (the worst 5 % of
 #: grid points, a sharp peak missed by a coarse grid, are left out)
 TRIM_KEEP = 0.8
@@ -193,7 +195,7 @@ def _auto_width(noise: float, spacing: float, band: float) -> float:
     if noise < AUTO_NOISE_FLOOR:
         return 0.0
     n_avg = (noise / 0.005) ** 2
-    return float(min(AUTO_WIDTH_FACTOR * n_avg * spacing, 0.05 * band))
+    return float(min(AUTO_WIDTH_FACTOR * n_avg * spacing, AUTO_MAX_WIDTH * band))
 
 
 def _envelope_shift(grid, curve, ref, pk, w_ref) -> float | None:
