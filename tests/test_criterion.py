@@ -469,3 +469,19 @@ def test_paper_beam_figures_13_and_14_together_are_macroslip():
     for seed in (21, 22):
         noisy = choose_contact_model(perturb(fig13 + fig14, seed))
         assert noisy.verdict == "macroslip without roughness", noisy.explanation
+
+
+def test_stuck_resonance_outside_the_band(families):
+    """Data that stop below the stuck resonance cannot place it: undecided,
+    unless the user gives ``stuck_frequency``."""
+    cut = [
+        FRFRecord(
+            r.force, r.normal_load, r.omega[r.omega < 190], r.amplitude[r.omega < 190]
+        )
+        for r in families("paper", "macroslip", False)
+    ]
+    res = choose_contact_model(cut)
+    assert res.model == "undecided"
+    assert "stuck_frequency" in res.explanation
+    res = choose_contact_model(cut, stuck_frequency=200.0)
+    assert res.verdict == "macroslip without roughness", res.explanation
