@@ -150,7 +150,8 @@ class CriterionResult:
         )
         ax1.set_xlabel("frequency")
         ax1.set_ylabel("amplitude / Fex")
-        ax1.legend(fontsize=7)
+        if ratios:
+            ax1.legend(fontsize=7)
         ref = ev.get("reference")
         if ref is not None:
             ax2.semilogy(self.grid, np.exp(ref), "k-", lw=1.5, label="stuck reference")
