@@ -68,19 +68,25 @@ Law codes and their parameter arrays
     with ``C_j = Σ_{e<j} f_e`` the force of the slipped elements and
     ``R_j = Σ_{e≥j} k_e`` the stiffness of the stuck ones when
     ``φ_j ≤ δ < φ_{j+1}``, so ``F_load(δ) = C_j + R_j δ``.
+``DAHL`` (modified Dahl restoring force): ``params = [β, μ, a, b, d, e]``
+    Rate-independent relaxation towards the envelopes ``h_u = a u + b``
+    (loading) and ``h_l = d u + e`` (unloading); see
+    :mod:`hbmfric.kernels.dahl`.
 """
 
 import numpy as np
 
 from .._jit import jit
+from .dahl import dahl_update
 
 JENKINS = 0
 CUBIC = 1
+DAHL = 2
 MENQ = 4
 IWAN = 5
 
 #: laws whose force depends on the displacement history
-HYSTERETIC = (JENKINS, MENQ, IWAN)
+HYSTERETIC = (JENKINS, DAHL, MENQ, IWAN)
 #: laws defined by a virgin curve, Masing's rule and Madelung's memory
 MASING = (MENQ, IWAN)
 
@@ -131,6 +137,8 @@ def law_update(code, params, f_prev, u_prev, u):
         if trial < -slip_force:
             return -slip_force, 0.0, 0.0, 0.0
         return trial, 1.0, -kt, kt
+    if code == DAHL:
+        return dahl_update(params, f_prev, u_prev, u)
     # CUBIC
     k3 = params[0]
     return k3 * u * u * u, 0.0, 0.0, 3.0 * k3 * u * u
@@ -152,6 +160,9 @@ def linear_stiffness(code, params):
     if code == IWAN:
         n = int(params[0])
         return params[2 + 2 * n]
+    if code == DAHL:
+        # small-loop stiffness at u = 0: β ((b - e) / 2)^μ
+        return params[0] * max(0.5 * (params[3] - params[5]), 0.0) ** params[1]
     return 0.0
 
 
