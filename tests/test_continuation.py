@@ -255,12 +255,13 @@ def test_kernels_compile_once_and_no_eager_imports():
         import json, sys
         import numpy as np
         import hbmfric as hf
-        from hbmfric.kernels import aft, dft, hbm, laws, linalg, newton
+        from hbmfric.kernels import aft, dft, hbm, laws, linalg, masing, newton
+        from hbmfric.hbm import HBMProblem
         from hbmfric.validation import integrator
 
         def counts():
             out = {}
-            for mod in (aft, dft, hbm, laws, linalg, newton, integrator):
+            for mod in (aft, dft, hbm, laws, linalg, masing, newton, integrator):
                 for name in dir(mod):
                     obj = getattr(mod, name)
                     if hasattr(obj, "signatures") and obj.__module__ == mod.__name__:
@@ -278,6 +279,32 @@ def test_kernels_compile_once_and_no_eager_imports():
                     law.hysteresis(np.cos(np.linspace(0, 6.0, 40)))
             duff = hf.Oscillator(1.0, 0.05, 1.0, hf.Cubic(k3))
             hf.frf(duff, 0.2, (0.5, 2.0))
+            for onset, n_el in ((0.3, 5), (0.7, 12)):
+                menq = hf.Menq.from_stiffness(
+                    3.0, friction_coefficient=fs, normal_load=1.0,
+                    microslip_onset=onset,
+                )
+                iwan = hf.Iwan.segalman(fs + 0.1, 3.0, -0.5, 0.1, n_el)
+                for law in (menq, iwan, hf.Roughness(menq, limit_load=2.0)):
+                    osc = hf.Oscillator(1.0, 0.02, 1.0, law)
+                    hf.frf(osc, 0.5, (0.5, 3.0), harmonics=7)
+                    hf.periodic_solution(osc, 0.5, 1.1, harmonics=5, aft="samples")
+                    hf.validation.steady_state(osc, 0.5, 1.1, steps_per_period=64)
+                    law.hysteresis(np.cos(np.linspace(0, 6.0, 40)))
+                    direct(law)
+
+        def direct(law):
+            # the AFT and law kernels called from Python, as the benchmarks do
+            p = HBMProblem(hf.Oscillator(1.0, 0.02, 1.0, law), 0.5, 5)
+            hn, _, _, _, _, _, code, params, _, inv, fwd, der = p.kernel_problem
+            X = np.linspace(0.1, 1.0, p.n_coef)
+            F = np.empty(p.n_coef)
+            dF = np.empty((p.n_coef, p.n_coef))
+            masing.aft_masing(code, params, hn, X, inv, fwd, der, F, dF)
+            aft.aft_samples(code, params, X, inv, fwd, F, dF)
+            state = np.empty(laws.state_size(code, params))
+            laws.law_init(code, params, 0.1, state)
+            laws.law_step(code, params, state, 0.1, 0.3, True)
 
         runs((0.3, 1e9), (0.1, 2.0), 0.1)
         first = counts()
@@ -297,6 +324,11 @@ def test_kernels_compile_once_and_no_eager_imports():
         "newton.tangent",
         "dft.fourier_matrices",
         "aft.periodic_force",
+        "aft.aft_samples",
+        "masing.aft_masing",
+        "laws.law_step",
+        "laws.law_init",
+        "laws.state_size",
         "integrator.newmark_periods",
         "integrator.record_period",
     ):

@@ -103,3 +103,79 @@ def test_roughness_breaks_the_ratio_invariance():
     assert peaks[False, 1.0] == pytest.approx(peaks[False, 1000.0], rel=1e-6)
     assert peaks[True, 1000.0] == pytest.approx(peaks[False, 1000.0], rel=1e-6)
     assert peaks[True, 1.0][0] < 0.9 * peaks[True, 1000.0][0]
+
+
+@pytest.mark.parametrize(
+    "law",
+    [
+        hf.Jenkins(stiffness=3.0, slip_force=1.0),
+        hf.Cubic(0.5),
+        hf.Menq.from_stiffness(stiffness=3.0, slip_force=1.0, microslip_onset=0.4),
+        hf.Iwan.segalman(slip_force=1.0, stiffness=3.0, chi=-0.5, beta=0.1),
+        hf.Roughness(
+            hf.Menq.from_stiffness(
+                stiffness=3.0, friction_coefficient=1.0, normal_load=1.0
+            ),
+            limit_load=2.0,
+        ),
+    ],
+    ids=["jenkins", "cubic", "menq", "iwan", "roughness"],
+)
+def test_every_law_has_a_loop_an_energy_and_a_plot(law):
+    """The loop closes and its area is the law's energy per cycle (closed
+    form where there is one); plot_loop draws it."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    a = 1.5
+    theta = 2.0 * np.pi * np.arange(4096) / 4096
+    u = a * np.cos(theta)
+    f = law.hysteresis(u)
+    du = np.roll(u, -1) - u
+    area = float(np.sum(0.5 * (f + np.roll(f, -1)) * du))
+    assert law.energy_per_cycle(a) == pytest.approx(area, rel=1e-5, abs=1e-12)
+    ax = law.plot_loop(a, n_samples=64)
+    (line,) = ax.get_lines()
+    assert line.get_xydata().shape == (65, 2)
+    with pytest.raises(ValueError, match="amplitude"):
+        law.energy_per_cycle(-1.0)
+    with pytest.raises(ValueError, match="n_samples"):
+        law.plot_loop(a, n_samples=2)
+
+
+def test_roughness_rejects_other_laws():
+    with pytest.raises(ValueError, match="Jenkins, Menq or Iwan"):
+        hf.Roughness(hf.Cubic(1.0))
+
+
+def test_law_step_contract_for_scalar_state_laws():
+    """``law_init``/``law_step`` on Jenkins and the cubic spring follow the
+    plain-NumPy laws along a random path; trial steps leave the state alone."""
+    from naive import cubic_force, jenkins_update
+
+    from hbmfric.kernels import laws as kl
+
+    rng = np.random.default_rng(7)
+    path = np.cumsum(rng.normal(0.0, 0.4, 200))
+    for law in (hf.Jenkins(stiffness=3.0, slip_force=1.0), hf.Cubic(0.7)):
+        code = np.int64(law.code)
+        state = np.empty(kl.state_size(code, law.params))
+        assert state.size == 1
+        kl.law_init(code, law.params, path[0], state)
+        f_ref = (
+            jenkins_update(0.0, 0.0, path[0], 3.0, 1.0)
+            if law.code == kl.JENKINS
+            else float(cubic_force(path[0], 0.7))
+        )
+        assert state[0] == pytest.approx(f_ref, abs=1e-14)
+        for u_prev, u in zip(path[:-1], path[1:], strict=True):
+            before = state.copy()
+            trial = kl.law_step(code, law.params, state, u_prev, u, False)[0]
+            np.testing.assert_array_equal(state, before)
+            f = kl.law_step(code, law.params, state, u_prev, u, True)[0]
+            if law.code == kl.JENKINS:
+                f_ref = jenkins_update(f_ref, u_prev, u, 3.0, 1.0)
+            else:
+                f_ref = float(cubic_force(u, 0.7))
+            assert f == trial == state[0]
+            assert f == pytest.approx(f_ref, abs=1e-12)

@@ -215,10 +215,20 @@ def test_roughness_on_menq():
 OMEGAS = [0.8, 1.2, 1.45, 1.6, 1.8, 2.1, 2.6]
 
 
-def test_hbm_against_time_integration():
-    """First harmonic of HBM (H = 15, sampled AFT) against the Newmark
-    reference at frequencies that cover stick, microslip and gross slip."""
-    law = hf.Menq.from_stiffness(stiffness=3.0, slip_force=1.0, microslip_onset=0.5)
+@pytest.mark.parametrize("rough", [False, True])
+def test_hbm_against_time_integration(rough):
+    """First harmonic of HBM (H = 15, located reversals) against the Newmark
+    reference at frequencies that cover stick, microslip and gross slip;
+    also through the roughness wrapper below its limit load (shear layer
+    at half its stiffness)."""
+    law = hf.Menq.from_stiffness(
+        stiffness=3.0, friction_coefficient=1.0, normal_load=1.0, microslip_onset=0.5
+    )
+    if rough:
+        law = hf.Roughness(law.with_normal_load(0.6), limit_load=4.8)
+        assert law.effective.shear_stiffness == pytest.approx(
+            0.5 * law.law.shear_stiffness
+        )
     osc = hf.Oscillator(1.0, 0.02, 1.0, law)
     states = set()
     for omega in OMEGAS:

@@ -14,3 +14,15 @@ def test_readme_example_runs(tmp_path, monkeypatch):
     sol, ref = namespace["sol"], namespace["ref"]
     assert abs(sol.amplitude(harmonic=1) / ref.amplitude(harmonic=1) - 1) < 1e-3
     assert (tmp_path / "frf.npz").exists()
+
+
+def test_readme_contact_law_example_runs():
+    text = (Path(__file__).parents[1] / "README.md").read_text()
+    (code,) = [
+        block
+        for block in re.findall(r"```python\n(.*?)```", text, re.S)
+        if "hf.Menq" in block
+    ]
+    namespace: dict = {}
+    exec(compile(code, "README.md", "exec"), namespace)
+    assert abs(namespace["menq"].stiffness / 3e4 - 1) < 1e-12

@@ -329,11 +329,20 @@ def _locate(harmonic_numbers, X, lo, hi, level, on_slope):
             g_lo = g
         else:
             hi = theta
-        step_ok = dg != 0.0
-        new = theta - g / dg if step_ok else 0.5 * (lo + hi)
+        if dg != 0.0:
+            step = g / dg
+            # Newton converges quadratically: once a step is below 1e-10 the
+            # stepped point is exact to rounding (waiting for a step at
+            # rounding level, which may land on a bracket end, lets the
+            # iteration fall back to bisection for dozens of steps)
+            if abs(step) <= 1e-10 * (1.0 + abs(theta)):
+                return min(max(theta - step, lo), hi)
+            new = theta - step
+        else:
+            new = 0.5 * (lo + hi)
         if not (lo < new < hi):
             new = 0.5 * (lo + hi)
-        if abs(new - theta) <= 1e-15 * (1.0 + abs(theta)) or hi - lo <= 1e-15:
+        if hi - lo <= 1e-15:
             return new
         theta = new
     return theta

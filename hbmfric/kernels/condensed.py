@@ -31,7 +31,8 @@ import numpy as np
 
 from .._jit import jit
 from .aft import aft_jenkins_events, aft_samples
-from .laws import JENKINS
+from .laws import JENKINS, is_masing
+from .masing import aft_masing
 
 #: AFT scheme codes (same values as :mod:`hbmfric.kernels.hbm`)
 AFT_SAMPLES = 0
@@ -147,6 +148,18 @@ def _contact_force(x, problem, F, dF):
             problem.harmonic_numbers,
             x,
             problem.inverse,
+            problem.derivative,
+            F,
+            dF,
+        )
+    if is_masing(problem.law_code) and problem.aft_scheme == AFT_EVENTS:
+        return aft_masing(
+            problem.law_code,
+            problem.law_params,
+            problem.harmonic_numbers,
+            x,
+            problem.inverse,
+            problem.forward,
             problem.derivative,
             F,
             dF,

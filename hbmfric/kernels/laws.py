@@ -24,7 +24,9 @@ Two families implement it:
   params, f_prev, u_prev, u)`` returns the new force and its partials with
   respect to ``f_prev``, ``u_prev`` and ``u`` (the AFT carries its Jacobian
   through them). A new law of this kind is one more branch in
-  :func:`law_update` and nothing else.
+  :func:`law_update` and nothing else; ``law_step`` delegates to it, and the
+  time integrator calls it directly for these laws (the force as a float in
+  its inner loop: same definition, no state array).
 * **Masing laws** with Madelung memory (``MENQ``, ``IWAN``): a virgin loading
   curve ``F_load(δ)`` (:func:`virgin_curve`) and Masing's rule applied from
   the last reversal point, ``F = F_r + 2 s F_load(s (u - u_r) / 2)`` with ``s``
@@ -41,7 +43,8 @@ points stored, ``direction`` the sign of the last movement (0 before any),
 three ``hint`` entries that warm-start the inversion of the virgin curve (no
 effect on the result beyond rounding, see :func:`menq_virgin`), and
 ``tag`` an identifier of each reversal given by the caller (the AFT stores
-the sample index there for its Jacobian). The capacity is
+the index of the marched point there, to find ``df_r/dX`` for its
+Jacobian). The capacity is
 ``(state.size - 6) // 3`` reversal points; when a push would exceed it, the
 oldest pair (the outermost loop, reached again only if the motion grows back
 beyond it) is dropped. ``state_size`` allows :data:`MEMORY_CAPACITY` points,

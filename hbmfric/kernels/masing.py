@@ -44,10 +44,11 @@ from .laws import (
 def _global_extremes(harmonic_numbers, X, u, v, h):
     """Located global maximum and minimum of ``u(θ)``.
 
-    Every sampled local extreme (sign change of the sampled slope) is
-    refined and the largest and smallest kept. Returns
-    ``(u_max, θ_max, i_max, u_min, θ_min, i_min)`` with ``i`` the sample
-    that starts the interval holding the extreme.
+    A sampled local extreme (sign change of the sampled slope) is refined
+    when it could beat the best sample: between samples ``u`` exceeds its
+    sampled neighbours by at most ``h² max|u''| / 8 <= h² Σ k² |X_k| / 8``.
+    Returns ``(u_max, θ_max, i_max, u_min, θ_min, i_min)`` with ``i`` the
+    sample that starts the interval holding the extreme.
     """
     n = u.size
     i_max = np.argmax(u)
@@ -56,14 +57,29 @@ def _global_extremes(harmonic_numbers, X, u, v, h):
     u_min = u[i_min]
     th_max = i_max * h
     th_min = i_min * h
+    curvature = 0.0
+    col = 0
+    for k in harmonic_numbers:
+        if k == 0:
+            col += 1
+        else:
+            curvature += k * k * (abs(X[col]) + abs(X[col + 1]))
+            col += 2
+    reach = 0.125 * h * h * curvature
+    sampled_max = u_max
+    sampled_min = u_min
     for i in range(n):
         j = (i + 1) % n
         if v[i] > 0.0 and v[j] <= 0.0:
+            if max(u[i], u[j]) + reach < sampled_max:
+                continue
             th = _locate(harmonic_numbers, X, i * h, (i + 1) * h, 0.0, True)
             val = evaluate(harmonic_numbers, X, th)[0]
             if val > u_max:
                 u_max, th_max, i_max = val, th, i
         elif v[i] < 0.0 and v[j] >= 0.0:
+            if min(u[i], u[j]) - reach > sampled_min:
+                continue
             th = _locate(harmonic_numbers, X, i * h, (i + 1) * h, 0.0, True)
             val = evaluate(harmonic_numbers, X, th)[0]
             if val < u_min:
@@ -106,8 +122,16 @@ def aft_masing(code, params, harmonic_numbers, X, inverse, forward, derivative, 
     """
     n, n_coef = inverse.shape
     h = 2.0 * np.pi / n
-    u = inverse @ X
-    v = derivative @ X
+    u = np.empty(n)
+    v = np.empty(n)
+    for i in range(n):
+        a = 0.0
+        b = 0.0
+        for c in range(n_coef):
+            a += inverse[i, c] * X[c]
+            b += derivative[i, c] * X[c]
+        u[i] = a
+        v[i] = b
     u_max, th_max, i_max, u_min, th_min, i_min = _global_extremes(
         harmonic_numbers, X, u, v, h
     )
@@ -187,7 +211,8 @@ def aft_masing(code, params, harmonic_numbers, X, inverse, forward, derivative, 
             if r >= 0:
                 g += grad[r, c] - k * basis[r, c]
             grad[n_points, c] = g
-        # project: F += w f φ(θ_i), dF += w φ(θ_i) ⊗ df_i/dX
+        # F += w f φ(θ_i), dF += w φ(θ_i) ⊗ df_i/dX (explicit loops: a BLAS
+        # call on these small blocks costs more than the arithmetic)
         for a in range(n_coef):
             w = weight * forward[a, i]
             F[a] += w * f

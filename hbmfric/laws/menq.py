@@ -80,13 +80,20 @@ class Menq(ContactLaw):
         for name in ("axial_rigidity", "length", "shear_stiffness"):
             value = finite_float(name, getattr(self, name), low=0.0, low_open=True)
             object.__setattr__(self, name, value)
-        given_q = self.friction_limit
-        if given_q is not None and self.friction_coefficient is not None:
-            given_q = finite_float("friction_limit", given_q, low=0.0) * self.length
+        by_load = self.friction_coefficient is not None or self.normal_load is not None
+        given_q = None if by_load else self.friction_limit
         force, mu, fn = slip_force_from(
             given_q, self.friction_coefficient, self.normal_load, "friction_limit"
         )
         q = force / self.length if mu is not None else force
+        if by_load and self.friction_limit is not None:
+            given = finite_float("friction_limit", self.friction_limit, low=0.0)
+            if not np.isclose(given, q, rtol=1e-12, atol=0.0):
+                raise ValueError(
+                    "give either friction_limit or friction_coefficient with "
+                    f"normal_load, not both (friction_limit={given}, "
+                    f"μ F_n / L={q})"
+                )
         object.__setattr__(self, "friction_limit", q)
         object.__setattr__(self, "friction_coefficient", mu)
         object.__setattr__(self, "normal_load", fn)

@@ -37,7 +37,7 @@ never formed. Kernels report problems by the status codes below.
 import numpy as np
 
 from .._jit import jit
-from ..kernels.laws import law_step
+from ..kernels.laws import is_masing, law_step, law_update
 
 #: law code meaning "no contact" (``g`` and the contact force are ignored)
 NO_CONTACT = -1
@@ -60,13 +60,33 @@ CONTACT_RTOL = 1e-14
 
 
 @jit
-def contact_update(code, params, state, u_prev, target, g_c):
-    """Solve ``u + g_c f(u) = target`` for the contact displacement ``u``.
+def _newton_update(u, phi, df_du, g_c, lo, hi):
+    """One Newton step on ``u + g_c f(u) = target`` (residual ``phi``), kept
+    inside the bracket ``(lo, hi)`` that the residual signs define
+    (bisection when the step leaves it or the slope is not positive).
 
-    ``f(u) = law_step(code, params, state, u_prev, u)``. Newton's method
-    from ``u_prev`` (the stick predictor), kept inside the bracket that the
-    signs of the residual define (bisection when a step leaves it or the
-    slope is not positive). On convergence ``state`` is advanced to ``u``.
+    Returns ``(u_new, lo, hi)``.
+    """
+    if phi > 0.0:
+        hi = min(hi, u)
+    else:
+        lo = max(lo, u)
+    slope = 1.0 + g_c * df_du
+    u_new = u - phi / slope if slope > 0.0 else u - phi
+    if not (lo < u_new < hi) and lo > -np.inf and hi < np.inf:
+        u_new = 0.5 * (lo + hi)
+    return u_new, lo, hi
+
+
+@jit
+def contact_update(code, params, f_prev, u_prev, target, g_c):
+    """Solve ``u + g_c f(u) = target`` for a scalar-state law.
+
+    ``f(u) = law_update(code, params, f_prev, u_prev, u)`` (the law's state
+    is its force, so this is :func:`hbmfric.kernels.laws.law_step` without
+    an array); Newton's method from ``u_prev`` (the stick predictor) through
+    :func:`_newton_update`. :func:`contact_update_state` is the same for
+    laws with a state array.
 
     Parameters
     ----------
@@ -74,11 +94,8 @@ def contact_update(code, params, state, u_prev, target, g_c):
         Law code.
     params : ndarray, shape (n_params,)
         Law parameters.
-    state : ndarray, shape (state_size(code, params),)
-        Law state at the start of the step (``state[0]`` the force, N);
-        advanced in place to the returned ``u`` when converged.
-    u_prev : float
-        Contact displacement at the start of the step, m.
+    f_prev, u_prev : float
+        Contact force (N) and displacement (m) at the start of the step.
     target : float
         Contact displacement the step would reach without the contact
         force, m.
@@ -97,6 +114,36 @@ def contact_update(code, params, state, u_prev, target, g_c):
     converged : bool
     """
     u = u_prev
+    f, _, _, df_du = law_update(code, params, f_prev, u_prev, u)
+    phi = u + g_c * f - target
+    if abs(phi) <= CONTACT_RTOL * (abs(u) + abs(target) + abs(g_c * f)):
+        return u, f, 0, True
+    lo = -np.inf
+    hi = np.inf
+    for iteration in range(1, MAX_CONTACT_ITERATIONS + 1):
+        u_new, lo, hi = _newton_update(u, phi, df_du, g_c, lo, hi)
+        f, _, _, df_du = law_update(code, params, f_prev, u_prev, u_new)
+        phi = u_new + g_c * f - target
+        scale = abs(u_new) + abs(target) + abs(g_c * f)
+        if abs(phi) <= CONTACT_RTOL * scale:
+            return u_new, f, iteration, True
+        if u_new == u:
+            # stagnation at rounding level
+            return u, f, iteration, abs(phi) <= 1e3 * CONTACT_RTOL * scale
+        u = u_new
+    return u, f, MAX_CONTACT_ITERATIONS, False
+
+
+@jit
+def contact_update_state(code, params, state, u_prev, target, g_c):
+    """:func:`contact_update` for a law with a state array (Masing laws).
+
+    ``f(u) = law_step(code, params, state, u_prev, u)``; on convergence
+    ``state`` (shape ``(state_size(code, params),)``, ``state[0]`` the
+    force) is advanced in place to the returned ``u``. Same returns as
+    :func:`contact_update`.
+    """
+    u = u_prev
     f, df_du = law_step(code, params, state, u_prev, u, False)
     phi = u + g_c * f - target
     if abs(phi) <= CONTACT_RTOL * (abs(u) + abs(target) + abs(g_c * f)):
@@ -105,14 +152,7 @@ def contact_update(code, params, state, u_prev, target, g_c):
     lo = -np.inf
     hi = np.inf
     for iteration in range(1, MAX_CONTACT_ITERATIONS + 1):
-        if phi > 0.0:
-            hi = min(hi, u)
-        else:
-            lo = max(lo, u)
-        slope = 1.0 + g_c * df_du
-        u_new = u - phi / slope if slope > 0.0 else u - phi
-        if not (lo < u_new < hi) and lo > -np.inf and hi < np.inf:
-            u_new = 0.5 * (lo + hi)
+        u_new, lo, hi = _newton_update(u, phi, df_du, g_c, lo, hi)
         f, df_du = law_step(code, params, state, u_prev, u_new, False)
         phi = u_new + g_c * f - target
         scale = abs(u_new) + abs(target) + abs(g_c * f)
@@ -120,7 +160,6 @@ def contact_update(code, params, state, u_prev, target, g_c):
             law_step(code, params, state, u_prev, u_new, True)
             return u_new, f, iteration, True
         if u_new == u:
-            # stagnation at rounding level
             ok = abs(phi) <= 1e3 * CONTACT_RTOL * scale
             if ok:
                 law_step(code, params, state, u_prev, u, True)
@@ -162,6 +201,7 @@ def _period(
     n = x.size
     n_steps = cos_sum.size
     has_contact = law_code != NO_CONTACT
+    with_state = has_contact and is_masing(law_code)
     f = law_state[0]
     x_peak = 0.0
     v_peak = 0.0
@@ -186,14 +226,25 @@ def _period(
             for i in range(n):
                 x_new[i] += A_t[j, i] * x_j + B_t[j, i] * v_j
         if has_contact:
-            u, f_new, its, ok = contact_update(
-                law_code,
-                law_params,
-                law_state,
-                x[contact_dof],
-                x_new[contact_dof],
-                g[contact_dof],
-            )
+            if with_state:
+                u, f_new, its, ok = contact_update_state(
+                    law_code,
+                    law_params,
+                    law_state,
+                    x[contact_dof],
+                    x_new[contact_dof],
+                    g[contact_dof],
+                )
+            else:
+                u, f_new, its, ok = contact_update(
+                    law_code,
+                    law_params,
+                    f,
+                    x[contact_dof],
+                    x_new[contact_dof],
+                    g[contact_dof],
+                )
+                law_state[0] = f_new
             iterations += its
             if not ok:
                 if not np.isfinite(x_new[contact_dof]):
