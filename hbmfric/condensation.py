@@ -15,6 +15,7 @@ from .kernels.condensed import (
     MODAL,
     CondensedProblem,
     condensed_contact_forces,
+    condensed_modal_recover,
     condensed_residual,
 )
 from .signals import coefficient_columns
@@ -164,14 +165,9 @@ class CondensedHBMProblem(HBMProblem):
             out[h] = load[:, c] if k == 0 else load[:, c] - 1j * load[:, c + 1]
         return out
 
-    def _response(self, omega: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    def _direct_response(self, omega: np.ndarray, rhs: np.ndarray) -> np.ndarray:
         """``Z(ω)⁻¹ rhs`` for pulsations ``omega`` (shape (m,)) and right-hand
         sides ``rhs`` (shape (m, n_dof)), complex, shape (m, n_dof)."""
-        if self.receptance_method == "modal":
-            p = self.kernel_problem
-            w = omega[:, None]
-            d = p.omega_squared - w**2 + 1j * w * p.modal_damping
-            return ((rhs @ self.shapes) / d) @ self.shapes.T
         M, C, K = self._matrices
         Z = K - omega[:, None, None] ** 2 * M + 1j * omega[:, None, None] * C
         return np.linalg.solve(Z, rhs[..., None])[..., 0]
@@ -180,12 +176,21 @@ class CondensedHBMProblem(HBMProblem):
         """Contact receptance ``G_cc(ω)`` (m/N) and the contact response to
         the first-harmonic load (m, complex), at pulsation(s) ``omega``."""
         w = np.atleast_1d(np.asarray(omega, dtype=float))
+        first = list(self.harmonic_numbers).index(1)
+        load = self._complex_load()[first]
+        if self.receptance_method == "modal":
+            p = self.kernel_problem
+            col1 = coefficient_columns(self.harmonic_numbers)[1]
+            q = p.modal_load[:, col1] - 1j * p.modal_load[:, col1 + 1]
+            d = p.omega_squared - w[:, None] ** 2 + 1j * w[:, None] * p.modal_damping
+            g = np.sum(p.contact_shapes**2 / d, axis=1)
+            x = np.sum(p.contact_shapes * q / d, axis=1)
+            return g, x
         unit = np.zeros((w.size, self.n_dof))
         unit[:, self.contact_dof] = 1.0
-        first = list(self.harmonic_numbers).index(1)
-        load = np.broadcast_to(self._complex_load()[first], (w.size, self.n_dof))
-        g = self._response(w, unit)[:, self.contact_dof]
-        x = self._response(w, np.ascontiguousarray(load))[:, self.contact_dof]
+        rhs = np.broadcast_to(load, (w.size, self.n_dof))
+        g = self._direct_response(w, unit)[:, self.contact_dof]
+        x = self._direct_response(w, rhs)[:, self.contact_dof]
         return g, x
 
     def linear_response(self, omega, contact: str = "stuck") -> np.ndarray:
@@ -224,16 +229,19 @@ class CondensedHBMProblem(HBMProblem):
         """
         points = np.ascontiguousarray(np.atleast_2d(points), dtype=np.float64)
         F = self.contact_forces(points)
+        out = np.empty((points.shape[0], self.n_dof, self.n_coef))
+        if self.receptance_method == "modal":
+            condensed_modal_recover(points, F, self.kernel_problem, self.shapes, out)
+            return out
         omega = points[:, -1]
         loads = self._complex_load()
         cols = coefficient_columns(self.harmonic_numbers)
-        out = np.empty((points.shape[0], self.n_dof, self.n_coef))
         for h, k in enumerate(self.harmonic_numbers):
             c = cols[int(k)]
             f = F[:, c] if k == 0 else F[:, c] - 1j * F[:, c + 1]
             rhs = np.broadcast_to(loads[h], (omega.size, self.n_dof)).copy()
             rhs[:, self.contact_dof] -= f
-            x = self._response(k * omega, rhs)
+            x = self._direct_response(k * omega, rhs)
             out[:, :, c] = x.real
             if k != 0:
                 out[:, :, c + 1] = -x.imag

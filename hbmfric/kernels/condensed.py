@@ -300,3 +300,53 @@ def condensed_contact_forces(points, problem, F):
             worst = status
         F[i, :] = f
     return worst
+
+
+@jit
+def condensed_modal_recover(points, F, problem, shapes, X):
+    """Response of every DOF at condensed solutions, modal receptance:
+    ``x̂_j = Σ_r φ_jr η̂_r`` with ``η̂_r = (q̂_r - φ_cr F̂) / d_r(kΩ)``.
+
+    Parameters
+    ----------
+    points : ndarray, shape (n_points, n_coef + 1)
+        ``[X_c, Ω]`` per point.
+    F : ndarray, shape (n_points, n_coef)
+        Contact-force coefficients at the points, N.
+    problem : CondensedProblem
+        With ``method == MODAL``.
+    shapes : ndarray, shape (n_dof, n_modes)
+        Mass-normalised mode shapes.
+    X : ndarray, shape (n_points, n_dof, n_coef)
+        Output: coefficients of every DOF, m.
+    """
+    n = problem.inverse.shape[1]
+    phi = problem.contact_shapes
+    w2 = problem.omega_squared
+    c = problem.modal_damping
+    q = problem.modal_load
+    n_dof, n_modes = shapes.shape
+    eta = np.empty(n_modes, dtype=np.complex128)
+    for i in range(points.shape[0]):
+        omega = points[i, n]
+        col = 0
+        for k in problem.harmonic_numbers:
+            w = k * omega
+            if k == 0:
+                f = F[i, col] + 0.0j
+            else:
+                f = F[i, col] - 1j * F[i, col + 1]
+            for r in range(n_modes):
+                if k == 0:
+                    qr = q[r, col] + 0.0j
+                else:
+                    qr = q[r, col] - 1j * q[r, col + 1]
+                eta[r] = (qr - phi[r] * f) / (w2[r] - w * w + 1j * w * c[r])
+            for j in range(n_dof):
+                s = 0.0j
+                for r in range(n_modes):
+                    s += shapes[j, r] * eta[r]
+                X[i, j, col] = s.real
+                if k != 0:
+                    X[i, j, col + 1] = -s.imag
+            col += 1 if k == 0 else 2
