@@ -7,9 +7,11 @@ dry-friction contacts, with Numba-compiled AFT kernels.
 >>> branch = hf.frf(osc, force=0.5, omega=(0.5, 3.0), harmonics=15)
 """
 
-from . import validation
+from . import criterion, identify, validation
 from .api import frf, periodic_solution
 from .continuation import ContinuationOptions
+from .coulomb import Coulomb
+from .dahl import ModifiedDahl
 from .laws import (
     ContactLaw,
     Cubic,
@@ -30,15 +32,19 @@ __all__ = [
     "CantileverBeam",
     "ContactLaw",
     "ContinuationOptions",
+    "Coulomb",
     "Cubic",
     "Iwan",
     "Jenkins",
     "Menq",
+    "ModifiedDahl",
     "Oscillator",
     "PeriodicSolution",
     "Roughness",
+    "criterion",
     "frf",
     "hertz_mindlin_stiffness",
+    "identify",
     "periodic_solution",
     "validation",
 ]

@@ -10,7 +10,7 @@ from pathlib import Path
 
 
 def _paper(args: argparse.Namespace) -> int:
-    from .paper import beam_normal_load_family, beam_ratio_family, masing_family
+    from .paper import beam_normal_load_family, beam_ratio_family, sdof_figures
 
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -19,10 +19,11 @@ def _paper(args: argparse.Namespace) -> int:
     def progress(line: str) -> None:
         print(line, flush=True)
 
-    figures = [masing_family(harmonics=args.harmonics, progress=progress)]
+    figures = sdof_figures(harmonics=args.harmonics, progress=progress)
     figures.append(beam_normal_load_family(harmonics=args.harmonics, progress=progress))
     figures.append(beam_ratio_family(harmonics=args.harmonics, progress=progress))
     for fig in figures:
+        _print_verdict(fig)
         csv_path = fig.write_csv(out / f"{fig.name}.csv")
         print(f"wrote {csv_path}", flush=True)
         if not args.no_plot:
@@ -30,6 +31,31 @@ def _paper(args: argparse.Namespace) -> int:
             print(f"wrote {png_path}", flush=True)
     print(f"done in {time.perf_counter() - start:.2f} s", flush=True)
     return 0
+
+
+def _print_verdict(fig) -> None:
+    """One line: the contact-model criterion's verdict on a computed family
+    (figures that are not FRF families, without ``criterion``, are skipped)."""
+    if not hasattr(fig, "criterion"):
+        return
+    res = fig.criterion()
+    ind = res.indicators
+    parts = []
+    if ind.get("ratio_spread") is not None:
+        parts.append(f"ratio spread {ind['ratio_spread']:.2g}")
+    if ind.get("envelope_excess") is not None:
+        parts.append(f"envelope excess {100 * ind['envelope_excess']:.1f} %")
+    shifts = ind.get("peak_shift") or {}
+    if shifts:
+        parts.append(
+            "peak shifts "
+            + ", ".join(f"{100 * v:+.1f} % (Fex/Fn={r:.3g})" for r, v in shifts.items())
+        )
+    print(
+        f"{fig.name} criterion: {res.verdict}"
+        + (f" ({'; '.join(parts)})" if parts else ""),
+        flush=True,
+    )
 
 
 def main(argv: list[str] | None = None) -> int:

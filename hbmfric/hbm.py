@@ -8,8 +8,9 @@ import numpy as np
 
 from ._validate import finite_float, positive_int
 from .kernels.dft import fourier_matrices
+from .kernels.dlft import COULOMB
 from .kernels.hbm import AFT_EVENTS, AFT_SAMPLES, NO_CONTACT, hbm_residual
-from .kernels.laws import JENKINS
+from .kernels.laws import JENKINS, MASING
 from .signals import coefficient_columns
 
 AFT_SCHEMES = ("auto", "events", "samples")
@@ -26,9 +27,10 @@ def select_harmonics(harmonics: int, odd: bool) -> np.ndarray:
 def default_n_time(harmonic_numbers: np.ndarray, aft: str) -> int:
     """Default samples per period.
 
-    ``events``: the samples only detect stick/slip events; two reversals
-    inside one sample interval would go unseen, so take 8 samples per period
-    of the highest harmonic (at least 32). ``samples``: ``16 H`` rounded to a
+    ``events``: the samples only detect stick/slip events (Jenkins) or
+    reversal points (Masing laws); two reversals inside one sample interval
+    would go unseen, so take 8 samples per period of the highest harmonic
+    (at least 32). ``samples``: ``16 H`` rounded to a
     multiple of 8, alias-free for a cubic law and keeping the friction
     aliasing small.
     """
@@ -55,7 +57,24 @@ class HBMProblem:
     symmetry : bool or None
         Solve for odd harmonics only. None: when the system allows it.
     aft : {"auto", "events", "samples"}
-        AFT scheme; "auto" uses event location for Jenkins, samples otherwise.
+        AFT scheme; "auto" uses event location for Jenkins (exact Fourier
+        integrals) and for the Masing laws Menq and Iwan (located reversal
+        points, :mod:`hbmfric.kernels.masing`), samples otherwise. A rigid
+        :class:`~hbmfric.Coulomb` contact is always solved by the sampled
+        DLFT scheme (``self.aft == "dlft"``).
+    subharmonic : int
+        ``ν >= 1``: the unknowns are harmonics of ``Ω/ν`` (the Ω of ``y``
+        is then the fundamental ``Ω/ν``) and the forcing sits on harmonic
+        ``ν``; ``ν = 1`` is the usual ``T``-periodic balance.
+
+    Notes
+    -----
+    Optional system hooks (read with defaults, so plain systems need none):
+    ``static_load() -> p0`` of shape (n_dof,), N, a constant load on
+    harmonic 0 (a system with one is never solved for odd harmonics only);
+    ``load_phase`` (rad), the forcing being ``p cos(Ωt − φ)`` (π/2 for
+    ``p sin Ωt``); ``static_solution() -> x0`` of shape (n_dof,), m, added
+    to the linear starting guesses.
     """
 
     def __init__(
@@ -66,12 +85,20 @@ class HBMProblem:
         n_time: int | None = None,
         symmetry: bool | None = None,
         aft: str = "auto",
+        subharmonic: int = 1,
     ) -> None:
         self.system = system
         self.force = finite_float("force", force)
+        self.subharmonic = positive_int("subharmonic", subharmonic, low=1)
+        static = getattr(system, "static_load", None)
+        static = None if static is None else np.asarray(static(), dtype=np.float64)
+        if static is not None and not np.any(static):
+            static = None
+        self.load_phase = finite_float("load_phase", getattr(system, "load_phase", 0))
+        symmetric = bool(system.symmetric) and static is None and subharmonic == 1
         if symmetry is None:
-            symmetry = bool(system.symmetric)
-        elif symmetry and not system.symmetric:
+            symmetry = symmetric
+        elif symmetry and not symmetric:
             raise ValueError(
                 "symmetry=True (odd harmonics only) needs a symmetric system; "
                 "this contact law is not odd"
@@ -79,12 +106,21 @@ class HBMProblem:
         self.odd = bool(symmetry)
         self.harmonic_numbers = select_harmonics(harmonics, self.odd)
         self.harmonics = int(harmonics)
+        if self.subharmonic > self.harmonics:
+            raise ValueError(
+                f"harmonics must be >= subharmonic = {self.subharmonic} (the "
+                f"forcing is harmonic ν of Ω/ν), got {self.harmonics}"
+            )
         if aft not in AFT_SCHEMES:
             raise ValueError(f"aft must be one of {AFT_SCHEMES}, got {aft!r}")
         law = system.contact
-        if aft == "auto":
-            aft = "events" if law is not None and law.code == JENKINS else "samples"
-        if aft == "events" and (law is None or law.code != JENKINS):
+        rigid = law is not None and law.code == COULOMB
+        located = law is not None and (law.code == JENKINS or law.code in MASING)
+        if rigid:
+            aft = "dlft"
+        elif aft == "auto":
+            aft = "events" if located else "samples"
+        if aft == "events" and not located:
             aft = "samples"
         self.aft = aft
         if n_time is None:
@@ -103,11 +139,19 @@ class HBMProblem:
             np.ascontiguousarray(a, dtype=np.float64) for a in system.matrices()
         )
         load = np.zeros((self.n_dof, self.n_coef))
-        col1 = coefficient_columns(self.harmonic_numbers)[1]
-        load[:, col1] = system.load_vector(self.force)
+        columns = coefficient_columns(self.harmonic_numbers)
+        col1 = columns[self.subharmonic]
+        amplitude = np.asarray(system.load_vector(self.force), dtype=np.float64)
+        load[:, col1] = amplitude * np.cos(self.load_phase)
+        load[:, col1 + 1] = amplitude * np.sin(self.load_phase)
+        if static is not None:
+            load[:, columns[0]] = static
         self.load = load.reshape(-1)
         if law is None:
             code, params = NO_CONTACT, np.zeros(1)
+        elif rigid:
+            code = COULOMB
+            params = np.array([law.slip_force, self._penalty(law, stiffness)])
         else:
             code, params = law.code, np.ascontiguousarray(law.params, dtype=np.float64)
         self.kernel_problem = (
@@ -124,6 +168,29 @@ class HBMProblem:
             forward,
             derivative,
         )
+
+    def _penalty(self, law, stiffness: np.ndarray) -> float:
+        """DLFT penalty ``ε`` of a rigid Coulomb contact, N/m: the law's own,
+        else the static stiffness ``K[c, c]`` at the contact DOF."""
+        if law.penalty is not None:
+            return float(law.penalty)
+        c = int(self.system.contact_dof)
+        k_cc = float(stiffness[c, c])
+        if not k_cc > 0.0:
+            raise ValueError(
+                "hf.Coulomb on a contact DOF without static stiffness (K[c, c] = "
+                f"{k_cc}): give the DLFT penalty explicitly, hf.Coulomb(..., "
+                "penalty=eps) in N/m, of the order of the dynamic stiffness "
+                "m Ω² at the contact"
+            )
+        return k_cc
+
+    @property
+    def penalty(self) -> float | None:
+        """DLFT penalty ``ε`` (N/m) of a rigid Coulomb contact, else None."""
+        if self.kernel_problem[6] != COULOMB:
+            return None
+        return float(self.kernel_problem[7][1])
 
     # ------------------------------------------------------------------
     def residual(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
@@ -162,7 +229,8 @@ class HBMProblem:
         omega : float or ndarray, shape (n_omega,)
             Pulsation(s), rad/s.
         contact : {"stuck", "free"}
-            ``"stuck"`` adds the law's stuck stiffness at the contact DOF,
+            ``"stuck"`` adds the law's stuck stiffness at the contact DOF
+            (a rigid Coulomb contact holds the contact DOF at 0),
             ``"free"`` leaves the contact out.
 
         Returns
@@ -170,15 +238,25 @@ class HBMProblem:
         ndarray, shape (n_unknowns,) or (n_omega, n_unknowns)
             Coefficients ``X`` (only the first-harmonic ones are non-zero).
         """
-        w = np.atleast_1d(np.asarray(omega, dtype=float))
+        w = self.subharmonic * np.atleast_1d(np.asarray(omega, dtype=float))
         mass, damping, stiffness = self.kernel_problem[1:4]
         K = stiffness.copy()
-        if contact == "stuck" and self.system.contact is not None:
-            c = self.system.contact_dof
-            K[c, c] += self.system.contact.stuck_stiffness
+        law = self.system.contact
+        c = self.system.contact_dof
+        pinned = contact == "stuck" and law is not None and law.code == COULOMB
+        if contact == "stuck" and law is not None and not pinned:
+            K[c, c] += law.stuck_stiffness
         Z = K - w[:, None, None] ** 2 * mass + 1j * w[:, None, None] * damping
-        col1 = coefficient_columns(self.harmonic_numbers)[1]
-        p = self.load.reshape(self.n_dof, self.n_coef)[:, col1].astype(complex)
+        col1 = coefficient_columns(self.harmonic_numbers)[self.subharmonic]
+        load = self.load.reshape(self.n_dof, self.n_coef)
+        # p cos(Ωt - φ) = Re(p e^{-iφ} e^{iΩt})
+        p = load[:, col1] - 1j * load[:, col1 + 1]
+        if pinned:
+            # x_c = 0: replace the contact DOF's equation by x_c = 0
+            Z[:, c, :] = 0.0
+            Z[:, :, c] = 0.0
+            Z[:, c, c] = 1.0
+            p[c] = 0.0
         x = np.zeros((w.size, self.n_dof), dtype=complex)
         ok = np.abs(np.linalg.det(Z)) > 0
         if np.any(ok):
@@ -207,9 +285,12 @@ class HBMProblem:
     def initial_guesses(self, omega: float) -> list[np.ndarray]:
         """Starting points ``y = [X, Ω]`` for Newton at fixed Ω."""
         guesses = []
+        static = getattr(self.system, "static_solution", None)
         for contact in ("stuck", "free"):
             y = np.empty(self.n_unknowns + 1)
             y[:-1] = self.linear_response(omega, contact)
+            if static is not None and self.harmonic_numbers[0] == 0:
+                y[: self.n_unknowns : self.n_coef] += np.asarray(static(), dtype=float)
             y[-1] = omega
             guesses.append(y)
         return guesses

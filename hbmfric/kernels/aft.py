@@ -114,7 +114,7 @@ def _masing_march(code, params, u, inverse, force, grad, with_grad):
                 for c in range(n_coef):
                     grad[i, c] = k0 * inverse[i, c]
         return STUCK
-    F, k_v, _ = virgin_curve(code, params, abs(u_v), -1.0)
+    F, k_v, _, _, _ = virgin_curve(code, params, abs(u_v), -1.0, 0.0, 0.0)
     f_v = F if u_v >= 0.0 else -F
     if half_range <= lin:
         for i in range(n):

@@ -35,13 +35,14 @@ Two families implement it:
   a branch that reaches the mirror image ``-u_1`` of the first reversal
   point rejoins it.
 
-Masing state layout: ``state = [f, depth, direction, hint, u_1, F_1, tag_1,
-u_2, F_2, tag_2, …]`` with ``depth`` reversal points stored, ``direction``
-the sign of the last movement (0 before any), ``hint`` a warm start for the
-inversion of the virgin curve (no effect on the result beyond rounding), and
+Masing state layout: ``state = [f, depth, direction, hint_x, hint_delta,
+hint_slope, u_1, F_1, tag_1, u_2, F_2, tag_2, …]`` with ``depth`` reversal
+points stored, ``direction`` the sign of the last movement (0 before any),
+three ``hint`` entries that warm-start the inversion of the virgin curve (no
+effect on the result beyond rounding, see :func:`menq_virgin`), and
 ``tag`` an identifier of each reversal given by the caller (the AFT stores
 the sample index there for its Jacobian). The capacity is
-``(state.size - 4) // 3`` reversal points; when a push would exceed it, the
+``(state.size - 6) // 3`` reversal points; when a push would exceed it, the
 oldest pair (the outermost loop, reached again only if the motion grows back
 beyond it) is dropped. ``state_size`` allows :data:`MEMORY_CAPACITY` points,
 plenty for a decaying transient; the AFT sizes its own state for one period,
@@ -67,19 +68,25 @@ Law codes and their parameter arrays
     with ``C_j = Σ_{e<j} f_e`` the force of the slipped elements and
     ``R_j = Σ_{e≥j} k_e`` the stiffness of the stuck ones when
     ``φ_j ≤ δ < φ_{j+1}``, so ``F_load(δ) = C_j + R_j δ``.
+``DAHL`` (modified Dahl restoring force): ``params = [β, μ, a, b, d, e]``
+    Rate-independent relaxation towards the envelopes ``h_u = a u + b``
+    (loading) and ``h_l = d u + e`` (unloading); see
+    :mod:`hbmfric.kernels.dahl`.
 """
 
 import numpy as np
 
 from .._jit import jit
+from .dahl import dahl_update
 
 JENKINS = 0
 CUBIC = 1
+DAHL = 2
 MENQ = 4
 IWAN = 5
 
 #: laws whose force depends on the displacement history
-HYSTERETIC = (JENKINS, MENQ, IWAN)
+HYSTERETIC = (JENKINS, DAHL, MENQ, IWAN)
 #: laws defined by a virgin curve, Masing's rule and Madelung's memory
 MASING = (MENQ, IWAN)
 
@@ -89,13 +96,13 @@ SLIP = 1
 #: reversal points a Masing state from :func:`state_size` can hold
 MEMORY_CAPACITY = 64
 #: header entries of a Masing state before the reversal points
-MASING_HEADER = 4
+MASING_HEADER = 6
 #: entries per reversal point ``(u_r, F_r, tag_r)``
 MASING_ENTRY = 3
 
 #: relative step at which the Menq inversion stops (Newton is quadratic, so
 #: the returned slip length is exact to rounding)
-_MENQ_XTOL = 1e-9
+_MENQ_XTOL = 1e-8
 
 
 @jit
@@ -130,6 +137,8 @@ def law_update(code, params, f_prev, u_prev, u):
         if trial < -slip_force:
             return -slip_force, 0.0, 0.0, 0.0
         return trial, 1.0, -kt, kt
+    if code == DAHL:
+        return dahl_update(params, f_prev, u_prev, u)
     # CUBIC
     k3 = params[0]
     return k3 * u * u * u, 0.0, 0.0, 3.0 * k3 * u * u
@@ -151,6 +160,9 @@ def linear_stiffness(code, params):
     if code == IWAN:
         n = int(params[0])
         return params[2 + 2 * n]
+    if code == DAHL:
+        # small-loop stiffness at u = 0: β ((b - e) / 2)^μ
+        return params[0] * max(0.5 * (params[3] - params[5]), 0.0) ** params[1]
     return 0.0
 
 
@@ -182,50 +194,98 @@ def slip_limit(code, params):
 
 
 @jit
-def menq_slip_length(params, delta, hint):
-    """Dimensionless slip length ``x = α l`` of the Menq virgin curve at
-    ``δ1 < δ < δ_gs``: the root of ``x²/2 + x tanh(λ - x) = δ/δ1 - 1`` in
-    ``(0, λ)``, by Newton's method kept inside a shrinking bracket.
+def _menq_cold_guess(lam, c):
+    """A lower bound of the Menq slip length at ``δ/δ1 - 1 = c`` (from
+    ``tanh y <= 1`` and ``tanh y <= y``)."""
+    x = max(
+        np.sqrt(1.0 + 2.0 * c) - 1.0,
+        lam - np.sqrt(max(lam * lam - 2.0 * c, 0.0)),
+    )
+    return x if x < lam else 0.5 * lam
 
-    ``hint`` (a previous root, or anything outside ``(0, λ)`` for none)
-    only speeds it up.
+
+@jit
+def menq_virgin(params, delta, hint_x, hint_delta, hint_slope):
+    """Menq virgin curve at ``δ >= 0`` with a warm-started inversion.
+
+    In microslip the dimensionless slip length ``x`` solves
+    ``g(x) = x²/2 + x tanh(λ - x) - (δ/δ1 - 1) = 0`` in ``(0, λ)``: Newton's
+    method kept inside a shrinking bracket (bisection when a step leaves
+    it), started from a tangent step off the previous solution (the hint)
+    when there is one. It stops when the Newton step falls below
+    ``1e-8 (1 + x)`` and evaluates ``F`` and ``dF/dδ`` at the stepped point
+    by a first-order correction, so the result is exact to rounding
+    (quadratic convergence) at one ``exp`` per iteration, typically two per
+    call along a sampled path.
+
+    Parameters
+    ----------
+    params : ndarray, shape (6,)
+        Menq parameters (module docstring).
+    delta : float
+        Displacement from the virgin state, m, >= 0.
+    hint_x, hint_delta, hint_slope : float
+        A previous solution ``x`` (anything outside ``(0, λ)`` for none),
+        its ``δ`` and ``dg/dx`` there; they only speed the iteration up.
+
+    Returns
+    -------
+    F, k : float
+        ``F_load(δ)`` (N) and ``dF_load/dδ`` (N/m).
+    hint_x, hint_delta, hint_slope : float
+        Updated hint.
     """
     d1 = params[0]
     lam = params[1]
+    if delta <= d1:
+        return params[3] * delta, params[3], hint_x, hint_delta, hint_slope
+    if delta >= params[4]:
+        return params[5], 0.0, hint_x, hint_delta, hint_slope
+    fq = params[2]
     c = delta / d1 - 1.0
     lo = 0.0
     hi = lam
-    if 0.0 < hint < lam:
-        x = hint
-    else:
-        # both are lower bounds of the root (tanh y <= 1 and tanh y <= y)
-        x = max(
-            np.sqrt(1.0 + 2.0 * c) - 1.0,
-            lam - np.sqrt(max(lam * lam - 2.0 * c, 0.0)),
-        )
-        if not x < lam:
-            x = 0.5 * (lo + hi)
-    for _ in range(100):
-        t = np.tanh(lam - x)
+    x = -1.0
+    if 0.0 < hint_x < lam and hint_slope > 0.0:
+        x = hint_x + (delta - hint_delta) / (d1 * hint_slope)
+    if not 0.0 < x < lam:
+        x = _menq_cold_guess(lam, c)
+    for _ in range(200):
+        e = np.exp(-2.0 * (lam - x))
+        t = (1.0 - e) / (1.0 + e)
+        w = 1.0 + x * t
         g = x * (0.5 * x + t) - c
+        dg = t * w
         if g > 0.0:
             hi = x
         elif g < 0.0:
             lo = x
-        else:
-            return x
-        dg = t * (1.0 + x * t)
-        new = x - g / dg if dg > 0.0 else 0.5 * (lo + hi)
+        step = g / dg if dg > 0.0 else np.inf
+        new = x - step
+        if abs(step) <= _MENQ_XTOL * (1.0 + x):
+            # F' = F_q t², (t/w)' = -1/w²: first-order move to the root
+            F = fq * (x + t - t * t * step)
+            k = (fq / d1) * (t / w + step / (w * w))
+            return F, k, new, delta, dg
         if not (lo < new < hi):
             new = 0.5 * (lo + hi)
-        if abs(new - x) <= _MENQ_XTOL * (1.0 + x) or hi - lo <= 1e-15 * lam:
-            return new
+            if hi - lo <= 1e-15 * lam:
+                break
         x = new
-    return x
+    e = np.exp(-2.0 * (lam - x))
+    t = (1.0 - e) / (1.0 + e)
+    return fq * (x + t), (fq / d1) * t / (1.0 + x * t), x, delta, t * (1.0 + x * t)
 
 
 @jit
-def virgin_curve(code, params, delta, hint):
+def menq_slip_length(params, delta):
+    """Dimensionless slip length ``x = α l`` of the Menq virgin curve at
+    ``δ1 < δ < δ_gs`` (see :func:`menq_virgin`)."""
+    return menq_virgin(params, delta, -1.0, 0.0, 0.0)[2]
+
+
+@jit
+def virgin_curve(code, params, delta, hint_x, hint_delta, hint_slope):
     """Virgin loading curve of a Masing law at ``δ >= 0``.
 
     Parameters
@@ -236,8 +296,9 @@ def virgin_curve(code, params, delta, hint):
         Law parameters.
     delta : float
         Displacement from the virgin state, m, >= 0.
-    hint : float
-        Warm start of the Menq inversion (see :func:`menq_slip_length`).
+    hint_x, hint_delta, hint_slope : float
+        Warm start of the Menq inversion (see :func:`menq_virgin`; pass
+        ``-1, 0, 0`` for none); ignored by Iwan.
 
     Returns
     -------
@@ -245,18 +306,11 @@ def virgin_curve(code, params, delta, hint):
         ``F_load(δ)``, N.
     k : float
         ``dF_load/dδ``, N/m.
-    x : float
-        New hint (the Menq slip length; ``hint`` unchanged otherwise).
+    hint_x, hint_delta, hint_slope : float
+        Updated hint.
     """
     if code == MENQ:
-        if delta <= params[0]:
-            return params[3] * delta, params[3], hint
-        if delta >= params[4]:
-            return params[5], 0.0, params[1]
-        x = menq_slip_length(params, delta, hint)
-        t = np.tanh(params[1] - x)
-        fq = params[2]
-        return fq * (x + t), (fq / params[0]) * t / (1.0 + x * t), x
+        return menq_virgin(params, delta, hint_x, hint_delta, hint_slope)
     # IWAN: elements with φ <= δ have slipped
     n = int(params[0])
     lo = 0
@@ -268,7 +322,7 @@ def virgin_curve(code, params, delta, hint):
         else:
             hi = mid
     k = params[2 + 2 * n + lo]
-    return params[1 + n + lo] + k * delta, k, hint
+    return params[1 + n + lo] + k * delta, k, hint_x, hint_delta, hint_slope
 
 
 @jit
@@ -281,7 +335,7 @@ def masing_step(code, params, state, u_prev, u, tag, commit):
         ``MENQ`` or ``IWAN``.
     params : ndarray
         Law parameters.
-    state : ndarray, shape (4 + 3 capacity,)
+    state : ndarray, shape (6 + 3 capacity,)
         Masing state at ``u_prev`` (layout in the module docstring);
         advanced in place to ``u`` when ``commit``.
     u_prev, u : float
@@ -326,10 +380,11 @@ def masing_step(code, params, state, u_prev, u, tag, commit):
             top -= 2
         else:
             break
-    hint = state[3]
+    hx = state[3]
+    hd = state[4]
+    hs = state[5]
     if top < 0:
-        a = abs(u)
-        F, k, hint = virgin_curve(code, params, a, hint)
+        F, k, hx, hd, hs = virgin_curve(code, params, abs(u), hx, hd, hs)
         f = F if u >= 0.0 else -F
     else:
         if push and top == depth:
@@ -339,7 +394,7 @@ def masing_step(code, params, state, u_prev, u, tag, commit):
             at = MASING_HEADER + MASING_ENTRY * top
             u_r = state[at]
             f_r = state[at + 1]
-        F, k, hint = virgin_curve(code, params, 0.5 * s * (u - u_r), hint)
+        F, k, hx, hd, hs = virgin_curve(code, params, 0.5 * s * (u - u_r), hx, hd, hs)
         f = f_r + 2.0 * s * F
     if commit:
         new_depth = top + 1
@@ -359,7 +414,9 @@ def masing_step(code, params, state, u_prev, u, tag, commit):
         state[0] = f
         state[1] = new_depth
         state[2] = s
-        state[3] = hint
+        state[3] = hx
+        state[4] = hd
+        state[5] = hs
     return f, k, top
 
 
@@ -395,12 +452,13 @@ def law_init(code, params, u0, state):
     """
     if code == MENQ or code == IWAN:
         state[:] = 0.0
-        state[3] = -1.0
-        F, k, hint = virgin_curve(code, params, abs(u0), -1.0)
+        F, k, hx, hd, hs = virgin_curve(code, params, abs(u0), -1.0, 0.0, 0.0)
         f = F if u0 >= 0.0 else -F
         state[0] = f
         state[2] = 1.0 if u0 > 0.0 else (-1.0 if u0 < 0.0 else 0.0)
-        state[3] = hint
+        state[3] = hx
+        state[4] = hd
+        state[5] = hs
         return f, k
     f, _, _, k = law_update(code, params, 0.0, 0.0, u0)
     state[0] = f

@@ -243,7 +243,7 @@ class Menq(ContactLaw):
         d = np.asarray(delta, dtype=float)
         params = self.params
         flat = np.array(
-            [_k.virgin_curve(_k.MENQ, params, abs(x), -1.0)[0] for x in d.ravel()]
+            [_k.menq_virgin(params, abs(x), -1.0, 0.0, 0.0)[0] for x in d.ravel()]
         )
         return (np.sign(d.ravel()) * flat).reshape(d.shape)
 
@@ -258,7 +258,7 @@ class Menq(ContactLaw):
         total = 0.5 * k0 * d1 * d1
         x_end = lam
         if a < d_gs:
-            x_end = _k.menq_slip_length(self.params, a, -1.0)
+            x_end = _k.menq_slip_length(self.params, a)
         x = 0.5 * x_end * (_GAUSS_X + 1.0)
         t = np.tanh(lam - x)
         integrand = fq * (x + t) * d1 * t * (1.0 + x * t)

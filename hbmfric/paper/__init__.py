@@ -12,7 +12,15 @@ from .beam import (
     ratio_collapse,
 )
 from .scenes import PAPER_SDOF, paper_oscillator
-from .sdof import FigureResult, masing_family
+from .sdof import (
+    FigureResult,
+    masing_family,
+    menq_family,
+    rough_masing_family,
+    rough_menq_family,
+    sdof_family,
+    sdof_figures,
+)
 
 __all__ = [
     "PAPER_BEAM_SCENE",
@@ -22,8 +30,13 @@ __all__ = [
     "beam_ratio_family",
     "family_records",
     "masing_family",
+    "menq_family",
     "paper_beam",
     "paper_calibration",
     "paper_oscillator",
     "ratio_collapse",
+    "rough_masing_family",
+    "rough_menq_family",
+    "sdof_family",
+    "sdof_figures",
 ]

@@ -1,7 +1,9 @@
 """Fixed-step time integration of a linear structure with one contact to ground.
 
-System: ``M ẍ + C ẋ + K x + e_c f_c(x_c) = p cos(Ω t)``, with ``e_c`` the unit
-vector of the contact DOF ``c``.
+System: ``M ẍ + C ẋ + K x + e_c f_c(x_c) = p₀ + p cos(Ω t − φ)``, with ``e_c``
+the unit vector of the contact DOF ``c`` and ``p₀`` a constant load (the
+phase φ only shifts the samples ``cos_sum``; ``p₀`` enters through
+``q₀ = 2 K_eff⁻¹ p₀``, the trapezoidal sum ``p₀ + p₀`` of a step).
 
 Scheme: Newmark's average-acceleration rule, which is the trapezoidal rule on
 ``(x, v)``: second order, unconditionally stable, no numerical damping.
@@ -132,6 +134,7 @@ def _period(
     A_t,
     B_t,
     q,
+    q0,
     g,
     cos_sum,
     contact_dof,
@@ -175,7 +178,7 @@ def _period(
             contact_force[step] = f
         s = cos_sum[step]
         for i in range(n):
-            x_new[i] = x[i] + q[i] * s - g[i] * f
+            x_new[i] = x[i] + q[i] * s + q0[i] - g[i] * f
         # column by column (rows of the transposes): contiguous, vectorised
         for j in range(n):
             x_j = x[j]
@@ -225,6 +228,7 @@ def newmark_periods(
     A_t,
     B_t,
     q,
+    q0,
     g,
     cos_sum,
     contact_dof,
@@ -249,10 +253,13 @@ def newmark_periods(
         Transpose of ``B = (4/h) K_eff⁻¹ M``, s.
     q : ndarray, shape (n_dof,)
         ``K_eff⁻¹ p``, m (per unit of ``cos``).
+    q0 : ndarray, shape (n_dof,)
+        ``2 K_eff⁻¹ p₀``, m (constant load; zeros without one).
     g : ndarray, shape (n_dof,)
         ``K_eff⁻¹ e_c``, m/N (zeros without contact).
     cos_sum : ndarray, shape (N,)
-        ``cos Ωt_k + cos Ωt_{k+1}`` for the ``N`` steps of a period.
+        ``cos(Ωt_k − φ) + cos(Ωt_{k+1} − φ)`` for the ``N`` steps of a
+        period.
     contact_dof : int
         DOF of the contact to ground.
     law_code : int
@@ -295,6 +302,7 @@ def newmark_periods(
             A_t,
             B_t,
             q,
+            q0,
             g,
             cos_sum,
             contact_dof,
@@ -322,6 +330,7 @@ def record_period(
     A_t,
     B_t,
     q,
+    q0,
     g,
     cos_sum,
     contact_dof,
@@ -358,6 +367,7 @@ def record_period(
         A_t,
         B_t,
         q,
+        q0,
         g,
         cos_sum,
         contact_dof,
