@@ -18,6 +18,7 @@ from .kernels.condensed import (
     condensed_modal_recover,
     condensed_residual,
 )
+from .kernels.dlft import COULOMB
 from .signals import coefficient_columns
 
 #: largest off-diagonal term of Φᵀ C Φ, relative to its diagonal, accepted
@@ -71,8 +72,9 @@ class CondensedHBMProblem(HBMProblem):
 
     Parameters
     ----------
-    system, force, harmonics, n_time, symmetry, aft
-        As :class:`~hbmfric.hbm.HBMProblem`.
+    system, force, harmonics, n_time, symmetry, aft, subharmonic
+        As :class:`~hbmfric.hbm.HBMProblem` (a rigid :class:`~hbmfric.Coulomb`
+        contact is solved by DLFT on the condensed residual).
     receptance : {"auto", "modal", "direct"}
         ``"modal"``: modal superposition with all modes (exact for
         classical damping, the fast path); ``"direct"``: a complex solve of
@@ -91,8 +93,11 @@ class CondensedHBMProblem(HBMProblem):
         symmetry: bool | None = None,
         aft: str = "auto",
         receptance: str = "auto",
+        subharmonic: int = 1,
     ) -> None:
-        super().__init__(system, force, harmonics, n_time, symmetry, aft)
+        super().__init__(
+            system, force, harmonics, n_time, symmetry, aft, subharmonic=subharmonic
+        )
         if system.contact is None:
             raise ValueError("condensation needs a contact law on the system")
         if receptance not in RECEPTANCE_METHODS:
@@ -174,14 +179,14 @@ class CondensedHBMProblem(HBMProblem):
 
     def receptance(self, omega) -> tuple[np.ndarray, np.ndarray]:
         """Contact receptance ``G_cc(ω)`` (m/N) and the contact response to
-        the first-harmonic load (m, complex), at pulsation(s) ``omega``."""
+        the harmonic load (complex amplitude, m), at pulsation(s) ``omega``
+        of that harmonic."""
         w = np.atleast_1d(np.asarray(omega, dtype=float))
-        first = list(self.harmonic_numbers).index(1)
-        load = self._complex_load()[first]
+        forced = list(self.harmonic_numbers).index(self.subharmonic)
+        load = self._complex_load()[forced]
         if self.receptance_method == "modal":
             p = self.kernel_problem
-            col1 = coefficient_columns(self.harmonic_numbers)[1]
-            q = p.modal_load[:, col1] - 1j * p.modal_load[:, col1 + 1]
+            q = load @ self.shapes
             d = p.omega_squared - w[:, None] ** 2 + 1j * w[:, None] * p.modal_damping
             g = np.sum(p.contact_shapes**2 / d, axis=1)
             x = np.sum(p.contact_shapes * q / d, axis=1)
@@ -194,17 +199,37 @@ class CondensedHBMProblem(HBMProblem):
         return g, x
 
     def linear_response(self, omega, contact: str = "stuck") -> np.ndarray:
-        """First-harmonic response of the contact DOF of the linearised
-        system (see :meth:`HBMProblem.linear_response`), shape (n_coef,) or
-        (n_omega, n_coef)."""
-        g, x = self.receptance(omega)
+        """Response of the contact DOF of the linearised system at the
+        forced harmonic (see :meth:`HBMProblem.linear_response`), shape
+        (n_coef,) or (n_omega, n_coef); a stuck rigid Coulomb contact holds
+        it at 0."""
+        w = self.subharmonic * np.atleast_1d(np.asarray(omega, dtype=float))
+        g, x = self.receptance(w)
+        law = self.system.contact
         if contact == "stuck":
-            x = x / (1.0 + self.system.contact.stuck_stiffness * g)
-        col1 = coefficient_columns(self.harmonic_numbers)[1]
+            if law.code == COULOMB:
+                x = np.zeros_like(x)
+            else:
+                x = x / (1.0 + law.stuck_stiffness * g)
+        col = coefficient_columns(self.harmonic_numbers)[self.subharmonic]
         X = np.zeros((x.size, self.n_coef))
-        X[:, col1] = x.real
-        X[:, col1 + 1] = -x.imag
+        X[:, col] = x.real
+        X[:, col + 1] = -x.imag
         return X[0] if np.ndim(omega) == 0 else X
+
+    def initial_guesses(self, omega: float) -> list[np.ndarray]:
+        """Starting points ``y = [X_c, Ω]`` (stuck and free linearisations,
+        plus the system's static solution at the contact DOF if any)."""
+        static = getattr(self.system, "static_solution", None)
+        guesses = []
+        for contact in ("stuck", "free"):
+            y = np.empty(self.n_unknowns + 1)
+            y[:-1] = self.linear_response(omega, contact)
+            if static is not None and self.harmonic_numbers[0] == 0:
+                y[0] += float(np.asarray(static(), dtype=float)[self.contact_dof])
+            y[-1] = omega
+            guesses.append(y)
+        return guesses
 
     def contact_forces(self, points: np.ndarray) -> np.ndarray:
         """Contact-force coefficients (N) at condensed solutions ``points``

@@ -406,3 +406,31 @@ def test_direct_receptance_matches_modal_and_full(calibration):
         assert np.max(np.abs(full.residual(y)[0])) < 1e-8 * 2.0
     # the dashpot does damp: lower peak than the classical beam
     assert branch.amplitude(1).max() < modal.amplitude(1).max()
+
+
+@pytest.mark.parametrize("law_name", ["coulomb", "menq"])
+def test_condensed_other_laws_solve_the_full_hbm(calibration, law_name):
+    """Rigid Coulomb (DLFT on the condensed residual) and Menq microslip
+    (located-reversal AFT) through the condensation: every recovered point
+    solves the full HBM, and the contact slips somewhere on the branch."""
+    if law_name == "coulomb":
+        law = hf.Coulomb(slip_force=2.0)
+    else:
+        law = hf.Menq(
+            axial_rigidity=1e6,
+            length=0.02,
+            shear_stiffness=4e8,
+            friction_coefficient=MU,
+            normal_load=1.5,
+        )
+    beam = calibration.beam.with_contact(law)
+    branch = hf.frf(beam, 2.0, (HZ * 40, HZ * 110), 5)
+    assert branch.info["condensed"] and branch.stop_reason.startswith("end")
+    full = HBMProblem(beam, 2.0, 5)
+    states = set()
+    for i in range(len(branch)):
+        y = np.concatenate((branch.coefficients[i].ravel(), [branch.omega[i]]))
+        R, _, state = full.residual(y)
+        states.add(state)
+        assert np.max(np.abs(R)) < 1e-8 * 2.0
+    assert len(states) > 1  # stuck and slipping points

@@ -43,8 +43,11 @@ import numpy as np
 
 from .._jit import jit
 from .aft import aft_jenkins_events, aft_samples
-from .laws import JENKINS
+from .dahl import aft_dahl
+from .dlft import COULOMB, dlft_contact
+from .laws import DAHL, JENKINS, is_masing
 from .linalg import solve_inplace
+from .masing import aft_masing
 
 #: AFT scheme codes (same values as :mod:`hbmfric.kernels.hbm`)
 AFT_SAMPLES = 0
@@ -209,6 +212,30 @@ def condensed_residual(y, problem, R, J):
     int
         Contact-state code of the AFT (negative on failure).
     """
+    status = _condensed_linear(y, problem, R, J)
+    if status < 0:
+        return status
+    n = problem.inverse.shape[1]
+    if problem.law_code == COULOMB:
+        # DLFT on the condensed linear residual: it is the Schur complement
+        # of the full one on the contact rows, which is all DLFT reads
+        return dlft_contact(
+            problem.law_params, 0, y, problem.inverse, problem.forward, R, J
+        )
+    F = np.empty(n)
+    dF = np.empty((n, n))
+    status = _contact_force(y[:n].copy(), problem, F, dF)
+    for i in range(n):
+        R[i] += F[i]
+        for j in range(n):
+            J[i, j] += dF[i, j]
+    return status
+
+
+@jit
+def _condensed_linear(y, problem, R, J):
+    """Linear part ``D (x̂ - p)`` of the condensed residual and its Jacobian
+    (``J`` overwritten); 0, or ``SINGULAR_RECEPTANCE``."""
     hn = problem.harmonic_numbers
     n = problem.inverse.shape[1]
     omega = y[n]
@@ -240,19 +267,16 @@ def condensed_residual(y, problem, R, J):
             J[col + 1, col + 1] = D.real
             J[col + 1, n] = -dr.imag
         col += 1 if k == 0 else 2
-    F = np.empty(n)
-    dF = np.empty((n, n))
-    status = _contact_force(y[:n].copy(), problem, F, dF)
-    for i in range(n):
-        R[i] += F[i]
-        for j in range(n):
-            J[i, j] += dF[i, j]
-    return status
+    return 0
 
 
 @jit
 def _contact_force(x, problem, F, dF):
-    if problem.law_code == JENKINS and problem.aft_scheme == AFT_EVENTS:
+    """AFT of the contact law at the contact coefficients ``x`` (the same
+    dispatch as :func:`hbmfric.kernels.hbm.hbm_residual`)."""
+    code = problem.law_code
+    events = problem.aft_scheme == AFT_EVENTS
+    if code == JENKINS and events:
         return aft_jenkins_events(
             problem.law_params,
             problem.harmonic_numbers,
@@ -262,8 +286,22 @@ def _contact_force(x, problem, F, dF):
             F,
             dF,
         )
+    if is_masing(code) and events:
+        return aft_masing(
+            code,
+            problem.law_params,
+            problem.harmonic_numbers,
+            x,
+            problem.inverse,
+            problem.forward,
+            problem.derivative,
+            F,
+            dF,
+        )
+    if code == DAHL:
+        return aft_dahl(problem.law_params, x, problem.inverse, problem.forward, F, dF)
     return aft_samples(
-        problem.law_code,
+        code,
         problem.law_params,
         x,
         problem.inverse,
@@ -275,7 +313,8 @@ def _contact_force(x, problem, F, dF):
 
 @jit
 def condensed_contact_forces(points, problem, F):
-    """Contact-force coefficients at condensed solutions (AFT at each).
+    """Contact-force coefficients at condensed solutions (AFT at each; for
+    a rigid Coulomb contact the DLFT force).
 
     Parameters
     ----------
@@ -293,9 +332,20 @@ def condensed_contact_forces(points, problem, F):
     n = problem.inverse.shape[1]
     dF = np.empty((n, n))
     f = np.empty(n)
+    R = np.empty(n)
+    R_lin = np.empty(n)
+    J = np.empty((n, n + 1))
     worst = 1 << 30
     for i in range(points.shape[0]):
-        status = _contact_force(points[i, :n].copy(), problem, f, dF)
+        y = points[i].copy()
+        if problem.law_code == COULOMB:
+            # the DLFT force is what the residual adds to its linear part
+            status = condensed_residual(y, problem, R, J)
+            _condensed_linear(y, problem, R_lin, J)
+            for r in range(n):
+                f[r] = R[r] - R_lin[r]
+        else:
+            status = _contact_force(y[:n].copy(), problem, f, dF)
         if status < worst:
             worst = status
         F[i, :] = f
