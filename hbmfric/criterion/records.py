@@ -105,7 +105,7 @@ class FRFRecord:
 
     @classmethod
     def from_branch(
-        cls, branch, normal_load: float, harmonic: int | None = 1, dof: int = 0
+        cls, branch, normal_load: float, harmonic: int | None = 1, dof=None
     ) -> FRFRecord:
         """A record from a computed :class:`hbmfric.Branch`.
 
@@ -117,7 +117,9 @@ class FRFRecord:
             Normal load of the run, N.
         harmonic : int or None, default 1
             Amplitude measure (see :meth:`Branch.amplitude`).
-        dof : int, default 0
+        dof : int, str or None
+            DOF index or name (see :meth:`Branch.amplitude`); None: the
+            contact DOF.
         """
         omega = np.asarray(branch.omega, dtype=np.float64)
         amp = branch.amplitude(harmonic=harmonic, dof=dof)
