@@ -462,3 +462,17 @@ def test_condensed_other_laws_solve_the_full_hbm(calibration, law_name):
         assert sol.converged
         X = branch.coefficients[i]
         assert np.max(np.abs(sol.coefficients - X)) < 1e-8 * np.max(np.abs(X))
+
+
+def test_validation_figure_writes_hbm_and_time_integration(tmp_path):
+    from hbmfric.paper import beam_validation
+
+    fig = beam_validation(
+        harmonics=7, validation_normal_loads=(5.0,), validation_points=3
+    )
+    assert len(fig.reference) == 3
+    assert fig.max_difference() < 1e-3
+    csv_path = fig.write_csv(tmp_path / "fig15.csv")
+    rows = (tmp_path / "fig15_time_integration.csv").read_text().splitlines()
+    assert csv_path.exists() and len(rows) == 4
+    assert fig.write_png(tmp_path / "fig15.png").exists()

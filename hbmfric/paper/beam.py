@@ -35,14 +35,17 @@ the paper's three observations:
 
 from __future__ import annotations
 
+import csv
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
 from ..api import frf
 from ..results import Branch
 from ..systems import CantileverBeam
+from ..validation import steady_state
 from .sdof import FigureResult
 
 HZ = 2.0 * np.pi
@@ -85,6 +88,8 @@ PAPER_BEAM_SCENE = {
     "ratio_normal_loads": (2.5, 3.0, 5.0, 10.0),  # N, Fig. 14
     "frequency_range": (15.0, 110.0),  # Hz
     "max_step": 0.02,  # continuation step: smooth curves for the figures
+    "validation_normal_loads": (5.0, 2.5),  # N, Fig. 15 stand-in (Fex = 2 N)
+    "validation_points": 5,  # time-integration points per curve
 }
 
 
@@ -232,3 +237,156 @@ def ratio_collapse(figure: FigureResult, n_grid: int = 400) -> dict[float, float
         curves = np.array(curves)
         out[ratio] = float(np.max(np.ptp(curves, axis=0)) / np.max(curves))
     return out
+
+
+@dataclass
+class BeamValidation(BeamFamily):
+    """Fig. 15 stand-in: HBM curves with time-integration points.
+
+    The paper compares HBM with its measurements; without the measured data
+    the independent reference here is the time integration of the same
+    39-DOF model (:func:`hbmfric.validation.steady_state`) at slipping
+    points of each curve. ``reference`` holds one dict per point: ``curve``
+    (index), ``omega`` (rad/s), ``hbm`` and ``time_integration`` (first
+    harmonic at the tip, m), ``periods``.
+    """
+
+    reference: list = field(default_factory=list)
+
+    def write_csv(self, path: Path) -> Path:
+        """The curves (as :meth:`FigureResult.write_csv`) and, next to them,
+        ``<stem>_time_integration.csv`` with the reference points."""
+        path = super().write_csv(path)
+        ti_path = Path(path).with_name(Path(path).stem + "_time_integration.csv")
+        with open(ti_path, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(
+                [
+                    "curve",
+                    "force_N",
+                    "normal_load_N",
+                    "omega_rad_s",
+                    "hbm_amplitude_h1_m",
+                    "time_integration_amplitude_h1_m",
+                    "relative_difference",
+                    "periods",
+                ]
+            )
+            for ref in self.reference:
+                par = self.parameters[ref["curve"]]
+                w.writerow(
+                    [
+                        self.labels[ref["curve"]],
+                        f"{par['force']:.9g}",
+                        f"{par['normal_load']:.9g}",
+                        f"{ref['omega']:.12g}",
+                        f"{ref['hbm']:.12g}",
+                        f"{ref['time_integration']:.12g}",
+                        f"{ref['time_integration'] / ref['hbm'] - 1.0:.3e}",
+                        ref["periods"],
+                    ]
+                )
+        self.files.append(ti_path)
+        return path
+
+    def write_png(self, path: Path) -> Path:
+        """HBM curves (lines) and time-integration points (circles)."""
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=(6.4, 4.4))
+        for i, (label, b, par) in enumerate(
+            zip(self.labels, self.branches, self.parameters, strict=True)
+        ):
+            (line,) = ax.semilogy(
+                b.omega / HZ, b.amplitude(1, "tip") / par["force"], label=label
+            )
+            pts = [r for r in self.reference if r["curve"] == i]
+            ax.semilogy(
+                [r["omega"] / HZ for r in pts],
+                [r["time_integration"] / par["force"] for r in pts],
+                "o",
+                mfc="none",
+                color=line.get_color(),
+                label=f"time integration, Fn = {par['normal_load']:g} N",
+            )
+        ax.set_xlabel("frequency (Hz)")
+        ax.set_ylabel("tip first-harmonic amplitude / Fex (m/N)")
+        ax.set_title(self.title)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(path, dpi=120)
+        plt.close(fig)
+        self.files.append(Path(path))
+        return Path(path)
+
+    def max_difference(self) -> float:
+        """Largest relative difference HBM/time integration (first harmonic
+        at the tip)."""
+        return max(abs(r["time_integration"] / r["hbm"] - 1.0) for r in self.reference)
+
+
+def beam_validation(
+    harmonics: int = 15,
+    progress: Callable[[str], None] | None = None,
+    **overrides,
+) -> BeamValidation:
+    """Fig. 15 stand-in: HBM FRFs at Fex = 2 N (stick–slip normal loads)
+    checked by time integration at slipping points of each curve."""
+    p = {**PAPER_BEAM_SCENE, **overrides}
+    configs = [
+        (p["force"], fn, f"Fn = {fn:g} N (Fex = {p['force']:g} N)")
+        for fn in p["validation_normal_loads"]
+    ]
+    branches, labels, params = _run(configs, harmonics, progress, "fig15 beam", p)
+    cal = paper_calibration(**p)
+    reference = []
+    for i, (b, par) in enumerate(zip(branches, params, strict=True)):
+        a = b.amplitude(harmonic=1, dof="tip")
+        slip = p["friction_coefficient"] * par["normal_load"]
+        slipping = np.nonzero(a * cal.contact_stiffness > 1.05 * slip)[0]
+        if slipping.size == 0:
+            continue
+        picks = np.unique(
+            slipping[
+                np.linspace(0, slipping.size - 1, p["validation_points"])
+                .round()
+                .astype(int)
+            ]
+        )
+        beam = paper_beam(par["normal_load"], cal, **p)
+        for j in picks:
+            ref = steady_state(
+                beam, par["force"], float(b.omega[j]), initial_state="linear", tol=1e-9
+            )
+            reference.append(
+                {
+                    "curve": i,
+                    "omega": float(b.omega[j]),
+                    "hbm": float(a[j]),
+                    "time_integration": ref.amplitude(1, dof=beam.contact_dof),
+                    "periods": ref.periods,
+                }
+            )
+        if progress is not None:
+            diffs = [
+                abs(r["time_integration"] / r["hbm"] - 1.0)
+                for r in reference
+                if r["curve"] == i
+            ]
+            progress(
+                f"fig15 beam Fn={par['normal_load']:g} N: time integration at "
+                f"{len(diffs)} slipping points, largest difference to HBM "
+                f"{max(diffs):.2e}"
+            )
+    return BeamValidation(
+        "fig15_beam_validation",
+        "Fig. 15 — beam, HBM against time integration",
+        labels,
+        branches,
+        params,
+        reference=reference,
+    )
