@@ -40,8 +40,13 @@ def system_modes(system) -> tuple[np.ndarray, np.ndarray]:
 
 
 def can_condense(system) -> bool:
-    """True when condensation pays: several DOFs and a contact."""
-    return system.contact is not None and int(system.n_dof) >= 2
+    """True when condensation pays and applies: several DOFs, a contact and
+    symmetric matrices."""
+    return (
+        system.contact is not None
+        and int(system.n_dof) >= 2
+        and _symmetric(system.matrices())
+    )
 
 
 def modal_damping(system) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
@@ -58,6 +63,14 @@ def modal_damping(system) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     if float(np.max(np.abs(off))) > _CLASSICAL_TOL * scale:
         return None
     return omega, shapes, diag
+
+
+def _symmetric(matrices) -> bool:
+    for a in matrices:
+        a = np.asarray(a, dtype=float)
+        if np.max(np.abs(a - a.T)) > 1e-12 * max(float(np.max(np.abs(a))), 1e-300):
+            return False
+    return True
 
 
 class CondensedHBMProblem(HBMProblem):
@@ -104,6 +117,11 @@ class CondensedHBMProblem(HBMProblem):
             raise ValueError(
                 f"receptance must be one of {RECEPTANCE_METHODS}, got {receptance!r}"
             )
+        if not _symmetric(system.matrices()):
+            raise ValueError(
+                "condensation needs symmetric mass, damping and stiffness "
+                "matrices; use condense=False for this system"
+            )
         modal = modal_damping(system)
         if receptance == "modal" and modal is None:
             raise ValueError(
@@ -112,6 +130,7 @@ class CondensedHBMProblem(HBMProblem):
             )
         if receptance == "auto":
             receptance = "direct" if modal is None else "modal"
+
         self.receptance_method = receptance
         self.contact_dof = int(system.contact_dof)
         hn = self.kernel_problem[0]

@@ -476,3 +476,15 @@ def test_validation_figure_writes_hbm_and_time_integration(tmp_path):
     rows = (tmp_path / "fig15_time_integration.csv").read_text().splitlines()
     assert csv_path.exists() and len(rows) == 4
     assert fig.write_png(tmp_path / "fig15.png").exists()
+
+
+def test_non_symmetric_matrices_fall_back_to_the_full_hbm(calibration):
+    beam = _stick_slip_beam(calibration)
+    system = _BeamWithDashpot(beam, dashpot=0.0)
+    M, C, K = beam.matrices()
+    K[0, 3] += 1.0  # not symmetric any more
+    system.matrices = lambda: (M, C, K)
+    with pytest.raises(ValueError, match="symmetric"):
+        CondensedHBMProblem(system, 2.0, 3)
+    sol = hf.periodic_solution(system, 2.0, HZ * 40.0, 3)
+    assert sol.converged

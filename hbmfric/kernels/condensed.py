@@ -33,6 +33,11 @@ Two ways to evaluate ``g`` and ``p`` (``method``):
     are solved in real form (``2 n_dof`` unknowns) by
     :func:`hbmfric.kernels.linalg.solve_inplace`.
 
+The contact force comes from the same AFT kernels as in the full residual
+(:func:`_contact_force`); a rigid Coulomb contact is handled by DLFT
+(:func:`hbmfric.kernels.dlft.dlft_contact`) applied to the condensed linear
+residual, which is exactly what DLFT reads on the contact rows.
+
 The problem travels as a :class:`CondensedProblem` named tuple; the residual
 dispatcher :func:`hbmfric.kernels.residual.residual` recognises its type.
 """
