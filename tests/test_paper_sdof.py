@@ -192,6 +192,7 @@ def test_paper_cli_prints_verdicts(tmp_path, capsys):
         "fig09_menq criterion: microslip without roughness",
         "fig10_masing_roughness criterion: macroslip with roughness",
         "fig11_menq_roughness criterion: microslip with roughness",
+        "fig13+14_beam criterion: macroslip without roughness",
     ):
         assert line in out
     for stem in ("fig09_menq", "fig10_masing_roughness", "fig11_menq_roughness"):

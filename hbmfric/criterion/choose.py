@@ -3,9 +3,12 @@ conclusion; SPEC §8), read from a family of FRFs."""
 
 from __future__ import annotations
 
+import json
 import math
+import time
 from collections.abc import Iterable
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -23,15 +26,17 @@ MODELS = ("macroslip", "microslip", "undecided")
 #: below this log-amplitude noise the curves are compared unsmoothed
 AUTO_NOISE_FLOOR = 0.002
 AUTO_WIDTH_FACTOR = 0.5
+#: largest smoothing half width, fraction of the band
+AUTO_MAX_WIDTH = 0.05
 #: fraction of the band kept in the ratio-invariance RMS (the worst 5 % of
 #: grid points, a sharp peak missed by a coarse grid, are left out)
-TRIM_KEEP = 0.95
+TRIM_KEEP = 0.8
 #: the ratio-invariance threshold is at least this multiple of the noise
 NOISE_SPREAD_FACTOR = 2.5
 #: mostly stuck curves have Fex/Fn at most this fraction of the flattest
 #: peak's ratio (closer to it, a Masing curve slips enough to soften and
 #: rise a little above the stuck envelope)
-MOSTLY_STUCK_FRACTION = 0.5
+MOSTLY_STUCK_FRACTION = 0.4
 
 
 @dataclass(frozen=True, eq=False)
@@ -78,6 +83,36 @@ class CriterionResult:
     def __str__(self) -> str:
         return f"{self.verdict}: {self.explanation}"
 
+    def to_dict(self) -> dict:
+        """Verdict, explanation and indicators as JSON-compatible data
+        (dictionary keys that are ratios become strings)."""
+
+        def plain(x):
+            if isinstance(x, dict):
+                return {
+                    (k if isinstance(k, str) else f"{k:.12g}"): plain(v)
+                    for k, v in x.items()
+                }
+            if isinstance(x, list | tuple):
+                return [plain(v) for v in x]
+            if isinstance(x, np.generic):
+                return x.item()
+            return x
+
+        return {
+            "model": self.model,
+            "roughness": self.roughness,
+            "verdict": self.verdict,
+            "explanation": self.explanation,
+            "indicators": plain(self.indicators),
+        }
+
+    def save(self, path) -> Path:
+        """Write :meth:`to_dict` to ``path`` as JSON (no pickle)."""
+        path = Path(path)
+        path.write_text(json.dumps(self.to_dict(), indent=1))
+        return path
+
     def plot(self, fig=None):
         """Draw the evidence (matplotlib, imported here).
 
@@ -115,7 +150,8 @@ class CriterionResult:
         )
         ax1.set_xlabel("frequency")
         ax1.set_ylabel("amplitude / Fex")
-        ax1.legend(fontsize=7)
+        if ratios:
+            ax1.legend(fontsize=7)
         ref = ev.get("reference")
         if ref is not None:
             ax2.semilogy(self.grid, np.exp(ref), "k-", lw=1.5, label="stuck reference")
@@ -160,7 +196,7 @@ def _auto_width(noise: float, spacing: float, band: float) -> float:
     if noise < AUTO_NOISE_FLOOR:
         return 0.0
     n_avg = (noise / 0.005) ** 2
-    return float(min(AUTO_WIDTH_FACTOR * n_avg * spacing, 0.05 * band))
+    return float(min(AUTO_WIDTH_FACTOR * n_avg * spacing, AUTO_MAX_WIDTH * band))
 
 
 def _envelope_shift(grid, curve, ref, pk, w_ref) -> float | None:
@@ -195,7 +231,7 @@ def choose_contact_model(
     stuck_frequency: float | None = None,
     ratio_rtol: float = 0.02,
     spread_threshold: float = 0.05,
-    excess_threshold: float = 0.06,
+    excess_threshold: float = 0.1,
     stuck_tolerance: float = 0.1,
     smoothing: float | None = None,
     n_grid: int = 600,
@@ -226,10 +262,11 @@ def choose_contact_model(
        differ from the reference by more than ``stuck_tolerance`` somewhere
        are *mostly stuck* (curves within it are as stuck as the reference).
        For each, the *envelope excess* is ``max(A − A_ref) / max(A)`` over the
-       band. If a mostly stuck curve rises above the stuck envelope by more
-       than ``excess_threshold`` of its own peak, below the stuck resonance
-       (it moved to lower frequency), the contact is **microslip**; if all
-       stay inside, **macroslip**.
+       band below the stuck resonance. If a mostly stuck curve rises there
+       above the stuck envelope by more than ``excess_threshold`` of its own
+       peak (it moved to lower frequency), the contact is **microslip**; if
+       all stay inside, **macroslip** (unless they rise above the envelope
+       on the high-frequency side, which fits neither model).
 
     A family that cannot answer a step gets ``"undecided"`` and an
     explanation of what is missing (no records, a single ratio, no two normal
@@ -254,7 +291,7 @@ def choose_contact_model(
         Relative tolerance for equal ``Fex/Fn``.
     spread_threshold : float, default 0.05
         Step 1 threshold on the RMS log difference (0.05 is about 5 %).
-    excess_threshold : float, default 0.06
+    excess_threshold : float, default 0.1
         Step 2 threshold, fraction of the curve's own peak.
     stuck_tolerance : float, default 0.1
         Largest log difference from the reference of a curve counted as
@@ -270,19 +307,22 @@ def choose_contact_model(
     Returns
     -------
     CriterionResult
-        ``indicators`` holds ``ratio_spread`` (with ``ratio_spread_threshold``,
-        ``ratio_spread_by_ratio``, ``n_pairs``), ``stuck_frequency``,
-        ``flattest_ratio``, ``mostly_stuck_ratios``, ``peak_shift`` (relative
-        shift of each mostly stuck peak from the stuck resonance, negative =
-        lower frequency), ``envelope_excess`` (largest, with
+        ``indicators`` holds ``ratio_spread`` (with
+        ``ratio_spread_threshold``, ``ratio_spread_by_ratio``, ``n_pairs``),
+        ``stuck_frequency``, ``flattest_ratio``, ``mostly_stuck_ratios``,
+        ``peak_shift`` (relative shift of each mostly stuck peak from the
+        stuck resonance, negative = lower frequency), ``envelope_excess``
+        (largest below the stuck resonance, with
         ``envelope_excess_by_ratio``, ``envelope_excess_frequency`` and
-        ``envelope_excess_threshold``), ``envelope_shift`` (largest distance
-        by which a curve's rising flank lies left of the reference's, over
-        levels from 50 to 97 % of its peak, fraction of the stuck resonance;
-        about 0 or negative = inside), ``noise`` (robust estimate of the
-        data's noise in log amplitude, median over records) and
-        ``smoothing_half_width``.
+        ``envelope_excess_threshold``; ``envelope_excess_above`` the same
+        above it), ``envelope_shift`` (largest distance by which a curve's
+        rising flank lies left of the reference's, over levels from 50 to
+        97 % of its peak, fraction of the stuck resonance; about 0 or
+        negative = inside), ``noise`` (robust estimate of the data's noise
+        in log amplitude, median over records), ``smoothing_half_width``,
+        ``n_records``, ``n_grid`` and ``elapsed`` (wall time, s).
     """
+    start = time.perf_counter()
     recs = tuple(records)
     for i, r in enumerate(recs):
         if not isinstance(r, FRFRecord):
@@ -342,7 +382,7 @@ def choose_contact_model(
     ratios = np.array([r.ratio for r in recs])
     loads = np.array([r.normal_load for r in recs])
     groups = _groups(ratios, ratio_rtol)
-    group_ratio = [float(np.exp(np.mean(np.log(ratios[g])))) for g in groups]
+    group_ratio = [float(f"{np.exp(np.mean(np.log(ratios[g]))):.12g}") for g in groups]
     group_of = [0.0] * len(recs)
     for g, gr in zip(groups, group_ratio, strict=True):
         for i in g:
@@ -476,81 +516,92 @@ def choose_contact_model(
     if not mostly and not missing:
         missing.append(
             "no mostly stuck curve: none lies between the stuck reference and "
-            "half the ratio of the flattest peak (add values of Fex/Fn below "
-            "half the one that flattens the peak most, but above the fully "
-            "stuck one)"
+            "0.4 times the ratio of the flattest peak (add values of Fex/Fn "
+            "below 0.4 times the one that flattens the peak most, but above the "
+            "fully stuck one)"
         )
 
     # -- the envelope test ---------------------------------------------------
     ind["peak_shift"] = {}
     ind["envelope_excess_by_ratio"] = {}
     ind["envelope_shift"] = {}
-    worst_excess = None
+    worst = {"below": None, "above": None}
     evidence["mostly_stuck"] = []
-    for c in mostly:
+    for c in mostly if w_ref is not None else []:
         y = c["curve"]
         ok = np.isfinite(y) & np.isfinite(ref)
         top = c["peak"][1]
         excess = np.full(grid.shape, -np.inf)
         excess[ok] = (np.exp(y[ok]) - np.exp(ref[ok])) / math.exp(top)
-        k = int(np.argmax(excess))
-        e = float(excess[k])
-        ind["envelope_excess_by_ratio"][c["ratio"]] = e
-        if w_ref is not None:
-            ind["peak_shift"][c["ratio"]] = (c["peak"][0] - w_ref) / w_ref
-            ind["envelope_shift"][c["ratio"]] = _envelope_shift(
-                grid, y, ref, c["peak"], w_ref
-            )
-        if worst_excess is None or e > worst_excess[0]:
-            worst_excess = (e, float(grid[k]), c["ratio"])
+        for side, mask in (("below", grid < w_ref), ("above", grid >= w_ref)):
+            if not np.any(mask & ok):
+                continue
+            k = int(np.argmax(np.where(mask, excess, -np.inf)))
+            e = float(excess[k])
+            if side == "below":
+                ind["envelope_excess_by_ratio"][c["ratio"]] = e
+            if worst[side] is None or e > worst[side][0]:
+                worst[side] = (e, float(grid[k]), c["ratio"])
+        ind["peak_shift"][c["ratio"]] = (c["peak"][0] - w_ref) / w_ref
+        ind["envelope_shift"][c["ratio"]] = _envelope_shift(
+            grid, y, ref, c["peak"], w_ref
+        )
         evidence["mostly_stuck"].append((c["name"], y, c["peak"]))
 
     model = "undecided"
-    if worst_excess is not None and w_ref is not None:
-        e, w_e, r_e = worst_excess
+    if worst["below"] is not None:
+        e, w_e, r_e = worst["below"]
         ind["envelope_excess"] = e
         ind["envelope_excess_frequency"] = w_e
+        if worst["above"] is not None:
+            ind["envelope_excess_above"] = worst["above"][0]
+            ind["envelope_excess_above_frequency"] = worst["above"][1]
         shifts = ", ".join(
             f"{100 * s:+.2f} % at Fex/Fn = {r:.3g}"
             for r, s in ind["peak_shift"].items()
         )
         text.append(
             f"Step 2: the stuck reference is {ref_name}, resonance at {w_ref:.4g}. "
-            f"Mostly stuck curves (at most half the ratio of the flattest peak, "
+            f"Mostly stuck curves (at most 0.4 times the ratio of the flattest "
+            f"peak, "
             f"Fex/Fn = "
             f"{ind['flattest_ratio']:.3g}): "
             + ", ".join(f"{c['ratio']:.3g}" for c in mostly)
-            + f"; their peaks move by {shifts} from the stuck resonance. The "
-            f"largest rise above the stuck envelope is {100 * e:.2f} % of the "
-            f"curve's peak (Fex/Fn = {r_e:.3g}, at {w_e:.4g}; threshold "
-            f"{100 * excess_threshold:.3g} %)"
+            + f"; their peaks move by {shifts} from the stuck resonance. Below "
+            f"the stuck resonance, the largest rise above the stuck envelope is "
+            f"{100 * e:.2f} % of the curve's peak (Fex/Fn = {r_e:.3g}, at "
+            f"{w_e:.4g}; threshold {100 * excess_threshold:.3g} %)"
         )
-        if e <= excess_threshold:
-            model = "macroslip"
-            text[-1] += (
-                ": the mostly stuck curves stay inside the fully stuck envelope, "
-                "as a macroslip (Masing) contact does."
-            )
-        elif w_e < w_ref:
+        above = ind.get("envelope_excess_above", -np.inf)
+        if e > excess_threshold:
             model = "microslip"
             text[-1] += (
                 ": the mostly stuck peaks leave the stuck envelope towards lower "
                 "frequency, the signature of partial slip in a stuck contact "
                 "(microslip)."
             )
-        else:
+        elif above > excess_threshold:
             text[-1] += (
-                ", but above the stuck resonance, which is not a friction "
-                "softening signature: the data do not fit either model."
+                f", but above it the curves rise {100 * above:.2f} % over the "
+                "envelope, which is not a friction softening signature: the "
+                "data do not fit either model."
             )
             missing.append(
                 "the curves leave the stuck envelope on the high-frequency side"
+            )
+        else:
+            model = "macroslip"
+            text[-1] += (
+                ": the mostly stuck curves stay inside the fully stuck envelope, "
+                "as a macroslip (Masing) contact does."
             )
     if missing:
         model = "undecided"
         text.append("Undecided: " + "; ".join(missing) + ".")
     else:
         text.append(f"Verdict: {model} {'with' if roughness else 'without'} roughness.")
+    ind["n_grid"] = n_grid
+    ind["elapsed"] = time.perf_counter() - start
     return CriterionResult(
         model, bool(roughness), ind, " ".join(text), grid, recs, evidence
     )

@@ -118,8 +118,7 @@ class FRFRecord:
         harmonic : int or None, default 1
             Amplitude measure (see :meth:`Branch.amplitude`).
         dof : int, str or None
-            DOF index or name (see :meth:`Branch.amplitude`); None: the
-            contact DOF.
+            Response DOF (index or name); default: the contact DOF.
         """
         omega = np.asarray(branch.omega, dtype=np.float64)
         amp = branch.amplitude(harmonic=harmonic, dof=dof)
