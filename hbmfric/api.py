@@ -39,8 +39,14 @@ def _problem(system, force, harmonics, n_time, symmetry, aft, condense):
 
     if condense is None:
         condense = can_condense(system)
-    elif not isinstance(condense, bool | np.bool_):
-        raise ValueError(f"condense must be True, False or None, got {condense!r}")
+    if isinstance(condense, str) and condense in ("modal", "direct"):
+        return CondensedHBMProblem(
+            system, force, harmonics, n_time, symmetry, aft, receptance=condense
+        )
+    if not isinstance(condense, bool | np.bool_):
+        raise ValueError(
+            f"condense must be True, False, None, 'modal' or 'direct', got {condense!r}"
+        )
     cls = CondensedHBMProblem if condense else HBMProblem
     return cls(system, force, harmonics, n_time, symmetry, aft)
 
@@ -105,11 +111,14 @@ def frf(
     options : ContinuationOptions, optional
     amplitude_scale : float, optional
         Displacement scale of the arc length, m.
-    condense : bool, optional
+    condense : bool or {"modal", "direct"}, optional
         Solve the HBM on the contact DOF only (linear DOFs eliminated per
         harmonic by the dynamic receptance, every DOF recovered at the
-        end); default: whenever the system has several DOFs, a contact and
-        classical damping. ``False`` solves the full HBM.
+        end); default: whenever the system has several DOFs and a contact.
+        The receptance comes from modal superposition with all modes when
+        the damping is classical, else from a direct solve per harmonic;
+        ``"modal"`` or ``"direct"`` force one. ``False`` solves the full
+        HBM.
     **option_overrides
         Fields of :class:`ContinuationOptions` to override.
 

@@ -10,7 +10,12 @@ from pathlib import Path
 
 
 def _paper(args: argparse.Namespace) -> int:
-    from .paper import beam_normal_load_family, beam_ratio_family, sdof_figures
+    from .paper import (
+        beam_normal_load_family,
+        beam_ratio_family,
+        beam_validation,
+        sdof_figures,
+    )
 
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -22,6 +27,7 @@ def _paper(args: argparse.Namespace) -> int:
     figures = sdof_figures(harmonics=args.harmonics, progress=progress)
     figures.append(beam_normal_load_family(harmonics=args.harmonics, progress=progress))
     figures.append(beam_ratio_family(harmonics=args.harmonics, progress=progress))
+    figures.append(beam_validation(harmonics=args.harmonics, progress=progress))
     for fig in figures:
         _print_verdict(fig)
         csv_path = fig.write_csv(out / f"{fig.name}.csv")

@@ -1,6 +1,6 @@
 """Harmonic balance condensed onto the contact DOF: the plain-Python layer
-that builds the modal data of :mod:`hbmfric.kernels.condensed` and recovers
-the response of every DOF afterwards."""
+that builds the data of :mod:`hbmfric.kernels.condensed` (modal or direct
+receptance) and recovers the response of every DOF afterwards."""
 
 from __future__ import annotations
 
@@ -11,9 +11,11 @@ from .hbm import HBMProblem
 from .kernels.condensed import (
     AFT_EVENTS,
     AFT_SAMPLES,
+    DIRECT,
+    MODAL,
     CondensedProblem,
-    condensed_modal_coefficients,
-    condensed_recover,
+    condensed_contact_forces,
+    condensed_modal_recover,
     condensed_residual,
 )
 from .kernels.dlft import COULOMB
@@ -22,6 +24,8 @@ from .signals import coefficient_columns
 #: largest off-diagonal term of Φᵀ C Φ, relative to its diagonal, accepted
 #: as classical (modal) damping
 _CLASSICAL_TOL = 1e-8
+
+RECEPTANCE_METHODS = ("auto", "modal", "direct")
 
 
 def system_modes(system) -> tuple[np.ndarray, np.ndarray]:
@@ -36,37 +40,37 @@ def system_modes(system) -> tuple[np.ndarray, np.ndarray]:
 
 
 def can_condense(system) -> bool:
-    """True when condensation is possible and pays: several DOFs, a contact,
-    positive definite stiffness and classical damping."""
-    if system.contact is None or int(system.n_dof) < 2:
-        return False
-    if system.contact.code == COULOMB:  # DLFT is not in the condensed kernel
-        return False
-    try:
-        _modal_data(system)
-    except ValueError:
-        return False
-    return True
+    """True when condensation pays and applies: several DOFs, a contact and
+    symmetric matrices."""
+    return (
+        system.contact is not None
+        and int(system.n_dof) >= 2
+        and _symmetric(system.matrices())
+    )
 
 
-def _modal_data(system):
+def modal_damping(system) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """``(ω_r, Φ, c_r)`` when the damping is classical (``Φᵀ C Φ`` diagonal)
+    and the stiffness positive definite, else None."""
     M, C, K = (np.asarray(a, dtype=float) for a in system.matrices())
     omega, shapes = system_modes(system)
+    if not np.all(omega > 0.0):
+        return None
     modal_c = shapes.T @ C @ shapes
     diag = np.diag(modal_c).copy()
     off = modal_c - np.diag(diag)
     scale = max(float(np.max(np.abs(diag))), 1e-300)
     if float(np.max(np.abs(off))) > _CLASSICAL_TOL * scale:
-        raise ValueError(
-            "condensation by modal superposition needs classical (modal or "
-            "Rayleigh) damping; use condense=False for this system"
-        )
-    if not np.all(omega > 0.0):
-        raise ValueError(
-            "condensation needs a positive definite stiffness (no rigid-body "
-            "mode); use condense=False for this system"
-        )
+        return None
     return omega, shapes, diag
+
+
+def _symmetric(matrices) -> bool:
+    for a in matrices:
+        a = np.asarray(a, dtype=float)
+        if np.max(np.abs(a - a.T)) > 1e-12 * max(float(np.max(np.abs(a))), 1e-300):
+            return False
+    return True
 
 
 class CondensedHBMProblem(HBMProblem):
@@ -76,8 +80,19 @@ class CondensedHBMProblem(HBMProblem):
     (``n_unknowns``, ``kernel_problem``, ``residual``, ``linear_response``,
     ``amplitude_scale``, ``initial_guesses``); the unknowns are the
     ``n_coef`` coefficients of the contact DOF. The linear DOFs are
-    eliminated per harmonic by modal superposition with all modes (exact
-    for classical damping); :meth:`full_coefficients` recovers every DOF.
+    eliminated per harmonic through the dynamic receptance at the contact;
+    :meth:`full_coefficients` recovers every DOF.
+
+    Parameters
+    ----------
+    system, force, harmonics, n_time, symmetry, aft, subharmonic
+        As :class:`~hbmfric.hbm.HBMProblem` (a rigid :class:`~hbmfric.Coulomb`
+        contact is solved by DLFT on the condensed residual).
+    receptance : {"auto", "modal", "direct"}
+        ``"modal"``: modal superposition with all modes (exact for
+        classical damping, the fast path); ``"direct"``: a complex solve of
+        ``K - ω² M + iω C`` per harmonic and residual evaluation (any
+        damping); ``"auto"``: modal when the damping is classical.
     """
 
     condensed = True
@@ -90,35 +105,68 @@ class CondensedHBMProblem(HBMProblem):
         n_time: int | None = None,
         symmetry: bool | None = None,
         aft: str = "auto",
+        receptance: str = "auto",
+        subharmonic: int = 1,
     ) -> None:
-        super().__init__(system, force, harmonics, n_time, symmetry, aft)
+        super().__init__(
+            system, force, harmonics, n_time, symmetry, aft, subharmonic=subharmonic
+        )
         if system.contact is None:
             raise ValueError("condensation needs a contact law on the system")
-        if system.contact.code == COULOMB:
+        if receptance not in RECEPTANCE_METHODS:
             raise ValueError(
-                "a rigid Coulomb contact (DLFT) is solved on the full system "
-                "only; use condense=False"
+                f"receptance must be one of {RECEPTANCE_METHODS}, got {receptance!r}"
             )
-        omega, shapes, modal_c = _modal_data(system)
-        self.shapes = np.ascontiguousarray(shapes)
+        if not _symmetric(system.matrices()):
+            raise ValueError(
+                "condensation needs symmetric mass, damping and stiffness "
+                "matrices; use condense=False for this system"
+            )
+        modal = modal_damping(system)
+        if receptance == "modal" and modal is None:
+            raise ValueError(
+                "receptance='modal' needs classical (modal or Rayleigh) damping and "
+                "no rigid-body mode; use receptance='direct'"
+            )
+        if receptance == "auto":
+            receptance = "direct" if modal is None else "modal"
+
+        self.receptance_method = receptance
         self.contact_dof = int(system.contact_dof)
         hn = self.kernel_problem[0]
+        mass, damping, stiffness = self.kernel_problem[1:4]
         law_code, law_params, aft_code = self.kernel_problem[6:9]
         inverse, forward, derivative = self.kernel_problem[9:12]
-        load = self.load.reshape(self.n_dof, self.n_coef)
+        load = np.ascontiguousarray(self.load.reshape(self.n_dof, self.n_coef))
+        self._matrices = (mass, damping, stiffness)
+        empty = np.zeros((0, 0))
+        if receptance == "modal":
+            omega, shapes, modal_c = modal
+            self.shapes = np.ascontiguousarray(shapes)
+            modal_parts = (
+                np.ascontiguousarray(shapes[self.contact_dof]),
+                np.ascontiguousarray(omega**2),
+                np.ascontiguousarray(modal_c),
+                np.ascontiguousarray(shapes.T @ load),
+            )
+            direct_parts = (empty, empty, empty, empty)
+        else:
+            self.shapes = None
+            modal_parts = (np.zeros(0), np.zeros(0), np.zeros(0), empty)
+            direct_parts = (mass, damping, stiffness, load)
         self.full_kernel_problem = self.kernel_problem
         self.kernel_problem = CondensedProblem(
             hn,
-            np.ascontiguousarray(shapes[self.contact_dof]),
-            np.ascontiguousarray(omega**2),
-            np.ascontiguousarray(modal_c),
-            np.ascontiguousarray(shapes.T @ load),
+            *modal_parts,
             np.int64(law_code),
             law_params,
             np.int64(AFT_EVENTS if aft_code == AFT_EVENTS else AFT_SAMPLES),
             inverse,
             forward,
             derivative,
+            np.int64(MODAL if receptance == "modal" else DIRECT),
+            np.int64(self.contact_dof),
+            *direct_parts,
         )
         self.n_unknowns = self.n_coef
 
@@ -131,33 +179,88 @@ class CondensedHBMProblem(HBMProblem):
         state = condensed_residual(y, self.kernel_problem, R, J)
         return R, J, int(state)
 
+    def _complex_load(self) -> np.ndarray:
+        """Complex load ``P̂_k`` per harmonic, shape (n_harmonics, n_dof)."""
+        load = self.load.reshape(self.n_dof, self.n_coef)
+        cols = coefficient_columns(self.harmonic_numbers)
+        out = np.empty((self.harmonic_numbers.size, self.n_dof), dtype=complex)
+        for h, k in enumerate(self.harmonic_numbers):
+            c = cols[int(k)]
+            out[h] = load[:, c] if k == 0 else load[:, c] - 1j * load[:, c + 1]
+        return out
+
+    def _direct_response(self, omega: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+        """``Z(ω)⁻¹ rhs`` for pulsations ``omega`` (shape (m,)) and right-hand
+        sides ``rhs`` (shape (m, n_dof)), complex, shape (m, n_dof)."""
+        M, C, K = self._matrices
+        Z = K - omega[:, None, None] ** 2 * M + 1j * omega[:, None, None] * C
+        return np.linalg.solve(Z, rhs[..., None])[..., 0]
+
     def receptance(self, omega) -> tuple[np.ndarray, np.ndarray]:
         """Contact receptance ``G_cc(ω)`` (m/N) and the contact response to
-        the first-harmonic load (m, complex), at pulsation(s) ``omega``."""
-        w = np.atleast_1d(np.asarray(omega, dtype=float))[:, None]
-        p = self.kernel_problem
-        col1 = coefficient_columns(self.harmonic_numbers)[1]
-        q = p.modal_load[:, col1] - 1j * p.modal_load[:, col1 + 1]
-        d = p.omega_squared - w**2 + 1j * w * p.modal_damping
-        g = np.sum(p.contact_shapes**2 / d, axis=1)
-        x = np.sum(p.contact_shapes * q / d, axis=1)
+        the harmonic load (complex amplitude, m), at pulsation(s) ``omega``
+        of that harmonic."""
+        w = np.atleast_1d(np.asarray(omega, dtype=float))
+        forced = list(self.harmonic_numbers).index(self.subharmonic)
+        load = self._complex_load()[forced]
+        if self.receptance_method == "modal":
+            p = self.kernel_problem
+            q = load @ self.shapes
+            d = p.omega_squared - w[:, None] ** 2 + 1j * w[:, None] * p.modal_damping
+            g = np.sum(p.contact_shapes**2 / d, axis=1)
+            x = np.sum(p.contact_shapes * q / d, axis=1)
+            return g, x
+        unit = np.zeros((w.size, self.n_dof))
+        unit[:, self.contact_dof] = 1.0
+        rhs = np.broadcast_to(load, (w.size, self.n_dof))
+        g = self._direct_response(w, unit)[:, self.contact_dof]
+        x = self._direct_response(w, rhs)[:, self.contact_dof]
         return g, x
 
     def linear_response(self, omega, contact: str = "stuck") -> np.ndarray:
-        """First-harmonic response of the contact DOF of the linearised
-        system (see :meth:`HBMProblem.linear_response`), shape (n_coef,) or
-        (n_omega, n_coef)."""
-        g, x = self.receptance(omega)
+        """Response of the contact DOF of the linearised system at the
+        forced harmonic (see :meth:`HBMProblem.linear_response`), shape
+        (n_coef,) or (n_omega, n_coef); a stuck rigid Coulomb contact holds
+        it at 0."""
+        w = self.subharmonic * np.atleast_1d(np.asarray(omega, dtype=float))
+        g, x = self.receptance(w)
+        law = self.system.contact
         if contact == "stuck":
-            x = x / (1.0 + self.system.contact.stuck_stiffness * g)
-        col1 = coefficient_columns(self.harmonic_numbers)[1]
+            if law.code == COULOMB:
+                x = np.zeros_like(x)
+            else:
+                x = x / (1.0 + law.stuck_stiffness * g)
+        col = coefficient_columns(self.harmonic_numbers)[self.subharmonic]
         X = np.zeros((x.size, self.n_coef))
-        X[:, col1] = x.real
-        X[:, col1 + 1] = -x.imag
+        X[:, col] = x.real
+        X[:, col + 1] = -x.imag
         return X[0] if np.ndim(omega) == 0 else X
 
+    def initial_guesses(self, omega: float) -> list[np.ndarray]:
+        """Starting points ``y = [X_c, Ω]`` (stuck and free linearisations,
+        plus the system's static solution at the contact DOF if any)."""
+        static = getattr(self.system, "static_solution", None)
+        guesses = []
+        for contact in ("stuck", "free"):
+            y = np.empty(self.n_unknowns + 1)
+            y[:-1] = self.linear_response(omega, contact)
+            if static is not None and self.harmonic_numbers[0] == 0:
+                y[0] += float(np.asarray(static(), dtype=float)[self.contact_dof])
+            y[-1] = omega
+            guesses.append(y)
+        return guesses
+
+    def contact_forces(self, points: np.ndarray) -> np.ndarray:
+        """Contact-force coefficients (N) at condensed solutions ``points``
+        (shape (n_points, n_coef + 1)), shape (n_points, n_coef)."""
+        points = np.ascontiguousarray(np.atleast_2d(points), dtype=np.float64)
+        F = np.empty((points.shape[0], self.n_coef))
+        condensed_contact_forces(points, self.kernel_problem, F)
+        return F
+
     def full_coefficients(self, points: np.ndarray) -> np.ndarray:
-        """Coefficients of every DOF at condensed solutions.
+        """Coefficients of every DOF at condensed solutions:
+        ``x̂_k = Z(kΩ)⁻¹ (P̂_k - e_c F̂_k)`` with ``F`` the AFT contact force.
 
         Parameters
         ----------
@@ -169,23 +272,24 @@ class CondensedHBMProblem(HBMProblem):
         ndarray, shape (n_points, n_dof, n_coef), m
         """
         points = np.ascontiguousarray(np.atleast_2d(points), dtype=np.float64)
-        n_modes = self.shapes.shape[1]
-        modal = np.empty((points.shape[0], n_modes, self.n_coef))
-        condensed_modal_coefficients(points, self.kernel_problem, modal)
-        return np.matmul(self.shapes, modal)
-
-    def contact_force(self, y: np.ndarray) -> np.ndarray:
-        """Contact-force coefficients (N) at ``y = [X_c, Ω]``, shape (n_coef,)."""
-        X = np.empty((self.n_dof, self.n_coef))
-        F = np.empty(self.n_coef)
-        condensed_recover(
-            np.ascontiguousarray(y, dtype=np.float64),
-            self.kernel_problem,
-            self.shapes,
-            X,
-            F,
-        )
-        return F
+        F = self.contact_forces(points)
+        out = np.empty((points.shape[0], self.n_dof, self.n_coef))
+        if self.receptance_method == "modal":
+            condensed_modal_recover(points, F, self.kernel_problem, self.shapes, out)
+            return out
+        omega = points[:, -1]
+        loads = self._complex_load()
+        cols = coefficient_columns(self.harmonic_numbers)
+        for h, k in enumerate(self.harmonic_numbers):
+            c = cols[int(k)]
+            f = F[:, c] if k == 0 else F[:, c] - 1j * F[:, c + 1]
+            rhs = np.broadcast_to(loads[h], (omega.size, self.n_dof)).copy()
+            rhs[:, self.contact_dof] -= f
+            x = self._direct_response(k * omega, rhs)
+            out[:, :, c] = x.real
+            if k != 0:
+                out[:, :, c + 1] = -x.imag
+        return out
 
     def unknowns_from_full(self, X: np.ndarray) -> np.ndarray:
         """The unknowns (contact-DOF coefficients) of full coefficients

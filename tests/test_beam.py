@@ -270,7 +270,6 @@ def test_paper_families_show_the_measured_regimes():
     from hbmfric.paper import (
         beam_normal_load_family,
         beam_ratio_family,
-        family_records,
         ratio_collapse,
     )
 
@@ -286,7 +285,7 @@ def test_paper_families_show_the_measured_regimes():
     )
     assert peaks[0.5][0] == pytest.approx(24.0, abs=0.5)
     # flat: the 1 N curve peaks far below both resonances' peaks
-    assert peaks[1.0][1] < 0.25 * peaks[40.0][1]
+    assert peaks[1.0][1] < 0.35 * peaks[40.0][1]
     assert peaks[1.0][1] < 0.1 * peaks[0.5][1]
 
     fig14 = beam_ratio_family(
@@ -295,10 +294,27 @@ def test_paper_families_show_the_measured_regimes():
     spread = ratio_collapse(fig14)
     assert set(spread) == {0.5, 2.0}
     assert max(spread.values()) < 1e-6
-    records = family_records(fig14)
+    records = fig14.records()
     assert len(records) == 4
-    assert {r["force"] / r["normal_load"] for r in records} == {0.5, 2.0}
-    assert all(r["omega"].shape == r["amplitude"].shape for r in records)
+    assert {r.force / r.normal_load for r in records} == {0.5, 2.0}
+    assert all(r.omega.shape == r.amplitude.shape for r in records)
+
+
+def test_criterion_says_macroslip_without_roughness():
+    """SPEC §2: on Figs. 13 and 14 together (here fewer normal loads, H = 7)
+    the criterion finds no roughness and the mostly stuck curves inside the
+    stuck envelope."""
+    from hbmfric.paper import beam_criterion_family
+
+    records, stuck = beam_criterion_family(
+        harmonics=7,
+        normal_loads=(40.0, 10.0, 5.0, 1.0),
+        ratio_normal_loads=(2.5, 10.0),
+    )
+    assert len(records) == 10 and stuck.normal_load == 40.0
+    result = hf.criterion.choose_contact_model(records, stuck=stuck)
+    assert result.verdict == "macroslip without roughness", str(result)
+    assert result.indicators["ratio_spread"] < 1e-8
 
 
 def test_readme_beam_example_runs():
@@ -357,3 +373,115 @@ def test_condensed_kernels_compile_once():
     assert report["second"] == report["first"]
     assert report["first"]["hbmfric.kernels.condensed.condensed_residual"] == 1
     assert report["first"]["hbmfric.kernels.newton.correct"] == 1
+
+
+class _BeamWithDashpot:
+    """The beam with a grounded dashpot at node 6: non-classical damping."""
+
+    def __init__(self, beam, dashpot):
+        self.beam = beam
+        self.dashpot = dashpot
+        self.n_dof = beam.n_dof
+        self.contact = beam.contact
+        self.contact_dof = beam.contact_dof
+        self.symmetric = beam.symmetric
+
+    def matrices(self):
+        M, C, K = self.beam.matrices()
+        d = self.beam.dof("node:6")
+        C[d, d] += self.dashpot
+        return M, C, K
+
+    def load_vector(self, force):
+        return self.beam.load_vector(force)
+
+
+def test_direct_receptance_matches_modal_and_full(calibration):
+    """The direct-solve receptance agrees with the modal one on the beam,
+    and handles non-classical damping (a discrete dashpot), where it is
+    checked against the full HBM."""
+    beam = _stick_slip_beam(calibration)
+    omega = (HZ * 80.0, HZ * 95.0)
+    modal = hf.frf(beam, 2.0, omega, 5, condense="modal")
+    direct = hf.frf(beam, 2.0, omega, 5, condense="direct")
+    assert len(modal) == len(direct)
+    np.testing.assert_allclose(direct.omega, modal.omega, rtol=1e-9)
+    scale = np.max(np.abs(modal.coefficients))
+    assert np.max(np.abs(direct.coefficients - modal.coefficients)) < 1e-8 * scale
+
+    system = _BeamWithDashpot(beam, dashpot=20.0)
+    problem = CondensedHBMProblem(system, 2.0, 5)
+    assert problem.receptance_method == "direct"
+    with pytest.raises(ValueError, match="classical"):
+        CondensedHBMProblem(system, 2.0, 5, receptance="modal")
+    branch = hf.frf(system, 2.0, omega, 5)
+    assert branch.info["condensed"] and branch.stop_reason.startswith("end")
+    full = HBMProblem(system, 2.0, 5)
+    for i in range(0, len(branch), 4):
+        y = np.concatenate((branch.coefficients[i].ravel(), [branch.omega[i]]))
+        assert np.max(np.abs(full.residual(y)[0])) < 1e-8 * 2.0
+    # the dashpot does damp: lower peak than the classical beam
+    assert branch.amplitude(1).max() < modal.amplitude(1).max()
+
+
+@pytest.mark.parametrize("law_name", ["coulomb", "menq"])
+def test_condensed_other_laws_solve_the_full_hbm(calibration, law_name):
+    """Rigid Coulomb (DLFT on the condensed residual) and Menq microslip
+    (located-reversal AFT) through the condensation: the full HBM solved
+    from recovered points stays within 1e-8, and the contact both sticks and
+    slips along the branch."""
+    if law_name == "coulomb":
+        law = hf.Coulomb(slip_force=2.0)
+    else:
+        law = hf.Menq(
+            axial_rigidity=1e6,
+            length=0.02,
+            shear_stiffness=4e8,
+            friction_coefficient=MU,
+            normal_load=1.5,
+        )
+    beam = calibration.beam.with_contact(law)
+    branch = hf.frf(beam, 2.0, (HZ * 40, HZ * 110), 5)
+    assert branch.info["condensed"] and branch.stop_reason.startswith("end")
+    full = HBMProblem(beam, 2.0, 5)
+    states = {
+        full.residual(np.append(c.ravel(), w))[2]
+        for c, w in zip(branch.coefficients, branch.omega, strict=True)
+    }
+    assert len(states) > 1  # stuck and slipping points
+    # the full Newton solve from each recovered point stays put; (residuals
+    # are not compared: a rigid contact's penalty, 7.6e7 N/m here, turns a
+    # 1e-15 m difference into 1e-7 N)
+    for i in range(0, len(branch), 3):
+        sol = hf.periodic_solution(
+            beam, 2.0, branch.omega[i], 5, condense=False, initial_guess=branch.point(i)
+        )
+        assert sol.converged
+        X = branch.coefficients[i]
+        assert np.max(np.abs(sol.coefficients - X)) < 1e-8 * np.max(np.abs(X))
+
+
+def test_validation_figure_writes_hbm_and_time_integration(tmp_path):
+    from hbmfric.paper import beam_validation
+
+    fig = beam_validation(
+        harmonics=7, validation_normal_loads=(5.0,), validation_points=3
+    )
+    assert len(fig.reference) == 3
+    assert fig.max_difference() < 1e-3
+    csv_path = fig.write_csv(tmp_path / "fig15.csv")
+    rows = (tmp_path / "fig15_time_integration.csv").read_text().splitlines()
+    assert csv_path.exists() and len(rows) == 4
+    assert fig.write_png(tmp_path / "fig15.png").exists()
+
+
+def test_non_symmetric_matrices_fall_back_to_the_full_hbm(calibration):
+    beam = _stick_slip_beam(calibration)
+    system = _BeamWithDashpot(beam, dashpot=0.0)
+    M, C, K = beam.matrices()
+    K[0, 3] += 1.0  # not symmetric any more
+    system.matrices = lambda: (M, C, K)
+    with pytest.raises(ValueError, match="symmetric"):
+        CondensedHBMProblem(system, 2.0, 3)
+    sol = hf.periodic_solution(system, 2.0, HZ * 40.0, 3)
+    assert sol.converged

@@ -21,6 +21,23 @@ N, so tolerances mean the same as for the full problem). ``dR/dΩ`` is
 analytic: ``d(1/g)/dΩ = -k g'/g²``, ``d(1/d_r)/dω = (2ω - i c_r)/d_r²``.
 The mean (harmonic 0, when present) uses ``ω = 0``.
 
+Two ways to evaluate ``g`` and ``p`` (``method``):
+
+``MODAL``
+    the modal sums above (all modes: exact for classical damping);
+``DIRECT``
+    a direct solve per harmonic, for any damping: ``Z(ω) = K - ω² M + iω C``
+    (symmetric), ``z = Z⁻¹ e_c`` gives ``g = z_c``, ``x_p = Z⁻¹ P̂`` gives
+    ``p = (x_p)_c``; with ``Z' = dZ/dΩ = k (-2ω M + i C)``,
+    ``dg/dΩ = -zᵀ Z' z`` and ``dp/dΩ = -zᵀ Z' x_p``. The complex systems
+    are solved in real form (``2 n_dof`` unknowns) by
+    :func:`hbmfric.kernels.linalg.solve_inplace`.
+
+The contact force comes from the same AFT kernels as in the full residual
+(:func:`_contact_force`); a rigid Coulomb contact is handled by DLFT
+(:func:`hbmfric.kernels.dlft.dlft_contact`) applied to the condensed linear
+residual, which is exactly what DLFT reads on the contact rows.
+
 The problem travels as a :class:`CondensedProblem` named tuple; the residual
 dispatcher :func:`hbmfric.kernels.residual.residual` recognises its type.
 """
@@ -31,12 +48,20 @@ import numpy as np
 
 from .._jit import jit
 from .aft import aft_jenkins_events, aft_samples
-from .laws import JENKINS, is_masing
+from .dahl import aft_dahl
+from .dlft import COULOMB, dlft_contact
+from .laws import DAHL, JENKINS, is_masing
+from .linalg import solve_inplace
 from .masing import aft_masing
 
 #: AFT scheme codes (same values as :mod:`hbmfric.kernels.hbm`)
 AFT_SAMPLES = 0
 AFT_EVENTS = 1
+#: receptance methods
+MODAL = 0
+DIRECT = 1
+#: status returned when a direct solve meets a singular dynamic stiffness
+SINGULAR_RECEPTANCE = -100
 
 CondensedProblem = namedtuple(
     "CondensedProblem",
@@ -52,6 +77,12 @@ CondensedProblem = namedtuple(
         "inverse",  # float64 (n_time, n_coef)
         "forward",  # float64 (n_coef, n_time)
         "derivative",  # float64 (n_time, n_coef)
+        "method",  # int64: MODAL or DIRECT
+        "contact_dof",  # int64 (DIRECT)
+        "mass",  # float64 (n_dof, n_dof) (DIRECT; (0, 0) for MODAL)
+        "damping",  # float64 (n_dof, n_dof) (DIRECT)
+        "stiffness",  # float64 (n_dof, n_dof) (DIRECT)
+        "load",  # float64 (n_dof, n_coef): P per coefficient, N (DIRECT)
     ],
 )
 CondensedProblem.__doc__ = """Flat data of the condensed HBM residual (see the
@@ -87,6 +118,87 @@ def _harmonic_receptance(k, omega, col, problem):
 
 
 @jit
+def _dynamic_stiffness(problem, w, A):
+    """Real form ``[[Kd, -ωC], [ωC, Kd]]`` of ``Z(ω)`` into ``A``."""
+    n = problem.mass.shape[0]
+    for i in range(n):
+        for j in range(n):
+            kd = problem.stiffness[i, j] - w * w * problem.mass[i, j]
+            wc = w * problem.damping[i, j]
+            A[i, j] = kd
+            A[i, n + j] = -wc
+            A[n + i, j] = wc
+            A[n + i, n + j] = kd
+
+
+@jit
+def _solve_complex(problem, w, rhs_re, rhs_im, A, b, out):
+    """``out = Z(ω)⁻¹ (rhs_re + i rhs_im)``; False if singular."""
+    n = rhs_re.size
+    _dynamic_stiffness(problem, w, A)
+    for i in range(n):
+        b[i] = rhs_re[i]
+        b[n + i] = rhs_im[i]
+    if not solve_inplace(A, b):
+        return False
+    for i in range(n):
+        out[i] = b[i] + 1j * b[n + i]
+    return True
+
+
+@jit
+def _harmonic_receptance_direct(k, omega, col, problem, work):
+    """As :func:`_harmonic_receptance` by direct solves; the last value is
+    False when ``Z(kΩ)`` is singular."""
+    n = problem.mass.shape[0]
+    A, b, re, im, z, xp = work
+    w = k * omega
+    c = problem.contact_dof
+    re[:] = 0.0
+    im[:] = 0.0
+    re[c] = 1.0
+    if not _solve_complex(problem, w, re, im, A, b, z):
+        return 0.0j, 0.0j, 0.0j, 0.0j, False
+    load = problem.load
+    forced = False
+    for i in range(n):
+        re[i] = load[i, col]
+        im[i] = 0.0 if k == 0 else -load[i, col + 1]
+        if re[i] != 0.0 or im[i] != 0.0:
+            forced = True
+    if forced:
+        if not _solve_complex(problem, w, re, im, A, b, xp):
+            return 0.0j, 0.0j, 0.0j, 0.0j, False
+    else:
+        xp[:] = 0.0
+    g = z[c]
+    p = xp[c]
+    dg = 0.0j
+    dp = 0.0j
+    if k != 0:
+        for i in range(n):
+            zi = z[i]
+            for j in range(n):
+                dz = k * (-2.0 * w * problem.mass[i, j] + 1j * problem.damping[i, j])
+                dg -= zi * dz * z[j]
+                dp -= zi * dz * xp[j]
+    return g, p, dg, dp, True
+
+
+@jit
+def _direct_work(problem):
+    n = problem.mass.shape[0]
+    return (
+        np.empty((2 * n, 2 * n)),
+        np.empty(2 * n),
+        np.empty(n),
+        np.empty(n),
+        np.empty(n, dtype=np.complex128),
+        np.empty(n, dtype=np.complex128),
+    )
+
+
+@jit
 def condensed_residual(y, problem, R, J):
     """Condensed residual ``R(X_c, Ω)`` and Jacobian ``[dR/dX_c, dR/dΩ]``.
 
@@ -105,13 +217,43 @@ def condensed_residual(y, problem, R, J):
     int
         Contact-state code of the AFT (negative on failure).
     """
+    status = _condensed_linear(y, problem, R, J)
+    if status < 0:
+        return status
+    n = problem.inverse.shape[1]
+    if problem.law_code == COULOMB:
+        # DLFT on the condensed linear residual: it is the Schur complement
+        # of the full one on the contact rows, which is all DLFT reads
+        return dlft_contact(
+            problem.law_params, 0, y, problem.inverse, problem.forward, R, J
+        )
+    F = np.empty(n)
+    dF = np.empty((n, n))
+    status = _contact_force(y[:n].copy(), problem, F, dF)
+    for i in range(n):
+        R[i] += F[i]
+        for j in range(n):
+            J[i, j] += dF[i, j]
+    return status
+
+
+@jit
+def _condensed_linear(y, problem, R, J):
+    """Linear part ``D (x̂ - p)`` of the condensed residual and its Jacobian
+    (``J`` overwritten); 0, or ``SINGULAR_RECEPTANCE``."""
     hn = problem.harmonic_numbers
     n = problem.inverse.shape[1]
     omega = y[n]
     J[:, :] = 0.0
+    work = _direct_work(problem)
     col = 0
     for k in hn:
-        g, p, dg, dp = _harmonic_receptance(k, omega, col, problem)
+        if problem.method == DIRECT:
+            g, p, dg, dp, ok = _harmonic_receptance_direct(k, omega, col, problem, work)
+            if not ok:
+                return SINGULAR_RECEPTANCE
+        else:
+            g, p, dg, dp = _harmonic_receptance(k, omega, col, problem)
         D = 1.0 / g
         dD = -dg * D * D
         if k == 0:
@@ -130,19 +272,16 @@ def condensed_residual(y, problem, R, J):
             J[col + 1, col + 1] = D.real
             J[col + 1, n] = -dr.imag
         col += 1 if k == 0 else 2
-    F = np.empty(n)
-    dF = np.empty((n, n))
-    status = _contact_force(y[:n].copy(), problem, F, dF)
-    for i in range(n):
-        R[i] += F[i]
-        for j in range(n):
-            J[i, j] += dF[i, j]
-    return status
+    return 0
 
 
 @jit
 def _contact_force(x, problem, F, dF):
-    if problem.law_code == JENKINS and problem.aft_scheme == AFT_EVENTS:
+    """AFT of the contact law at the contact coefficients ``x`` (the same
+    dispatch as :func:`hbmfric.kernels.hbm.hbm_residual`)."""
+    code = problem.law_code
+    events = problem.aft_scheme == AFT_EVENTS
+    if code == JENKINS and events:
         return aft_jenkins_events(
             problem.law_params,
             problem.harmonic_numbers,
@@ -152,9 +291,9 @@ def _contact_force(x, problem, F, dF):
             F,
             dF,
         )
-    if is_masing(problem.law_code) and problem.aft_scheme == AFT_EVENTS:
+    if is_masing(code) and events:
         return aft_masing(
-            problem.law_code,
+            code,
             problem.law_params,
             problem.harmonic_numbers,
             x,
@@ -164,8 +303,10 @@ def _contact_force(x, problem, F, dF):
             F,
             dF,
         )
+    if code == DAHL:
+        return aft_dahl(problem.law_params, x, problem.inverse, problem.forward, F, dF)
     return aft_samples(
-        problem.law_code,
+        code,
         problem.law_params,
         x,
         problem.inverse,
@@ -176,79 +317,17 @@ def _contact_force(x, problem, F, dF):
 
 
 @jit
-def condensed_recover(y, problem, shapes, X, F):
-    """Response of every DOF at one condensed solution.
-
-    ``x̂_j = Σ_r φ_jr (q̂_r - φ_cr F̂) / d_r`` per harmonic, with ``F`` the
-    contact force (AFT at the solution).
-
-    Parameters
-    ----------
-    y : ndarray, shape (n_coef + 1,)
-        Condensed solution ``[X_c, Ω]``.
-    problem : CondensedProblem
-    shapes : ndarray, shape (n_dof, n_modes)
-        Mass-normalised mode shapes.
-    X : ndarray, shape (n_dof, n_coef)
-        Output: coefficients of every DOF, m.
-    F : ndarray, shape (n_coef,)
-        Output: contact-force coefficients, N.
-
-    Returns
-    -------
-    int
-        Contact-state code of the AFT.
-    """
-    n = problem.inverse.shape[1]
-    dF = np.empty((n, n))
-    status = _contact_force(y[:n].copy(), problem, F, dF)
-    omega = y[n]
-    phi = problem.contact_shapes
-    w2 = problem.omega_squared
-    c = problem.modal_damping
-    q = problem.modal_load
-    n_dof, n_modes = shapes.shape
-    eta = np.empty(n_modes, dtype=np.complex128)
-    col = 0
-    for k in problem.harmonic_numbers:
-        w = k * omega
-        if k == 0:
-            f = F[col] + 0.0j
-        else:
-            f = F[col] - 1j * F[col + 1]
-        for r in range(n_modes):
-            if k == 0:
-                qr = q[r, col] + 0.0j
-            else:
-                qr = q[r, col] - 1j * q[r, col + 1]
-            eta[r] = (qr - phi[r] * f) / (w2[r] - w * w + 1j * w * c[r])
-        for j in range(n_dof):
-            s = 0.0j
-            for r in range(n_modes):
-                s += shapes[j, r] * eta[r]
-            X[j, col] = s.real
-            if k != 0:
-                X[j, col + 1] = -s.imag
-        col += 1 if k == 0 else 2
-    return status
-
-
-@jit
-def condensed_modal_coefficients(points, problem, modal):
-    """Modal coordinates of the full response at condensed solutions.
-
-    ``η̂_r = (q̂_r - φ_cr F̂) / d_r`` per harmonic, ``F`` the contact force
-    (AFT at each solution); the response of every DOF is then
-    ``X = Φ η`` (one matrix product, done by the caller).
+def condensed_contact_forces(points, problem, F):
+    """Contact-force coefficients at condensed solutions (AFT at each; for
+    a rigid Coulomb contact the DLFT force).
 
     Parameters
     ----------
     points : ndarray, shape (n_points, n_coef + 1)
-        Condensed solutions ``[X_c, Ω]``.
+        ``[X_c, Ω]`` per point.
     problem : CondensedProblem
-    modal : ndarray, shape (n_points, n_modes, n_coef)
-        Output: real coefficients of each modal coordinate (layout of the
-        DOF coefficients), m·kg^½.
+    F : ndarray, shape (n_points, n_coef)
+        Output: force coefficients, N.
 
     Returns
     -------
@@ -256,30 +335,73 @@ def condensed_modal_coefficients(points, problem, modal):
         Lowest AFT status met (negative on a failure).
     """
     n = problem.inverse.shape[1]
-    F = np.empty(n)
     dF = np.empty((n, n))
+    f = np.empty(n)
+    R = np.empty(n)
+    R_lin = np.empty(n)
+    J = np.empty((n, n + 1))
+    worst = 1 << 30
+    for i in range(points.shape[0]):
+        y = points[i].copy()
+        if problem.law_code == COULOMB:
+            # the DLFT force is what the residual adds to its linear part
+            status = condensed_residual(y, problem, R, J)
+            _condensed_linear(y, problem, R_lin, J)
+            for r in range(n):
+                f[r] = R[r] - R_lin[r]
+        else:
+            status = _contact_force(y[:n].copy(), problem, f, dF)
+        if status < worst:
+            worst = status
+        F[i, :] = f
+    return worst
+
+
+@jit
+def condensed_modal_recover(points, F, problem, shapes, X):
+    """Response of every DOF at condensed solutions, modal receptance:
+    ``x̂_j = Σ_r φ_jr η̂_r`` with ``η̂_r = (q̂_r - φ_cr F̂) / d_r(kΩ)``.
+
+    Parameters
+    ----------
+    points : ndarray, shape (n_points, n_coef + 1)
+        ``[X_c, Ω]`` per point.
+    F : ndarray, shape (n_points, n_coef)
+        Contact-force coefficients at the points, N.
+    problem : CondensedProblem
+        With ``method == MODAL``.
+    shapes : ndarray, shape (n_dof, n_modes)
+        Mass-normalised mode shapes.
+    X : ndarray, shape (n_points, n_dof, n_coef)
+        Output: coefficients of every DOF, m.
+    """
+    n = problem.inverse.shape[1]
     phi = problem.contact_shapes
     w2 = problem.omega_squared
     c = problem.modal_damping
     q = problem.modal_load
-    worst = 1 << 30
+    n_dof, n_modes = shapes.shape
+    eta = np.empty(n_modes, dtype=np.complex128)
     for i in range(points.shape[0]):
-        status = _contact_force(points[i, :n].copy(), problem, F, dF)
-        if status < worst:
-            worst = status
         omega = points[i, n]
         col = 0
         for k in problem.harmonic_numbers:
             w = k * omega
-            for r in range(phi.size):
-                d = w2[r] - w * w + 1j * w * c[r]
+            if k == 0:
+                f = F[i, col] + 0.0j
+            else:
+                f = F[i, col] - 1j * F[i, col + 1]
+            for r in range(n_modes):
                 if k == 0:
-                    modal[i, r, col] = (q[r, col] - phi[r] * F[col]) / w2[r]
+                    qr = q[r, col] + 0.0j
                 else:
                     qr = q[r, col] - 1j * q[r, col + 1]
-                    f = F[col] - 1j * F[col + 1]
-                    eta = (qr - phi[r] * f) / d
-                    modal[i, r, col] = eta.real
-                    modal[i, r, col + 1] = -eta.imag
+                eta[r] = (qr - phi[r] * f) / (w2[r] - w * w + 1j * w * c[r])
+            for j in range(n_dof):
+                s = 0.0j
+                for r in range(n_modes):
+                    s += shapes[j, r] * eta[r]
+                X[i, j, col] = s.real
+                if k != 0:
+                    X[i, j, col + 1] = -s.imag
             col += 1 if k == 0 else 2
-    return worst

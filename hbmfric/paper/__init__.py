@@ -4,9 +4,12 @@ Machine Theory 43, 1211–1224."""
 
 from .beam import (
     PAPER_BEAM_SCENE,
+    BeamFamily,
+    BeamValidation,
+    beam_criterion_family,
     beam_normal_load_family,
     beam_ratio_family,
-    family_records,
+    beam_validation,
     paper_beam,
     paper_calibration,
     ratio_collapse,
@@ -23,12 +26,15 @@ from .sdof import (
 )
 
 __all__ = [
+    "BeamFamily",
+    "BeamValidation",
     "PAPER_BEAM_SCENE",
     "PAPER_SDOF",
     "FigureResult",
+    "beam_criterion_family",
     "beam_normal_load_family",
     "beam_ratio_family",
-    "family_records",
+    "beam_validation",
     "masing_family",
     "menq_family",
     "paper_beam",

@@ -60,7 +60,7 @@ class CantileverBeam:
     tip_mass : float
         Point mass at the free end (both translations), kg, >= 0.
     damping_ratio : float
-        Modal damping ratio ``ζ`` of every mode, >= 0 (default 0.03; the
+        Modal damping ratio ``ζ`` of every mode, >= 0 (default 0.05; the
         paper does not give one).
     contact : ContactLaw or None
         Law of the tip contact; None for the linear beam.
@@ -79,7 +79,7 @@ class CantileverBeam:
     youngs_modulus: float = PAPER_BEAM["youngs_modulus"]
     density: float = PAPER_BEAM["density"]
     tip_mass: float = 0.0
-    damping_ratio: float = 0.03
+    damping_ratio: float = 0.05
     contact: ContactLaw | None = None
     force_dof: int | str | None = None
 
