@@ -13,11 +13,12 @@ from .continuation import ContinuationOptions
 from .dahl import ModifiedDahl
 from .laws import ContactLaw, Cubic, Jenkins, Roughness, hertz_mindlin_stiffness
 from .results import Branch, PeriodicSolution
-from .systems import Oscillator
+from .systems import BeltTensioner, Oscillator
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "BeltTensioner",
     "Branch",
     "ContactLaw",
     "ContinuationOptions",

@@ -1,5 +1,6 @@
 """Mechanical systems: linear structure plus contact laws."""
 
 from .oscillator import Oscillator
+from .tensioner import BeltTensioner
 
-__all__ = ["Oscillator"]
+__all__ = ["BeltTensioner", "Oscillator"]
