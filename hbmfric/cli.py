@@ -10,7 +10,7 @@ from pathlib import Path
 
 
 def _paper(args: argparse.Namespace) -> int:
-    from .paper import masing_family
+    from .paper import masing_family, tensioner_frf, tensioner_loop
 
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -20,6 +20,8 @@ def _paper(args: argparse.Namespace) -> int:
         print(line, flush=True)
 
     figures = [masing_family(harmonics=args.harmonics, progress=progress)]
+    loop = tensioner_loop(progress=progress)
+    figures += [loop, tensioner_frf(loop.identification.law, progress=progress)]
     for fig in figures:
         csv_path = fig.write_csv(out / f"{fig.name}.csv")
         print(f"wrote {csv_path}", flush=True)

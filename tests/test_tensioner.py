@@ -124,3 +124,23 @@ def test_regimes_of_the_paper():
     i = int(np.argmax(t_band - np.interp(f_band, f_band[[0, -1]], t_band[[0, -1]])))
     assert f_band[i] == pytest.approx(stuck / 3.0, rel=0.04)
     assert 0 < i < f_band.size - 1
+
+
+def test_subharmonic_balance_captures_the_one_third_resonance():
+    """HBM on the fundamental Ω/3 (forcing on its harmonic 3) around the
+    resonance at one third of the stuck one, against time integration. The
+    time integration settles to period T there (no 3T response is found),
+    so the harmonics of Ω/3 that are not multiples of 3 must vanish."""
+    sub = hbm_frf(RIG, 20.0, (12.0, 16.0), harmonics=45, subharmonic=3)
+    assert sub.method == "hbm/3"
+    assert sub.info["stop_reason"] == "end of frequency range reached"
+    h = sub.info["harmonic_numbers"]
+    X = sub.info["coefficients"]
+    cols = np.concatenate([[2 * k - 1, 2 * k] for k in h[1:] if k % 3 != 0])
+    assert np.max(np.abs(X[:, :, cols])) < 1e-9 * np.max(np.abs(X[:, :, 1:]))
+    pick = np.linspace(0, sub.frequency.size - 1, 4).astype(int)
+    td = time_domain_frf(RIG, 20.0, sub.frequency[pick], "jit", steps_per_period=1024)
+    assert td.converged.all()
+    np.testing.assert_allclose(sub.tension_range[pick], td.tension_range, rtol=3e-3)
+    peak = sub.frequency[np.argmax(sub.tension_range)]
+    assert peak == pytest.approx(RIG.resonances()[0] / 3.0, rel=0.04)
