@@ -144,3 +144,20 @@ def test_subharmonic_balance_captures_the_one_third_resonance():
     np.testing.assert_allclose(sub.tension_range[pick], td.tension_range, rtol=3e-3)
     peak = sub.frequency[np.argmax(sub.tension_range)]
     assert peak == pytest.approx(RIG.resonances()[0] / 3.0, rel=0.04)
+
+
+def test_paper_figures_3_and_5(tmp_path):
+    from hbmfric.paper import tensioner_frf, tensioner_loop
+
+    loop = tensioner_loop()
+    p = loop.true_law.params
+    r = loop.identification
+    np.testing.assert_allclose([*r.upper, *r.lower], p[2:], rtol=0.02)
+    assert r.beta == pytest.approx(p[0], rel=0.05)
+    fig = tensioner_frf(r.law, forces=(5.0,), n_time_domain=5)
+    (hbm,), (td,) = fig.hbm, fig.time_domain
+    pick = [int(np.argmin(np.abs(hbm.frequency - f))) for f in td.frequency]
+    np.testing.assert_allclose(hbm.tension_range[pick], td.tension_range, rtol=3e-3)
+    for f in (loop, fig):
+        assert f.write_csv(tmp_path / f"{f.name}.csv").stat().st_size > 1000
+        assert f.write_png(tmp_path / f"{f.name}.png").stat().st_size > 10_000

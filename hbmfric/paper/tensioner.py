@@ -26,7 +26,7 @@ from ..systems.tensioner import BeltTensioner, default_tensioner
 from ..systems.tensioner_response import TensionFRF, hbm_frf, time_domain_frf
 
 #: forcing amplitudes f1 of the Fig. 5 family, N
-FORCES = (2.0, 5.0, 20.0, 80.0)
+FORCES = (2.0, 5.0, 20.0, 50.0)
 #: frequency band, Hz
 BAND = (5.0, 100.0)
 
@@ -202,7 +202,7 @@ def tensioner_loop(progress: Callable[[str], None] | None = None) -> LoopFigure:
 def tensioner_frf(
     law=None,
     forces=FORCES,
-    harmonics: int = 9,
+    harmonics: int = 15,
     n_time_domain: int = 16,
     progress: Callable[[str], None] | None = None,
 ) -> TensionFigure:

@@ -24,7 +24,7 @@ import numpy as np
 from .._validate import finite_float, positive_int
 from ..continuation import Continuation, ContinuationOptions
 from ..hbm import HBMProblem
-from ..signals import half_peak_to_peak
+from ..signals import synthesis_matrix
 from ..validation import steady_state
 from .tensioner import BeltTensioner, tension_coefficients
 
@@ -310,7 +310,7 @@ def hbm_frf(
     rig: BeltTensioner,
     force: float,
     frequency_range: tuple[float, float],
-    harmonics: int = 9,
+    harmonics: int = 15,
     *,
     subharmonic: int = 1,
     n_time: int | None = None,
@@ -365,18 +365,18 @@ def hbm_frf(
     pts = np.array(state.points).reshape(-1, n + 1)
     coefficients = pts[:, :n].reshape(-1, 2, problem.n_coef)
     omega = pts[:, n]
-    ranges = np.array(
+    # tension on a fine grid, extremes refined by parabolas (vectorised: a
+    # per-point Newton refinement costs more than the continuation itself)
+    hn = problem.harmonic_numbers
+    theta = 2.0 * math.pi * np.arange(64 * int(hn[-1])) / (64 * int(hn[-1]))
+    basis = synthesis_matrix(hn, theta)
+    tension = np.array(
         [
-            2.0
-            * float(
-                half_peak_to_peak(
-                    problem.harmonic_numbers,
-                    tension_coefficients(rig, problem.harmonic_numbers, c, w),
-                )
-            )
+            tension_coefficients(rig, hn, c, w)
             for c, w in zip(coefficients, omega, strict=True)
         ]
     )
+    ranges = np.array([_range(row) for row in tension @ basis.T])
     return TensionFRF(
         frequency=nu * omega / (2.0 * math.pi),
         tension_range=ranges,
