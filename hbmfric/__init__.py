@@ -7,27 +7,42 @@ dry-friction contacts, with Numba-compiled AFT kernels.
 >>> branch = hf.frf(osc, force=0.5, omega=(0.5, 3.0), harmonics=15)
 """
 
-from . import identify, validation
+from . import criterion, identify, validation
 from .api import frf, periodic_solution
 from .continuation import ContinuationOptions
+from .coulomb import Coulomb
 from .dahl import ModifiedDahl
-from .laws import ContactLaw, Cubic, Jenkins, Roughness, hertz_mindlin_stiffness
+from .laws import (
+    ContactLaw,
+    Cubic,
+    Iwan,
+    Jenkins,
+    Menq,
+    Roughness,
+    hertz_mindlin_stiffness,
+)
 from .results import Branch, PeriodicSolution
-from .systems import BeltTensioner, Oscillator
+from .systems import BeamCalibration, BeltTensioner, CantileverBeam, Oscillator
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "BeamCalibration",
     "BeltTensioner",
     "Branch",
+    "CantileverBeam",
     "ContactLaw",
     "ContinuationOptions",
+    "Coulomb",
     "Cubic",
+    "Iwan",
     "Jenkins",
+    "Menq",
     "ModifiedDahl",
     "Oscillator",
     "PeriodicSolution",
     "Roughness",
+    "criterion",
     "frf",
     "hertz_mindlin_stiffness",
     "identify",

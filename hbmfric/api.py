@@ -33,6 +33,18 @@ def _omega_range(omega) -> tuple[float, float]:
     return lo, hi
 
 
+def _problem(system, force, harmonics, n_time, symmetry, aft, condense):
+    """The HBM discretisation: condensed onto the contact DOF or full."""
+    from .condensation import CondensedHBMProblem, can_condense
+
+    if condense is None:
+        condense = can_condense(system)
+    elif not isinstance(condense, bool | np.bool_):
+        raise ValueError(f"condense must be True, False or None, got {condense!r}")
+    cls = CondensedHBMProblem if condense else HBMProblem
+    return cls(system, force, harmonics, n_time, symmetry, aft)
+
+
 def _describe(system, problem: HBMProblem, extra: dict) -> dict:
     def plain(obj):
         if dataclasses.is_dataclass(obj):
@@ -50,6 +62,7 @@ def _describe(system, problem: HBMProblem, extra: dict) -> dict:
         "odd_only": problem.odd,
         "n_time": problem.n_time,
         "aft": problem.aft,
+        "condensed": bool(getattr(problem, "condensed", False)),
     }
     info.update(extra)
     return info
@@ -67,6 +80,7 @@ def frf(
     sweep: str = "up",
     options: ContinuationOptions | None = None,
     amplitude_scale: float | None = None,
+    condense: bool | None = None,
     **option_overrides,
 ) -> Branch:
     """Trace the forced response (FRF) of ``system`` over a frequency range.
@@ -91,6 +105,11 @@ def frf(
     options : ContinuationOptions, optional
     amplitude_scale : float, optional
         Displacement scale of the arc length, m.
+    condense : bool, optional
+        Solve the HBM on the contact DOF only (linear DOFs eliminated per
+        harmonic by the dynamic receptance, every DOF recovered at the
+        end); default: whenever the system has several DOFs, a contact and
+        classical damping. ``False`` solves the full HBM.
     **option_overrides
         Fields of :class:`ContinuationOptions` to override.
 
@@ -106,7 +125,7 @@ def frf(
     options = options or ContinuationOptions()
     if option_overrides:
         options = dataclasses.replace(options, **option_overrides)
-    problem = HBMProblem(system, force, harmonics, n_time, symmetry, aft)
+    problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
     if amplitude_scale is not None:
         amplitude_scale = finite_float(
             "amplitude_scale", amplitude_scale, low=0.0, low_open=True
@@ -119,7 +138,7 @@ def frf(
     pts = np.array(state.points).reshape(-1, n + 1)
     return Branch(
         omega=pts[:, n].copy(),
-        coefficients=pts[:, :n].reshape(-1, problem.n_dof, problem.n_coef).copy(),
+        coefficients=problem.full_coefficients(pts),
         harmonic_numbers=problem.harmonic_numbers.copy(),
         force=problem.force,
         folds=np.array(state.folds, dtype=np.int64),
@@ -129,6 +148,7 @@ def frf(
         newton_iterations=state.n_newton,
         elapsed=elapsed,
         info=_describe(system, problem, {"omega_range": [lo, hi], "sweep": sweep}),
+        dof_names=dict(getattr(system, "dof_names", {})),
     )
 
 
@@ -143,6 +163,7 @@ def periodic_solution(
     aft: str = "auto",
     initial_guess=None,
     options: ContinuationOptions | None = None,
+    condense: bool | None = None,
 ) -> PeriodicSolution:
     """Periodic steady state at one frequency by Newton's method.
 
@@ -158,6 +179,9 @@ def periodic_solution(
         discretisation. Default: tries the stuck and the free linearisations.
     options : ContinuationOptions, optional
         Newton tolerances and iteration limit.
+    condense : bool, optional
+        As in :func:`frf`; an array ``initial_guess`` then holds the
+        contact-DOF coefficients only.
 
     Returns
     -------
@@ -167,7 +191,7 @@ def periodic_solution(
     omega = finite_float("omega", omega, low=0.0, low_open=True)
     options = options or ContinuationOptions()
     start = time.perf_counter()
-    problem = HBMProblem(system, force, harmonics, n_time, symmetry, aft)
+    problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
     cont = Continuation(problem, (0.5 * omega, 1.5 * omega), 1, options, None)
     n = problem.n_unknowns
     guesses = []
@@ -190,12 +214,13 @@ def periodic_solution(
         omega=omega,
         force=problem.force,
         harmonic_numbers=problem.harmonic_numbers.copy(),
-        coefficients=best[:n].reshape(problem.n_dof, problem.n_coef).copy(),
+        coefficients=problem.full_coefficients(best)[0],
         converged=converged,
         newton_iterations=total_it,
         residual_norm=float(np.max(np.abs(R))),
         elapsed=time.perf_counter() - start,
         contact_state=STATE_NAMES.get(state, str(state)),
+        dof_names=dict(getattr(system, "dof_names", {})),
     )
 
 
@@ -212,7 +237,7 @@ def _guess_vector(guess, problem: HBMProblem) -> np.ndarray:
                 c = src_col[src[int(k)]]
                 X[:, col : col + width] = guess.coefficients[:, c : c + width]
             col += width
-        return X.reshape(-1)
+        return problem.unknowns_from_full(X)
     g = np.ascontiguousarray(guess, dtype=np.float64).reshape(-1)
     if g.size != problem.n_unknowns or not np.all(np.isfinite(g)):
         raise ValueError(

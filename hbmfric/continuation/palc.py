@@ -94,14 +94,19 @@ class Continuation:
         self.tol_residual = self.options.tol_residual * max(
             float(np.max(np.abs(problem.load))), 1e-300
         )
+        # work arrays, allocated once per run
         self._R = np.empty(n)
         self._J = np.empty((n, n + 1))
         self._A = np.empty((n + 1, n + 1))
+        self._piv = np.empty(n + 1, dtype=np.int64)
+        self._y_pred = np.empty(n + 1)
+        self._y_new = np.empty(n + 1)
+        self._t_new = np.empty(n + 1)
 
     # ------------------------------------------------------------------
     def _correct(self, y, y_pred, constraint):
         o = self.options
-        status, iterations = _newton.correct(
+        status, iterations, _ = _newton.correct(
             self.problem.kernel_problem,
             y,
             y_pred,
@@ -113,6 +118,7 @@ class Continuation:
             self._R,
             self._J,
             self._A,
+            self._piv,
         )
         return int(status), int(iterations)
 
@@ -169,24 +175,30 @@ class Continuation:
         if state.n_steps + state.n_rejected >= o.max_steps:
             return self._finish(state, MAX_STEPS)
         ds = state.step
-        y_pred = state.y + ds * state.tangent * self.scale
-        y = y_pred.copy()
-        status, it = self._correct(y, y_pred, state.tangent)
+        status, it, effort, distance, angle = _newton.palc_step(
+            self.problem.kernel_problem,
+            state.y,
+            state.tangent,
+            ds,
+            self.scale,
+            self.tol_residual,
+            o.tol_step,
+            o.max_newton,
+            self._R,
+            self._J,
+            self._A,
+            self._piv,
+            self._y_pred,
+            self._y_new,
+            self._t_new,
+        )
         state.n_newton += it
-        ok = status == _newton.CONVERGED and np.all(np.isfinite(y))
-        angle = 0.0
+        ok = status == _newton.CONVERGED
+        corner = False
         if ok:
-            distance = float(np.max(np.abs((y - y_pred) / self.scale)))
-            new_tangent = self._tangent(state.tangent)
-            ok = bool(np.all(np.isfinite(new_tangent)))
-            if ok:
-                angle = StepController.angle(new_tangent, state.tangent)
-                smooth = angle <= o.max_angle and distance <= o.max_correction * ds
-                corner = not smooth and ds <= o.corner_step and distance <= 2.0 * ds
-                ok = smooth or corner
-                if corner:
-                    state.corners.append(len(state.points))
-                    angle = 0.0
+            smooth = angle <= o.max_angle and distance <= o.max_correction * ds
+            corner = not smooth and ds <= o.corner_step and distance <= 2.0 * ds
+            ok = smooth or corner
         if not ok:
             state.n_rejected += 1
             state.step = self.controller.reject(ds)
@@ -194,17 +206,24 @@ class Continuation:
                 return self._finish(state, MIN_STEP)
             return state
         # accepted
+        if corner:
+            state.corners.append(len(state.points))
+            angle = 0.0
+        y = self._y_new.copy()
         omega = y[n]
         if omega > self.high or omega < self.low:
             return self._land_on_boundary(state, y)
-        if np.sign(new_tangent[n]) != np.sign(state.tangent[n]) and new_tangent[n] != 0:
+        new_tangent = self._t_new.copy()
+        t_old = state.tangent[n]
+        t_now = new_tangent[n]
+        if t_now != 0.0 and (t_old == 0.0 or (t_now > 0.0) != (t_old > 0.0)):
             state.folds.append(len(state.points))
         state.y = y
         state.tangent = new_tangent
-        state.points.append(y.copy())
-        state.tangents_omega.append(new_tangent[n])
+        state.points.append(y)
+        state.tangents_omega.append(t_now)
         state.n_steps += 1
-        state.step = self.controller.accept(ds, it, angle)
+        state.step = self.controller.accept(ds, effort, angle)
         return state
 
     def _land_on_boundary(self, state: ContinuationState, y_out: np.ndarray):

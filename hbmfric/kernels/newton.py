@@ -9,8 +9,8 @@ alike.
 import numpy as np
 
 from .._jit import jit
-from .hbm import hbm_residual
 from .linalg import solve_inplace
+from .residual import residual
 
 CONVERGED = 0
 MAX_ITERATIONS = 1
@@ -38,14 +38,102 @@ def _norm_inf(a):
 
 
 @jit
+def lu_factor(A, piv):
+    """LU factorisation with partial pivoting, in place.
+
+    Parameters
+    ----------
+    A : ndarray, shape (m, m)
+        In: the matrix. Out: ``L`` (unit diagonal, below) and ``U``.
+    piv : ndarray of int64, shape (m,)
+        Out: row ``k`` was swapped with row ``piv[k]`` at step ``k``.
+
+    Returns
+    -------
+    bool
+        False if a pivot is zero or not finite.
+    """
+    m = A.shape[0]
+    big_all = 0.0
+    for i in range(m):
+        for j in range(m):
+            a = abs(A[i, j])
+            if not a <= big_all:
+                big_all = a
+    if not np.isfinite(big_all):
+        return False
+    tiny = 1e-300 + big_all * 1e-15
+    for k in range(m):
+        p = k
+        big = abs(A[k, k])
+        for i in range(k + 1, m):
+            a = abs(A[i, k])
+            if a > big:
+                big = a
+                p = i
+        piv[k] = p
+        if not big > tiny:
+            return False
+        if p != k:
+            for j in range(m):
+                A[k, j], A[p, j] = A[p, j], A[k, j]
+        inv = 1.0 / A[k, k]
+        for i in range(k + 1, m):
+            f = A[i, k] * inv
+            A[i, k] = f
+            if f != 0.0:
+                for j in range(k + 1, m):
+                    A[i, j] -= f * A[k, j]
+    return True
+
+
+@jit
+def lu_solve(A, piv, b):
+    """Solve with the factors of :func:`lu_factor`; ``b`` holds ``x`` on
+    return."""
+    m = b.size
+    for k in range(m):
+        p = piv[k]
+        if p != k:
+            b[k], b[p] = b[p], b[k]
+    for i in range(1, m):
+        acc = b[i]
+        for j in range(i):
+            acc -= A[i, j] * b[j]
+        b[i] = acc
+    for i in range(m - 1, -1, -1):
+        acc = b[i]
+        for j in range(i + 1, m):
+            acc -= A[i, j] * b[j]
+        b[i] = acc / A[i, i]
+
+
+@jit
 def correct(
-    problem, y, y_pred, constraint, scale, tol_residual, tol_step, max_iter, R, J, A
+    problem,
+    y,
+    y_pred,
+    constraint,
+    scale,
+    tol_residual,
+    tol_step,
+    max_iter,
+    R,
+    J,
+    A,
+    piv,
 ):
     """Solve ``R(y) = 0`` together with ``constraint · (y - y_pred) / scale = 0``.
 
     With ``constraint`` the unit tangent this is the pseudo-arclength
     corrector (orthogonal to the tangent through the predictor ``y_pred``);
     with ``constraint = e_Ω`` it is Newton's method at fixed Ω.
+
+    Convergence: ``max |R| <= tol_residual`` and the Newton update *from
+    the current iterate* is below ``tol_step`` in scaled variables; the
+    update is then not applied (the point is within ``tol_step`` of the
+    solution of the linearisation), which saves the residual evaluation
+    that checking the size of the last applied update would cost.
 
     Contact laws make ``R`` piecewise smooth (the Jacobian jumps where the
     contact starts to slip), so full Newton steps can cycle across such a
@@ -70,9 +158,11 @@ def correct(
         Convergence threshold on the scaled Newton update.
     max_iter : int
         Limit on Newton iterations.
-    R, J, A : ndarray
-        Work arrays: shapes (n,), (n, n + 1), (n + 1, n + 1). On success
-        ``J`` holds the Jacobian at the solution.
+    R, J, A, piv : ndarray
+        Work arrays: shapes (n,), (n, n + 1), (n + 1, n + 1), (n + 1,)
+        int64. On success ``R`` and ``J`` hold the residual and Jacobian at
+        the solution and ``A``, ``piv`` the LU factors of the bordered
+        matrix ``[J; constraint / scale]`` there (reused for the tangent).
 
     Returns
     -------
@@ -80,21 +170,24 @@ def correct(
         ``CONVERGED`` or a failure code (see ``MESSAGES``).
     evaluations : int
         Number of residual-and-Jacobian evaluations.
+    iterations : int
+        Effort measure for the step controller: the evaluations a corrector
+        that tests the size of the last *applied* update would have needed
+        (``evaluations + 1`` when the look-ahead test ended the iteration),
+        so that the controller's tuning is independent of this saving.
     """
     n = R.size
     b = np.empty(n + 1)
     y_try = np.empty(n + 1)
-    aft = hbm_residual(y, problem, R, J)
+    aft = residual(y, problem, R, J)
     evaluations = 1
     if aft < 0:
-        return AFT_FAILED, evaluations
+        return AFT_FAILED, evaluations, evaluations
     res = _norm_inf(R)
-    step = np.inf
-    for _ in range(max_iter):
+    last = np.inf
+    for it in range(max_iter + 1):
         if not np.isfinite(res):
-            return NOT_FINITE, evaluations
-        if res <= tol_residual and step <= tol_step:
-            return CONVERGED, evaluations
+            return NOT_FINITE, evaluations, evaluations
         g = 0.0
         for i in range(n + 1):
             g += constraint[i] * (y[i] - y_pred[i]) / scale[i]
@@ -105,34 +198,39 @@ def correct(
         for j in range(n + 1):
             A[n, j] = constraint[j] / scale[j]
         b[n] = -g
-        if not solve_inplace(A, b):
-            return SINGULAR, evaluations
+        if not lu_factor(A, piv):
+            return SINGULAR, evaluations, evaluations
+        lu_solve(A, piv, b)
         full = 0.0
         for i in range(n + 1):
             s = abs(b[i] / scale[i])
             if not s <= full:
                 full = s
         if not np.isfinite(full):
-            return SINGULAR, evaluations
+            return SINGULAR, evaluations, evaluations
+        if res <= tol_residual and last <= tol_step:
+            return CONVERGED, evaluations, evaluations
+        if res <= tol_residual and full <= tol_step:
+            return CONVERGED, evaluations, evaluations + 1
+        if it == max_iter:
+            break
         lam = 1.0
         for _ls in range(10):
             for i in range(n + 1):
                 y_try[i] = y[i] + lam * b[i]
-            aft = hbm_residual(y_try, problem, R, J)
+            aft = residual(y_try, problem, R, J)
             evaluations += 1
             res_try = _norm_inf(R) if aft >= 0 else np.inf
             if res_try <= tol_residual or res_try < (1.0 - 1e-4 * lam) * res:
                 break
             lam *= 0.5
         if aft < 0:
-            return AFT_FAILED, evaluations
+            return AFT_FAILED, evaluations, evaluations
         for i in range(n + 1):
             y[i] = y_try[i]
         res = res_try
-        step = lam * full
-    if res <= tol_residual and step <= tol_step:
-        return CONVERGED, evaluations
-    return MAX_ITERATIONS, evaluations
+        last = lam * full
+    return MAX_ITERATIONS, evaluations, evaluations
 
 
 @jit
@@ -171,3 +269,127 @@ def tangent(J, previous, scale, A):
         return b
     norm = np.sqrt(np.sum(b * b))
     return b / norm
+
+
+@jit
+def tangent_from_lu(A, piv, scale, out):
+    """Unit tangent from the LU factors left by :func:`correct`.
+
+    The corrector's bordered matrix ``[J; c / scale]`` is the tangent
+    system ``[J diag(scale); cᵀ]`` times ``diag(1 / scale)``, so the tangent
+    at the corrected point costs one triangular solve instead of a new
+    factorisation: ``w = A⁻¹ e_n``, ``t = w / scale``, normalised. The
+    result satisfies ``c · t > 0`` (the direction of ``c`` is kept).
+
+    Parameters
+    ----------
+    A, piv : ndarray
+        LU factors of ``[J; c / scale]``, shapes (n + 1, n + 1), (n + 1,).
+    scale : ndarray, shape (n + 1,)
+    out : ndarray, shape (n + 1,)
+        Output: the unit tangent in scaled variables.
+
+    Returns
+    -------
+    bool
+        False if the result is not finite.
+    """
+    m = out.size
+    for i in range(m):
+        out[i] = 0.0
+    out[m - 1] = 1.0
+    lu_solve(A, piv, out)
+    norm = 0.0
+    for i in range(m):
+        out[i] /= scale[i]
+        norm += out[i] * out[i]
+    norm = np.sqrt(norm)
+    if not (np.isfinite(norm) and norm > 0.0):
+        return False
+    for i in range(m):
+        out[i] /= norm
+    return True
+
+
+@jit
+def palc_step(
+    problem,
+    y,
+    tangent_prev,
+    ds,
+    scale,
+    tol_residual,
+    tol_step,
+    max_iter,
+    R,
+    J,
+    A,
+    piv,
+    y_pred,
+    y_new,
+    t_new,
+):
+    """One pseudo-arclength predictor–corrector step, compiled whole.
+
+    Predictor ``y_pred = y + ds t scale``, corrector :func:`correct` on the
+    hyperplane through ``y_pred`` orthogonal to ``t``, then the new tangent
+    from the corrector's last factorisation (:func:`tangent_from_lu`), the
+    scaled distance between predictor and corrected point, and the angle
+    between the tangents. Acceptance is decided by the caller.
+
+    Parameters
+    ----------
+    problem : tuple
+        HBM problem (:func:`hbmfric.kernels.hbm.hbm_residual`).
+    y, tangent_prev : ndarray, shape (n + 1,)
+        Current point (physical units) and unit tangent (scaled).
+    ds : float
+        Arc-length step, scaled.
+    scale, tol_residual, tol_step, max_iter, R, J, A, piv
+        As in :func:`correct`.
+    y_pred, y_new, t_new : ndarray, shape (n + 1,)
+        Outputs: predictor, corrected point, new unit tangent.
+
+    Returns
+    -------
+    status : int
+        ``CONVERGED`` or a failure code.
+    evaluations, iterations : int
+        As in :func:`correct`.
+    distance : float
+        ``max |y_new - y_pred| / scale`` (inf on failure).
+    angle : float
+        Angle between ``tangent_prev`` and ``t_new``, rad (inf on failure).
+    """
+    m = y.size
+    for i in range(m):
+        y_pred[i] = y[i] + ds * tangent_prev[i] * scale[i]
+        y_new[i] = y_pred[i]
+    status, evaluations, iterations = correct(
+        problem,
+        y_new,
+        y_pred,
+        tangent_prev,
+        scale,
+        tol_residual,
+        tol_step,
+        max_iter,
+        R,
+        J,
+        A,
+        piv,
+    )
+    if status != CONVERGED:
+        return status, evaluations, iterations, np.inf, np.inf
+    distance = 0.0
+    for i in range(m):
+        d = abs(y_new[i] - y_pred[i]) / scale[i]
+        if not d <= distance:
+            distance = d
+    if not np.isfinite(distance) or not tangent_from_lu(A, piv, scale, t_new):
+        return NOT_FINITE, evaluations, iterations, np.inf, np.inf
+    c = 0.0
+    for i in range(m):
+        c += t_new[i] * tangent_prev[i]
+    c = min(1.0, max(-1.0, c))
+    return CONVERGED, evaluations, iterations, distance, np.arccos(c)

@@ -1,9 +1,9 @@
 """The time-integration reference: periodic steady state reached by fixed-step
 integration, analysed into harmonics.
 
-Independent of the harmonic-balance path except for the contact-law kernel
-:func:`hbmfric.kernels.laws.law_update`, which both evaluate (so that they
-cannot disagree on the law). The Newmark kernels are in
+Independent of the harmonic-balance path except for the contact-law kernels
+(:func:`hbmfric.kernels.laws.law_step` and ``law_init``), which both evaluate
+(so that they cannot disagree on the law). The Newmark kernels are in
 :mod:`hbmfric.validation.integrator`.
 """
 
@@ -17,7 +17,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .._validate import dof_index, finite_float, positive_int
-from ..kernels.laws import law_update
+from ..kernels.dlft import COULOMB
+from ..kernels.laws import law_init, state_size
 from ..signals import harmonic_amplitude
 from .integrator import (
     MESSAGES,
@@ -234,8 +235,8 @@ def steady_state(
           otherwise it shortens the transient. It is independent of the
           harmonic balance.
 
-        The contact starts from its virgin state at 0 moved to ``x0[c]``:
-        ``f0 = law_update(code, params, 0, 0, x0[c])``.
+        The contact starts from its virgin state at 0 moved to ``x0[c]``
+        (``law_init(code, params, x0[c], state)``).
     check_halving : bool
         Also integrate with the step halved (``2 N`` steps per period) from
         the converged state, to the same ``tol``, and report
@@ -270,7 +271,7 @@ def steady_state(
         raise ValueError(f"check_halving must be True or False, got {check_halving!r}")
     problem = _Problem.build(system, force)
     x, v = problem.initial_state(initial_state, omega, steps_per_period)
-    f = np.array([problem.initial_force(x)])
+    f = problem.initial_law_state(x)
 
     run = problem.integrate(omega, steps_per_period, tol, max_periods, x, v, f)
     coefficients = _fourier_coefficients(run.samples, harmonics)
@@ -375,6 +376,13 @@ class _Problem:
             )
         if law is None:
             code, params, k_stuck = NO_CONTACT, np.zeros(1), 0.0
+        elif law.code == COULOMB:
+            raise ValueError(
+                "the time-integration reference has no rigid Coulomb contact "
+                "(hf.Coulomb is solved by harmonic balance only); use a stiff "
+                "hf.Jenkins element here, e.g. stiffness = 1e3-1e4 times the "
+                "structure's stiffness at the contact, with the same slip force"
+            )
         else:
             code = int(law.code)
             params = np.ascontiguousarray(law.params, dtype=np.float64)
@@ -466,13 +474,15 @@ class _Problem:
             ) from None
         return np.ascontiguousarray(X.real), np.ascontiguousarray(-omega_h * X.imag)
 
-    def initial_force(self, x: np.ndarray) -> float:
-        """Virgin contact state at 0 moved to ``x[c]``, N."""
+    def initial_law_state(self, x: np.ndarray) -> np.ndarray:
+        """Virgin contact-law state at 0 moved to ``x[c]`` (``[0]`` the
+        force, N)."""
         if self.law_code == NO_CONTACT:
-            return 0.0
-        return float(
-            law_update(self.law_code, self.law_params, 0.0, 0.0, x[self.contact_dof])[0]
-        )
+            return np.zeros(1)
+        code = np.int64(self.law_code)
+        state = np.empty(int(state_size(code, self.law_params)))
+        law_init(code, self.law_params, float(x[self.contact_dof]), state)
+        return state
 
     def operators(self, omega: float, steps: int):
         """Newmark operators ``(Aᵀ, Bᵀ, q, q₀, g, cos_sum, 2/h)`` for ``h = T/N``
@@ -554,7 +564,7 @@ class _Problem:
                 if status != OK:
                     return self._failed(status, periods, iterations, steps)
                 history.extend(_period_changes(starts, peaks, n).tolist())
-            before = np.concatenate((x, v, f))
+            before = np.concatenate((x, v, f[:1]))
             status, its = record_period(
                 *args, x, v, f, work, record_peaks[0], samples, contact_force
             )
@@ -562,7 +572,7 @@ class _Problem:
             iterations += int(its)
             if status != OK:
                 return self._failed(status, periods, iterations, steps)
-            after = np.concatenate((x, v, f))
+            after = np.concatenate((x, v, f[:1]))
             change = float(
                 _period_changes(np.vstack((before, after)), record_peaks, n)[0]
             )

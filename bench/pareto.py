@@ -1,0 +1,496 @@
+"""Run time against error: which discretisation buys which accuracy.
+
+Run: ``python -m bench.pareto [--quick] [--out bench/results]`` from the
+repository root. Writes ``pareto.csv`` (one row per problem and setting),
+``reference.csv`` (the time-integration reference) and ``pareto.png`` (error
+against run time, one panel per problem, Pareto fronts drawn).
+
+For every problem in :data:`PROBLEMS` and every setting in :func:`settings`
+(highest harmonic ``H``, AFT samples ``n_time`` as multiples of ``2H + 1``,
+event-located or sampled AFT, odd or all harmonics), the whole FRF branch is
+traced by :func:`hbmfric.frf` and timed (least of ``repeats`` warm runs).
+Its error is measured against the time-integration steady state
+(:func:`hbmfric.validation.steady_state`, Richardson-extrapolated from two
+step sizes) at the reference frequencies of the problem (ten spread over the
+range, the resonance peak and its neighbours): at each, the HBM solution of
+*the same discretisation* is solved from the nearest branch point, and the
+relative errors of the first-harmonic amplitude and of half the peak-to-peak
+displacement are taken; ``error`` is the largest over both measures and all
+frequencies.
+
+A new problem (another law, another system) is one more entry of
+:data:`PROBLEMS`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+import hbmfric as hf
+
+HARMONICS = (1, 3, 5, 7, 11, 15, 21, 31)
+SAMPLE_MULTIPLES = (1, 2, 4, 8)
+#: time-integration reference: steps per period of the two runs
+REFERENCE_STEPS = (4096, 8192)
+
+
+def sdof_jenkins() -> hf.Oscillator:
+    """The P1 problem: m = 1, c = 0.02, k = 1, Jenkins kt = 3, f_s = 1."""
+    return hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0))
+
+
+@dataclass(frozen=True)
+class Problem:
+    """One benchmark problem.
+
+    Parameters
+    ----------
+    name : str
+    system : callable
+        Builds the system (``hf.Oscillator`` or compatible).
+    force : float
+        Forcing amplitude, N.
+    omega : (float, float)
+        Frequency range, rad/s.
+    dof : int
+        DOF whose response is compared.
+    frf_options : dict
+        Extra keyword arguments of :func:`hbmfric.frf` for every setting.
+    """
+
+    name: str
+    system: Callable[[], object]
+    force: float
+    omega: tuple[float, float]
+    dof: int = 0
+    frf_options: dict = field(default_factory=dict)
+
+
+PROBLEMS = [
+    Problem("sdof-jenkins F=0.1", sdof_jenkins, 0.1, (0.5, 3.0)),
+    Problem("sdof-jenkins F=0.5", sdof_jenkins, 0.5, (0.5, 3.0)),
+    Problem("sdof-jenkins F=2.0", sdof_jenkins, 2.0, (0.5, 3.0)),
+]
+
+
+@dataclass(frozen=True)
+class Setting:
+    """A discretisation: keyword arguments of :func:`hbmfric.frf`."""
+
+    label: str
+    kwargs: dict
+    default: bool = False
+    adaptive: bool = False
+
+
+def settings(quick: bool = False) -> list[Setting]:
+    """The grid of fixed discretisations, the library default, and the
+    adaptive-harmonics runs at several tolerances."""
+    out = [Setting("default", {}, default=True)]
+    harmonics = (1, 3, 7, 15, 31) if quick else HARMONICS
+    multiples = (2, 4) if quick else SAMPLE_MULTIPLES
+    for h in harmonics:
+        for m in multiples:
+            for aft in ("events", "samples"):
+                for odd in (True, False):
+                    n_time = m * (2 * h + 1)
+                    kw = {"harmonics": h, "n_time": n_time, "aft": aft, "symmetry": odd}
+                    label = f"H={h} N={n_time} {aft} {'odd' if odd else 'all'}"
+                    out.append(Setting(label, kw))
+    if _supports_auto():
+        for tol in (
+            (1e-2, 1e-3, 1e-4) if quick else (3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4)
+        ):
+            out.append(
+                Setting(
+                    f"auto tol={tol:g}",
+                    {"harmonics": "auto", "harmonic_tolerance": tol},
+                    adaptive=True,
+                )
+            )
+    return out
+
+
+def _supports_auto() -> bool:
+    import inspect
+
+    return "harmonic_tolerance" in inspect.signature(hf.frf).parameters
+
+
+# ---------------------------------------------------------------------------
+# reference
+# ---------------------------------------------------------------------------
+
+
+@dataclass
+class Reference:
+    """Time-integration reference at the problem's check frequencies."""
+
+    omega: np.ndarray
+    first_harmonic: np.ndarray
+    half_peak_to_peak: np.ndarray
+    error_estimate: np.ndarray  # relative, of the extrapolated values
+    elapsed: float
+
+
+def check_frequencies(problem: Problem, n_spread: int = 10) -> np.ndarray:
+    """Ten frequencies spread over the range, the resonance peak (of a
+    high-H harmonic-balance branch) and two neighbours at ±2 %."""
+    lo, hi = problem.omega
+    spread = np.linspace(lo, hi, n_spread + 2)[1:-1]
+    fine = hf.frf(problem.system(), problem.force, problem.omega, 31)
+    amp = fine.amplitude(harmonic=1, dof=problem.dof)
+    peak = float(fine.omega[int(np.argmax(amp))])
+    near = [w for w in (0.98 * peak, peak, 1.02 * peak) if lo < w < hi]
+    return np.unique(np.round(np.concatenate((spread, near)), 12))
+
+
+def reference(problem: Problem, omegas: np.ndarray) -> Reference:
+    """Richardson-extrapolated time-integration steady state (order 2)."""
+    start = time.perf_counter()
+    system = problem.system()
+    a1 = np.empty((2, omegas.size))
+    pp = np.empty((2, omegas.size))
+    for i, steps in enumerate(REFERENCE_STEPS):
+        for j, w in enumerate(omegas):
+            ref = hf.validation.steady_state(
+                system,
+                problem.force,
+                float(w),
+                steps_per_period=steps,
+                initial_state="linear",
+            )
+            if not ref.converged:
+                raise RuntimeError(f"reference did not converge at Ω = {w}")
+            a1[i, j] = ref.amplitude(harmonic=1, dof=problem.dof)
+            pp[i, j] = ref.amplitude(harmonic=None, dof=problem.dof)
+    ext1 = (4.0 * a1[1] - a1[0]) / 3.0
+    extp = (4.0 * pp[1] - pp[0]) / 3.0
+    est = np.maximum(np.abs(a1[1] - ext1) / ext1, np.abs(pp[1] - extp) / extp)
+    return Reference(omegas, ext1, extp, est, time.perf_counter() - start)
+
+
+# ---------------------------------------------------------------------------
+# one setting
+# ---------------------------------------------------------------------------
+
+
+def _time_branch(problem: Problem, kwargs: dict, repeats: int):
+    system = problem.system()
+    run = dict(problem.frf_options, **kwargs)
+    branch = hf.frf(system, problem.force, problem.omega, **run)  # warm-up
+    best = math.inf
+    for _ in range(repeats):
+        t = time.perf_counter()
+        hf.frf(system, problem.force, problem.omega, **run)
+        best = min(best, time.perf_counter() - t)
+    return branch, best
+
+
+def _solve_like(problem: Problem, branch: hf.Branch, kwargs: dict, omega: float):
+    """HBM solution at ``omega`` with the discretisation the branch used
+    there, from the nearest branch point."""
+    i = int(np.argmin(np.abs(branch.omega - omega)))
+    kw = {k: v for k, v in kwargs.items() if k in ("n_time", "aft", "symmetry")}
+    h = kwargs.get("harmonics", 15)
+    point = branch.point(i)
+    if h == "auto":
+        h = int(branch.harmonics_at(i))
+        kw = {}
+    return hf.periodic_solution(
+        problem.system(), problem.force, omega, h, initial_guess=point, **kw
+    )
+
+
+def evaluate(problem: Problem, setting: Setting, ref: Reference, repeats: int) -> dict:
+    """Run time and error of one setting on one problem."""
+    row = {"problem": problem.name, "setting": setting.label}
+    row.update(
+        harmonics=setting.kwargs.get("harmonics", 15),
+        n_time=setting.kwargs.get("n_time", ""),
+        aft=setting.kwargs.get("aft", "auto"),
+        odd=setting.kwargs.get("symmetry", ""),
+        default=setting.default,
+        adaptive=setting.adaptive,
+    )
+    try:
+        branch, elapsed = _time_branch(problem, setting.kwargs, repeats)
+    except ValueError as exc:  # e.g. n_time not > 2H for this scheme
+        row.update(status=f"invalid: {exc}", time_s=math.nan, error=math.nan)
+        return row
+    row.update(
+        time_s=elapsed,
+        points=len(branch),
+        evaluations=branch.newton_iterations,
+        rejected=branch.n_rejected,
+        status=branch.stop_reason,
+    )
+    if setting.default:
+        row.update(
+            harmonics=branch.info["harmonics"],
+            n_time=branch.info["n_time"],
+            aft=branch.info["aft"],
+            odd=branch.info["odd_only"],
+        )
+    if not branch.stop_reason.startswith("end of frequency range"):
+        row.update(error=math.inf, error_h1=math.inf, error_hpp=math.inf)
+        return row
+    e1 = []
+    epp = []
+    for w, a_ref, p_ref in zip(
+        ref.omega, ref.first_harmonic, ref.half_peak_to_peak, strict=True
+    ):
+        sol = _solve_like(problem, branch, setting.kwargs, float(w))
+        if not sol.converged:
+            e1.append(math.inf)
+            epp.append(math.inf)
+            continue
+        e1.append(abs(sol.amplitude(harmonic=1, dof=problem.dof) - a_ref) / a_ref)
+        epp.append(abs(sol.amplitude(harmonic=None, dof=problem.dof) - p_ref) / p_ref)
+    row.update(error_h1=max(e1), error_hpp=max(epp), error=max(max(e1), max(epp)))
+    return row
+
+
+def pareto_front(times: np.ndarray, errors: np.ndarray) -> np.ndarray:
+    """Indices of the Pareto-optimal points (no other point is both faster
+    and at least as accurate), in order of increasing time."""
+    ok = np.isfinite(times) & np.isfinite(errors)
+    order = [i for i in np.argsort(times, kind="stable") if ok[i]]
+    front = []
+    best = math.inf
+    for i in order:
+        if errors[i] < best:
+            front.append(i)
+            best = errors[i]
+    return np.array(front, dtype=np.int64)
+
+
+def mark_front(rows: list[dict]) -> None:
+    """Set ``pareto`` (on the front of fixed settings and default) and
+    ``dominated_by`` (cheapest fixed setting at least as fast and accurate)
+    on every row of one problem."""
+    fixed = [r for r in rows if not r["adaptive"]]
+    t = np.array([r.get("time_s", math.nan) for r in fixed], dtype=float)
+    e = np.array([r.get("error", math.nan) for r in fixed], dtype=float)
+    front = set(pareto_front(t, e).tolist())
+    for i, r in enumerate(fixed):
+        r["pareto"] = i in front
+    for r in rows:
+        if r["adaptive"]:
+            r["pareto"] = ""
+        better = [
+            f
+            for f in fixed
+            if f is not r
+            and f.get("time_s", math.inf) <= r.get("time_s", math.nan)
+            and f.get("error", math.inf) <= r.get("error", math.nan)
+        ]
+        r["dominated_by"] = (
+            min(better, key=lambda f: f["time_s"])["setting"] if better else ""
+        )
+
+
+# ---------------------------------------------------------------------------
+# output
+# ---------------------------------------------------------------------------
+
+COLUMNS = [
+    "problem",
+    "setting",
+    "harmonics",
+    "n_time",
+    "aft",
+    "odd",
+    "default",
+    "adaptive",
+    "time_s",
+    "points",
+    "evaluations",
+    "rejected",
+    "status",
+    "error_h1",
+    "error_hpp",
+    "error",
+    "pareto",
+    "dominated_by",
+]
+
+
+def write_csv(rows: list[dict], path: Path) -> None:
+    with open(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=COLUMNS, extrasaction="ignore")
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: r.get(k, "") for k in COLUMNS})
+
+
+def write_reference(refs: dict, path: Path) -> None:
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(
+            [
+                "problem",
+                "omega",
+                "first_harmonic",
+                "half_peak_to_peak",
+                "rel_error_estimate",
+            ]
+        )
+        for name, ref in refs.items():
+            for row in zip(
+                ref.omega,
+                ref.first_harmonic,
+                ref.half_peak_to_peak,
+                ref.error_estimate,
+                strict=True,
+            ):
+                w.writerow([name, *(f"{x:.12g}" for x in row)])
+
+
+def plot(rows: list[dict], refs: dict, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names = list(dict.fromkeys(r["problem"] for r in rows))
+    fig, axes = plt.subplots(
+        1, len(names), figsize=(5.2 * len(names), 4.6), squeeze=False
+    )
+    hs = sorted({r["harmonics"] for r in rows if isinstance(r["harmonics"], int)})
+    cmap = plt.get_cmap("viridis")
+    color = {h: cmap(i / max(len(hs) - 1, 1)) for i, h in enumerate(hs)}
+    markers = {
+        ("events", True): "o",
+        ("events", False): "s",
+        ("samples", True): "^",
+        ("samples", False): "v",
+    }
+    for ax, name in zip(axes[0], names, strict=True):
+        sub = [r for r in rows if r["problem"] == name]
+        for r in sub:
+            if r["adaptive"] or r["default"] or not np.isfinite(r.get("error", np.nan)):
+                continue
+            ax.loglog(
+                1e3 * r["time_s"],
+                max(r["error"], 1e-12),
+                markers[(r["aft"], bool(r["odd"]))],
+                color=color[r["harmonics"]],
+                ms=4,
+                alpha=0.7,
+            )
+        fixed = [r for r in sub if not r["adaptive"] and r.get("pareto")]
+        fixed.sort(key=lambda r: r["time_s"])
+        ax.step(
+            [1e3 * r["time_s"] for r in fixed],
+            [r["error"] for r in fixed],
+            where="post",
+            color="0.3",
+            lw=1,
+            label="Pareto front (fixed H)",
+        )
+        auto = [r for r in sub if r["adaptive"] and np.isfinite(r.get("error", np.nan))]
+        if auto:
+            auto.sort(key=lambda r: r["time_s"])
+            ax.loglog(
+                [1e3 * r["time_s"] for r in auto],
+                [r["error"] for r in auto],
+                "D-",
+                color="crimson",
+                ms=5,
+                label='harmonics="auto"',
+            )
+        for r in sub:
+            if r["default"] and np.isfinite(r.get("error", np.nan)):
+                ax.loglog(
+                    1e3 * r["time_s"],
+                    r["error"],
+                    "*",
+                    color="orange",
+                    ms=16,
+                    mec="k",
+                    label="hf.frf default",
+                )
+        floor = float(np.max(refs[name].error_estimate))
+        ax.axhline(floor, color="0.6", ls=":", lw=1, label="reference error")
+        ax.set_title(name)
+        ax.set_xlabel("branch run time (ms)")
+        ax.set_ylabel("max relative error")
+        ax.grid(True, which="major", alpha=0.3)
+    handles = [
+        plt.Line2D(
+            [], [], ls="", marker=m, color="k", label=f"{a} {'odd' if o else 'all'}"
+        )
+        for (a, o), m in markers.items()
+    ] + [
+        plt.Line2D([], [], ls="", marker="o", color=color[h], label=f"H={h}")
+        for h in hs
+    ]
+    h0, l0 = axes[0][0].get_legend_handles_labels()
+    axes[0][-1].legend(handles=handles + h0, fontsize=7, loc="upper right", ncol=2)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def run(out: Path, quick: bool = False, repeats: int = 3, problems=None) -> list[dict]:
+    """Run the whole benchmark; returns the rows written to ``pareto.csv``."""
+    out.mkdir(parents=True, exist_ok=True)
+    problems = problems or PROBLEMS
+    rows = []
+    refs = {}
+    for problem in problems:
+        omegas = check_frequencies(problem)
+        refs[problem.name] = ref = reference(problem, omegas)
+        print(
+            f"{problem.name}: reference at {omegas.size} frequencies in "
+            f"{ref.elapsed:.1f} s (estimated error <= {ref.error_estimate.max():.1e})",
+            flush=True,
+        )
+        sub = []
+        for setting in settings(quick):
+            row = evaluate(problem, setting, ref, repeats)
+            sub.append(row)
+            print(
+                f"  {setting.label:<32} {1e3 * row.get('time_s', math.nan):9.2f} ms  "
+                f"error {row.get('error', math.nan):.2e}  {row.get('status', '')[:30]}",
+                flush=True,
+            )
+        mark_front(sub)
+        rows += sub
+    write_csv(rows, out / "pareto.csv")
+    write_reference(refs, out / "reference.csv")
+    plot(rows, refs, out / "pareto.png")
+    return rows
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m bench.pareto")
+    parser.add_argument("--out", default=str(Path(__file__).parent / "results"))
+    parser.add_argument("--quick", action="store_true", help="smaller grid")
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--problem", action="append", help="only these problems")
+    args = parser.parse_args(argv)
+    problems = PROBLEMS
+    if args.problem:
+        problems = [p for p in PROBLEMS if p.name in args.problem]
+    rows = run(Path(args.out), args.quick, args.repeats, problems)
+    for name in dict.fromkeys(r["problem"] for r in rows):
+        (d,) = [r for r in rows if r["problem"] == name and r["default"]]
+        print(
+            f"{name}: default {d['setting']} on the Pareto front: {bool(d['pareto'])}"
+            + (f" (dominated by {d['dominated_by']})" if d["dominated_by"] else "")
+        )
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
