@@ -146,6 +146,7 @@ def test_subharmonic_balance_captures_the_one_third_resonance():
     assert peak == pytest.approx(RIG.resonances()[0] / 3.0, rel=0.04)
 
 
+@pytest.mark.slow
 def test_paper_figures_3_and_5(tmp_path):
     from hbmfric.paper import tensioner_frf, tensioner_loop
 
