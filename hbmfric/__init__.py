@@ -22,12 +22,13 @@ from .laws import (
     hertz_mindlin_stiffness,
 )
 from .results import Branch, PeriodicSolution
-from .systems import BeamCalibration, CantileverBeam, Oscillator
+from .systems import BeamCalibration, BeltTensioner, CantileverBeam, Oscillator
 
 __version__ = "0.1.0"
 
 __all__ = [
     "BeamCalibration",
+    "BeltTensioner",
     "Branch",
     "CantileverBeam",
     "ContactLaw",

@@ -15,6 +15,8 @@ def _paper(args: argparse.Namespace) -> int:
         beam_ratio_family,
         beam_validation,
         sdof_figures,
+        tensioner_frf,
+        tensioner_loop,
     )
 
     out = Path(args.out)
@@ -28,6 +30,8 @@ def _paper(args: argparse.Namespace) -> int:
     figures.append(beam_normal_load_family(harmonics=args.harmonics, progress=progress))
     figures.append(beam_ratio_family(harmonics=args.harmonics, progress=progress))
     figures.append(beam_validation(harmonics=args.harmonics, progress=progress))
+    loop = tensioner_loop(progress=progress)
+    figures += [loop, tensioner_frf(loop.identification.law, progress=progress)]
     for fig in figures:
         _print_verdict(fig)
         csv_path = fig.write_csv(out / f"{fig.name}.csv")

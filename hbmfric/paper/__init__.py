@@ -24,6 +24,7 @@ from .sdof import (
     sdof_family,
     sdof_figures,
 )
+from .tensioner import tensioner_frf, tensioner_loop
 
 __all__ = [
     "BeamFamily",
@@ -45,4 +46,6 @@ __all__ = [
     "rough_menq_family",
     "sdof_family",
     "sdof_figures",
+    "tensioner_frf",
+    "tensioner_loop",
 ]

@@ -3,5 +3,6 @@
 from .beam import CantileverBeam
 from .calibration import BeamCalibration
 from .oscillator import Oscillator
+from .tensioner import BeltTensioner
 
-__all__ = ["BeamCalibration", "CantileverBeam", "Oscillator"]
+__all__ = ["BeamCalibration", "BeltTensioner", "CantileverBeam", "Oscillator"]
