@@ -88,6 +88,9 @@ class Branch:
         Wall time of the continuation, s.
     info : dict
         Description of the run (system, law, options), JSON-serialisable.
+    point_harmonics : ndarray of int, shape (n_points,), optional
+        Highest harmonic used at each point (``harmonics="auto"``); None
+        when the whole branch used ``harmonic_numbers``.
     """
 
     omega: np.ndarray
@@ -101,6 +104,7 @@ class Branch:
     newton_iterations: int
     elapsed: float
     info: dict = field(default_factory=dict)
+    point_harmonics: np.ndarray | None = None
 
     def __len__(self) -> int:
         return self.omega.size
@@ -119,6 +123,12 @@ class Branch:
         if harmonic is None:
             return half_peak_to_peak(self.harmonic_numbers, X)
         return harmonic_amplitude(self.harmonic_numbers, X, harmonic)
+
+    def harmonics_at(self, index: int) -> int:
+        """Highest harmonic used at point ``index``."""
+        if self.point_harmonics is not None:
+            return int(self.point_harmonics[index])
+        return int(self.harmonic_numbers[-1])
 
     def point(self, index: int) -> PeriodicSolution:
         """The periodic solution at one point of the branch."""
@@ -163,14 +173,16 @@ class Branch:
             "info": self.info,
             "format": "hbmfric.Branch/1",
         }
-        np.savez(
-            path,
-            omega=self.omega,
-            coefficients=self.coefficients,
-            harmonic_numbers=self.harmonic_numbers,
-            folds=self.folds,
-            meta=np.array(json.dumps(meta)),
-        )
+        arrays = {
+            "omega": self.omega,
+            "coefficients": self.coefficients,
+            "harmonic_numbers": self.harmonic_numbers,
+            "folds": self.folds,
+            "meta": np.array(json.dumps(meta)),
+        }
+        if self.point_harmonics is not None:
+            arrays["point_harmonics"] = self.point_harmonics
+        np.savez(path, **arrays)
         return path if path.suffix == ".npz" else path.with_suffix(path.suffix + ".npz")
 
     @classmethod
@@ -192,4 +204,9 @@ class Branch:
                 newton_iterations=int(meta["newton_iterations"]),
                 elapsed=float(meta["elapsed"]),
                 info=meta["info"],
+                point_harmonics=(
+                    data["point_harmonics"].copy()
+                    if "point_harmonics" in data.files
+                    else None
+                ),
             )
