@@ -23,5 +23,5 @@ def pytest_collection_modifyitems(config, items):
 
     skip = pytest.mark.skip(reason="heavy: select with -m slow / -m stress")
     for item in items:
-        if "slow" in item.keywords or "stress" in item.keywords:
+        if item.get_closest_marker("slow") or item.get_closest_marker("stress"):
             item.add_marker(skip)
