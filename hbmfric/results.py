@@ -5,6 +5,7 @@ persistence without pickle."""
 from __future__ import annotations
 
 import json
+import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -187,26 +188,63 @@ class Branch:
 
     @classmethod
     def load(cls, path: str | Path) -> Branch:
-        """Read a branch written by :meth:`save`."""
-        with np.load(Path(path), allow_pickle=False) as data:
-            meta = json.loads(str(data["meta"]))
-            if meta.get("format") != "hbmfric.Branch/1":
-                raise ValueError(f"{path} is not an hbmfric branch file")
-            return cls(
-                omega=data["omega"].copy(),
-                coefficients=data["coefficients"].copy(),
-                harmonic_numbers=data["harmonic_numbers"].copy(),
-                force=float(meta["force"]),
-                folds=data["folds"].copy(),
-                stop_reason=meta["stop_reason"],
-                n_steps=int(meta["n_steps"]),
-                n_rejected=int(meta["n_rejected"]),
-                newton_iterations=int(meta["newton_iterations"]),
-                elapsed=float(meta["elapsed"]),
-                info=meta["info"],
-                point_harmonics=(
-                    data["point_harmonics"].copy()
-                    if "point_harmonics" in data.files
-                    else None
-                ),
+        """Read a branch written by :meth:`save` (no pickle).
+
+        Raises
+        ------
+        ValueError
+            If ``path`` is not a readable hbmfric branch file.
+        """
+        try:
+            with np.load(Path(path), allow_pickle=False) as data:
+                meta = json.loads(str(data["meta"]))
+                if (
+                    not isinstance(meta, dict)
+                    or meta.get("format") != "hbmfric.Branch/1"
+                ):
+                    raise ValueError("wrong format tag")
+                branch = cls(
+                    omega=np.asarray(data["omega"], dtype=np.float64).copy(),
+                    coefficients=np.asarray(
+                        data["coefficients"], dtype=np.float64
+                    ).copy(),
+                    harmonic_numbers=np.asarray(
+                        data["harmonic_numbers"], dtype=np.int64
+                    ).copy(),
+                    force=float(meta["force"]),
+                    folds=np.asarray(data["folds"], dtype=np.int64).copy(),
+                    stop_reason=str(meta["stop_reason"]),
+                    n_steps=int(meta["n_steps"]),
+                    n_rejected=int(meta["n_rejected"]),
+                    newton_iterations=int(meta["newton_iterations"]),
+                    elapsed=float(meta["elapsed"]),
+                    info=dict(meta["info"]),
+                    point_harmonics=(
+                        np.asarray(data["point_harmonics"], dtype=np.int64).copy()
+                        if "point_harmonics" in data.files
+                        else None
+                    ),
+                )
+        except (
+            OSError,
+            EOFError,
+            KeyError,
+            TypeError,
+            ValueError,
+            zipfile.BadZipFile,
+        ) as exc:
+            raise ValueError(
+                f"path {str(path)!r} is not a readable hbmfric branch file ({exc})"
+            ) from None
+        n = branch.omega.size
+        if (
+            branch.omega.ndim != 1
+            or branch.coefficients.ndim != 3
+            or branch.coefficients.shape[0] != n
+            or not np.all(np.isfinite(branch.omega))
+            or not np.all(np.isfinite(branch.coefficients))
+        ):
+            raise ValueError(
+                f"path {str(path)!r}: inconsistent or non-finite branch arrays"
             )
+        return branch
