@@ -234,7 +234,8 @@ class Branch:
             zipfile.BadZipFile,
         ) as exc:
             raise ValueError(
-                f"path {str(path)!r} is not a readable hbmfric branch file ({exc})"
+                f"path {str(path)!r} is not an hbmfric branch file, or is damaged "
+                f"({exc})"
             ) from None
         n = branch.omega.size
         if (
