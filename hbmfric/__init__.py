@@ -7,26 +7,44 @@ dry-friction contacts, with Numba-compiled AFT kernels.
 >>> branch = hf.frf(osc, force=0.5, omega=(0.5, 3.0), harmonics=15)
 """
 
-from . import validation
+from . import criterion, identify, validation
 from .api import frf, periodic_solution
 from .continuation import ContinuationOptions
-from .laws import ContactLaw, Cubic, Jenkins, Roughness, hertz_mindlin_stiffness
+from .coulomb import Coulomb
+from .dahl import ModifiedDahl
+from .laws import (
+    ContactLaw,
+    Cubic,
+    Iwan,
+    Jenkins,
+    Menq,
+    Roughness,
+    hertz_mindlin_stiffness,
+)
 from .results import Branch, PeriodicSolution
-from .systems import Oscillator
+from .systems import BeamCalibration, CantileverBeam, Oscillator
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "BeamCalibration",
     "Branch",
+    "CantileverBeam",
     "ContactLaw",
     "ContinuationOptions",
+    "Coulomb",
     "Cubic",
+    "Iwan",
     "Jenkins",
+    "Menq",
+    "ModifiedDahl",
     "Oscillator",
     "PeriodicSolution",
     "Roughness",
+    "criterion",
     "frf",
     "hertz_mindlin_stiffness",
+    "identify",
     "periodic_solution",
     "validation",
 ]

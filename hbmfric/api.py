@@ -34,6 +34,18 @@ def _omega_range(omega) -> tuple[float, float]:
     return lo, hi
 
 
+def _problem(system, force, harmonics, n_time, symmetry, aft, condense):
+    """The HBM discretisation: condensed onto the contact DOF or full."""
+    from .condensation import CondensedHBMProblem, can_condense
+
+    if condense is None:
+        condense = can_condense(system)
+    elif not isinstance(condense, bool | np.bool_):
+        raise ValueError(f"condense must be True, False or None, got {condense!r}")
+    cls = CondensedHBMProblem if condense else HBMProblem
+    return cls(system, force, harmonics, n_time, symmetry, aft)
+
+
 def _describe(system, problem: HBMProblem, extra: dict) -> dict:
     def plain(obj):
         if dataclasses.is_dataclass(obj):
@@ -51,6 +63,7 @@ def _describe(system, problem: HBMProblem, extra: dict) -> dict:
         "odd_only": problem.odd,
         "n_time": problem.n_time,
         "aft": problem.aft,
+        "condensed": bool(getattr(problem, "condensed", False)),
     }
     info.update(extra)
     return info
@@ -69,6 +82,7 @@ def frf(
     harmonic_tolerance: float = 1e-4,
     options: ContinuationOptions | None = None,
     amplitude_scale: float | None = None,
+    condense: bool | None = None,
     **option_overrides,
 ) -> Branch:
     """Trace the forced response (FRF) of ``system`` over a frequency range.
@@ -102,6 +116,11 @@ def frf(
     options : ContinuationOptions, optional
     amplitude_scale : float, optional
         Displacement scale of the arc length, m.
+    condense : bool, optional
+        Solve the HBM on the contact DOF only (linear DOFs eliminated per
+        harmonic by the dynamic receptance, every DOF recovered at the
+        end); default: whenever the system has several DOFs, a contact and
+        classical damping. ``False`` solves the full HBM.
     **option_overrides
         Fields of :class:`ContinuationOptions` to override.
 
@@ -151,15 +170,16 @@ def frf(
             harmonic_tolerance,
             options,
             amplitude_scale,
+            condense,
         )
-    problem = HBMProblem(system, force, harmonics, n_time, symmetry, aft)
+    problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
     cont = Continuation(problem, (lo, hi), direction, options, amplitude_scale)
     state, elapsed = cont.run()
     n = problem.n_unknowns
     pts = np.array(state.points).reshape(-1, n + 1)
     return Branch(
         omega=pts[:, n].copy(),
-        coefficients=pts[:, :n].reshape(-1, problem.n_dof, problem.n_coef).copy(),
+        coefficients=problem.full_coefficients(pts),
         harmonic_numbers=problem.harmonic_numbers.copy(),
         force=problem.force,
         folds=np.array(state.folds, dtype=np.int64),
@@ -169,6 +189,7 @@ def frf(
         newton_iterations=state.n_newton,
         elapsed=elapsed,
         info=_describe(system, problem, {"omega_range": [lo, hi], "sweep": sweep}),
+        dof_names=dict(getattr(system, "dof_names", {})),
     )
 
 
@@ -184,6 +205,7 @@ def _frf_auto(
     tolerance,
     options,
     amplitude_scale,
+    condense,
 ) -> Branch:
     """``frf`` with ``harmonics="auto"``."""
     if n_time is not None:
@@ -195,7 +217,7 @@ def _frf_auto(
 
     def make_problem(h: int) -> HBMProblem:
         if h not in problems:
-            problems[h] = HBMProblem(system, force, h, None, symmetry, aft)
+            problems[h] = _problem(system, force, h, None, symmetry, aft, condense)
         return problems[h]
 
     make_problem(LADDER[0])  # validates the input before any work
@@ -205,12 +227,21 @@ def _frf_auto(
     state, points, levels, elapsed = cont.run()
     top = make_problem(max(levels) if levels else LADDER[0])
     coefficients = np.zeros((len(points), top.n_dof, top.n_coef))
-    omegas = np.empty(len(points))
-    for i, (y, h) in enumerate(zip(points, levels, strict=True)):
-        coefficients[i] = cont.pad(y, h, top.harmonics)[:-1].reshape(
-            top.n_dof, top.n_coef
-        )
-        omegas[i] = y[-1]
+    omegas = np.array([float(y[-1]) for y in points])
+    columns = np.cumsum([0] + [1 if k == 0 else 2 for k in top.harmonic_numbers])
+    where = {
+        int(k): int(c) for k, c in zip(top.harmonic_numbers, columns[:-1], strict=True)
+    }
+    for h in sorted(set(levels)):
+        idx = [i for i, lv in enumerate(levels) if lv == h]
+        p = make_problem(h)
+        full = p.full_coefficients(np.array([points[i] for i in idx]))
+        src = 0
+        for k in p.harmonic_numbers:
+            width = 1 if k == 0 else 2
+            dst = where[int(k)]
+            coefficients[idx, :, dst : dst + width] = full[:, :, src : src + width]
+            src += width
     info = _describe(
         system,
         top,
@@ -234,6 +265,7 @@ def _frf_auto(
         newton_iterations=state.n_newton,
         elapsed=elapsed,
         info=info,
+        dof_names=dict(getattr(system, "dof_names", {})),
         point_harmonics=np.array(levels, dtype=np.int64),
     )
 
@@ -249,6 +281,7 @@ def periodic_solution(
     aft: str = "auto",
     initial_guess=None,
     options: ContinuationOptions | None = None,
+    condense: bool | None = None,
 ) -> PeriodicSolution:
     """Periodic steady state at one frequency by Newton's method.
 
@@ -264,6 +297,9 @@ def periodic_solution(
         discretisation. Default: tries the stuck and the free linearisations.
     options : ContinuationOptions, optional
         Newton tolerances and iteration limit.
+    condense : bool, optional
+        As in :func:`frf`; an array ``initial_guess`` then holds the
+        contact-DOF coefficients only.
 
     Returns
     -------
@@ -273,7 +309,7 @@ def periodic_solution(
     omega = finite_float("omega", omega, low=0.0, low_open=True)
     options = options or ContinuationOptions()
     start = time.perf_counter()
-    problem = HBMProblem(system, force, harmonics, n_time, symmetry, aft)
+    problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
     cont = Continuation(problem, (0.5 * omega, 1.5 * omega), 1, options, None)
     n = problem.n_unknowns
     guesses = []
@@ -296,12 +332,13 @@ def periodic_solution(
         omega=omega,
         force=problem.force,
         harmonic_numbers=problem.harmonic_numbers.copy(),
-        coefficients=best[:n].reshape(problem.n_dof, problem.n_coef).copy(),
+        coefficients=problem.full_coefficients(best)[0],
         converged=converged,
         newton_iterations=total_it,
         residual_norm=float(np.max(np.abs(R))),
         elapsed=time.perf_counter() - start,
         contact_state=STATE_NAMES.get(state, str(state)),
+        dof_names=dict(getattr(system, "dof_names", {})),
     )
 
 
@@ -318,7 +355,7 @@ def _guess_vector(guess, problem: HBMProblem) -> np.ndarray:
                 c = src_col[src[int(k)]]
                 X[:, col : col + width] = guess.coefficients[:, c : c + width]
             col += width
-        return X.reshape(-1)
+        return problem.unknowns_from_full(X)
     g = np.ascontiguousarray(guess, dtype=np.float64).reshape(-1)
     if g.size != problem.n_unknowns or not np.all(np.isfinite(g)):
         raise ValueError(

@@ -10,7 +10,7 @@ from pathlib import Path
 
 
 def _paper(args: argparse.Namespace) -> int:
-    from .paper import masing_family
+    from .paper import beam_normal_load_family, beam_ratio_family, sdof_figures
 
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -19,15 +19,72 @@ def _paper(args: argparse.Namespace) -> int:
     def progress(line: str) -> None:
         print(line, flush=True)
 
-    figures = [masing_family(harmonics=args.harmonics, progress=progress)]
+    figures = sdof_figures(harmonics=args.harmonics, progress=progress)
+    figures.append(beam_normal_load_family(harmonics=args.harmonics, progress=progress))
+    figures.append(beam_ratio_family(harmonics=args.harmonics, progress=progress))
     for fig in figures:
+        _print_verdict(fig)
         csv_path = fig.write_csv(out / f"{fig.name}.csv")
         print(f"wrote {csv_path}", flush=True)
         if not args.no_plot:
             png_path = fig.write_png(out / f"{fig.name}.png")
             print(f"wrote {png_path}", flush=True)
+    # the paper reads the beam's verdict from Figs. 13 (the stuck curve, the
+    # envelope) and 14 (ratio invariance) together
+    _print_verdict(_combined(figures, ("fig13_beam", "fig14_beam"), "fig13+14_beam"))
     print(f"done in {time.perf_counter() - start:.2f} s", flush=True)
     return 0
+
+
+def _combined(figures, prefixes, name):
+    """One family made of the figures named ``prefixes…`` (None unless all
+    are there)."""
+    from .paper.sdof import FigureResult
+
+    parts = [f for p in prefixes for f in figures if f.name.startswith(p)]
+    if len(parts) != len(prefixes):
+        return None
+    return FigureResult(
+        name,
+        name,
+        [lab for f in parts for lab in f.labels],
+        [b for f in parts for b in f.branches],
+        [par for f in parts for par in f.parameters],
+    )
+
+
+def _print_verdict(fig) -> None:
+    """One line: the contact-model criterion's verdict on a computed family
+    (figures that are not FRF families, without ``criterion``, are skipped)."""
+    if fig is None:
+        return
+    params = getattr(fig, "parameters", None) or [{}]
+    if not hasattr(fig, "criterion") or not all(
+        "normal_load" in p and "force" in p for p in params
+    ):
+        return
+    try:
+        res = fig.criterion()
+    except ValueError as err:  # e.g. a curve with zero amplitude somewhere
+        print(f"{fig.name} criterion: not applicable ({err})", flush=True)
+        return
+    ind = res.indicators
+    parts = []
+    if ind.get("ratio_spread") is not None:
+        parts.append(f"ratio spread {ind['ratio_spread']:.2g}")
+    if ind.get("envelope_excess") is not None:
+        parts.append(f"envelope excess {100 * ind['envelope_excess']:.1f} %")
+    shifts = ind.get("peak_shift") or {}
+    if shifts:
+        parts.append(
+            "peak shifts "
+            + ", ".join(f"{100 * v:+.1f} % (Fex/Fn={r:.3g})" for r, v in shifts.items())
+        )
+    print(
+        f"{fig.name} criterion: {res.verdict}"
+        + (f" ({'; '.join(parts)})" if parts else ""),
+        flush=True,
+    )
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -8,11 +8,18 @@ import numpy as np
 
 from ._validate import finite_float, positive_int
 from .kernels.dft import fourier_matrices
+from .kernels.dlft import COULOMB
 from .kernels.hbm import AFT_EVENTS, AFT_SAMPLES, NO_CONTACT, hbm_residual
-from .kernels.laws import JENKINS
+from .kernels.laws import JENKINS, MASING
 from .signals import coefficient_columns
 
 AFT_SCHEMES = ("auto", "events", "samples")
+#: default DLFT penalty of a rigid Coulomb contact, in units of the static
+#: stiffness at the contact DOF (measured on the Coulomb oscillator, H = 31:
+#: with 1 K[c, c] Newton converges in the stop and non-stop regimes; at
+#: 10 K[c, c] and more it fails at some stop-regime points; see
+#: tests/test_coulomb.py)
+DEFAULT_PENALTY_FACTOR = 1.0
 
 
 def select_harmonics(harmonics: int, odd: bool) -> np.ndarray:
@@ -26,9 +33,10 @@ def select_harmonics(harmonics: int, odd: bool) -> np.ndarray:
 def default_n_time(harmonic_numbers: np.ndarray, aft: str) -> int:
     """Default samples per period.
 
-    ``events``: the samples only detect stick/slip events; two reversals
-    inside one sample interval would go unseen, so take 8 samples per period
-    of the highest harmonic (at least 32). ``samples``: ``16 H`` rounded to a
+    ``events``: the samples only detect stick/slip events (Jenkins) or
+    reversal points (Masing laws); two reversals inside one sample interval
+    would go unseen, so take 8 samples per period of the highest harmonic
+    (at least 32). ``samples``: ``16 H`` rounded to a
     multiple of 8, alias-free for a cubic law and keeping the friction
     aliasing small.
     """
@@ -55,7 +63,26 @@ class HBMProblem:
     symmetry : bool or None
         Solve for odd harmonics only. None: when the system allows it.
     aft : {"auto", "events", "samples"}
-        AFT scheme; "auto" uses event location for Jenkins, samples otherwise.
+        AFT scheme; "auto" uses event location for Jenkins (exact Fourier
+        integrals) and for the Masing laws Menq and Iwan (located reversal
+        points, :mod:`hbmfric.kernels.masing`), samples otherwise. A rigid
+        :class:`~hbmfric.Coulomb` contact is solved by DLFT: "auto" and
+        "events" with located reversals and the holding force
+        (:func:`hbmfric.kernels.dlft.dlft_located`), "samples" by the
+        classic sampled DLFT (:func:`hbmfric.kernels.dlft.dlft_contact`).
+    subharmonic : int
+        ``ν >= 1``: the unknowns are harmonics of ``Ω/ν`` (the Ω of ``y``
+        is then the fundamental ``Ω/ν``) and the forcing sits on harmonic
+        ``ν``; ``ν = 1`` is the usual ``T``-periodic balance.
+
+    Notes
+    -----
+    Optional system hooks (read with defaults, so plain systems need none):
+    ``static_load() -> p0`` of shape (n_dof,), N, a constant load on
+    harmonic 0 (a system with one is never solved for odd harmonics only);
+    ``load_phase`` (rad), the forcing being ``p cos(Ωt − φ)`` (π/2 for
+    ``p sin Ωt``); ``static_solution() -> x0`` of shape (n_dof,), m, added
+    to the linear starting guesses.
     """
 
     def __init__(
@@ -66,12 +93,20 @@ class HBMProblem:
         n_time: int | None = None,
         symmetry: bool | None = None,
         aft: str = "auto",
+        subharmonic: int = 1,
     ) -> None:
         self.system = system
         self.force = finite_float("force", force)
+        self.subharmonic = positive_int("subharmonic", subharmonic, low=1)
+        static = getattr(system, "static_load", None)
+        static = None if static is None else np.asarray(static(), dtype=np.float64)
+        if static is not None and not np.any(static):
+            static = None
+        self.load_phase = finite_float("load_phase", getattr(system, "load_phase", 0))
+        symmetric = bool(system.symmetric) and static is None and subharmonic == 1
         if symmetry is None:
-            symmetry = bool(system.symmetric)
-        elif symmetry and not system.symmetric:
+            symmetry = symmetric
+        elif symmetry and not symmetric:
             raise ValueError(
                 "symmetry=True (odd harmonics only) needs a symmetric system; "
                 "this contact law is not odd"
@@ -79,12 +114,26 @@ class HBMProblem:
         self.odd = bool(symmetry)
         self.harmonic_numbers = select_harmonics(harmonics, self.odd)
         self.harmonics = int(harmonics)
+        if self.subharmonic > self.harmonics:
+            raise ValueError(
+                f"harmonics must be >= subharmonic = {self.subharmonic} (the "
+                f"forcing is harmonic ν of Ω/ν), got {self.harmonics}"
+            )
         if aft not in AFT_SCHEMES:
             raise ValueError(f"aft must be one of {AFT_SCHEMES}, got {aft!r}")
         law = system.contact
-        if aft == "auto":
-            aft = "events" if law is not None and law.code == JENKINS else "samples"
-        if aft == "events" and (law is None or law.code != JENKINS):
+        rigid = law is not None and law.code == COULOMB
+        self._rigid = rigid
+        #: Newton iterations spent in the start-point presolve (rigid Coulomb)
+        self.presolve_iterations = 0
+        located = law is not None and (
+            law.code in (JENKINS, COULOMB) or law.code in MASING
+        )
+        if rigid:
+            aft = "samples" if aft == "samples" else "events"
+        elif aft == "auto":
+            aft = "events" if located else "samples"
+        if aft == "events" and not located:
             aft = "samples"
         self.aft = aft
         if n_time is None:
@@ -103,11 +152,23 @@ class HBMProblem:
             np.ascontiguousarray(a, dtype=np.float64) for a in system.matrices()
         )
         load = np.zeros((self.n_dof, self.n_coef))
-        col1 = coefficient_columns(self.harmonic_numbers)[1]
-        load[:, col1] = system.load_vector(self.force)
+        columns = coefficient_columns(self.harmonic_numbers)
+        col1 = columns[self.subharmonic]
+        amplitude = np.asarray(system.load_vector(self.force), dtype=np.float64)
+        load[:, col1] = amplitude * np.cos(self.load_phase)
+        load[:, col1 + 1] = amplitude * np.sin(self.load_phase)
+        if static is not None:
+            load[:, columns[0]] = static
         self.load = load.reshape(-1)
         if law is None:
             code, params = NO_CONTACT, np.zeros(1)
+        elif rigid:
+            code = COULOMB
+            eps = self._penalty(law, stiffness)
+            m_cc = float(mass[system.contact_dof, system.contact_dof])
+            # damping of the penalty oscillator (M_cc, η, ε): critical
+            params = np.array([law.slip_force, eps, 2.0 * np.sqrt(eps * m_cc)])
+            self._coulomb_params = params
         else:
             code, params = law.code, np.ascontiguousarray(law.params, dtype=np.float64)
         self.kernel_problem = (
@@ -124,6 +185,30 @@ class HBMProblem:
             forward,
             derivative,
         )
+
+    def _penalty(self, law, stiffness: np.ndarray) -> float:
+        """DLFT penalty ``ε`` of a rigid Coulomb contact, N/m: the law's own,
+        else ``DEFAULT_PENALTY_FACTOR`` times the static stiffness ``K[c, c]``
+        at the contact DOF."""
+        if law.penalty is not None:
+            return float(law.penalty)
+        c = int(self.system.contact_dof)
+        k_cc = float(stiffness[c, c])
+        if not k_cc > 0.0:
+            raise ValueError(
+                "hf.Coulomb on a contact DOF without static stiffness (K[c, c] = "
+                f"{k_cc}): give the DLFT penalty explicitly, hf.Coulomb(..., "
+                "penalty=eps) in N/m, of the order of the dynamic stiffness "
+                "m Ω² at the contact"
+            )
+        return DEFAULT_PENALTY_FACTOR * k_cc
+
+    @property
+    def penalty(self) -> float | None:
+        """DLFT penalty ``ε`` (N/m) of a rigid Coulomb contact, else None."""
+        if not self._rigid:
+            return None
+        return float(self._coulomb_params[1])
 
     # ------------------------------------------------------------------
     def residual(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
@@ -142,6 +227,18 @@ class HBMProblem:
         state = hbm_residual(y, self.kernel_problem, R, J)
         return R, J, int(state)
 
+    def full_coefficients(self, points: np.ndarray) -> np.ndarray:
+        """Coefficients of every DOF, shape (n_points, n_dof, n_coef), from
+        solutions ``points = [X, Ω]`` of shape (n_points, n_unknowns + 1)
+        (a condensed problem recovers the eliminated DOFs here)."""
+        points = np.atleast_2d(points)
+        X = points[:, : self.n_unknowns]
+        return X.reshape(-1, self.n_dof, self.n_coef).copy()
+
+    def unknowns_from_full(self, X: np.ndarray) -> np.ndarray:
+        """The unknowns from coefficients ``X`` of shape (n_dof, n_coef)."""
+        return np.ascontiguousarray(X, dtype=np.float64).reshape(-1)
+
     def linear_response(self, omega, contact: str = "stuck") -> np.ndarray:
         """First-harmonic response of the linearised system.
 
@@ -150,7 +247,8 @@ class HBMProblem:
         omega : float or ndarray, shape (n_omega,)
             Pulsation(s), rad/s.
         contact : {"stuck", "free"}
-            ``"stuck"`` adds the law's stuck stiffness at the contact DOF,
+            ``"stuck"`` adds the law's stuck stiffness at the contact DOF
+            (a rigid Coulomb contact holds the contact DOF at 0),
             ``"free"`` leaves the contact out.
 
         Returns
@@ -158,15 +256,25 @@ class HBMProblem:
         ndarray, shape (n_unknowns,) or (n_omega, n_unknowns)
             Coefficients ``X`` (only the first-harmonic ones are non-zero).
         """
-        w = np.atleast_1d(np.asarray(omega, dtype=float))
+        w = self.subharmonic * np.atleast_1d(np.asarray(omega, dtype=float))
         mass, damping, stiffness = self.kernel_problem[1:4]
         K = stiffness.copy()
-        if contact == "stuck" and self.system.contact is not None:
-            c = self.system.contact_dof
-            K[c, c] += self.system.contact.stuck_stiffness
+        law = self.system.contact
+        c = self.system.contact_dof
+        pinned = contact == "stuck" and law is not None and law.code == COULOMB
+        if contact == "stuck" and law is not None and not pinned:
+            K[c, c] += law.stuck_stiffness
         Z = K - w[:, None, None] ** 2 * mass + 1j * w[:, None, None] * damping
-        col1 = coefficient_columns(self.harmonic_numbers)[1]
-        p = self.load.reshape(self.n_dof, self.n_coef)[:, col1].astype(complex)
+        col1 = coefficient_columns(self.harmonic_numbers)[self.subharmonic]
+        load = self.load.reshape(self.n_dof, self.n_coef)
+        # p cos(Ωt - φ) = Re(p e^{-iφ} e^{iΩt})
+        p = load[:, col1] - 1j * load[:, col1 + 1]
+        if pinned:
+            # x_c = 0: replace the contact DOF's equation by x_c = 0
+            Z[:, c, :] = 0.0
+            Z[:, :, c] = 0.0
+            Z[:, c, c] = 1.0
+            p[c] = 0.0
         x = np.zeros((w.size, self.n_dof), dtype=complex)
         ok = np.abs(np.linalg.det(Z)) > 0
         if np.any(ok):
@@ -193,11 +301,61 @@ class HBMProblem:
         return peak
 
     def initial_guesses(self, omega: float) -> list[np.ndarray]:
-        """Starting points ``y = [X, Ω]`` for Newton at fixed Ω."""
+        """Starting points ``y = [X, Ω]`` for Newton at fixed Ω.
+
+        The stuck and the free linearisations; for a rigid Coulomb contact
+        first the point a long backtracked Newton iteration reaches from
+        them (the DLFT residual has a seam at every stick/slip change; from
+        a linear guess in the stop regime Newton needs tens of backtracked
+        steps, more than a continuation corrector allows).
+        """
         guesses = []
+        static = getattr(self.system, "static_solution", None)
         for contact in ("stuck", "free"):
             y = np.empty(self.n_unknowns + 1)
             y[:-1] = self.linear_response(omega, contact)
+            if static is not None and self.harmonic_numbers[0] == 0:
+                y[: self.n_unknowns : self.n_coef] += np.asarray(static(), dtype=float)
             y[-1] = omega
             guesses.append(y)
+        if self._rigid:
+            for g in list(guesses):
+                y = self._presolve(g)
+                if y is not None:
+                    guesses.insert(0, y)
+                    break
         return guesses
+
+    def _presolve(
+        self, y: np.ndarray, max_iter: int = 300, tol: float = 1e-10
+    ) -> np.ndarray | None:
+        """Backtracked Newton at fixed Ω from ``y``; the point or None.
+
+        Its iterations add up in ``self.presolve_iterations``.
+        """
+        n = self.n_unknowns
+        y = y.copy()
+        R, J, _ = self.residual(y)
+        res = float(np.max(np.abs(R)))
+        target = tol * max(float(np.max(np.abs(self.load))), 1e-300)
+        for _ in range(max_iter):
+            if res <= target:
+                return y
+            self.presolve_iterations += 1
+            try:
+                dx = np.linalg.solve(J[:, :n], -R)
+            except np.linalg.LinAlgError:
+                return None
+            lam = 1.0
+            for _ls in range(14):
+                y_try = y.copy()
+                y_try[:n] += lam * dx
+                R_try, J_try, _ = self.residual(y_try)
+                res_try = float(np.max(np.abs(R_try)))
+                if res_try < (1.0 - 1e-4 * lam) * res:
+                    break
+                lam *= 0.5
+            if not np.isfinite(res_try):
+                return None
+            y, R, J, res = y_try, R_try, J_try, res_try
+        return y if res <= target else None

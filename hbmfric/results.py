@@ -15,6 +15,20 @@ from ._validate import dof_index
 from .signals import half_peak_to_peak, harmonic_amplitude, synthesis_matrix
 
 
+def _resolve_dof(dof, names: dict, n_dof: int) -> int:
+    """Index of ``dof``: an index, a name of ``names`` (such as ``"tip"``,
+    ``"force"``) or None for the contact DOF (0 when unnamed)."""
+    if dof is None:
+        dof = names.get("contact", 0)
+    elif isinstance(dof, str):
+        if dof not in names:
+            raise ValueError(
+                f"dof name must be one of {sorted(names)} for this system, got {dof!r}"
+            )
+        dof = names[dof]
+    return dof_index(dof, n_dof)
+
+
 @dataclass
 class PeriodicSolution:
     """One periodic HBM solution.
@@ -35,6 +49,8 @@ class PeriodicSolution:
     elapsed : float
         Wall time, s.
     contact_state : str
+    dof_names : dict
+        Named DOFs of the system (e.g. ``"tip"``, ``"force"``) → index.
     """
 
     omega: float
@@ -46,22 +62,27 @@ class PeriodicSolution:
     residual_norm: float
     elapsed: float = 0.0
     contact_state: str = ""
+    dof_names: dict = field(default_factory=dict)
 
-    def amplitude(self, harmonic: int | None = None, dof: int = 0) -> float:
+    def amplitude(self, harmonic: int | None = None, dof=None) -> float:
         """Amplitude of ``x_dof``: of one harmonic (``sqrt(Xc² + Xs²)``), or
-        with ``harmonic=None`` half the peak-to-peak of ``x(t)``, m."""
-        X = self.coefficients[dof_index(dof, self.coefficients.shape[0])]
+        with ``harmonic=None`` half the peak-to-peak of ``x(t)``, m.
+
+        ``dof``: index, name from ``dof_names`` or None (the contact DOF)."""
+        X = self.coefficients[
+            _resolve_dof(dof, self.dof_names, self.coefficients.shape[0])
+        ]
         if harmonic is None:
             return float(half_peak_to_peak(self.harmonic_numbers, X))
         return float(harmonic_amplitude(self.harmonic_numbers, X, harmonic))
 
-    def time_response(
-        self, n: int = 256, dof: int = 0
-    ) -> tuple[np.ndarray, np.ndarray]:
+    def time_response(self, n: int = 256, dof=None) -> tuple[np.ndarray, np.ndarray]:
         """``(t, x)`` over one period at ``n`` equidistant instants (s, m)."""
         if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 2:
             raise ValueError(f"n must be an integer >= 2, got {n!r}")
-        X = self.coefficients[dof_index(dof, self.coefficients.shape[0])]
+        X = self.coefficients[
+            _resolve_dof(dof, self.dof_names, self.coefficients.shape[0])
+        ]
         theta = 2.0 * np.pi * np.arange(n) / n
         return theta / self.omega, synthesis_matrix(self.harmonic_numbers, theta) @ X
 
@@ -92,6 +113,8 @@ class Branch:
     point_harmonics : ndarray of int, shape (n_points,), optional
         Highest harmonic used at each point (``harmonics="auto"``); None
         when the whole branch used ``harmonic_numbers``.
+    dof_names : dict
+        Named DOFs of the system (e.g. ``"tip"``, ``"force"``) → index.
     """
 
     omega: np.ndarray
@@ -106,6 +129,7 @@ class Branch:
     elapsed: float
     info: dict = field(default_factory=dict)
     point_harmonics: np.ndarray | None = None
+    dof_names: dict = field(default_factory=dict)
 
     def __len__(self) -> int:
         return self.omega.size
@@ -114,13 +138,17 @@ class Branch:
     def n_points(self) -> int:
         return self.omega.size
 
-    def amplitude(self, harmonic: int | None = None, dof: int = 0) -> np.ndarray:
+    def amplitude(self, harmonic: int | None = None, dof=None) -> np.ndarray:
         """Amplitude at every point, shape (n_points,), m.
 
         ``harmonic=k``: ``sqrt(Xc_k² + Xs_k²)`` (``|X0|`` for k = 0);
         ``harmonic=None``: half the peak-to-peak of ``x(t)`` over the period.
+        ``dof``: index, name from ``dof_names`` (``"tip"``, ``"force"`` for
+        the beam) or None (the contact DOF).
         """
-        X = self.coefficients[:, dof_index(dof, self.coefficients.shape[1])]
+        X = self.coefficients[
+            :, _resolve_dof(dof, self.dof_names, self.coefficients.shape[1])
+        ]
         if harmonic is None:
             return half_peak_to_peak(self.harmonic_numbers, X)
         return harmonic_amplitude(self.harmonic_numbers, X, harmonic)
@@ -141,9 +169,10 @@ class Branch:
             converged=True,
             newton_iterations=0,
             residual_norm=float("nan"),
+            dof_names=dict(self.dof_names),
         )
 
-    def plot(self, ax=None, harmonic: int | None = None, dof: int = 0, **kwargs):
+    def plot(self, ax=None, harmonic: int | None = None, dof=None, **kwargs):
         """Draw amplitude against Ω (folds marked); returns the axes."""
         import matplotlib.pyplot as plt
 
@@ -172,6 +201,7 @@ class Branch:
             "newton_iterations": self.newton_iterations,
             "elapsed": self.elapsed,
             "info": self.info,
+            "dof_names": self.dof_names,
             "format": "hbmfric.Branch/1",
         }
         arrays = {
@@ -219,6 +249,9 @@ class Branch:
                     newton_iterations=int(meta["newton_iterations"]),
                     elapsed=float(meta["elapsed"]),
                     info=dict(meta["info"]),
+                    dof_names={
+                        str(k): int(v) for k, v in meta.get("dof_names", {}).items()
+                    },
                     point_harmonics=(
                         np.asarray(data["point_harmonics"], dtype=np.int64).copy()
                         if "point_harmonics" in data.files
@@ -226,6 +259,7 @@ class Branch:
                     ),
                 )
         except (
+            AttributeError,
             OSError,
             EOFError,
             KeyError,

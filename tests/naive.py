@@ -392,6 +392,150 @@ def loop_work(u, f):
     return float(np.sum(0.5 * (f + f1) * (u1 - u)))
 
 
+def menq_virgin(delta, axial_rigidity, length, shear_stiffness, friction_limit):
+    """Menq virgin curve from SPEC §4 in the physical slip length ``l``,
+    inverted by plain bisection (not the kernel's Newton iteration).
+
+    Parameters
+    ----------
+    delta : float
+        Displacement from the virgin state, m, >= 0.
+    axial_rigidity, length, shear_stiffness, friction_limit : float
+        ``EA`` (N), ``L`` (m), ``k_s`` (N/m²), ``q`` (N/m).
+
+    Returns
+    -------
+    float
+        ``F_load(δ)``, N.
+    """
+    ea, L, ks, q = axial_rigidity, length, shear_stiffness, friction_limit
+    alpha = np.sqrt(ks / ea)
+    d1 = q / ks
+    if delta <= d1:
+        return np.sqrt(ks * ea) * np.tanh(alpha * L) * delta
+    if delta >= d1 + q * L * L / (2.0 * ea):
+        return q * L
+
+    def force(l):
+        return q * l + q / alpha * np.tanh(alpha * (L - l))
+
+    def disp(l):
+        return d1 + (force(l) * l - 0.5 * q * l * l) / ea
+
+    lo, hi = 0.0, L
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if disp(mid) < delta:
+            lo = mid
+        else:
+            hi = mid
+    return force(0.5 * (lo + hi))
+
+
+def shear_lag_bar(path, axial_rigidity, length, shear_stiffness, friction_limit, n):
+    """Quasi-static bar on a shear layer of ``n`` Jenkins elements, driven
+    by its end displacement along ``path``: the discretised Menq model.
+
+    Cells of length ``h = L/n``, a node at each cell centre carrying a
+    Jenkins element (stiffness ``k_s h``, slip force ``q h``), axial springs
+    ``EA/h`` between nodes and ``2 EA/h`` from the loaded end to the first
+    node, free far end. Each increment of the end displacement is solved
+    exactly: the Jenkins forces are ``clip(s_prev + k Δw, ±q h)`` and the
+    stick/slip set is iterated (semismooth Newton on the tridiagonal
+    system) until it repeats.
+
+    Parameters
+    ----------
+    path : ndarray, shape (n_steps,)
+        End displacements, m, starting from the virgin bar at 0.
+    axial_rigidity, length, shear_stiffness, friction_limit : float
+        ``EA`` (N), ``L`` (m), ``k_s`` (N/m²), ``q`` (N/m).
+    n : int
+        Number of elements.
+
+    Returns
+    -------
+    ndarray, shape (n_steps,)
+        End force at each path point, N.
+    """
+    from scipy.linalg import solve_banded
+
+    h = length / n
+    k = shear_stiffness * h
+    fs = friction_limit * h
+    ka = axial_rigidity / h
+    diag = np.full(n, 2.0 * ka)
+    diag[0] = 3.0 * ka
+    diag[-1] = ka
+    bands = np.zeros((3, n))
+    bands[0, 1:] = -ka
+    bands[2, :-1] = -ka
+
+    def increment(w, s, delta):
+        """Exact state after moving the end to ``delta``; None if the
+        stick/slip set cycles (the caller then halves the increment)."""
+        slip = np.zeros(n, dtype=bool)
+        sign = np.zeros(n)
+        for _ in range(60):
+            stuck = ~slip
+            bands[1] = diag + k * stuck
+            rhs = -np.where(stuck, s - k * w, sign * fs)
+            rhs[0] += 2.0 * ka * delta
+            w_new = solve_banded((1, 1), bands, rhs)
+            trial = s + k * (w_new - w)
+            # hysteresis in the classification: a slipping node stays so
+            # while its trial force is at the limit to rounding
+            keep = slip & (sign * trial >= fs * (1.0 - 1e-10))
+            new_slip = keep | (np.abs(trial) > fs)
+            new_sign = np.where(keep, sign, np.sign(trial) * new_slip)
+            if np.array_equal(new_slip, slip) and np.array_equal(new_sign, sign):
+                return w_new, np.clip(trial, -fs, fs)
+            slip, sign = new_slip, new_sign
+        return None
+
+    def advance(w, s, start, end, depth=0):
+        result = increment(w, s, end)
+        if result is not None:
+            return result
+        if depth > 40:
+            raise RuntimeError("the stick/slip set did not settle")
+        mid = 0.5 * (start + end)
+        w, s = advance(w, s, start, mid, depth + 1)
+        return advance(w, s, mid, end, depth + 1)
+
+    w = np.zeros(n)
+    s = np.zeros(n)
+    out = np.empty(len(path))
+    previous = 0.0
+    for step, delta in enumerate(path):
+        w, s = advance(w, s, previous, delta)
+        previous = delta
+        out[step] = 2.0 * ka * (delta - w[0])
+    return out
+
+
+def iwan_march(u, stiffnesses, slip_forces):
+    """Steady-state Iwan force: the sum of independent Jenkins elements,
+    each marched by :func:`jenkins_march` (closed at 0).
+
+    Parameters
+    ----------
+    u : ndarray, shape (n,)
+        Displacement samples of one period, m.
+    stiffnesses, slip_forces : sequence of float, shape (n_elements,)
+        ``k_e`` (N/m) and ``f_e`` (N).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Force samples, N.
+    """
+    total = np.zeros(len(u))
+    for k, f in zip(stiffnesses, slip_forces, strict=True):
+        total += jenkins_march(u, k, f)[0]
+    return total
+
+
 def cubic_force(u, k3):
     """Cubic spring ``f = k3 u³``.
 

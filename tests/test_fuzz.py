@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 import hbmfric as hf
 
 FUZZ = settings(
-    max_examples=40,
+    max_examples=30,
     deadline=20000,  # ms: a hang fails the example
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture],
     derandomize=True,

@@ -32,6 +32,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ..kernels import newton as _newton
+from ..signals import synthesis_matrix
 from .options import ContinuationOptions
 from .palc import NO_START, Continuation, ContinuationState
 
@@ -133,6 +134,7 @@ class AdaptiveContinuation:
         self._cols: dict[int, dict] = {}
         self._maps: dict[tuple[int, int], tuple] = {}
         self._probes: dict[int, tuple] = {}
+        self._synth: dict[int, np.ndarray] = {}
         self._ratio: dict[int, tuple[float, int]] = {}
         self._low_count = 0
         if amplitude_scale is None:
@@ -157,12 +159,21 @@ class AdaptiveContinuation:
         if h not in self._cols:
             p = self._cont(h).problem
             start = np.cumsum([0] + [1 if k == 0 else 2 for k in p.harmonic_numbers])
-            base = np.arange(p.n_dof)[:, None] * p.n_coef
+            # DOFs among the unknowns (1 for a problem condensed on a contact)
+            base = np.arange(p.n_unknowns // p.n_coef)[:, None] * p.n_coef
             self._cols[h] = {
                 int(k): (base + start[i]).ravel()
                 for i, k in enumerate(p.harmonic_numbers)
             }
         return self._cols[h]
+
+    def _samples(self, h: int) -> np.ndarray:
+        """Synthesis matrix of level ``h`` on ``max(64, 8 h)`` instants."""
+        if h not in self._synth:
+            hn = self._cont(h).problem.harmonic_numbers
+            n = max(64, 8 * int(hn[-1]))
+            self._synth[h] = synthesis_matrix(hn, 2.0 * np.pi * np.arange(n) / n)
+        return self._synth[h]
 
     def _index_map(self, h_src: int, h_dst: int) -> tuple[np.ndarray, np.ndarray]:
         key = (h_src, h_dst)
@@ -233,10 +244,11 @@ class AdaptiveContinuation:
             dX = np.linalg.solve(J[:, :-1], -R)
         except np.linalg.LinAlgError:
             return math.inf
-        n_dof, n_coef = problem.n_dof, problem.n_coef
+        n_coef = problem.n_coef
+        n_dof = problem.n_unknowns // n_coef
         X = y_up[:-1].reshape(n_dof, n_coef)
         D = dX.reshape(n_dof, n_coef)
-        inverse = problem.kernel_problem[9]
+        inverse = self._samples(h_up)
         x = X @ inverse.T  # (n_dof, n_time) samples
         dx = D @ inverse.T
         rows = np.arange(n_dof)

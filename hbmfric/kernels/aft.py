@@ -23,19 +23,42 @@ Steady-state rules (SPEC §3): a contact in gross slip is marched once, from
 the sample of maximum displacement in the saturated state ``f = +f_s``; a
 stuck contact is linear and is not marched (``f = kt (u - z)``, slider at the
 reference position ``z = 0`` unless the displacement forces it to shift).
+
+Masing laws with Madelung memory (Menq, Iwan) follow the same convention:
+the contact closed at ``u = 0`` in its virgin state, so the vertex of the
+loop with the largest ``|u|`` lies on the virgin curve, ``F_v = ±F_load(|u_v|)``
+(for Jenkins this is the slider at 0 shifted only as far as needed). Marching
+one period from that vertex closes every inner loop on the way back to it,
+so one pass is exact; a loop that stays on the linear part of the curves
+(``|u_v| <= δ_lin``, or half its range ``<= δ_lin``) is linear and is not
+marched: ``F = F_v + K0 (u - u_v)``.
 """
 
 import numpy as np
 
 from .._jit import jit
 from .dft import basis_at, evaluate
-from .laws import CUBIC, JENKINS, law_update
+from .laws import (
+    CUBIC,
+    JENKINS,
+    MASING_ENTRY,
+    MASING_HEADER,
+    is_masing,
+    law_init,
+    law_update,
+    linear_limit,
+    linear_stiffness,
+    masing_step,
+    slip_limit,
+    virgin_curve,
+)
 
 #: contact-state codes returned by the AFT kernels
 MEMORYLESS = 0
 STUCK = 1
 GROSS_SLIP = 2
 MARCHED = 3
+MICROSLIP = 4
 #: failure codes (negative)
 EVENT_OVERFLOW = -1
 
@@ -44,6 +67,7 @@ STATE_NAMES = {
     STUCK: "contact stuck over the whole period",
     GROSS_SLIP: "contact slips during the period",
     MARCHED: "law marched to its periodic state",
+    MICROSLIP: "contact partially slips (microslip) during the period",
     EVENT_OVERFLOW: "too many stick/slip events for the sampling",
 }
 
@@ -60,6 +84,67 @@ def _stuck_slider(kt, slip_force, u_max, u_min):
     if kt * u_min < -slip_force:
         return u_min + slip_force / kt, -1
     return 0.0, 0
+
+
+@jit
+def _masing_march(code, params, u, inverse, force, grad, with_grad):
+    """Steady-state force of a Masing law over one sampled period.
+
+    Marches from the vertex of largest ``|u|`` (on the virgin curve) through
+    :func:`hbmfric.kernels.laws.masing_step`; with ``with_grad`` also fills
+    ``grad[i] = df_i/dX``: on the branch from the reversal sample ``r``,
+    ``f_i = f_r + 2 s F_load(s (u_i - u_r)/2)`` so
+    ``df_i/dX = df_r/dX + k_i (E_i - E_r)``.
+
+    Returns the contact-state code.
+    """
+    n = u.size
+    n_coef = inverse.shape[1]
+    i_max = np.argmax(u)
+    i_min = np.argmin(u)
+    i_v = i_max if u[i_max] >= -u[i_min] else i_min
+    u_v = u[i_v]
+    half_range = 0.5 * (u[i_max] - u[i_min])
+    lin = linear_limit(code, params)
+    k0 = linear_stiffness(code, params)
+    if abs(u_v) <= lin:
+        for i in range(n):
+            force[i] = k0 * u[i]
+            if with_grad:
+                for c in range(n_coef):
+                    grad[i, c] = k0 * inverse[i, c]
+        return STUCK
+    F, k_v, _, _, _ = virgin_curve(code, params, abs(u_v), -1.0, 0.0, 0.0)
+    f_v = F if u_v >= 0.0 else -F
+    if half_range <= lin:
+        for i in range(n):
+            force[i] = f_v + k0 * (u[i] - u_v)
+            if with_grad:
+                for c in range(n_coef):
+                    grad[i, c] = k0 * inverse[i, c] + (k_v - k0) * inverse[i_v, c]
+        return STUCK
+    state = np.empty(MASING_HEADER + MASING_ENTRY * (n + 1))
+    law_init(code, params, u_v, state)
+    force[i_v] = state[0]
+    if with_grad:
+        for c in range(n_coef):
+            grad[i_v, c] = k_v * inverse[i_v, c]
+    for j in range(1, n):
+        i = (i_v + j) % n
+        p = (i - 1) % n
+        f, k, top = masing_step(code, params, state, u[p], u[i], float(p), True)
+        force[i] = f
+        if with_grad:
+            if top < 0:
+                for c in range(n_coef):
+                    grad[i, c] = k * inverse[i, c]
+            else:
+                r = int(state[MASING_HEADER + MASING_ENTRY * top + 2])
+                for c in range(n_coef):
+                    grad[i, c] = grad[r, c] + k * (inverse[i, c] - inverse[r, c])
+    if half_range >= slip_limit(code, params):
+        return GROSS_SLIP
+    return MICROSLIP
 
 
 @jit
@@ -104,6 +189,9 @@ def periodic_force(code, params, u, force):
             f = law_update(code, params, f, u[(i - 1) % n], u[i])[0]
             force[i] = f
         return GROSS_SLIP
+    if is_masing(code):
+        empty = np.empty((0, 0))
+        return _masing_march(code, params, u, empty, force, empty, False)
     # generic hysteretic law: march two periods from the virgin state
     f = law_update(code, params, 0.0, 0.0, u[0])[0]
     for _sweep in range(2):
@@ -177,6 +265,8 @@ def aft_samples(code, params, X, inverse, forward, F, dF):
                 force[i] = f
                 for c in range(n_coef):
                     grad[i, c] = a * grad[p, c] + b * inverse[p, c] + d * inverse[i, c]
+    elif is_masing(code):
+        state = _masing_march(code, params, u, inverse, force, grad, True)
     else:
         f, _, _, d = law_update(code, params, 0.0, 0.0, u[0])
         g0 = np.empty(n_coef)

@@ -14,7 +14,10 @@ import numpy as np
 
 from .._jit import jit
 from .aft import aft_jenkins_events, aft_samples
-from .laws import JENKINS
+from .dahl import aft_dahl
+from .dlft import COULOMB, dlft_contact, dlft_located
+from .laws import DAHL, JENKINS, is_masing
+from .masing import aft_masing
 
 NO_CONTACT = -1
 #: AFT scheme codes
@@ -35,7 +38,11 @@ def hbm_residual(y, problem, R, J):
         law_code, law_params, aft_scheme, inverse, forward, derivative)``
         with ``mass``, ``damping``, ``stiffness`` of shape (n_dof, n_dof),
         ``load`` of shape (n_dof * n_coef,) (coefficients of ``p(t)``, N),
-        ``law_code = -1`` for no contact.
+        ``law_code = -1`` for no contact; ``law_code = COULOMB`` (rigid
+        Coulomb, ``law_params = [slip_force, penalty, penalty_damping]``)
+        is solved by DLFT (:mod:`hbmfric.kernels.dlft`) instead of an AFT:
+        with located reversals for ``aft_scheme = AFT_EVENTS``, the classic
+        sampled scheme otherwise.
     R : ndarray, shape (n_dof * n_coef,)
         Output: residual, N.
     J : ndarray, shape (n_dof * n_coef, n_dof * n_coef + 1)
@@ -95,7 +102,24 @@ def hbm_residual(y, problem, R, J):
                     J[rp + 1, n] += ddiag * xs - cpq * k * xc
         col += 1 if k == 0 else 2
     status = 0
-    if law_code != NO_CONTACT:
+    if law_code == COULOMB and aft_scheme == AFT_EVENTS:
+        status = dlft_located(
+            law_params,
+            harmonic_numbers,
+            contact_dof * n_coef,
+            mass[contact_dof, contact_dof],
+            y,
+            inverse,
+            forward,
+            derivative,
+            R,
+            J,
+        )
+    elif law_code == COULOMB:
+        status = dlft_contact(
+            law_params, contact_dof * n_coef, y, inverse, forward, R, J
+        )
+    elif law_code != NO_CONTACT:
         F = np.empty(n_coef)
         dF = np.empty((n_coef, n_coef))
         base = contact_dof * n_coef
@@ -104,6 +128,20 @@ def hbm_residual(y, problem, R, J):
             status = aft_jenkins_events(
                 law_params, harmonic_numbers, x_c, inverse, derivative, F, dF
             )
+        elif is_masing(law_code) and aft_scheme == AFT_EVENTS:
+            status = aft_masing(
+                law_code,
+                law_params,
+                harmonic_numbers,
+                x_c,
+                inverse,
+                forward,
+                derivative,
+                F,
+                dF,
+            )
+        elif law_code == DAHL:
+            status = aft_dahl(law_params, x_c, inverse, forward, F, dF)
         else:
             status = aft_samples(law_code, law_params, x_c, inverse, forward, F, dF)
         for r in range(n_coef):

@@ -9,8 +9,8 @@ alike.
 import numpy as np
 
 from .._jit import jit
-from .hbm import hbm_residual
 from .linalg import solve_inplace
+from .residual import residual
 
 CONVERGED = 0
 MAX_ITERATIONS = 1
@@ -180,7 +180,7 @@ def correct(
     n = R.size
     b = np.empty(n + 1)
     y_try = np.empty(n + 1)
-    aft = hbm_residual(y, problem, R, J)
+    aft = residual(y, problem, R, J)
     evaluations = 1
     if aft < 0:
         return AFT_FAILED, evaluations, evaluations
@@ -226,7 +226,7 @@ def correct(
         for _ls in range(10):
             for i in range(n + 1):
                 y_try[i] = y[i] + lam * b[i]
-            aft = hbm_residual(y_try, problem, R, J)
+            aft = residual(y_try, problem, R, J)
             evaluations += 1
             res_try = _norm_inf(R) if aft >= 0 else np.inf
             if res_try <= tol_residual or res_try < (1.0 - 1e-4 * lam) * res:

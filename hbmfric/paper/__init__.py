@@ -2,7 +2,41 @@
 *Stick/slip phenomena in dynamics: choice of contact model*, Mechanism and
 Machine Theory 43, 1211–1224."""
 
+from .beam import (
+    PAPER_BEAM_SCENE,
+    beam_normal_load_family,
+    beam_ratio_family,
+    family_records,
+    paper_beam,
+    paper_calibration,
+    ratio_collapse,
+)
 from .scenes import PAPER_SDOF, paper_oscillator
-from .sdof import FigureResult, masing_family
+from .sdof import (
+    FigureResult,
+    masing_family,
+    menq_family,
+    rough_masing_family,
+    rough_menq_family,
+    sdof_family,
+    sdof_figures,
+)
 
-__all__ = ["PAPER_SDOF", "FigureResult", "masing_family", "paper_oscillator"]
+__all__ = [
+    "PAPER_BEAM_SCENE",
+    "PAPER_SDOF",
+    "FigureResult",
+    "beam_normal_load_family",
+    "beam_ratio_family",
+    "family_records",
+    "masing_family",
+    "menq_family",
+    "paper_beam",
+    "paper_calibration",
+    "paper_oscillator",
+    "ratio_collapse",
+    "rough_masing_family",
+    "rough_menq_family",
+    "sdof_family",
+    "sdof_figures",
+]

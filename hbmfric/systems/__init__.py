@@ -1,5 +1,7 @@
 """Mechanical systems: linear structure plus contact laws."""
 
+from .beam import CantileverBeam
+from .calibration import BeamCalibration
 from .oscillator import Oscillator
 
-__all__ = ["Oscillator"]
+__all__ = ["BeamCalibration", "CantileverBeam", "Oscillator"]

@@ -1,7 +1,9 @@
 """Fixed-step time integration of a linear structure with one contact to ground.
 
-System: ``M ẍ + C ẋ + K x + e_c f_c(x_c) = p cos(Ω t)``, with ``e_c`` the unit
-vector of the contact DOF ``c``.
+System: ``M ẍ + C ẋ + K x + e_c f_c(x_c) = p₀ + p cos(Ω t − φ)``, with ``e_c``
+the unit vector of the contact DOF ``c`` and ``p₀`` a constant load (the
+phase φ only shifts the samples ``cos_sum``; ``p₀`` enters through
+``q₀ = 2 K_eff⁻¹ p₀``, the trapezoidal sum ``p₀ + p₀`` of a step).
 
 Scheme: Newmark's average-acceleration rule, which is the trapezoidal rule on
 ``(x, v)``: second order, unconditionally stable, no numerical damping.
@@ -18,23 +20,24 @@ so with ``S = K_eff⁻¹`` factorised once (by the caller) every step is
 
 two matrix-vector products, then a scalar equation for the contact DOF
 
-    u + g_c f(u) = x_lin[c],     f(u) = law_update(code, params, f₀, u₀, u),
+    u + g_c f(u) = x_lin[c],     f(u) = law_step(code, params, state₀, u₀, u),
 
 and ``x₁ = x_lin - g f₁``. The contact force is therefore implicit and
 updated exactly at every step instant: the law is evaluated only through
-:func:`hbmfric.kernels.laws.law_update`, the function the AFT march of the
-harmonic balance uses too. The scalar equation is solved by Newton's method
+:func:`hbmfric.kernels.laws.law_step`, the contract the AFT march of the
+harmonic balance uses too (the law state, whose first entry is the force, is
+advanced once the step is solved). The scalar equation is solved by Newton's method
 on ``df/du`` with a bisection safeguard; for the piecewise-linear Jenkins law
 Newton ends on the right branch after at most two steps, to rounding.
 
-The state carried from step to step is ``(x, v, f)``; the acceleration is
+The state carried from step to step is ``(x, v, law state)``; the acceleration is
 never formed. Kernels report problems by the status codes below.
 """
 
 import numpy as np
 
 from .._jit import jit
-from ..kernels.laws import law_update
+from ..kernels.laws import law_step
 
 #: law code meaning "no contact" (``g`` and the contact force are ignored)
 NO_CONTACT = -1
@@ -57,13 +60,13 @@ CONTACT_RTOL = 1e-14
 
 
 @jit
-def contact_update(code, params, f_prev, u_prev, target, g_c):
+def contact_update(code, params, state, u_prev, target, g_c):
     """Solve ``u + g_c f(u) = target`` for the contact displacement ``u``.
 
-    ``f(u) = law_update(code, params, f_prev, u_prev, u)``. Newton's method
+    ``f(u) = law_step(code, params, state, u_prev, u)``. Newton's method
     from ``u_prev`` (the stick predictor), kept inside the bracket that the
     signs of the residual define (bisection when a step leaves it or the
-    slope is not positive).
+    slope is not positive). On convergence ``state`` is advanced to ``u``.
 
     Parameters
     ----------
@@ -71,8 +74,11 @@ def contact_update(code, params, f_prev, u_prev, target, g_c):
         Law code.
     params : ndarray, shape (n_params,)
         Law parameters.
-    f_prev, u_prev : float
-        Contact force (N) and displacement (m) at the start of the step.
+    state : ndarray, shape (state_size(code, params),)
+        Law state at the start of the step (``state[0]`` the force, N);
+        advanced in place to the returned ``u`` when converged.
+    u_prev : float
+        Contact displacement at the start of the step, m.
     target : float
         Contact displacement the step would reach without the contact
         force, m.
@@ -91,9 +97,10 @@ def contact_update(code, params, f_prev, u_prev, target, g_c):
     converged : bool
     """
     u = u_prev
-    f, _, _, df_du = law_update(code, params, f_prev, u_prev, u)
+    f, df_du = law_step(code, params, state, u_prev, u, False)
     phi = u + g_c * f - target
     if abs(phi) <= CONTACT_RTOL * (abs(u) + abs(target) + abs(g_c * f)):
+        law_step(code, params, state, u_prev, u, True)
         return u, f, 0, True
     lo = -np.inf
     hi = np.inf
@@ -106,14 +113,18 @@ def contact_update(code, params, f_prev, u_prev, target, g_c):
         u_new = u - phi / slope if slope > 0.0 else u - phi
         if not (lo < u_new < hi) and lo > -np.inf and hi < np.inf:
             u_new = 0.5 * (lo + hi)
-        f, _, _, df_du = law_update(code, params, f_prev, u_prev, u_new)
+        f, df_du = law_step(code, params, state, u_prev, u_new, False)
         phi = u_new + g_c * f - target
         scale = abs(u_new) + abs(target) + abs(g_c * f)
         if abs(phi) <= CONTACT_RTOL * scale:
+            law_step(code, params, state, u_prev, u_new, True)
             return u_new, f, iteration, True
         if u_new == u:
             # stagnation at rounding level
-            return u, f, iteration, abs(phi) <= 1e3 * CONTACT_RTOL * scale
+            ok = abs(phi) <= 1e3 * CONTACT_RTOL * scale
+            if ok:
+                law_step(code, params, state, u_prev, u, True)
+            return u, f, iteration, ok
         u = u_new
     return u, f, MAX_CONTACT_ITERATIONS, False
 
@@ -123,6 +134,7 @@ def _period(
     A_t,
     B_t,
     q,
+    q0,
     g,
     cos_sum,
     contact_dof,
@@ -131,14 +143,14 @@ def _period(
     two_over_h,
     x,
     v,
-    force_state,
+    law_state,
     x_new,
     peaks,
     record,
     samples,
     contact_force,
 ):
-    """Advance ``(x, v, f)`` over one forcing period, in place.
+    """Advance ``(x, v, law state)`` over one forcing period, in place.
 
     ``peaks`` receives ``max |x|``, ``max |v|`` (over all DOFs) and
     ``max |f|`` over the step instants of the period; with ``record`` the
@@ -150,7 +162,7 @@ def _period(
     n = x.size
     n_steps = cos_sum.size
     has_contact = law_code != NO_CONTACT
-    f = force_state[0]
+    f = law_state[0]
     x_peak = 0.0
     v_peak = 0.0
     f_peak = abs(f)
@@ -166,7 +178,7 @@ def _period(
             contact_force[step] = f
         s = cos_sum[step]
         for i in range(n):
-            x_new[i] = x[i] + q[i] * s - g[i] * f
+            x_new[i] = x[i] + q[i] * s + q0[i] - g[i] * f
         # column by column (rows of the transposes): contiguous, vectorised
         for j in range(n):
             x_j = x[j]
@@ -177,20 +189,19 @@ def _period(
             u, f_new, its, ok = contact_update(
                 law_code,
                 law_params,
-                f,
+                law_state,
                 x[contact_dof],
                 x_new[contact_dof],
                 g[contact_dof],
             )
             iterations += its
             if not ok:
-                force_state[0] = f
                 if not np.isfinite(x_new[contact_dof]):
                     return NOT_FINITE, iterations
                 return NEWTON_FAILED, iterations
             for i in range(n):
                 x_new[i] -= g[i] * f_new
-            # the law's state is (f, u): keep x_c exactly the u it was given
+            # the law state belongs to u: keep x_c exactly the u it was given
             x_new[contact_dof] = u
             f = f_new
             f_peak = max(f_peak, abs(f))
@@ -204,7 +215,6 @@ def _period(
             v_peak = max(v_peak, av)
             check += ax + av
         check += abs(f)
-    force_state[0] = f
     peaks[0] = x_peak
     peaks[1] = v_peak
     peaks[2] = f_peak
@@ -218,6 +228,7 @@ def newmark_periods(
     A_t,
     B_t,
     q,
+    q0,
     g,
     cos_sum,
     contact_dof,
@@ -226,7 +237,7 @@ def newmark_periods(
     two_over_h,
     x,
     v,
-    force_state,
+    law_state,
     x_new,
     starts,
     peaks,
@@ -242,10 +253,13 @@ def newmark_periods(
         Transpose of ``B = (4/h) K_eff⁻¹ M``, s.
     q : ndarray, shape (n_dof,)
         ``K_eff⁻¹ p``, m (per unit of ``cos``).
+    q0 : ndarray, shape (n_dof,)
+        ``2 K_eff⁻¹ p₀``, m (constant load; zeros without one).
     g : ndarray, shape (n_dof,)
         ``K_eff⁻¹ e_c``, m/N (zeros without contact).
     cos_sum : ndarray, shape (N,)
-        ``cos Ωt_k + cos Ωt_{k+1}`` for the ``N`` steps of a period.
+        ``cos(Ωt_k − φ) + cos(Ωt_{k+1} − φ)`` for the ``N`` steps of a
+        period.
     contact_dof : int
         DOF of the contact to ground.
     law_code : int
@@ -257,9 +271,9 @@ def newmark_periods(
     x, v : ndarray, shape (n_dof,)
         Displacement (m) and velocity (m/s) at a period start; advanced in
         place.
-    force_state : ndarray, shape (1,)
-        Contact force, N, consistent with ``x[contact_dof]``; advanced in
-        place.
+    law_state : ndarray, shape (state_size(law_code, law_params),)
+        Contact-law state at ``x[contact_dof]`` (``law_state[0]`` the contact
+        force, N); advanced in place.
     x_new : ndarray, shape (n_dof,)
         Workspace.
     starts : ndarray, shape (n_periods + 1, 2 n_dof + 1)
@@ -281,13 +295,14 @@ def newmark_periods(
     n_periods = peaks.shape[0]
     no_samples = np.empty((0, 0))
     no_forces = np.empty(0)
-    _store_state(starts, 0, x, v, force_state[0], n)
+    _store_state(starts, 0, x, v, law_state[0], n)
     iterations = 0
     for period in range(n_periods):
         status, its = _period(
             A_t,
             B_t,
             q,
+            q0,
             g,
             cos_sum,
             contact_dof,
@@ -296,7 +311,7 @@ def newmark_periods(
             two_over_h,
             x,
             v,
-            force_state,
+            law_state,
             x_new,
             peaks[period],
             False,
@@ -306,7 +321,7 @@ def newmark_periods(
         iterations += its
         if status != OK:
             return status, period, iterations
-        _store_state(starts, period + 1, x, v, force_state[0], n)
+        _store_state(starts, period + 1, x, v, law_state[0], n)
     return OK, n_periods, iterations
 
 
@@ -315,6 +330,7 @@ def record_period(
     A_t,
     B_t,
     q,
+    q0,
     g,
     cos_sum,
     contact_dof,
@@ -323,7 +339,7 @@ def record_period(
     two_over_h,
     x,
     v,
-    force_state,
+    law_state,
     x_new,
     peaks,
     samples,
@@ -351,6 +367,7 @@ def record_period(
         A_t,
         B_t,
         q,
+        q0,
         g,
         cos_sum,
         contact_dof,
@@ -359,7 +376,7 @@ def record_period(
         two_over_h,
         x,
         v,
-        force_state,
+        law_state,
         x_new,
         peaks,
         True,

@@ -1,9 +1,9 @@
 """The time-integration reference: periodic steady state reached by fixed-step
 integration, analysed into harmonics.
 
-Independent of the harmonic-balance path except for the contact-law kernel
-:func:`hbmfric.kernels.laws.law_update`, which both evaluate (so that they
-cannot disagree on the law). The Newmark kernels are in
+Independent of the harmonic-balance path except for the contact-law kernels
+(:func:`hbmfric.kernels.laws.law_step` and ``law_init``), which both evaluate
+(so that they cannot disagree on the law). The Newmark kernels are in
 :mod:`hbmfric.validation.integrator`.
 """
 
@@ -17,7 +17,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .._validate import dof_index, finite_float, positive_int
-from ..kernels.laws import law_update
+from ..kernels.dlft import COULOMB
+from ..kernels.laws import law_init, state_size
 from ..signals import harmonic_amplitude
 from .integrator import (
     MESSAGES,
@@ -234,8 +235,8 @@ def steady_state(
           otherwise it shortens the transient. It is independent of the
           harmonic balance.
 
-        The contact starts from its virgin state at 0 moved to ``x0[c]``:
-        ``f0 = law_update(code, params, 0, 0, x0[c])``.
+        The contact starts from its virgin state at 0 moved to ``x0[c]``
+        (``law_init(code, params, x0[c], state)``).
     check_halving : bool
         Also integrate with the step halved (``2 N`` steps per period) from
         the converged state, to the same ``tol``, and report
@@ -270,7 +271,7 @@ def steady_state(
         raise ValueError(f"check_halving must be True or False, got {check_halving!r}")
     problem = _Problem.build(system, force)
     x, v = problem.initial_state(initial_state, omega, steps_per_period)
-    f = np.array([problem.initial_force(x)])
+    f = problem.initial_law_state(x)
 
     run = problem.integrate(omega, steps_per_period, tol, max_periods, x, v, f)
     coefficients = _fourier_coefficients(run.samples, harmonics)
@@ -343,6 +344,10 @@ class _Problem:
     law_code: int
     law_params: np.ndarray
     stuck_stiffness: float
+    #: constant load ``p₀`` (system hook ``static_load()``), N, and the phase
+    #: φ of the forcing ``p cos(Ωt − φ)`` (system attribute ``load_phase``)
+    static_load: np.ndarray | None = None
+    load_phase: float = 0.0
 
     @classmethod
     def build(cls, system, force) -> _Problem:
@@ -371,13 +376,40 @@ class _Problem:
             )
         if law is None:
             code, params, k_stuck = NO_CONTACT, np.zeros(1), 0.0
+        elif law.code == COULOMB:
+            raise ValueError(
+                "the time-integration reference has no rigid Coulomb contact "
+                "(hf.Coulomb is solved by harmonic balance only); use a stiff "
+                "hf.Jenkins element here, e.g. stiffness = 1e3-1e4 times the "
+                "structure's stiffness at the contact, with the same slip force"
+            )
         else:
             code = int(law.code)
             params = np.ascontiguousarray(law.params, dtype=np.float64)
             if params.ndim != 1 or not np.all(np.isfinite(params)):
                 raise ValueError("system.contact.params must be a finite 1-d array")
             k_stuck = float(law.stuck_stiffness)
-        return cls(mass, damping, stiffness, load, contact_dof, code, params, k_stuck)
+        static = getattr(system, "static_load", None)
+        if static is not None:
+            static = np.ascontiguousarray(static(), dtype=np.float64)
+            if static.shape != (n_dof,) or not np.all(np.isfinite(static)):
+                raise ValueError(
+                    f"system.static_load() must be finite with shape ({n_dof},), "
+                    f"got shape {static.shape}"
+                )
+        phase = finite_float("system.load_phase", getattr(system, "load_phase", 0.0))
+        return cls(
+            mass,
+            damping,
+            stiffness,
+            load,
+            contact_dof,
+            code,
+            params,
+            k_stuck,
+            static,
+            phase,
+        )
 
     @property
     def n_dof(self) -> int:
@@ -434,7 +466,7 @@ class _Problem:
         k[c, c] += self.stuck_stiffness
         dynamic = k - omega_h**2 * self.mass + 1j * omega_h * self.damping
         try:
-            X = np.linalg.solve(dynamic, self.load)
+            X = np.linalg.solve(dynamic, self.load * np.exp(-1j * self.load_phase))
         except np.linalg.LinAlgError:
             raise ValueError(
                 "initial_state='linear': the stuck linearisation is singular at "
@@ -442,23 +474,26 @@ class _Problem:
             ) from None
         return np.ascontiguousarray(X.real), np.ascontiguousarray(-omega_h * X.imag)
 
-    def initial_force(self, x: np.ndarray) -> float:
-        """Virgin contact state at 0 moved to ``x[c]``, N."""
+    def initial_law_state(self, x: np.ndarray) -> np.ndarray:
+        """Virgin contact-law state at 0 moved to ``x[c]`` (``[0]`` the
+        force, N)."""
         if self.law_code == NO_CONTACT:
-            return 0.0
-        return float(
-            law_update(self.law_code, self.law_params, 0.0, 0.0, x[self.contact_dof])[0]
-        )
+            return np.zeros(1)
+        code = np.int64(self.law_code)
+        state = np.empty(int(state_size(code, self.law_params)))
+        law_init(code, self.law_params, float(x[self.contact_dof]), state)
+        return state
 
     def operators(self, omega: float, steps: int):
-        """Newmark operators ``(Aᵀ, Bᵀ, q, g, cos_sum, 2/h)`` for ``h = T/N``
+        """Newmark operators ``(Aᵀ, Bᵀ, q, q₀, g, cos_sum, 2/h)`` for ``h = T/N``
         (see :mod:`hbmfric.validation.integrator`)."""
         n = self.n_dof
         h = 2.0 * np.pi / (omega * steps)
         k_eff = (4.0 / h**2) * self.mass + (2.0 / h) * self.damping + self.stiffness
         unit = np.zeros(n)
         unit[self.contact_dof] = 1.0
-        rhs = np.column_stack((self.stiffness, self.mass, self.load, unit))
+        static = np.zeros(n) if self.static_load is None else self.static_load
+        rhs = np.column_stack((self.stiffness, self.mass, self.load, unit, static))
         try:
             solved = np.linalg.solve(k_eff, rhs)
         except np.linalg.LinAlgError:
@@ -471,15 +506,16 @@ class _Problem:
         B_t = np.ascontiguousarray((4.0 / h) * solved[:, n : 2 * n].T)
         q = np.ascontiguousarray(solved[:, 2 * n])
         g = np.ascontiguousarray(solved[:, 2 * n + 1])
+        q0 = np.ascontiguousarray(2.0 * solved[:, 2 * n + 2])
         if self.law_code != NO_CONTACT and not g[self.contact_dof] > 0.0:
             raise ValueError(
                 "the effective stiffness must be positive definite at the contact "
                 "DOF; check the system matrices"
             )
         phase = 2.0 * np.pi * np.arange(steps + 1) / steps
-        cosine = np.cos(phase)
+        cosine = np.cos(phase - self.load_phase)
         cos_sum = np.ascontiguousarray(cosine[:-1] + cosine[1:])
-        return A_t, B_t, q, g, cos_sum, 2.0 / h
+        return A_t, B_t, q, q0, g, cos_sum, 2.0 / h
 
     def integrate(self, omega, steps, tol, max_periods, x, v, f) -> _Run:
         """Integrate from ``(x, v, f)`` (advanced in place) until the change
@@ -491,11 +527,12 @@ class _Problem:
         of every call is recorded at the step instants, so the period that
         passes the test is the one analysed.
         """
-        A_t, B_t, q, g, cos_sum, two_over_h = self.operators(omega, steps)
+        A_t, B_t, q, q0, g, cos_sum, two_over_h = self.operators(omega, steps)
         args = (
             A_t,
             B_t,
             q,
+            q0,
             g,
             cos_sum,
             np.int64(self.contact_dof),
@@ -527,7 +564,7 @@ class _Problem:
                 if status != OK:
                     return self._failed(status, periods, iterations, steps)
                 history.extend(_period_changes(starts, peaks, n).tolist())
-            before = np.concatenate((x, v, f))
+            before = np.concatenate((x, v, f[:1]))
             status, its = record_period(
                 *args, x, v, f, work, record_peaks[0], samples, contact_force
             )
@@ -535,7 +572,7 @@ class _Problem:
             iterations += int(its)
             if status != OK:
                 return self._failed(status, periods, iterations, steps)
-            after = np.concatenate((x, v, f))
+            after = np.concatenate((x, v, f[:1]))
             change = float(
                 _period_changes(np.vstack((before, after)), record_peaks, n)[0]
             )

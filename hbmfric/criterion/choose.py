@@ -1,0 +1,607 @@
+"""The contact-model choice criterion of Chatelet et al. (2008, Sec. 3.1
+conclusion; SPEC §8), read from a family of FRFs."""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .._validate import finite_float, positive_int
+from .records import FRFRecord
+from .smoothing import (
+    interp_log,
+    left_crossing,
+    noise_level,
+    peak,
+    smooth_grid,
+)
+
+MODELS = ("macroslip", "microslip", "undecided")
+#: below this log-amplitude noise the curves are compared unsmoothed
+AUTO_NOISE_FLOOR = 0.002
+AUTO_WIDTH_FACTOR = 0.5
+#: largest smoothing half width, fraction of the band
+AUTO_MAX_WIDTH = 0.05
+#: fraction of the band kept in the ratio-invariance RMS (the worst 5 % of
+#: grid points, a sharp peak missed by a coarse grid, are left out)
+TRIM_KEEP = 0.8
+#: the ratio-invariance threshold is at least this multiple of the noise
+NOISE_SPREAD_FACTOR = 2.5
+#: mostly stuck curves have Fex/Fn at most this fraction of the flattest
+#: peak's ratio (closer to it, a Masing curve slips enough to soften and
+#: rise a little above the stuck envelope)
+MOSTLY_STUCK_FRACTION = 0.4
+
+
+@dataclass(frozen=True, eq=False)
+class CriterionResult:
+    """Verdict of :func:`choose_contact_model` with its evidence.
+
+    Attributes
+    ----------
+    model : {"macroslip", "microslip", "undecided"}
+    roughness : bool
+        True when FRFs at equal ``Fex/Fn`` differ (step 1); False when they
+        coincide or when no pair could be compared (then ``model`` is
+        "undecided" and ``indicators["roughness_assessed"]`` is False).
+    indicators : dict
+        Every number the decision used, with its threshold (see
+        :func:`choose_contact_model`).
+    explanation : str
+        A paragraph saying what was compared, what was found and why.
+    grid : ndarray, shape (n_grid,)
+        Common frequency grid of the smoothed curves.
+    records : tuple of FRFRecord
+        The family as given.
+    evidence : dict
+        Smoothed log normalised amplitudes on ``grid`` (``"smoothed"``, one
+        per record), the curves of step 2 and the roles given to them; read by
+        :meth:`plot`.
+    """
+
+    model: str
+    roughness: bool
+    indicators: dict
+    explanation: str
+    grid: np.ndarray
+    records: tuple
+    evidence: dict = field(default_factory=dict)
+
+    @property
+    def verdict(self) -> str:
+        """``"macroslip without roughness"``, …, or ``"undecided"``."""
+        if self.model == "undecided":
+            return "undecided"
+        return f"{self.model} {'with' if self.roughness else 'without'} roughness"
+
+    def __str__(self) -> str:
+        return f"{self.verdict}: {self.explanation}"
+
+    def to_dict(self) -> dict:
+        """Verdict, explanation and indicators as JSON-compatible data
+        (dictionary keys that are ratios become strings)."""
+
+        def plain(x):
+            if isinstance(x, dict):
+                return {
+                    (k if isinstance(k, str) else f"{k:.12g}"): plain(v)
+                    for k, v in x.items()
+                }
+            if isinstance(x, list | tuple):
+                return [plain(v) for v in x]
+            if isinstance(x, np.generic):
+                return x.item()
+            return x
+
+        return {
+            "model": self.model,
+            "roughness": self.roughness,
+            "verdict": self.verdict,
+            "explanation": self.explanation,
+            "indicators": plain(self.indicators),
+        }
+
+    def save(self, path) -> Path:
+        """Write :meth:`to_dict` to ``path`` as JSON (no pickle)."""
+        path = Path(path)
+        path.write_text(json.dumps(self.to_dict(), indent=1))
+        return path
+
+    def plot(self, fig=None):
+        """Draw the evidence (matplotlib, imported here).
+
+        Left: every FRF normalised by its force (dots: data; lines: smoothed),
+        coloured by ``Fex/Fn``; curves at equal ratio share a colour, so
+        ratio invariance shows as overlapping lines. Right: the stuck
+        reference, the mostly stuck curves of step 2 with their peaks, and in
+        red where they rise above the stuck envelope.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+        """
+        import matplotlib.pyplot as plt
+
+        if fig is None:
+            fig = plt.figure(figsize=(11.0, 4.4))
+        ax1, ax2 = fig.subplots(1, 2)
+        ev = self.evidence
+        ratios = sorted({g["ratio"] for g in ev.get("groups", [])})
+        cmap = plt.get_cmap("viridis")
+        colour = {r: cmap(i / max(len(ratios) - 1, 1)) for i, r in enumerate(ratios)}
+        for rec, s, gr in zip(
+            self.records, ev.get("smoothed", []), ev.get("group_of", []), strict=False
+        ):
+            c = colour.get(gr, "grey")
+            ax1.semilogy(rec.omega, rec.normalised, ".", ms=2, color=c, alpha=0.4)
+            ax1.semilogy(self.grid, np.exp(s), "-", lw=1, color=c)
+        for r in ratios:
+            ax1.plot([], [], "-", color=colour[r], label=f"Fex/Fn = {r:.3g}")
+        spread = self.indicators.get("ratio_spread")
+        ax1.set_title(
+            "step 1: ratio invariance"
+            + (f" (spread {spread:.3g})" if spread is not None else " (no pair)")
+        )
+        ax1.set_xlabel("frequency")
+        ax1.set_ylabel("amplitude / Fex")
+        if ratios:
+            ax1.legend(fontsize=7)
+        ref = ev.get("reference")
+        if ref is not None:
+            ax2.semilogy(self.grid, np.exp(ref), "k-", lw=1.5, label="stuck reference")
+            for name, curve, pk in ev.get("mostly_stuck", []):
+                (line,) = ax2.semilogy(self.grid, np.exp(curve), lw=1, label=name)
+                above = np.isfinite(curve) & np.isfinite(ref) & (curve > ref)
+                ax2.fill_between(
+                    self.grid,
+                    np.exp(ref),
+                    np.exp(curve),
+                    where=above,
+                    color="red",
+                    alpha=0.3,
+                )
+                ax2.plot(pk[0], math.exp(pk[1]), "v", color=line.get_color())
+            w_ref = self.indicators.get("stuck_frequency")
+            if w_ref is not None:
+                ax2.axvline(w_ref, color="k", ls=":", lw=1)
+            ax2.legend(fontsize=7)
+        ax2.set_title(f"step 2: mostly stuck peaks → {self.verdict}")
+        ax2.set_xlabel("frequency")
+        fig.tight_layout()
+        return fig
+
+
+def _groups(ratios: np.ndarray, rtol: float) -> list[list[int]]:
+    order = np.argsort(ratios, kind="stable")
+    groups: list[list[int]] = []
+    for i in order:
+        if groups and ratios[i] <= ratios[groups[-1][0]] * (1.0 + rtol):
+            groups[-1].append(int(i))
+        else:
+            groups.append([int(i)])
+    return groups
+
+
+def _auto_width(noise: float, spacing: float, band: float) -> float:
+    """Half width of the smoothing window for a family with log-amplitude
+    noise ``noise`` sampled every ``spacing`` over ``band``: none for clean
+    data, enough samples to bring the noise to about 0.5 % otherwise (at
+    most 5 % of the band)."""
+    if noise < AUTO_NOISE_FLOOR:
+        return 0.0
+    n_avg = (noise / 0.005) ** 2
+    return float(min(AUTO_WIDTH_FACTOR * n_avg * spacing, AUTO_MAX_WIDTH * band))
+
+
+def _envelope_shift(grid, curve, ref, pk, w_ref) -> float | None:
+    """Largest distance, as a fraction of ``w_ref``, by which the rising flank
+    of ``curve`` lies to the left of the stuck reference's rising flank, over
+    amplitude levels from half the curve's peak to just under it (negative:
+    inside the envelope)."""
+    best = None
+    for f in np.linspace(0.5, 0.97, 25):
+        level = pk[1] + math.log(f)
+        wc = left_crossing(grid, curve, level, pk[0])
+        wr = left_crossing(grid, ref, level, w_ref)
+        if math.isfinite(wc) and math.isfinite(wr):
+            d = (wr - wc) / w_ref
+            best = d if best is None else max(best, d)
+    return best
+
+
+def _rms(a: np.ndarray, b: np.ndarray, min_points: int) -> float | None:
+    ok = np.isfinite(a) & np.isfinite(b)
+    if np.count_nonzero(ok) < min_points:
+        return None
+    d2 = np.sort((a[ok] - b[ok]) ** 2)
+    keep = d2[: max(1, int(math.ceil(TRIM_KEEP * d2.size)))]
+    return float(np.sqrt(np.mean(keep)))
+
+
+def choose_contact_model(
+    records: Iterable[FRFRecord],
+    *,
+    stuck: FRFRecord | None = None,
+    stuck_frequency: float | None = None,
+    ratio_rtol: float = 0.02,
+    spread_threshold: float = 0.05,
+    excess_threshold: float = 0.1,
+    stuck_tolerance: float = 0.1,
+    smoothing: float | None = None,
+    n_grid: int = 600,
+) -> CriterionResult:
+    """Choose between a macroslip and a microslip contact model, with or
+    without roughness, from a family of FRFs (SPEC §8).
+
+    Every curve is divided by its force, interpolated (linearly in log
+    amplitude) onto a common uniform frequency grid and, when the data are
+    noisy, smoothed there by local quadratic regression; the same operator
+    acts on every curve, so stretches where two curves coincide stay equal.
+
+    Steps (Chatelet et al. 2008, end of Sec. 3.1):
+
+    1. **Ratio invariance.** Curves whose ``Fex/Fn`` agree to ``ratio_rtol``
+       but whose normal loads differ are compared: the RMS difference of
+       their log amplitudes over the common band (the worst 5 % of grid
+       points left out, so that a sharp peak missed by a coarse grid does not
+       count) is the *spread*. Above the threshold (``spread_threshold``, at
+       least 2.5 × the estimated noise) the FRFs are not a function of
+       ``Fex/Fn`` alone: roughness effects matter.
+    2. **Mostly stuck peaks.** One curve per ratio: the mean of the group's
+       curves without roughness, the curve at the highest normal load with
+       roughness (step 3: asperities crushed). The *stuck reference* is
+       ``stuck`` when given, otherwise the curve of the lowest ratio (at its
+       highest normal load). The curve with the flattest (lowest) normalised
+       peak marks the optimal-damping ratio; curves of lower ratio that
+       differ from the reference by more than ``stuck_tolerance`` somewhere
+       are *mostly stuck* (curves within it are as stuck as the reference).
+       For each, the *envelope excess* is ``max(A − A_ref) / max(A)`` over the
+       band below the stuck resonance. If a mostly stuck curve rises there
+       above the stuck envelope by more than ``excess_threshold`` of its own
+       peak (it moved to lower frequency), the contact is **microslip**; if
+       all stay inside, **macroslip** (unless they rise above the envelope
+       on the high-frequency side, which fits neither model).
+
+    A family that cannot answer a step gets ``"undecided"`` and an
+    explanation of what is missing (no records, a single ratio, no two normal
+    loads at the same ratio, no mostly stuck curve, a stuck resonance outside
+    the measured band, curves leaving the envelope above the stuck
+    resonance).
+
+    Parameters
+    ----------
+    records : iterable of FRFRecord
+        The family (measured or computed, any frequency grids).
+    stuck : FRFRecord, optional
+        The fully stuck (linear) FRF, e.g. measured at a very high normal
+        load or computed with the contact bonded. Default: the family's
+        lowest-ratio curve (at its highest normal load with roughness); it
+        should be (nearly) fully stuck.
+    stuck_frequency : float, optional
+        Stuck resonance frequency (unit of ``omega``); peak shifts are
+        measured from it, and it replaces the reference's peak when that
+        lies outside the band. Default: the peak of the stuck reference.
+    ratio_rtol : float, default 0.02
+        Relative tolerance for equal ``Fex/Fn``.
+    spread_threshold : float, default 0.05
+        Step 1 threshold on the RMS log difference (0.05 is about 5 %).
+    excess_threshold : float, default 0.1
+        Step 2 threshold, fraction of the curve's own peak.
+    stuck_tolerance : float, default 0.1
+        Largest log difference from the reference of a curve counted as
+        stuck (linear) rather than mostly stuck.
+    smoothing : float, optional
+        Half width of the smoothing window as a fraction of the frequency
+        band; 0 turns smoothing off. Default: none when the estimated noise
+        is below 0.2 %, otherwise a window holding about
+        ``(noise / 0.005)**2`` samples (at most 5 % of the band).
+    n_grid : int, default 600
+        Points of the common frequency grid.
+
+    Returns
+    -------
+    CriterionResult
+        ``indicators`` holds ``ratio_spread`` (with
+        ``ratio_spread_threshold``, ``ratio_spread_by_ratio``, ``n_pairs``),
+        ``stuck_frequency``, ``flattest_ratio``, ``mostly_stuck_ratios``,
+        ``peak_shift`` (relative shift of each mostly stuck peak from the
+        stuck resonance, negative = lower frequency), ``envelope_excess``
+        (largest below the stuck resonance, with
+        ``envelope_excess_by_ratio``, ``envelope_excess_frequency`` and
+        ``envelope_excess_threshold``; ``envelope_excess_above`` the same
+        above it), ``envelope_shift`` (largest distance by which a curve's
+        rising flank lies left of the reference's, over levels from 50 to
+        97 % of its peak, fraction of the stuck resonance; about 0 or
+        negative = inside), ``noise`` (robust estimate of the data's noise
+        in log amplitude, median over records), ``smoothing_half_width``,
+        ``n_records``, ``n_grid`` and ``elapsed`` (wall time, s).
+    """
+    start = time.perf_counter()
+    recs = tuple(records)
+    for i, r in enumerate(recs):
+        if not isinstance(r, FRFRecord):
+            raise ValueError(
+                f"records[{i}] must be an FRFRecord, got {type(r).__name__}"
+            )
+    if stuck is not None and not isinstance(stuck, FRFRecord):
+        raise ValueError(f"stuck must be an FRFRecord, got {type(stuck).__name__}")
+    if stuck_frequency is not None:
+        stuck_frequency = finite_float(
+            "stuck_frequency", stuck_frequency, low=0.0, low_open=True
+        )
+    ratio_rtol = finite_float("ratio_rtol", ratio_rtol, low=0.0, high=0.5)
+    spread_threshold = finite_float(
+        "spread_threshold", spread_threshold, low=0.0, low_open=True
+    )
+    excess_threshold = finite_float(
+        "excess_threshold", excess_threshold, low=0.0, low_open=True
+    )
+    stuck_tolerance = finite_float(
+        "stuck_tolerance", stuck_tolerance, low=0.0, low_open=True
+    )
+    if smoothing is not None:
+        smoothing = finite_float("smoothing", smoothing, low=0.0, high=0.2)
+    n_grid = positive_int("n_grid", n_grid, low=50)
+
+    ind: dict = {
+        "n_records": len(recs),
+        "ratio_rtol": ratio_rtol,
+        "ratio_spread": None,
+        "ratio_spread_threshold": spread_threshold,
+        "ratio_spread_by_ratio": {},
+        "n_pairs": 0,
+        "roughness_assessed": False,
+        "envelope_excess": None,
+        "envelope_excess_threshold": excess_threshold,
+        "stuck_tolerance": stuck_tolerance,
+    }
+    if not recs:
+        return CriterionResult(
+            "undecided", False, ind, "No FRF was given.", np.zeros(0), recs
+        )
+    pool = recs + ((stuck,) if stuck is not None else ())
+    lo = min(float(r.omega[0]) for r in pool)
+    hi = max(float(r.omega[-1]) for r in pool)
+    grid = np.linspace(lo, hi, n_grid)
+    raw = [interp_log(r.omega, np.log(r.normalised), grid) for r in recs]
+    noise = [noise_level(r.omega, np.log(r.normalised)) for r in recs]
+    ind["noise"] = float(np.median(noise))
+    if smoothing is None:
+        spacing = float(np.median([np.median(np.diff(r.omega)) for r in recs]))
+        width = _auto_width(ind["noise"], spacing, hi - lo)
+    else:
+        width = smoothing * (hi - lo)
+    ind["smoothing_half_width"] = width
+    smoothed = [smooth_grid(grid, y, width) for y in raw]
+    ratios = np.array([r.ratio for r in recs])
+    loads = np.array([r.normal_load for r in recs])
+    groups = _groups(ratios, ratio_rtol)
+    group_ratio = [float(f"{np.exp(np.mean(np.log(ratios[g]))):.12g}") for g in groups]
+    group_of = [0.0] * len(recs)
+    for g, gr in zip(groups, group_ratio, strict=True):
+        for i in g:
+            group_of[i] = gr
+    evidence: dict = {
+        "smoothed": smoothed,
+        "group_of": group_of,
+        "groups": [
+            {"ratio": gr, "members": g}
+            for g, gr in zip(groups, group_ratio, strict=True)
+        ],
+    }
+    missing: list[str] = []
+    text: list[str] = []
+
+    # -- step 1: ratio invariance ------------------------------------------
+    min_overlap = max(10, n_grid // 10)
+    worst = None
+    for g, gr in zip(groups, group_ratio, strict=True):
+        best = None
+        for a in range(len(g)):
+            for b in range(a + 1, len(g)):
+                ia, ib = g[a], g[b]
+                hi_l, lo_l = max(loads[ia], loads[ib]), min(loads[ia], loads[ib])
+                if hi_l <= lo_l * (1.0 + ratio_rtol):
+                    continue  # same level repeated: says nothing about levels
+                s = _rms(smoothed[ia], smoothed[ib], min_overlap)
+                if s is None:
+                    continue
+                ind["n_pairs"] += 1
+                best = s if best is None else max(best, s)
+        if best is not None:
+            ind["ratio_spread_by_ratio"][gr] = best
+            if worst is None or best > worst[0]:
+                worst = (best, gr)
+    roughness = False
+    if worst is None:
+        missing.append(
+            "no two curves share a value of Fex/Fn at different normal loads, so "
+            "ratio invariance (step 1, roughness) cannot be checked: measure at "
+            "least one ratio at two force levels"
+        )
+        text.append("Step 1 (ratio invariance) could not be run.")
+    else:
+        ind["roughness_assessed"] = True
+        ind["ratio_spread"] = worst[0]
+        # two noisy copies of one curve differ by about sqrt(2) x noise
+        threshold = max(spread_threshold, NOISE_SPREAD_FACTOR * ind["noise"])
+        ind["ratio_spread_threshold"] = threshold
+        roughness = worst[0] > threshold
+        text.append(
+            f"Step 1: {ind['n_pairs']} pair(s) of curves at equal Fex/Fn and "
+            f"different normal loads were compared after division by Fex; the "
+            f"largest RMS log difference is {worst[0]:.3g} (at Fex/Fn = "
+            f"{worst[1]:.3g}; threshold {threshold:.3g}, data noise "
+            f"{ind['noise']:.2g}), so the FRFs "
+            + (
+                "are not a function of Fex/Fn alone: roughness effects matter, "
+                "and step 2 uses the highest normal load of each ratio."
+                if roughness
+                else "depend on Fex/Fn only: no roughness effects."
+            )
+        )
+    ind["roughness"] = roughness
+
+    # -- step 2 (3 with roughness): one curve per ratio --------------------
+    curves = []
+    for g, gr in zip(groups, group_ratio, strict=True):
+        if roughness:
+            i = max(g, key=lambda j: loads[j])
+            c = smoothed[i]
+            name = f"Fex/Fn = {gr:.3g} (Fn = {loads[i]:.3g})"
+        else:
+            stack = np.array([smoothed[j] for j in g])
+            with np.errstate(invalid="ignore"):
+                counts = np.sum(np.isfinite(stack), axis=0)
+                c = np.where(counts > 0, np.nansum(stack, axis=0) / counts, np.nan)
+            name = f"Fex/Fn = {gr:.3g}"
+        curves.append({"ratio": gr, "curve": c, "name": name})
+    for c in curves:
+        c["peak"] = peak(grid, c["curve"])
+
+    if stuck is not None:
+        ref = smooth_grid(
+            grid, interp_log(stuck.omega, np.log(stuck.normalised), grid), width
+        )
+        ref_name = f"the given stuck FRF ({stuck.name})"
+        candidates = curves
+    else:
+        ref = curves[0]["curve"]
+        ref_name = f"the lowest-ratio curve ({curves[0]['name']})"
+        candidates = curves[1:]
+    evidence["reference"] = ref
+    ref_peak = peak(grid, ref)
+    if stuck_frequency is not None:
+        w_ref = stuck_frequency
+    elif ref_peak[2]:
+        w_ref = ref_peak[0]
+    else:
+        w_ref = None
+        missing.append(
+            f"the stuck reference, {ref_name}, peaks at the edge of the band, so "
+            "the stuck resonance is not in the data: widen the band or pass "
+            "stuck_frequency"
+        )
+    ind["stuck_frequency"] = w_ref
+    ind["stuck_reference"] = ref_name
+
+    mostly: list[dict] = []
+    if len(curves) < 2 and stuck is None:
+        missing.append(
+            "a single value of Fex/Fn: step 2 needs a stuck reference and at "
+            "least one mostly stuck curve"
+        )
+    elif candidates:
+        flattest = min(curves, key=lambda c: c["peak"][1])
+        ind["flattest_ratio"] = flattest["ratio"]
+        for c in candidates:
+            if c["ratio"] > MOSTLY_STUCK_FRACTION * flattest["ratio"] * (
+                1.0 + ratio_rtol
+            ):
+                continue
+            ok = np.isfinite(c["curve"]) & np.isfinite(ref)
+            if np.count_nonzero(ok) < min_overlap:
+                continue
+            dev = float(np.max(np.abs(c["curve"][ok] - ref[ok])))
+            if dev <= stuck_tolerance:
+                continue  # linear: as stuck as the reference
+            mostly.append(c)
+    ind["mostly_stuck_ratios"] = [c["ratio"] for c in mostly]
+    if not mostly and not missing:
+        missing.append(
+            "no mostly stuck curve: none lies between the stuck reference and "
+            "0.4 times the ratio of the flattest peak (add values of Fex/Fn "
+            "below 0.4 times the one that flattens the peak most, but above the "
+            "fully stuck one)"
+        )
+
+    # -- the envelope test ---------------------------------------------------
+    ind["peak_shift"] = {}
+    ind["envelope_excess_by_ratio"] = {}
+    ind["envelope_shift"] = {}
+    worst = {"below": None, "above": None}
+    evidence["mostly_stuck"] = []
+    for c in mostly if w_ref is not None else []:
+        y = c["curve"]
+        ok = np.isfinite(y) & np.isfinite(ref)
+        top = c["peak"][1]
+        excess = np.full(grid.shape, -np.inf)
+        excess[ok] = (np.exp(y[ok]) - np.exp(ref[ok])) / math.exp(top)
+        for side, mask in (("below", grid < w_ref), ("above", grid >= w_ref)):
+            if not np.any(mask & ok):
+                continue
+            k = int(np.argmax(np.where(mask, excess, -np.inf)))
+            e = float(excess[k])
+            if side == "below":
+                ind["envelope_excess_by_ratio"][c["ratio"]] = e
+            if worst[side] is None or e > worst[side][0]:
+                worst[side] = (e, float(grid[k]), c["ratio"])
+        ind["peak_shift"][c["ratio"]] = (c["peak"][0] - w_ref) / w_ref
+        ind["envelope_shift"][c["ratio"]] = _envelope_shift(
+            grid, y, ref, c["peak"], w_ref
+        )
+        evidence["mostly_stuck"].append((c["name"], y, c["peak"]))
+
+    model = "undecided"
+    if worst["below"] is not None:
+        e, w_e, r_e = worst["below"]
+        ind["envelope_excess"] = e
+        ind["envelope_excess_frequency"] = w_e
+        if worst["above"] is not None:
+            ind["envelope_excess_above"] = worst["above"][0]
+            ind["envelope_excess_above_frequency"] = worst["above"][1]
+        shifts = ", ".join(
+            f"{100 * s:+.2f} % at Fex/Fn = {r:.3g}"
+            for r, s in ind["peak_shift"].items()
+        )
+        text.append(
+            f"Step 2: the stuck reference is {ref_name}, resonance at {w_ref:.4g}. "
+            f"Mostly stuck curves (at most 0.4 times the ratio of the flattest "
+            f"peak, "
+            f"Fex/Fn = "
+            f"{ind['flattest_ratio']:.3g}): "
+            + ", ".join(f"{c['ratio']:.3g}" for c in mostly)
+            + f"; their peaks move by {shifts} from the stuck resonance. Below "
+            f"the stuck resonance, the largest rise above the stuck envelope is "
+            f"{100 * e:.2f} % of the curve's peak (Fex/Fn = {r_e:.3g}, at "
+            f"{w_e:.4g}; threshold {100 * excess_threshold:.3g} %)"
+        )
+        above = ind.get("envelope_excess_above", -np.inf)
+        if e > excess_threshold:
+            model = "microslip"
+            text[-1] += (
+                ": the mostly stuck peaks leave the stuck envelope towards lower "
+                "frequency, the signature of partial slip in a stuck contact "
+                "(microslip)."
+            )
+        elif above > excess_threshold:
+            text[-1] += (
+                f", but above it the curves rise {100 * above:.2f} % over the "
+                "envelope, which is not a friction softening signature: the "
+                "data do not fit either model."
+            )
+            missing.append(
+                "the curves leave the stuck envelope on the high-frequency side"
+            )
+        else:
+            model = "macroslip"
+            text[-1] += (
+                ": the mostly stuck curves stay inside the fully stuck envelope, "
+                "as a macroslip (Masing) contact does."
+            )
+    if missing:
+        model = "undecided"
+        text.append("Undecided: " + "; ".join(missing) + ".")
+    else:
+        text.append(f"Verdict: {model} {'with' if roughness else 'without'} roughness.")
+    ind["n_grid"] = n_grid
+    ind["elapsed"] = time.perf_counter() - start
+    return CriterionResult(
+        model, bool(roughness), ind, " ".join(text), grid, recs, evidence
+    )

@@ -1,0 +1,259 @@
+"""FRF records for the contact-model criterion: one measured or computed
+curve tagged with its excitation force and normal load, and a CSV reader."""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .._validate import finite_float
+
+#: accepted CSV column names (first match wins), lower case
+COLUMNS = {
+    "force": ("force", "force_n", "fex", "excitation_force"),
+    "normal_load": ("normal_load", "normal_load_n", "fn"),
+    "omega": ("omega", "omega_rad_s", "frequency", "frequency_hz", "freq"),
+    "amplitude": ("amplitude", "amplitude_h1_m", "amplitude_m", "amp"),
+    "curve": ("curve", "label", "record"),
+}
+
+
+@dataclass(frozen=True, eq=False)
+class FRFRecord:
+    """One forced-response curve of a family: amplitude against frequency
+    at a given excitation force and normal load.
+
+    Parameters
+    ----------
+    force : float
+        Excitation amplitude ``Fex``, N, > 0.
+    normal_load : float
+        Normal load ``Fn`` on the contact, N, > 0.
+    omega : array_like, shape (n,)
+        Excitation frequencies, > 0, distinct, any order (stored sorted).
+        Any unit (rad/s or Hz) works if every record of a family uses it.
+    amplitude : array_like, shape (n,)
+        Response amplitude at each frequency, > 0 (any unit, the same for
+        the whole family); the criterion divides it by ``force``.
+    label : str, optional
+        Name of the curve (plots and explanations).
+
+    Raises
+    ------
+    ValueError
+        Non-finite or non-positive force, load, frequency or amplitude,
+        arrays of different lengths, fewer than 5 points, or a repeated
+        frequency.
+    """
+
+    force: float
+    normal_load: float
+    omega: np.ndarray
+    amplitude: np.ndarray
+    label: str = ""
+
+    def __post_init__(self) -> None:
+        force = finite_float("force", self.force, low=0.0, low_open=True)
+        load = finite_float("normal_load", self.normal_load, low=0.0, low_open=True)
+        omega = _vector("omega", self.omega)
+        amp = _vector("amplitude", self.amplitude)
+        if omega.size != amp.size:
+            raise ValueError(
+                f"omega and amplitude must have the same length, got {omega.size} "
+                f"and {amp.size}"
+            )
+        if omega.size < 5:
+            raise ValueError(f"a record needs at least 5 points, got {omega.size}")
+        if np.any(omega <= 0.0):
+            raise ValueError("omega must be > 0 everywhere")
+        if np.any(amp <= 0.0):
+            raise ValueError("amplitude must be > 0 everywhere (it is compared in log)")
+        order = np.argsort(omega, kind="stable")
+        omega, amp = omega[order], amp[order]
+        if np.any(np.diff(omega) == 0.0):
+            i = int(np.nonzero(np.diff(omega) == 0.0)[0][0])
+            raise ValueError(
+                f"omega has a repeated value ({omega[i]:g}); average repeated "
+                "measurements before building the record"
+            )
+        omega.flags.writeable = False
+        amp.flags.writeable = False
+        object.__setattr__(self, "force", force)
+        object.__setattr__(self, "normal_load", load)
+        object.__setattr__(self, "omega", omega)
+        object.__setattr__(self, "amplitude", amp)
+        object.__setattr__(self, "label", str(self.label))
+
+    @property
+    def ratio(self) -> float:
+        """``Fex / Fn``, dimensionless."""
+        return self.force / self.normal_load
+
+    @property
+    def normalised(self) -> np.ndarray:
+        """Amplitude per unit force, shape (n,)."""
+        return self.amplitude / self.force
+
+    @property
+    def name(self) -> str:
+        """The label, or ``Fex=…, Fn=…`` when there is none."""
+        return self.label or f"Fex={self.force:g}, Fn={self.normal_load:g}"
+
+    @classmethod
+    def from_branch(
+        cls, branch, normal_load: float, harmonic: int | None = 1, dof=None
+    ) -> FRFRecord:
+        """A record from a computed :class:`hbmfric.Branch`.
+
+        Parameters
+        ----------
+        branch : Branch
+            The FRF (its ``force`` is the excitation amplitude).
+        normal_load : float
+            Normal load of the run, N.
+        harmonic : int or None, default 1
+            Amplitude measure (see :meth:`Branch.amplitude`).
+        dof : int, str or None
+            Response DOF (index or name); default: the contact DOF.
+        """
+        omega = np.asarray(branch.omega, dtype=np.float64)
+        amp = branch.amplitude(harmonic=harmonic, dof=dof)
+        # a branch through folds has repeated abscissae: keep the first point
+        _, keep = np.unique(omega, return_index=True)
+        return cls(branch.force, normal_load, omega[keep], amp[keep])
+
+
+def _vector(name: str, value) -> np.ndarray:
+    try:
+        a = np.array(value, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a 1-d array of numbers") from None
+    if np.ndim(value) != 1:
+        raise ValueError(f"{name} must be a 1-d array, got shape {np.shape(value)}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must contain only finite values (no NaN or inf)")
+    return a
+
+
+def read_frfs(path: str | Path) -> list[FRFRecord]:
+    """Read a family of FRFs from a long-format CSV file.
+
+    One row per measured point, a header row naming the columns (case and
+    surrounding spaces ignored; lines starting with ``#`` are comments):
+
+    ``force``
+        Excitation amplitude Fex, N (alias ``force_N``, ``Fex``).
+    ``normal_load``
+        Normal load Fn, N (alias ``normal_load_N``, ``Fn``).
+    ``omega``
+        Excitation frequency (alias ``omega_rad_s``, ``frequency``,
+        ``frequency_Hz``); rad/s or Hz, the same for every row.
+    ``amplitude``
+        Response amplitude at that frequency, > 0 (alias
+        ``amplitude_h1_m``, ``amplitude_m``); not divided by the force.
+    ``curve`` (optional)
+        A name per curve. Without it, rows with the same ``(force,
+        normal_load)`` form one curve.
+
+    Extra columns are ignored, so the CSV files written by ``hbmfric
+    paper`` can be read back. Rows may come in any order; frequencies may
+    be unevenly spaced and differ between curves.
+
+    Returns
+    -------
+    list of FRFRecord
+        In order of first appearance in the file.
+
+    Raises
+    ------
+    ValueError
+        A missing column, a value that is not a number, or a curve whose
+        rows disagree on force or normal load (the message gives the line).
+    """
+    path = Path(path)
+    with open(path, newline="") as fh:
+        lines = [ln for ln in fh if ln.strip() and not ln.lstrip().startswith("#")]
+    if not lines:
+        raise ValueError(f"{path}: empty file")
+    reader = csv.reader(lines)
+    header = [h.strip().lower() for h in next(reader)]
+    index = {}
+    for key, names in COLUMNS.items():
+        for n in names:
+            if n in header:
+                index[key] = header.index(n)
+                break
+        else:
+            if key != "curve":
+                raise ValueError(
+                    f"{path}: no column for {key!r} (accepted names: "
+                    f"{', '.join(names)}); header is {header}"
+                )
+    curves: dict[str, dict] = {}
+    for lineno, row in enumerate(reader, start=2):
+        if not any(c.strip() for c in row):
+            continue
+        try:
+            vals = {k: float(row[i]) for k, i in index.items() if k != "curve"}
+        except (ValueError, IndexError):
+            raise ValueError(
+                f"{path}: data line {lineno}: expected numbers in columns "
+                f"{sorted(k for k in index if k != 'curve')}, got {row}"
+            ) from None
+        if "curve" in index:
+            key = row[index["curve"]].strip()
+        else:
+            key = f"Fex={vals['force']:g}, Fn={vals['normal_load']:g}"
+        c = curves.setdefault(
+            key,
+            {
+                "force": vals["force"],
+                "normal_load": vals["normal_load"],
+                "w": [],
+                "a": [],
+            },
+        )
+        for q in ("force", "normal_load"):
+            if not math.isclose(c[q], vals[q], rel_tol=1e-9):
+                raise ValueError(
+                    f"{path}: data line {lineno}: curve {key!r} has {q} "
+                    f"{vals[q]:g} but earlier rows say {c[q]:g}"
+                )
+        c["w"].append(vals["omega"])
+        c["a"].append(vals["amplitude"])
+    if not curves:
+        raise ValueError(f"{path}: no data rows")
+    records = []
+    for key, c in curves.items():
+        try:
+            records.append(
+                FRFRecord(c["force"], c["normal_load"], c["w"], c["a"], label=key)
+            )
+        except ValueError as err:
+            raise ValueError(f"{path}: curve {key!r}: {err}") from None
+    return records
+
+
+def write_frfs(path: str | Path, records) -> Path:
+    """Write records to a CSV file that :func:`read_frfs` reads back
+    (columns ``curve, force, normal_load, omega, amplitude``)."""
+    path = Path(path)
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["curve", "force", "normal_load", "omega", "amplitude"])
+        for r in records:
+            for om, a in zip(r.omega, r.amplitude, strict=True):
+                w.writerow(
+                    [
+                        r.name,
+                        f"{r.force:.12g}",
+                        f"{r.normal_load:.12g}",
+                        f"{om:.12g}",
+                        f"{a:.12g}",
+                    ]
+                )
+    return path

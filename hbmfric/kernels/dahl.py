@@ -1,0 +1,340 @@
+"""Modified Dahl restoring-force model: increment update and AFT.
+
+The law (SPEC §4; Al Majid & Dufour 2002, Bastien et al. 2007) is
+
+    dF/dt = β (h − F sgn u̇)^μ u̇,   h = ½[(h_u + h_l) sgn u̇ + (h_u − h_l)],
+
+with straight envelopes ``h_u = a u + b`` and ``h_l = d u + e``. It is rate
+independent: on loading (``du > 0``) ``dF/du = β σ(h_u − F)``, on unloading
+(``du < 0``) ``dF/du = β σ(F − h_l)``, with the sign-keeping power
+``σ(x) = x |x|^(μ-1)``. So the force is integrated along the displacement
+path, not in time.
+
+Parameter array ``params = [β, μ, a, b, d, e]`` (β in 1/m when μ = 1, in
+N^(1-μ)/m in general; a, d in N/m; b, e in N).
+
+Increment (:func:`dahl_update`): for μ = 1 each monotone increment has the
+exact exponential solution
+
+    loading:   F = h_u(u) − a/β + (F₀ − h_u(u₀) + a/β) exp(−β Δu),
+    unloading: F = h_l(u) + d/β + (F₀ − h_l(u₀) − d/β) exp(−β |Δu|),
+
+so the branches tend to ``h_u − a/β`` and ``h_l + d/β``. For μ ≠ 1 the
+increment is integrated by classical Runge–Kutta with ``1 + ⌊8 β_eff |Δu|⌋``
+substeps (β_eff the local slope rate) and its derivatives are carried
+through the stages (forward mode), so they are those of the discrete map.
+
+Periodic state (:func:`dahl_periodic`, :func:`aft_dahl`): marching one period
+of samples from a starting force ``F₀`` gives ``F_N(F₀)``, a contraction with
+slope ``A = Π ∂F_i/∂F_{i-1} = exp(−β TV(u))`` for μ = 1 (TV the total
+variation of ``u`` over the period). The periodic force is the fixed point
+``F_N(F₀) = F₀``, solved by Newton's method on ``F₀`` (one step for μ = 1,
+where ``F_N`` is affine in ``F₀``), and the Jacobian ``dF/dX`` follows from
+the implicit function theorem: ``dF₀/dX = (∂F_N/∂X) / (1 − A)``. A constant
+displacement (``TV = 0``) has no loop: its limit, a vanishing loop, sits at
+the mid-envelope ``½(h_u + h_l)`` with the small-loop stiffness
+``β ((h_u − h_l)/2)^μ`` (equal relaxation rates towards both envelopes).
+"""
+
+import numpy as np
+
+from .._jit import jit
+
+#: status codes of the periodic solvers
+DAHL_CONVERGED = 3  # same value as aft.MARCHED: "law marched to its periodic state"
+DAHL_STATIC = 4
+DAHL_NOT_CONVERGED = -2
+
+#: Newton iterations allowed for the periodic starting force (μ ≠ 1)
+MAX_FIXED_POINT_ITERATIONS = 60
+#: relative tolerance of the periodic fixed point
+FIXED_POINT_RTOL = 1e-13
+
+
+@jit
+def _signed_power(x, mu):
+    """``σ(x) = x |x|^(μ-1)`` and ``σ'(x) = μ |x|^(μ-1)``."""
+    ax = abs(x)
+    if mu == 1.0:
+        return x, 1.0
+    if ax == 0.0:
+        return 0.0, 0.0 if mu > 1.0 else np.inf
+    p = ax ** (mu - 1.0)
+    return x * p, mu * p
+
+
+@jit
+def dahl_update(params, f_prev, u_prev, u):
+    """Advance the modified Dahl force from ``u_prev`` to ``u``.
+
+    Parameters
+    ----------
+    params : ndarray, shape (6,)
+        ``[β, μ, a, b, d, e]`` (see the module docstring).
+    f_prev : float
+        Force at ``u_prev``, N.
+    u_prev, u : float
+        Displacement before and after the increment, m.
+
+    Returns
+    -------
+    f : float
+        Force at ``u``, N.
+    df_dfprev, df_duprev, df_du : float
+        Partial derivatives of ``f``.
+    """
+    beta = params[0]
+    mu = params[1]
+    du = u - u_prev
+    if du == 0.0:
+        return f_prev, 1.0, 0.0, 0.0
+    if du > 0.0:
+        slope = params[2]
+        offset = params[3]
+        s = 1.0
+    else:
+        slope = params[4]
+        offset = params[5]
+        s = -1.0
+    if mu == 1.0:
+        # exact: F = h(u) - s p/β + (F0 - h(u0) + s p/β) exp(-β|du|)
+        decay = np.exp(-beta * abs(du))
+        g0 = f_prev - slope * u_prev - offset + s * slope / beta
+        f = slope * u + offset - s * slope / beta + g0 * decay
+        df_du = slope - s * beta * decay * g0
+        df_duprev = -slope * decay + s * beta * decay * g0
+        return f, decay, df_duprev, df_du
+    # μ != 1: RK4 in τ ∈ [0, 1], u(τ) = u_prev + τ du, dF/dτ = du φ(u, F),
+    # φ = β σ(s (p u + q - F)); tangents w.r.t. (f_prev, u_prev, u) carried along
+    x0 = s * (slope * u_prev + offset - f_prev)
+    # relaxation rate |∂φ/∂F| at the start and on the asymptote σ(x) = p/β
+    rate = beta * mu * max(abs(x0), (abs(slope) / beta) ** (1.0 / mu)) ** (mu - 1.0)
+    n_sub = 1 + int(8.0 * rate * abs(du))
+    if n_sub > 200:
+        n_sub = 200
+    h = 1.0 / n_sub
+    f = f_prev
+    t0 = 1.0  # dF/df_prev
+    t1 = 0.0  # dF/du_prev
+    t2 = 0.0  # dF/du
+    k_f = np.empty(4)
+    k_0 = np.empty(4)
+    k_1 = np.empty(4)
+    k_2 = np.empty(4)
+    for k in range(n_sub):
+        tau = k * h
+        f_s = f
+        d0 = t0
+        d1 = t1
+        d2 = t2
+        for stage in range(4):
+            if stage == 0:
+                c = 0.0
+            elif stage == 3:
+                c = 1.0
+            else:
+                c = 0.5
+            ts = tau + c * h
+            if stage == 0:
+                fs, g0, g1, g2 = f_s, d0, d1, d2
+            else:
+                fs = f_s + c * h * k_f[stage - 1]
+                g0 = d0 + c * h * k_0[stage - 1]
+                g1 = d1 + c * h * k_1[stage - 1]
+                g2 = d2 + c * h * k_2[stage - 1]
+            us = u_prev + ts * du
+            val, dval = _signed_power(s * (slope * us + offset - fs), mu)
+            phi = beta * val
+            phi_u = beta * dval * s * slope
+            phi_f = -beta * dval * s
+            k_f[stage] = du * phi
+            # du/du_prev = 1 - ts, du/du = ts; d(du)/du_prev = -1, d(du)/du = 1
+            k_0[stage] = du * phi_f * g0
+            k_1[stage] = -phi + du * (phi_u * (1.0 - ts) + phi_f * g1)
+            k_2[stage] = phi + du * (phi_u * ts + phi_f * g2)
+        f = f_s + h / 6.0 * (k_f[0] + 2.0 * k_f[1] + 2.0 * k_f[2] + k_f[3])
+        t0 = d0 + h / 6.0 * (k_0[0] + 2.0 * k_0[1] + 2.0 * k_0[2] + k_0[3])
+        t1 = d1 + h / 6.0 * (k_1[0] + 2.0 * k_1[1] + 2.0 * k_1[2] + k_1[3])
+        t2 = d2 + h / 6.0 * (k_2[0] + 2.0 * k_2[1] + 2.0 * k_2[2] + k_2[3])
+    return f, t0, t1, t2
+
+
+@jit
+def _mid_envelope(params, u):
+    """``½(h_u + h_l)(u)`` and the small-loop stiffness there."""
+    upper = params[2] * u + params[3]
+    lower = params[4] * u + params[5]
+    width = 0.5 * (upper - lower)
+    k0 = params[0] * (max(width, 0.0) ** params[1])
+    return 0.5 * (upper + lower), k0
+
+
+@jit
+def _march(params, u, f0, force):
+    """March one period from ``force[0] = f0``; returns ``(f_N, A)`` with
+    ``A = ∂f_N/∂f0``."""
+    n = u.size
+    force[0] = f0
+    f = f0
+    slope = 1.0
+    for j in range(n):
+        i = (j + 1) % n
+        f, a, _, _ = dahl_update(params, f, u[j], u[i])
+        slope *= a
+        if i != 0:
+            force[i] = f
+    return f, slope
+
+
+@jit
+def _fixed_point(params, u, force):
+    """Periodic force samples in ``force``; returns ``(status, A)``."""
+    n = u.size
+    u_min = u[0]
+    u_max = u[0]
+    for i in range(n):
+        u_min = min(u_min, u[i])
+        u_max = max(u_max, u[i])
+    if u_max == u_min:
+        mid, _ = _mid_envelope(params, u[0])
+        for i in range(n):
+            force[i] = mid
+        return DAHL_STATIC, 1.0
+    f0, _ = _mid_envelope(params, u[0])
+    scale = abs(params[3]) + abs(params[5]) + abs(params[2] * u[0]) + 1e-300
+    scale += abs(params[4] * u[0])
+    slope = 0.0
+    for _it in range(MAX_FIXED_POINT_ITERATIONS):
+        fn, slope = _march(params, u, f0, force)
+        g = fn - f0
+        if slope >= 1.0:
+            return DAHL_STATIC, slope
+        step = g / (1.0 - slope)
+        f0 += step
+        if abs(step) <= FIXED_POINT_RTOL * scale:
+            _march(params, u, f0, force)
+            return DAHL_CONVERGED, slope
+        if params[1] == 1.0:
+            # affine map: one Newton step is exact; one more march fills force
+            fn, slope = _march(params, u, f0, force)
+            return DAHL_CONVERGED, slope
+    return DAHL_NOT_CONVERGED, slope
+
+
+@jit
+def dahl_periodic(params, u, force):
+    """Steady-state periodic Dahl force for one sampled period of ``u``.
+
+    Parameters
+    ----------
+    params : ndarray, shape (6,)
+    u : ndarray, shape (n_time,)
+        Displacement samples over one period, m.
+    force : ndarray, shape (n_time,)
+        Output: force samples, N.
+
+    Returns
+    -------
+    int
+        ``DAHL_CONVERGED``, ``DAHL_STATIC`` (constant ``u``: mid-envelope
+        force) or ``DAHL_NOT_CONVERGED``.
+    """
+    status, _ = _fixed_point(params, u, force)
+    return status
+
+
+@jit
+def aft_dahl(params, X, inverse, forward, F, dF):
+    """Sampled AFT of the modified Dahl law at its periodic state.
+
+    Parameters
+    ----------
+    params : ndarray, shape (6,)
+        ``[β, μ, a, b, d, e]``.
+    X : ndarray, shape (n_coef,)
+        Displacement coefficients, m.
+    inverse : ndarray, shape (n_time, n_coef)
+    forward : ndarray, shape (n_coef, n_time)
+    F : ndarray, shape (n_coef,)
+        Output: force coefficients, N.
+    dF : ndarray, shape (n_coef, n_coef)
+        Output: ``dF/dX``, N/m.
+
+    Returns
+    -------
+    int
+        Status of :func:`dahl_periodic`.
+    """
+    n_time, n_coef = inverse.shape
+    u = inverse @ X
+    force = np.empty(n_time)
+    grad = np.zeros((n_time, n_coef))
+    status, _ = _fixed_point(params, u, force)
+    if status == DAHL_STATIC:
+        # vanishing loop: F = mid(ū) + k0 (u - ū)
+        mean = np.zeros(n_coef)
+        for i in range(n_time):
+            for c in range(n_coef):
+                mean[c] += inverse[i, c] / n_time
+        _, k0 = _mid_envelope(params, u[0])
+        k_mid = 0.5 * (params[2] + params[4])
+        for i in range(n_time):
+            for c in range(n_coef):
+                grad[i, c] = k_mid * mean[c] + k0 * (inverse[i, c] - mean[c])
+    elif status == DAHL_CONVERGED:
+        # partial derivatives with dF0/dX = 0, and products of ∂F_i/∂F_{i-1}
+        carry = np.empty(n_time + 1)
+        carry[0] = 1.0
+        last = np.zeros(n_coef)
+        f = force[0]
+        for j in range(n_time):
+            i = (j + 1) % n_time
+            f, a, b, d = dahl_update(params, f, u[j], u[i])
+            carry[j + 1] = carry[j] * a
+            for c in range(n_coef):
+                prev = grad[j, c] if j > 0 else 0.0
+                value = a * prev + b * inverse[j, c] + d * inverse[i, c]
+                if i == 0:
+                    last[c] = value
+                else:
+                    grad[i, c] = value
+        gain = 1.0 / (1.0 - carry[n_time])
+        for c in range(n_coef):
+            dstart = last[c] * gain
+            grad[0, c] = dstart
+            for i in range(1, n_time):
+                grad[i, c] += carry[i] * dstart
+    for r in range(n_coef):
+        acc = 0.0
+        for i in range(n_time):
+            acc += forward[r, i] * force[i]
+        F[r] = acc
+        for c in range(n_coef):
+            dF[r, c] = 0.0
+        for i in range(n_time):
+            w = forward[r, i]
+            if w != 0.0:
+                for c in range(n_coef):
+                    dF[r, c] += w * grad[i, c]
+    return status
+
+
+@jit
+def dahl_march(params, u, f0, force):
+    """March the law along a displacement record (a transient, not a loop).
+
+    Parameters
+    ----------
+    params : ndarray, shape (6,)
+    u : ndarray, shape (n,)
+        Displacement path, m.
+    f0 : float
+        Force at ``u[0]``, N.
+    force : ndarray, shape (n,)
+        Output: force along the path, N.
+    """
+    f = f0
+    force[0] = f
+    for i in range(1, u.size):
+        f = dahl_update(params, f, u[i - 1], u[i])[0]
+        force[i] = f

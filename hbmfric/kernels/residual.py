@@ -1,0 +1,43 @@
+"""One residual entry point for the Newton kernels, dispatched at compile
+time on the type of the problem: a :class:`~hbmfric.kernels.condensed.
+CondensedProblem` goes to the condensed residual, any other problem tuple
+to the full HBM residual :func:`hbmfric.kernels.hbm.hbm_residual`.
+
+Numba compiles the caller once per problem type, so the dispatch costs
+nothing at run time.
+"""
+
+from numba import types
+from numba.extending import overload
+
+from .condensed import CondensedProblem, condensed_residual
+from .hbm import hbm_residual
+
+
+def residual(y, problem, R, J):
+    """Residual and Jacobian of ``problem`` at ``y = [X, Ω]`` into ``R``,
+    ``J``; returns the AFT contact-state code. Callable from jitted code
+    only (see :func:`hbmfric.kernels.hbm.hbm_residual` for the contract)."""
+    raise NotImplementedError("hbmfric.kernels.residual.residual is for jit code")
+
+
+def _is_condensed(problem) -> bool:
+    return (
+        isinstance(problem, types.BaseNamedTuple)
+        and problem.instance_class is CondensedProblem
+    )
+
+
+@overload(residual, jit_options={"cache": True, "nogil": True})
+def _residual(y, problem, R, J):
+    if _is_condensed(problem):
+
+        def condensed(y, problem, R, J):
+            return condensed_residual(y, problem, R, J)
+
+        return condensed
+
+    def full(y, problem, R, J):
+        return hbm_residual(y, problem, R, J)
+
+    return full

@@ -1,0 +1,25 @@
+"""Contact laws: frozen dataclasses that describe a law and hand its flat
+parameter array to the kernels (:mod:`hbmfric.kernels.laws`).
+
+* :class:`Jenkins` — Masing macroslip (spring + Coulomb slider);
+* :class:`Menq` — microslip of an elastic bar on an elastic shear layer;
+* :class:`Iwan` — Jenkins elements in parallel (Segalman's distribution);
+* :class:`Roughness` — any of them with a normal-load-dependent stiffness;
+* :class:`Cubic` — a smooth, memoryless cubic spring.
+"""
+
+from .base import ContactLaw
+from .iwan import Iwan
+from .jenkins import Cubic, Jenkins
+from .menq import Menq
+from .roughness import Roughness, hertz_mindlin_stiffness
+
+__all__ = [
+    "ContactLaw",
+    "Cubic",
+    "Iwan",
+    "Jenkins",
+    "Menq",
+    "Roughness",
+    "hertz_mindlin_stiffness",
+]
