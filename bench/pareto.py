@@ -74,10 +74,35 @@ class Problem:
     frf_options: dict = field(default_factory=dict)
 
 
+def sdof_menq() -> hf.Oscillator:
+    """The P1 oscillator with a Menq contact of the same stuck stiffness
+    (3) and gross-slip force (1), microslip from half of it."""
+    law = hf.Menq.from_stiffness(3.0, 1.0, microslip_onset=0.5)
+    return hf.Oscillator(1.0, 0.02, 1.0, law)
+
+
+_BEAM = {}
+
+
+def beam() -> object:
+    """The calibrated paper beam, Jenkins tip contact μ = 1.5, Fn = 5 N
+    (the scene of ``bench/test_bench_beam.py``)."""
+    if "beam" not in _BEAM:
+        cal = hf.CantileverBeam.calibrate()
+        _BEAM["beam"] = cal.beam.with_contact(
+            cal.contact(normal_load=5.0, friction_coefficient=1.5)
+        )
+    return _BEAM["beam"]
+
+
+HZ = 2.0 * math.pi
+
 PROBLEMS = [
     Problem("sdof-jenkins F=0.1", sdof_jenkins, 0.1, (0.5, 3.0)),
     Problem("sdof-jenkins F=0.5", sdof_jenkins, 0.5, (0.5, 3.0)),
     Problem("sdof-jenkins F=2.0", sdof_jenkins, 2.0, (0.5, 3.0)),
+    Problem("sdof-menq F=0.5", sdof_menq, 0.5, (0.5, 3.0)),
+    Problem("beam Fex=2 N", beam, 2.0, (15.0 * HZ, 110.0 * HZ), dof=37),
 ]
 
 
