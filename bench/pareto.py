@@ -74,10 +74,35 @@ class Problem:
     frf_options: dict = field(default_factory=dict)
 
 
+def sdof_menq() -> hf.Oscillator:
+    """The P1 oscillator with a Menq contact of the same stuck stiffness
+    (3) and gross-slip force (1), microslip from half of it."""
+    law = hf.Menq.from_stiffness(3.0, 1.0, microslip_onset=0.5)
+    return hf.Oscillator(1.0, 0.02, 1.0, law)
+
+
+_BEAM = {}
+
+
+def beam() -> object:
+    """The calibrated paper beam, Jenkins tip contact μ = 1.5, Fn = 5 N
+    (the scene of ``bench/test_bench_beam.py``)."""
+    if "beam" not in _BEAM:
+        cal = hf.CantileverBeam.calibrate()
+        _BEAM["beam"] = cal.beam.with_contact(
+            cal.contact(normal_load=5.0, friction_coefficient=1.5)
+        )
+    return _BEAM["beam"]
+
+
+HZ = 2.0 * math.pi
+
 PROBLEMS = [
     Problem("sdof-jenkins F=0.1", sdof_jenkins, 0.1, (0.5, 3.0)),
     Problem("sdof-jenkins F=0.5", sdof_jenkins, 0.5, (0.5, 3.0)),
     Problem("sdof-jenkins F=2.0", sdof_jenkins, 2.0, (0.5, 3.0)),
+    Problem("sdof-menq F=0.5", sdof_menq, 0.5, (0.5, 3.0)),
+    Problem("beam Fex=2 N", beam, 2.0, (15.0 * HZ, 110.0 * HZ), dof=37),
 ]
 
 
@@ -273,10 +298,16 @@ def pareto_front(times: np.ndarray, errors: np.ndarray) -> np.ndarray:
     return np.array(front, dtype=np.int64)
 
 
+#: relative run-time differences below this are load noise on the shared
+#: benchmark machine (repeated runs of one setting spread by about this much)
+TIME_NOISE = 0.3
+
+
 def mark_front(rows: list[dict]) -> None:
-    """Set ``pareto`` (on the front of fixed settings and default) and
-    ``dominated_by`` (cheapest fixed setting at least as fast and accurate)
-    on every row of one problem."""
+    """Set ``pareto`` (on the front of the fixed settings and the default)
+    and ``dominated_by`` (the cheapest fixed setting that is at least as
+    accurate and faster by more than the timing noise, or as fast and more
+    accurate) on every row of one problem."""
     fixed = [r for r in rows if not r["adaptive"]]
     t = np.array([r.get("time_s", math.nan) for r in fixed], dtype=float)
     e = np.array([r.get("error", math.nan) for r in fixed], dtype=float)
@@ -286,16 +317,62 @@ def mark_front(rows: list[dict]) -> None:
     for r in rows:
         if r["adaptive"]:
             r["pareto"] = ""
+        tr = float(r.get("time_s", math.nan))
+        er = float(r.get("error", math.nan))
         better = [
             f
             for f in fixed
             if f is not r
-            and f.get("time_s", math.inf) <= r.get("time_s", math.nan)
-            and f.get("error", math.inf) <= r.get("error", math.nan)
+            and float(f.get("error", math.inf)) <= er
+            and (
+                float(f.get("time_s", math.inf)) < (1.0 - TIME_NOISE) * tr
+                or (
+                    float(f.get("time_s", math.inf)) <= tr
+                    and float(f.get("error", math.inf)) < 0.5 * er
+                )
+            )
         ]
         r["dominated_by"] = (
-            min(better, key=lambda f: f["time_s"])["setting"] if better else ""
+            min(better, key=lambda f: float(f["time_s"]))["setting"] if better else ""
         )
+
+
+def replot(out: Path) -> list[dict]:
+    """Recompute the marks and the plot from ``pareto.csv`` and
+    ``reference.csv`` (no new runs)."""
+    rows = []
+    with open(out / "pareto.csv") as fh:
+        for r in csv.DictReader(fh):
+            for k in ("time_s", "error", "error_h1", "error_hpp"):
+                r[k] = float(r[k]) if r[k] not in ("", None) else math.nan
+            r["default"] = r["default"] == "True"
+            r["adaptive"] = r["adaptive"] == "True"
+            r["odd"] = r["odd"] == "True"
+            if r["harmonics"].isdigit():
+                r["harmonics"] = int(r["harmonics"])
+            rows.append(r)
+    refs = {}
+    with open(out / "reference.csv") as fh:
+        data = list(csv.DictReader(fh))
+    for name in dict.fromkeys(d["problem"] for d in data):
+        sub = [d for d in data if d["problem"] == name]
+        refs[name] = Reference(
+            *(
+                np.array([float(d[k]) for d in sub])
+                for k in (
+                    "omega",
+                    "first_harmonic",
+                    "half_peak_to_peak",
+                    "rel_error_estimate",
+                )
+            ),
+            elapsed=math.nan,
+        )
+    for name in refs:
+        mark_front([r for r in rows if r["problem"] == name])
+    write_csv(rows, out / "pareto.csv")
+    plot(rows, refs, out / "pareto.png")
+    return rows
 
 
 # ---------------------------------------------------------------------------
@@ -478,16 +555,26 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--quick", action="store_true", help="smaller grid")
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--problem", action="append", help="only these problems")
+    parser.add_argument(
+        "--replot", action="store_true", help="redo marks and plot from the CSV"
+    )
     args = parser.parse_args(argv)
     problems = PROBLEMS
     if args.problem:
         problems = [p for p in PROBLEMS if p.name in args.problem]
-    rows = run(Path(args.out), args.quick, args.repeats, problems)
+    if args.replot:
+        rows = replot(Path(args.out))
+    else:
+        rows = run(Path(args.out), args.quick, args.repeats, problems)
     for name in dict.fromkeys(r["problem"] for r in rows):
         (d,) = [r for r in rows if r["problem"] == name and r["default"]]
         print(
-            f"{name}: default {d['setting']} on the Pareto front: {bool(d['pareto'])}"
-            + (f" (dominated by {d['dominated_by']})" if d["dominated_by"] else "")
+            f"{name}: default strictly on the front: {bool(d['pareto'])}; "
+            + (
+                f"dominated beyond timing noise by {d['dominated_by']}"
+                if d["dominated_by"]
+                else "not dominated beyond timing noise"
+            )
         )
     return 0
 

@@ -9,7 +9,8 @@ import time
 import numpy as np
 
 from ._validate import finite_float
-from .continuation import Continuation, ContinuationOptions
+from .continuation import AdaptiveContinuation, Continuation, ContinuationOptions
+from .continuation.adaptive import LADDER
 from .hbm import HBMProblem
 from .kernels import newton as _newton
 from .kernels.aft import STATE_NAMES
@@ -78,12 +79,13 @@ def frf(
     system,
     force: float,
     omega: tuple[float, float],
-    harmonics: int = 15,
+    harmonics: int | str = 15,
     *,
     n_time: int | None = None,
     symmetry: bool | None = None,
     aft: str = "auto",
     sweep: str = "up",
+    harmonic_tolerance: float = 1e-4,
     options: ContinuationOptions | None = None,
     amplitude_scale: float | None = None,
     condense: bool | None = None,
@@ -98,16 +100,25 @@ def frf(
         Amplitude ``F`` of the forcing ``F cos Ωt``, N.
     omega : (float, float)
         Frequency range ``(low, high)``, rad/s, ``0 < low < high``.
-    harmonics : int, default 15
-        Highest harmonic ``H``.
+    harmonics : int or "auto", default 15
+        Highest harmonic ``H``; ``"auto"`` chooses it along the branch
+        (:mod:`hbmfric.continuation.adaptive`) so that the estimated
+        relative truncation error stays below ``harmonic_tolerance``:
+        stuck stretches run at ``H = 3``, stick–slip stretches higher (up
+        to 63). The branch's coefficients are then padded with zeros to the
+        largest ``H`` used and ``Branch.point_harmonics`` gives each point's.
     n_time : int, optional
-        AFT samples per period (> 2 H); default depends on the AFT scheme.
+        AFT samples per period (> 2 H); default depends on the AFT scheme
+        (always the default with ``harmonics="auto"``).
     symmetry : bool, optional
         Odd harmonics only; default: whenever the system is symmetric.
     aft : {"auto", "events", "samples"}
         AFT scheme (see :mod:`hbmfric.kernels.aft`).
     sweep : {"up", "down"}
         Start at the low end and sweep up, or at the high end and sweep down.
+    harmonic_tolerance : float, default 1e-4
+        With ``harmonics="auto"``: target relative error of the amplitudes
+        (estimated by the relative amplitude of the highest harmonic).
     options : ContinuationOptions, optional
     amplitude_scale : float, optional
         Displacement scale of the arc length, m.
@@ -131,17 +142,47 @@ def frf(
     lo, hi = _omega_range(omega)
     if sweep not in ("up", "down"):
         raise ValueError(f"sweep must be 'up' or 'down', got {sweep!r}")
+    if not isinstance(options, ContinuationOptions | None):
+        raise TypeError(
+            f"options must be a ContinuationOptions, got {type(options).__name__}"
+        )
     options = options or ContinuationOptions()
     if option_overrides:
+        unknown = set(option_overrides) - {
+            f.name for f in dataclasses.fields(ContinuationOptions)
+        }
+        if unknown:
+            raise TypeError(
+                f"frf got unexpected keyword argument(s) {sorted(unknown)} "
+                "(not fields of ContinuationOptions)"
+            )
         options = dataclasses.replace(options, **option_overrides)
-    problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
     if amplitude_scale is not None:
         amplitude_scale = finite_float(
             "amplitude_scale", amplitude_scale, low=0.0, low_open=True
         )
-    cont = Continuation(
-        problem, (lo, hi), 1 if sweep == "up" else -1, options, amplitude_scale
-    )
+    direction = 1 if sweep == "up" else -1
+    if isinstance(harmonics, str):
+        if harmonics != "auto":
+            raise ValueError(
+                f"harmonics must be a positive integer or 'auto', got {harmonics!r}"
+            )
+        return _frf_auto(
+            system,
+            force,
+            (lo, hi),
+            n_time,
+            symmetry,
+            aft,
+            sweep,
+            direction,
+            harmonic_tolerance,
+            options,
+            amplitude_scale,
+            condense,
+        )
+    problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
+    cont = Continuation(problem, (lo, hi), direction, options, amplitude_scale)
     state, elapsed = cont.run()
     n = problem.n_unknowns
     pts = np.array(state.points).reshape(-1, n + 1)
@@ -158,6 +199,83 @@ def frf(
         elapsed=elapsed,
         info=_describe(system, problem, {"omega_range": [lo, hi], "sweep": sweep}),
         dof_names=dict(getattr(system, "dof_names", {})),
+    )
+
+
+def _frf_auto(
+    system,
+    force,
+    omega_range,
+    n_time,
+    symmetry,
+    aft,
+    sweep,
+    direction,
+    tolerance,
+    options,
+    amplitude_scale,
+    condense,
+) -> Branch:
+    """``frf`` with ``harmonics="auto"``."""
+    if n_time is not None:
+        raise ValueError("n_time cannot be given with harmonics='auto'")
+    tolerance = finite_float(
+        "harmonic_tolerance", tolerance, low=0.0, low_open=True, high=1.0
+    )
+    problems = {}
+
+    def make_problem(h: int) -> HBMProblem:
+        if h not in problems:
+            problems[h] = _problem(system, force, h, None, symmetry, aft, condense)
+        return problems[h]
+
+    make_problem(LADDER[0])  # validates the input before any work
+    cont = AdaptiveContinuation(
+        make_problem, omega_range, direction, options, amplitude_scale, tolerance
+    )
+    state, points, levels, elapsed = cont.run()
+    top = make_problem(max(levels) if levels else LADDER[0])
+    coefficients = np.zeros((len(points), top.n_dof, top.n_coef))
+    omegas = np.array([float(y[-1]) for y in points])
+    columns = np.cumsum([0] + [1 if k == 0 else 2 for k in top.harmonic_numbers])
+    where = {
+        int(k): int(c) for k, c in zip(top.harmonic_numbers, columns[:-1], strict=True)
+    }
+    for h in sorted(set(levels)):
+        idx = [i for i, lv in enumerate(levels) if lv == h]
+        p = make_problem(h)
+        full = p.full_coefficients(np.array([points[i] for i in idx]))
+        src = 0
+        for k in p.harmonic_numbers:
+            width = 1 if k == 0 else 2
+            dst = where[int(k)]
+            coefficients[idx, :, dst : dst + width] = full[:, :, src : src + width]
+            src += width
+    info = _describe(
+        system,
+        top,
+        {
+            "omega_range": list(omega_range),
+            "sweep": sweep,
+            "harmonics": "auto",
+            "harmonic_tolerance": tolerance,
+            "harmonic_switches": cont.n_switches,
+        },
+    )
+    return Branch(
+        omega=omegas,
+        coefficients=coefficients,
+        harmonic_numbers=top.harmonic_numbers.copy(),
+        force=top.force,
+        folds=np.array(state.folds, dtype=np.int64),
+        stop_reason=state.stop_reason,
+        n_steps=state.n_steps,
+        n_rejected=state.n_rejected,
+        newton_iterations=state.n_newton,
+        elapsed=elapsed,
+        info=info,
+        dof_names=dict(getattr(system, "dof_names", {})),
+        point_harmonics=np.array(levels, dtype=np.int64),
     )
 
 

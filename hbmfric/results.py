@@ -5,6 +5,7 @@ persistence without pickle."""
 from __future__ import annotations
 
 import json
+import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -109,6 +110,9 @@ class Branch:
         Wall time of the continuation, s.
     info : dict
         Description of the run (system, law, options), JSON-serialisable.
+    point_harmonics : ndarray of int, shape (n_points,), optional
+        Highest harmonic used at each point (``harmonics="auto"``); None
+        when the whole branch used ``harmonic_numbers``.
     dof_names : dict
         Named DOFs of the system (e.g. ``"tip"``, ``"force"``) → index.
     """
@@ -124,6 +128,7 @@ class Branch:
     newton_iterations: int
     elapsed: float
     info: dict = field(default_factory=dict)
+    point_harmonics: np.ndarray | None = None
     dof_names: dict = field(default_factory=dict)
 
     def __len__(self) -> int:
@@ -147,6 +152,12 @@ class Branch:
         if harmonic is None:
             return half_peak_to_peak(self.harmonic_numbers, X)
         return harmonic_amplitude(self.harmonic_numbers, X, harmonic)
+
+    def harmonics_at(self, index: int) -> int:
+        """Highest harmonic used at point ``index``."""
+        if self.point_harmonics is not None:
+            return int(self.point_harmonics[index])
+        return int(self.harmonic_numbers[-1])
 
     def point(self, index: int) -> PeriodicSolution:
         """The periodic solution at one point of the branch."""
@@ -193,34 +204,82 @@ class Branch:
             "dof_names": self.dof_names,
             "format": "hbmfric.Branch/1",
         }
-        np.savez(
-            path,
-            omega=self.omega,
-            coefficients=self.coefficients,
-            harmonic_numbers=self.harmonic_numbers,
-            folds=self.folds,
-            meta=np.array(json.dumps(meta)),
-        )
+        arrays = {
+            "omega": self.omega,
+            "coefficients": self.coefficients,
+            "harmonic_numbers": self.harmonic_numbers,
+            "folds": self.folds,
+            "meta": np.array(json.dumps(meta)),
+        }
+        if self.point_harmonics is not None:
+            arrays["point_harmonics"] = self.point_harmonics
+        np.savez(path, **arrays)
         return path if path.suffix == ".npz" else path.with_suffix(path.suffix + ".npz")
 
     @classmethod
     def load(cls, path: str | Path) -> Branch:
-        """Read a branch written by :meth:`save`."""
-        with np.load(Path(path), allow_pickle=False) as data:
-            meta = json.loads(str(data["meta"]))
-            if meta.get("format") != "hbmfric.Branch/1":
-                raise ValueError(f"{path} is not an hbmfric branch file")
-            return cls(
-                omega=data["omega"].copy(),
-                coefficients=data["coefficients"].copy(),
-                harmonic_numbers=data["harmonic_numbers"].copy(),
-                force=float(meta["force"]),
-                folds=data["folds"].copy(),
-                stop_reason=meta["stop_reason"],
-                n_steps=int(meta["n_steps"]),
-                n_rejected=int(meta["n_rejected"]),
-                newton_iterations=int(meta["newton_iterations"]),
-                elapsed=float(meta["elapsed"]),
-                info=meta["info"],
-                dof_names={k: int(v) for k, v in meta.get("dof_names", {}).items()},
+        """Read a branch written by :meth:`save` (no pickle).
+
+        Raises
+        ------
+        ValueError
+            If ``path`` is not a readable hbmfric branch file.
+        """
+        try:
+            with np.load(Path(path), allow_pickle=False) as data:
+                meta = json.loads(str(data["meta"]))
+                if (
+                    not isinstance(meta, dict)
+                    or meta.get("format") != "hbmfric.Branch/1"
+                ):
+                    raise ValueError("wrong format tag")
+                branch = cls(
+                    omega=np.asarray(data["omega"], dtype=np.float64).copy(),
+                    coefficients=np.asarray(
+                        data["coefficients"], dtype=np.float64
+                    ).copy(),
+                    harmonic_numbers=np.asarray(
+                        data["harmonic_numbers"], dtype=np.int64
+                    ).copy(),
+                    force=float(meta["force"]),
+                    folds=np.asarray(data["folds"], dtype=np.int64).copy(),
+                    stop_reason=str(meta["stop_reason"]),
+                    n_steps=int(meta["n_steps"]),
+                    n_rejected=int(meta["n_rejected"]),
+                    newton_iterations=int(meta["newton_iterations"]),
+                    elapsed=float(meta["elapsed"]),
+                    info=dict(meta["info"]),
+                    dof_names={
+                        str(k): int(v) for k, v in meta.get("dof_names", {}).items()
+                    },
+                    point_harmonics=(
+                        np.asarray(data["point_harmonics"], dtype=np.int64).copy()
+                        if "point_harmonics" in data.files
+                        else None
+                    ),
+                )
+        except (
+            AttributeError,
+            OSError,
+            EOFError,
+            KeyError,
+            TypeError,
+            ValueError,
+            zipfile.BadZipFile,
+        ) as exc:
+            raise ValueError(
+                f"path {str(path)!r} is not an hbmfric branch file, or is damaged "
+                f"({exc})"
+            ) from None
+        n = branch.omega.size
+        if (
+            branch.omega.ndim != 1
+            or branch.coefficients.ndim != 3
+            or branch.coefficients.shape[0] != n
+            or not np.all(np.isfinite(branch.omega))
+            or not np.all(np.isfinite(branch.coefficients))
+        ):
+            raise ValueError(
+                f"path {str(path)!r}: inconsistent or non-finite branch arrays"
             )
+        return branch

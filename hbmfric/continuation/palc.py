@@ -104,7 +104,7 @@ class Continuation:
         self._t_new = np.empty(n + 1)
 
     # ------------------------------------------------------------------
-    def _correct(self, y, y_pred, constraint):
+    def _correct(self, y, y_pred, constraint, max_iter=None):
         o = self.options
         status, iterations, _ = _newton.correct(
             self.problem.kernel_problem,
@@ -114,7 +114,7 @@ class Continuation:
             self.scale,
             self.tol_residual,
             o.tol_step,
-            o.max_newton,
+            o.max_newton if max_iter is None else max_iter,
             self._R,
             self._J,
             self._A,
@@ -122,8 +122,11 @@ class Continuation:
         )
         return int(status), int(iterations)
 
-    def solve_at(self, omega: float, guess: np.ndarray) -> tuple[np.ndarray, int, int]:
-        """Newton's method at fixed Ω from ``guess`` (flat X).
+    def solve_at(
+        self, omega: float, guess: np.ndarray, max_iter: int | None = None
+    ) -> tuple[np.ndarray, int, int]:
+        """Newton's method at fixed Ω from ``guess`` (flat X), with at most
+        ``max_iter`` iterations (default ``options.max_newton``).
 
         Returns ``(y, status, iterations)``.
         """
@@ -133,7 +136,7 @@ class Continuation:
         y[n] = omega
         e_omega = np.zeros(n + 1)
         e_omega[n] = 1.0
-        status, it = self._correct(y, y.copy(), e_omega)
+        status, it = self._correct(y, y.copy(), e_omega, max_iter)
         return y, status, it
 
     def init(self, guess: np.ndarray | None = None) -> ContinuationState:
@@ -150,18 +153,72 @@ class Continuation:
             step=self.options.initial_step,
             J=self._J,
         )
+        # the first point is solved once: a generous iteration budget lets
+        # Newton walk from a linearisation deep into gross slip
+        budget = max(8 * self.options.max_newton, 100)
         for g in guesses:
-            y, status, it = self.solve_at(omega0, g)
+            y, status, it = self.solve_at(omega0, g, budget)
             state.n_newton += it
             if status == _newton.CONVERGED:
-                state.y = y
-                state.tangent = self._tangent(t0)
-                state.points.append(y.copy())
-                state.tangents_omega.append(state.tangent[n])
-                return state
+                break
+        else:
+            y, status, it = self._load_ramp(omega0)
+            state.n_newton += it
+        if status == _newton.CONVERGED:
+            state.y = y
+            state.tangent = self._tangent(t0)
+            state.points.append(y.copy())
+            state.tangents_omega.append(state.tangent[n])
+            return state
         state.finished = True
         state.stop_reason = NO_START
         return state
+
+    def _load_ramp(self, omega: float, max_solves: int = 60):
+        """First point by natural continuation in the load amplitude.
+
+        When neither linearisation is close enough for Newton (a contact
+        deep in gross slip, a strongly nonlinear spring), start from a
+        small fraction of the load, where the response is the stuck linear
+        one, and raise it to the full load, each solve starting from the
+        previous solution scaled to the new load; a failed increment is
+        halved. Returns ``(y, status, evaluations)``.
+        """
+        load = self.problem.load  # the array the kernel problem holds
+        full = load.copy()
+        n = self.problem.n_unknowns
+        evaluations = 0
+        status = _newton.MAX_ITERATIONS
+        y = np.full(n + 1, np.nan)
+        try:
+            lam = 1e-3
+            load[:] = lam * full
+            budget = max(8 * self.options.max_newton, 100)
+            y, status, it = self.solve_at(
+                omega, lam * self.problem.initial_guesses(omega)[0][:n], budget
+            )
+            evaluations += it
+            if status != _newton.CONVERGED:
+                return y, status, evaluations
+            factor = 2.0
+            for _ in range(max_solves):
+                if lam >= 1.0:
+                    break
+                target = min(1.0, lam * factor)
+                load[:] = target * full
+                trial, status, it = self.solve_at(omega, y[:n] * (target / lam), budget)
+                evaluations += it
+                if status == _newton.CONVERGED:
+                    y, lam = trial, target
+                    factor = min(factor * 1.5, 4.0)
+                else:
+                    factor = 1.0 + 0.5 * (factor - 1.0)
+                    if factor < 1.0 + 1e-3:
+                        break
+            status = _newton.CONVERGED if lam >= 1.0 else _newton.MAX_ITERATIONS
+        finally:
+            load[:] = full
+        return y, status, evaluations
 
     def _tangent(self, previous: np.ndarray) -> np.ndarray:
         return _newton.tangent(self._J, previous, self.scale, self._A)

@@ -162,7 +162,8 @@ def correct(
         Work arrays: shapes (n,), (n, n + 1), (n + 1, n + 1), (n + 1,)
         int64. On success ``R`` and ``J`` hold the residual and Jacobian at
         the solution and ``A``, ``piv`` the LU factors of the bordered
-        matrix ``[J; constraint / scale]`` there (reused for the tangent).
+        matrix in scaled variables, ``[D J diag(scale); constraint]`` with
+        ``D`` the row equilibration (reused for the tangent).
 
     Returns
     -------
@@ -191,23 +192,30 @@ def correct(
         g = 0.0
         for i in range(n + 1):
             g += constraint[i] * (y[i] - y_pred[i]) / scale[i]
+        # solve in scaled variables with equilibrated rows: the unknowns
+        # may differ by many orders of magnitude (X in m, Ω in rad/s)
         for i in range(n):
+            row_max = 0.0
             for j in range(n + 1):
-                A[i, j] = J[i, j]
-            b[i] = -R[i]
+                v = J[i, j] * scale[j]
+                A[i, j] = v
+                if abs(v) > row_max:
+                    row_max = abs(v)
+            inv = 1.0 / row_max if row_max > 0.0 else 1.0
+            for j in range(n + 1):
+                A[i, j] *= inv
+            b[i] = -R[i] * inv
         for j in range(n + 1):
-            A[n, j] = constraint[j] / scale[j]
+            A[n, j] = constraint[j]
         b[n] = -g
         if not lu_factor(A, piv):
             return SINGULAR, evaluations, evaluations
         lu_solve(A, piv, b)
-        full = 0.0
-        for i in range(n + 1):
-            s = abs(b[i] / scale[i])
-            if not s <= full:
-                full = s
+        full = _norm_inf(b)
         if not np.isfinite(full):
             return SINGULAR, evaluations, evaluations
+        for i in range(n + 1):
+            b[i] *= scale[i]
         if res <= tol_residual and last <= tol_step:
             return CONVERGED, evaluations, evaluations
         if res <= tol_residual and full <= tol_step:
@@ -272,20 +280,19 @@ def tangent(J, previous, scale, A):
 
 
 @jit
-def tangent_from_lu(A, piv, scale, out):
+def tangent_from_lu(A, piv, out):
     """Unit tangent from the LU factors left by :func:`correct`.
 
-    The corrector's bordered matrix ``[J; c / scale]`` is the tangent
-    system ``[J diag(scale); cᵀ]`` times ``diag(1 / scale)``, so the tangent
-    at the corrected point costs one triangular solve instead of a new
-    factorisation: ``w = A⁻¹ e_n``, ``t = w / scale``, normalised. The
-    result satisfies ``c · t > 0`` (the direction of ``c`` is kept).
+    The corrector's bordered matrix ``[D J diag(scale); c]`` is, up to the
+    row equilibration ``D``, the tangent system ``[J diag(scale); c]``, so
+    the tangent at the corrected point costs one pair of triangular solves
+    instead of a new factorisation: ``t = A⁻¹ e_n``, normalised. It
+    satisfies ``c · t > 0`` (the direction of ``c`` is kept).
 
     Parameters
     ----------
     A, piv : ndarray
-        LU factors of ``[J; c / scale]``, shapes (n + 1, n + 1), (n + 1,).
-    scale : ndarray, shape (n + 1,)
+        LU factors from :func:`correct`, shapes (n + 1, n + 1), (n + 1,).
     out : ndarray, shape (n + 1,)
         Output: the unit tangent in scaled variables.
 
@@ -301,7 +308,6 @@ def tangent_from_lu(A, piv, scale, out):
     lu_solve(A, piv, out)
     norm = 0.0
     for i in range(m):
-        out[i] /= scale[i]
         norm += out[i] * out[i]
     norm = np.sqrt(norm)
     if not (np.isfinite(norm) and norm > 0.0):
@@ -386,7 +392,7 @@ def palc_step(
         d = abs(y_new[i] - y_pred[i]) / scale[i]
         if not d <= distance:
             distance = d
-    if not np.isfinite(distance) or not tangent_from_lu(A, piv, scale, t_new):
+    if not np.isfinite(distance) or not tangent_from_lu(A, piv, t_new):
         return NOT_FINITE, evaluations, iterations, np.inf, np.inf
     c = 0.0
     for i in range(m):

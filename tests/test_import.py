@@ -1,0 +1,59 @@
+"""Importing hbmfric is cheap: no plotting library, no compilation."""
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_import_loads_no_matplotlib_and_compiles_nothing(tmp_path):
+    """In a fresh process with an empty Numba cache, ``import hbmfric``
+    leaves matplotlib unimported and every compiled kernel of the package
+    without a signature (nothing compiled or loaded from cache); a first
+    call to a small kernel then compiles, which shows that the check sees
+    compilations."""
+    code = textwrap.dedent(
+        """
+        import json, sys
+        import hbmfric as hf
+
+        def compiled():
+            out = {}
+            for name, mod in list(sys.modules.items()):
+                if not name.startswith("hbmfric"):
+                    continue
+                for attr in dir(mod):
+                    obj = getattr(mod, attr)
+                    if hasattr(obj, "signatures") and hasattr(obj, "py_func"):
+                        out[name + "." + attr] = len(obj.signatures)
+            return out
+
+        at_import = compiled()
+        mpl = sorted(m for m in sys.modules if m.split(".")[0] == "matplotlib")
+        import numpy as np
+        from hbmfric.kernels.dft import n_coefficients
+        n_coefficients(np.array([1, 3]))
+        after_call = compiled()
+        print(json.dumps({"import": at_import, "call": after_call, "mpl": mpl}))
+        """
+    )
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    out = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        check=True,
+        cwd=ROOT,
+        env=env,
+    )
+    report = json.loads(out.stdout.strip().splitlines()[-1])
+    assert report["mpl"] == []
+    assert len(report["import"]) >= 10  # the kernels are visible to the check
+    assert all(n == 0 for n in report["import"].values()), {
+        k: v for k, v in report["import"].items() if v
+    }
+    assert sum(report["call"].values()) > 0  # ... and it sees a compilation
