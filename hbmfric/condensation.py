@@ -41,9 +41,12 @@ def system_modes(system) -> tuple[np.ndarray, np.ndarray]:
 
 def can_condense(system) -> bool:
     """True when condensation pays and applies: several DOFs, a contact and
-    symmetric matrices."""
+    symmetric matrices. A rigid Coulomb contact is solved on the full system:
+    the condensed kernel does not yet have the event-located DLFT scheme that
+    the full residual uses by default."""
     return (
         system.contact is not None
+        and system.contact.code != COULOMB
         and int(system.n_dof) >= 2
         and _symmetric(system.matrices())
     )
