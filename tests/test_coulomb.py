@@ -446,7 +446,11 @@ def test_kernels_compile_once():
     compiled DLFT kernels (no recompilation per parameter value)."""
     from hbmfric.kernels.dlft import dlft_contact, dlft_located
 
-    for fs, eps, h in ((0.3, 1.0, 7), (0.5, 3.0, 9), (0.2, 0.5, 15)):
+    # Other tests may already have compiled these kernels from inside other
+    # jitted callers (with other array layouts), so the count is compared
+    # before and after the parameter sweep rather than against 1.
+    counts = None
+    for fs, eps, h in ((0.3, 1.0, 7), (0.5, 3.0, 9), (0.2, 0.5, 15), (0.9, 7.0, 3)):
         osc = hf.Oscillator(1.3, 0.02, 1.0, hf.Coulomb(slip_force=fs, penalty=eps))
         problem = HBMProblem(osc, 1.0, h)
         hn, mass, _, _, _, c, _, params, _, inverse, forward, derivative = (
@@ -459,8 +463,9 @@ def test_kernels_compile_once():
             params, hn, base, mass[c, c], y, inverse, forward, derivative, R, J
         )
         dlft_contact(params, base, y, inverse, forward, R, J)
-    assert len(dlft_located.signatures) == 1
-    assert len(dlft_contact.signatures) == 1
+        if counts is None:
+            counts = (len(dlft_located.signatures), len(dlft_contact.signatures))
+    assert (len(dlft_located.signatures), len(dlft_contact.signatures)) == counts
 
 
 def test_correction_kernel_is_a_jenkins_march_on_the_prediction():
