@@ -241,6 +241,35 @@ def rough_menq_law(normal_load: float) -> Roughness:
     return Roughness(menq_law(normal_load), ROUGHNESS_LIMIT_LOAD)
 
 
+#: the paper's SDOF figures: file stem, title, contact law, progress tag
+_FIGURES = {
+    8: ("fig08_masing", "Fig. 8 — Masing macroslip, SDOF", jenkins_law, "fig8 Masing"),
+    9: ("fig09_menq", "Fig. 9 — Menq microslip, SDOF", menq_law, "fig9 Menq"),
+    10: (
+        "fig10_masing_roughness",
+        "Fig. 10 — Masing macroslip with roughness, SDOF",
+        rough_jenkins_law,
+        "fig10 Masing+roughness",
+    ),
+    11: (
+        "fig11_menq_roughness",
+        "Fig. 11 — Menq microslip with roughness, SDOF",
+        rough_menq_law,
+        "fig11 Menq+roughness",
+    ),
+}
+
+
+def _paper_figure(
+    number: int, forces, ratios, harmonics, progress, check_forces, cache
+) -> FigureResult:
+    """:func:`sdof_family` for Fig. ``number`` of :data:`_FIGURES`."""
+    name, title, law, tag = _FIGURES[number]
+    return sdof_family(
+        name, title, law, forces, ratios, harmonics, progress, tag, check_forces, cache
+    )
+
+
 def masing_family(
     force: float = 1.0,
     ratios=PAPER_SDOF["ratios"],
@@ -268,18 +297,8 @@ def masing_family(
     cache : dict, optional
         Shared between figures, see :func:`sdof_family`.
     """
-    return sdof_family(
-        "fig08_masing",
-        "Fig. 8 — Masing macroslip, SDOF",
-        jenkins_law,
-        (force,),
-        ratios,
-        harmonics,
-        progress,
-        "fig8 Masing",
-        () if check_force is None else (check_force,),
-        cache,
-    )
+    checks = () if check_force is None else (check_force,)
+    return _paper_figure(8, (force,), ratios, harmonics, progress, checks, cache)
 
 
 def menq_family(
@@ -292,18 +311,8 @@ def menq_family(
 ) -> FigureResult:
     """Fig. 9: Menq microslip FRFs for several ``Fex/Fn`` (arguments as in
     :func:`masing_family`)."""
-    return sdof_family(
-        "fig09_menq",
-        "Fig. 9 — Menq microslip, SDOF",
-        menq_law,
-        (force,),
-        ratios,
-        harmonics,
-        progress,
-        "fig9 Menq",
-        () if check_force is None else (check_force,),
-        cache,
-    )
+    checks = () if check_force is None else (check_force,)
+    return _paper_figure(9, (force,), ratios, harmonics, progress, checks, cache)
 
 
 def rough_masing_family(
@@ -315,17 +324,7 @@ def rough_masing_family(
 ) -> FigureResult:
     """Fig. 10: Masing macroslip with roughness at Fex = 1 N and 1000 N
     (``cache`` as in :func:`sdof_family`)."""
-    return sdof_family(
-        "fig10_masing_roughness",
-        "Fig. 10 — Masing macroslip with roughness, SDOF",
-        rough_jenkins_law,
-        forces,
-        ratios,
-        harmonics,
-        progress,
-        "fig10 Masing+roughness",
-        cache=cache,
-    )
+    return _paper_figure(10, forces, ratios, harmonics, progress, (), cache)
 
 
 def rough_menq_family(
@@ -337,17 +336,7 @@ def rough_menq_family(
 ) -> FigureResult:
     """Fig. 11: Menq microslip with roughness at Fex = 1 N and 1000 N
     (``cache`` as in :func:`sdof_family`)."""
-    return sdof_family(
-        "fig11_menq_roughness",
-        "Fig. 11 — Menq microslip with roughness, SDOF",
-        rough_menq_law,
-        forces,
-        ratios,
-        harmonics,
-        progress,
-        "fig11 Menq+roughness",
-        cache=cache,
-    )
+    return _paper_figure(11, forces, ratios, harmonics, progress, (), cache)
 
 
 def sdof_figures(

@@ -24,7 +24,7 @@ import numpy as np
 from .._validate import finite_float, positive_int
 from ..continuation import Continuation, ContinuationOptions
 from ..hbm import HBMProblem
-from ..signals import synthesis_matrix
+from ..signals import sampled_peak_to_peak, synthesis_matrix
 from ..validation import steady_state
 from .tensioner import BeltTensioner, tension_coefficients
 
@@ -164,7 +164,7 @@ def time_domain_frf(
             k = np.arange(spectrum.shape[1])
             v = np.fft.irfft(1j * k * omega * spectrum, x.shape[1], axis=1)
             tension = rig.tension(x, v)
-            ranges[i] = _range(tension)
+            ranges[i] = sampled_peak_to_peak(tension)
             converged[i] = ss.converged
             periods += ss.periods
             steps += ss.steps
@@ -186,20 +186,6 @@ def time_domain_frf(
         work={"periods": periods, "steps": steps},
         info={"steps_per_period": steps_per_period, "tol": tol},
     )
-
-
-def _range(samples: np.ndarray) -> float:
-    """``max − min`` of one sampled period, extremes refined by parabolas."""
-    m = samples.size
-    out = []
-    for i in (int(np.argmax(samples)), int(np.argmin(samples))):
-        y_minus, y0, y_plus = samples[i - 1], samples[i], samples[(i + 1) % m]
-        curvature = y_plus - 2.0 * y0 + y_minus
-        value = y0
-        if curvature != 0.0:
-            value = y0 - (y_plus - y_minus) ** 2 / (8.0 * curvature)
-        out.append(value)
-    return float(out[0] - out[1])
 
 
 def _bdf_rhs(rig: BeltTensioner, force: float, omega: float):
@@ -300,10 +286,10 @@ def _bdf_steady_state(rig, force, omega, samples, tol, max_periods, rtol):
         if change <= tol:
             u1, u2, v1, v2, _ = sol.y[:, :-1]
             tension = rig.tension(np.array([u1, u2]), np.array([v1, v2]))
-            return _range(tension), True, p, steps
+            return sampled_peak_to_peak(tension), True, p, steps
     u1, u2, v1, v2, _ = sol.y[:, :-1]
     tension = rig.tension(np.array([u1, u2]), np.array([v1, v2]))
-    return _range(tension), False, max_periods, steps
+    return sampled_peak_to_peak(tension), False, max_periods, steps
 
 
 def hbm_frf(
@@ -376,7 +362,7 @@ def hbm_frf(
             for c, w in zip(coefficients, omega, strict=True)
         ]
     )
-    ranges = np.array([_range(row) for row in tension @ basis.T])
+    ranges = np.array([sampled_peak_to_peak(row) for row in tension @ basis.T])
     return TensionFRF(
         frequency=nu * omega / (2.0 * math.pi),
         tension_range=ranges,

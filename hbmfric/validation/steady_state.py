@@ -19,7 +19,7 @@ import numpy as np
 from .._validate import dof_index, finite_float, positive_int
 from ..kernels.dlft import COULOMB
 from ..kernels.laws import law_init, state_size
-from ..signals import harmonic_amplitude
+from ..signals import harmonic_amplitude, sampled_peak_to_peak
 from .integrator import (
     MESSAGES,
     NO_CONTACT,
@@ -134,7 +134,7 @@ class SteadyState:
         """
         d = dof_index(dof, self.n_dof)
         if harmonic is None:
-            return _half_peak_to_peak(self.samples[d])
+            return 0.5 * sampled_peak_to_peak(self.samples[d])
         return float(
             harmonic_amplitude(self.harmonic_numbers, self.coefficients[d], harmonic)
         )
@@ -679,18 +679,3 @@ def _resample(samples: np.ndarray, n: int) -> np.ndarray:
     if n % 2 == 0 and top == n // 2:
         out[top] = one_sided[top].real  # sampled at n points: a cos(n θ / 2)
     return np.fft.irfft(out * n, n)
-
-
-def _half_peak_to_peak(x: np.ndarray) -> float:
-    """Half the peak-to-peak value of one sampled period, each extreme
-    refined by the parabola through three neighbouring samples, m."""
-    m = x.size
-    extremes = []
-    for i in (int(np.argmax(x)), int(np.argmin(x))):
-        y_minus, y0, y_plus = x[i - 1], x[i], x[(i + 1) % m]
-        curvature = y_plus - 2.0 * y0 + y_minus
-        value = y0
-        if curvature != 0.0:
-            value = y0 - (y_plus - y_minus) ** 2 / (8.0 * curvature)
-        extremes.append(value)
-    return float(0.5 * (extremes[0] - extremes[1]))
