@@ -39,6 +39,7 @@ the mid-envelope ``½(h_u + h_l)`` with the small-loop stiffness
 import numpy as np
 
 from .._jit import jit
+from .segments import project_samples
 
 #: status codes of the periodic solvers
 DAHL_CONVERGED = 3  # same value as aft.MARCHED: "law marched to its periodic state"
@@ -304,18 +305,9 @@ def aft_dahl(params, X, inverse, forward, F, dF):
             grad[0, c] = dstart
             for i in range(1, n_time):
                 grad[i, c] += carry[i] * dstart
-    for r in range(n_coef):
-        acc = 0.0
-        for i in range(n_time):
-            acc += forward[r, i] * force[i]
-        F[r] = acc
-        for c in range(n_coef):
-            dF[r, c] = 0.0
-        for i in range(n_time):
-            w = forward[r, i]
-            if w != 0.0:
-                for c in range(n_coef):
-                    dF[r, c] += w * grad[i, c]
+    F[:] = 0.0
+    dF[:, :] = 0.0
+    project_samples(forward, force, grad, 0, n_time, 1.0, F, dF)
     return status
 
 

@@ -38,6 +38,7 @@ from .laws import (
     slip_limit,
     virgin_curve,
 )
+from .segments import project_samples
 
 
 @jit
@@ -90,6 +91,25 @@ def _global_extremes(harmonic_numbers, X, u, v, h):
     if th_min == i_min * h:
         i_min = (i_min - 1) % n
     return u_max, th_max, i_max, u_min, th_min, i_min
+
+
+@jit
+def _masing_point(code, params, state, u_prev, u, prev_row, row, basis, grad):
+    """March from the point in row ``prev_row`` to ``u``, whose basis row is
+    ``basis[row]``; fills ``grad[row] = df/dX`` and returns ``f``.
+
+    On the branch from the reversal point in row ``r``, ``df/dX = df_r/dX +
+    k (E - E_r)`` (``k`` the tangent stiffness); on the virgin curve
+    ``df/dX = k E``.
+    """
+    f, k, top = masing_step(code, params, state, u_prev, u, float(prev_row), True)
+    r = int(state[MASING_HEADER + MASING_ENTRY * top + 2]) if top >= 0 else -1
+    for c in range(basis.shape[1]):
+        g = k * basis[row, c]
+        if r >= 0:
+            g += grad[r, c] - k * basis[r, c]
+        grad[row, c] = g
+    return f
 
 
 @jit
@@ -164,21 +184,21 @@ def aft_masing(code, params, harmonic_numbers, X, inverse, forward, derivative, 
             odd = False
     n_march = n // 2 if odd else n
     weight = 2.0 if odd else 1.0
-    # marched points: the vertex, located extremes and samples; each keeps
-    # its basis row and df/dX (tags of reversal points index these rows)
-    n_points_max = 2 * n_march + 2
-    basis = np.empty((n_points_max, n_coef))
-    grad = np.empty((n_points_max, n_coef))
-    state = np.empty(MASING_HEADER + MASING_ENTRY * n_points_max)
+    # marched points keep their basis row and df/dX, the reversal tags
+    # index these rows: sample i in row i, the vertex in row n, the located
+    # extremes after it
+    basis = np.empty((n + 1 + n_march, n_coef))
+    grad = np.empty((n + 1 + n_march, n_coef))
+    force = np.empty(n)
+    state = np.empty(MASING_HEADER + MASING_ENTRY * (2 * n_march + 2))
     f_v, k_v = law_init(code, params, u_v, state)
     basis_at(harmonic_numbers, th_v, basis_v)
     for c in range(n_coef):
-        basis[0, c] = basis_v[c]
-        grad[0, c] = k_v * basis_v[c]
-    n_points = 1
+        basis[n, c] = basis_v[c]
+        grad[n, c] = k_v * basis_v[c]
+    prev_row = n
+    next_extreme = n + 1
     u_prev = u_v
-    F[:] = 0.0
-    row = np.empty(n_coef)
     for j in range(1, n_march + 1):
         i = (i_v + j) % n
         p = (i - 1) % n
@@ -188,39 +208,23 @@ def aft_masing(code, params, harmonic_numbers, X, inverse, forward, derivative, 
                 harmonic_numbers, X, (i_v + j - 1) * h, (i_v + j) * h, 0.0, True
             )
             u_e = evaluate(harmonic_numbers, X, th_e)[0]
-            basis_at(harmonic_numbers, th_e, row)
-            f, k, top = masing_step(
-                code, params, state, u_prev, u_e, float(n_points - 1), True
+            basis_at(harmonic_numbers, th_e, basis[next_extreme])
+            _masing_point(
+                code, params, state, u_prev, u_e, prev_row, next_extreme, basis, grad
             )
-            r = int(state[MASING_HEADER + MASING_ENTRY * top + 2]) if top >= 0 else -1
-            for c in range(n_coef):
-                basis[n_points, c] = row[c]
-                g = k * row[c]
-                if r >= 0:
-                    g += grad[r, c] - k * basis[r, c]
-                grad[n_points, c] = g
-            n_points += 1
+            prev_row = next_extreme
+            next_extreme += 1
             u_prev = u_e
-        f, k, top = masing_step(
-            code, params, state, u_prev, u[i], float(n_points - 1), True
-        )
-        r = int(state[MASING_HEADER + MASING_ENTRY * top + 2]) if top >= 0 else -1
         for c in range(n_coef):
-            basis[n_points, c] = inverse[i, c]
-            g = k * inverse[i, c]
-            if r >= 0:
-                g += grad[r, c] - k * basis[r, c]
-            grad[n_points, c] = g
-        # F += w f φ(θ_i), dF += w φ(θ_i) ⊗ df_i/dX (explicit loops: a BLAS
-        # call on these small blocks costs more than the arithmetic)
-        for a in range(n_coef):
-            w = weight * forward[a, i]
-            F[a] += w * f
-            if w != 0.0:
-                for c in range(n_coef):
-                    dF[a, c] += w * grad[n_points, c]
-        n_points += 1
+            basis[i, c] = inverse[i, c]
+        force[i] = _masing_point(
+            code, params, state, u_prev, u[i], prev_row, i, basis, grad
+        )
+        prev_row = i
         u_prev = u[i]
+    # F = Σ w f φ(θ_i), dF = Σ w φ(θ_i) ⊗ df_i/dX over the marched samples
+    F[:] = 0.0
+    project_samples(forward, force, grad, i_v + 1, n_march, weight, F, dF)
     if half_range >= slip_limit(code, params):
         return GROSS_SLIP
     return MICROSLIP
