@@ -169,26 +169,7 @@ def contact_update_state(code, params, state, u_prev, target, g_c):
 
 
 @jit
-def _period(
-    A_t,
-    B_t,
-    q,
-    q0,
-    g,
-    cos_sum,
-    contact_dof,
-    law_code,
-    law_params,
-    two_over_h,
-    x,
-    v,
-    law_state,
-    x_new,
-    peaks,
-    record,
-    samples,
-    contact_force,
-):
+def _period(system, x, v, law_state, x_new, peaks, record, samples, contact_force):
     """Advance ``(x, v, law state)`` over one forcing period, in place.
 
     ``peaks`` receives ``max |x|``, ``max |v|`` (over all DOFs) and
@@ -198,6 +179,18 @@ def _period(
 
     Returns ``(status, newton_iterations)``.
     """
+    (
+        A_t,
+        B_t,
+        q,
+        q0,
+        g,
+        cos_sum,
+        contact_dof,
+        law_code,
+        law_params,
+        two_over_h,
+    ) = system
     n = x.size
     n_steps = cos_sum.size
     has_contact = law_code != NO_CONTACT
@@ -275,28 +268,14 @@ def _period(
 
 
 @jit
-def newmark_periods(
-    A_t,
-    B_t,
-    q,
-    q0,
-    g,
-    cos_sum,
-    contact_dof,
-    law_code,
-    law_params,
-    two_over_h,
-    x,
-    v,
-    law_state,
-    x_new,
-    starts,
-    peaks,
-):
+def newmark_periods(system, x, v, law_state, x_new, starts, peaks):
     """Integrate whole forcing periods and record the state at each start.
 
     Parameters
     ----------
+    system : tuple
+        ``(A_t, B_t, q, q0, g, cos_sum, contact_dof, law_code, law_params,
+        two_over_h)``, the operators of one step size, entry by entry:
     A_t : ndarray, shape (n_dof, n_dof)
         Transpose of ``A = -2 K_eff⁻¹ K`` (dimensionless), C-contiguous, so
         that ``A x`` runs over contiguous memory column by column.
@@ -350,24 +329,7 @@ def newmark_periods(
     iterations = 0
     for period in range(n_periods):
         status, its = _period(
-            A_t,
-            B_t,
-            q,
-            q0,
-            g,
-            cos_sum,
-            contact_dof,
-            law_code,
-            law_params,
-            two_over_h,
-            x,
-            v,
-            law_state,
-            x_new,
-            peaks[period],
-            False,
-            no_samples,
-            no_forces,
+            system, x, v, law_state, x_new, peaks[period], False, no_samples, no_forces
         )
         iterations += its
         if status != OK:
@@ -377,25 +339,7 @@ def newmark_periods(
 
 
 @jit
-def record_period(
-    A_t,
-    B_t,
-    q,
-    q0,
-    g,
-    cos_sum,
-    contact_dof,
-    law_code,
-    law_params,
-    two_over_h,
-    x,
-    v,
-    law_state,
-    x_new,
-    peaks,
-    samples,
-    contact_force,
-):
+def record_period(system, x, v, law_state, x_new, peaks, samples, contact_force):
     """Integrate one period and record it at the step instants.
 
     Arguments as :func:`newmark_periods`, except:
@@ -414,26 +358,7 @@ def record_period(
     status : int
     newton_iterations : int
     """
-    return _period(
-        A_t,
-        B_t,
-        q,
-        q0,
-        g,
-        cos_sum,
-        contact_dof,
-        law_code,
-        law_params,
-        two_over_h,
-        x,
-        v,
-        law_state,
-        x_new,
-        peaks,
-        True,
-        samples,
-        contact_force,
-    )
+    return _period(system, x, v, law_state, x_new, peaks, True, samples, contact_force)
 
 
 @jit

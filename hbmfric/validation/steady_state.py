@@ -528,7 +528,7 @@ class _Problem:
         passes the test is the one analysed.
         """
         A_t, B_t, q, q0, g, cos_sum, two_over_h = self.operators(omega, steps)
-        args = (
+        system = (
             A_t,
             B_t,
             q,
@@ -558,7 +558,9 @@ class _Problem:
             if chunk > 1:
                 starts = np.empty((chunk, 2 * n + 1))
                 peaks = np.empty((chunk - 1, 3))
-                status, done, its = newmark_periods(*args, x, v, f, work, starts, peaks)
+                status, done, its = newmark_periods(
+                    system, x, v, f, work, starts, peaks
+                )
                 periods += int(done)
                 iterations += int(its)
                 if status != OK:
@@ -566,7 +568,7 @@ class _Problem:
                 history.extend(_period_changes(starts, peaks, n).tolist())
             before = np.concatenate((x, v, f[:1]))
             status, its = record_period(
-                *args, x, v, f, work, record_peaks[0], samples, contact_force
+                system, x, v, f, work, record_peaks[0], samples, contact_force
             )
             periods += 1
             iterations += int(its)
