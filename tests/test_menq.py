@@ -60,14 +60,10 @@ def test_steady_loop_against_the_bar(a1, a3, mean, inner):
     assert np.max(np.abs(bar - force)) < TOL
 
 
-def test_arbitrary_path_through_law_step_against_the_bar():
-    """Madelung's memory on a random path (nested loops opened and closed in
-    every order), through the time-integration contract ``law_step``."""
-    rng = np.random.default_rng(3)
-    turns = D_GS * np.cumsum(rng.normal(0.0, 0.5, 40))
-    path = np.concatenate(
-        [np.linspace(a, b, 6)[1:] for a, b in zip(turns[:-1], turns[1:], strict=True)]
-    )
+def _march_law_step(path):
+    """Forces along ``path`` from the virgin state through ``law_step``;
+    each step is first taken without committing (a trial must give the same
+    force). Returns ``(forces, final state)``."""
     params = LAW.params
     code = np.int64(LAW.code)
     state = np.empty(kl.state_size(code, params))
@@ -79,6 +75,18 @@ def test_arbitrary_path_through_law_step_against_the_bar():
         forces[i] = kl.law_step(code, params, state, u_prev, u, True)[0]
         assert trial == forces[i]
         u_prev = u
+    return forces, state
+
+
+def test_arbitrary_path_through_law_step_against_the_bar():
+    """Madelung's memory on a random path (nested loops opened and closed in
+    every order), through the time-integration contract ``law_step``."""
+    rng = np.random.default_rng(3)
+    turns = D_GS * np.cumsum(rng.normal(0.0, 0.5, 40))
+    path = np.concatenate(
+        [np.linspace(a, b, 6)[1:] for a, b in zip(turns[:-1], turns[1:], strict=True)]
+    )
+    forces, _ = _march_law_step(path)
     bar = shear_lag_bar(path, *BAR, N_BAR)
     assert np.max(np.abs(bar - forces)) < TOL
 
@@ -92,15 +100,7 @@ def test_memory_overflow_drops_only_outer_loops():
     path = np.concatenate(
         [np.linspace(a, b, 4)[1:] for a, b in zip(turns[:-1], turns[1:], strict=True)]
     )
-    params = LAW.params
-    code = np.int64(LAW.code)
-    state = np.empty(kl.state_size(code, params))
-    kl.law_init(code, params, 0.0, state)
-    forces = np.empty(path.size)
-    u_prev = 0.0
-    for i, u in enumerate(path):
-        forces[i] = kl.law_step(code, params, state, u_prev, u, True)[0]
-        u_prev = u
+    forces, state = _march_law_step(path)
     assert int(state[1]) <= kl.MEMORY_CAPACITY
     bar = shear_lag_bar(path, *BAR, N_BAR)
     assert np.max(np.abs(bar - forces)) < TOL

@@ -6,10 +6,11 @@ import pytest
 
 from hbmfric.kernels.dft import fourier_matrices
 from hbmfric.kernels.segments import (
+    add_segment_integrals,
     basis_integrals,
     product_integrals,
     project_samples,
-    segment_integrals,
+    trig_series,
 )
 
 HARMONIC_SETS = [np.array([0, 1, 2, 3]), np.array([1, 3, 5]), np.array([0, 2, 5])]
@@ -34,6 +35,18 @@ def _basis(harmonic_numbers, theta):
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(80)
 
 
+def segment_integrals(m_max, *ends):
+    """``C, S`` summed over the segments ``ends[0:2], ends[2:4], …``."""
+    C = np.zeros(m_max + 1)
+    S = np.zeros(m_max + 1)
+    ca, sa, cb, sb = (np.empty(m_max + 1) for _ in range(4))
+    for a, b in zip(ends[::2], ends[1::2], strict=True):
+        trig_series(a, ca, sa)
+        trig_series(b, cb, sb)
+        add_segment_integrals(a, b, ca, sa, cb, sb, C, S)
+    return C, S
+
+
 def _quad(fn, a, b):
     half = 0.5 * (b - a)
     theta = 0.5 * (a + b) + half * _NODES
@@ -43,9 +56,7 @@ def _quad(fn, a, b):
 @pytest.mark.parametrize(("a", "b"), SEGMENTS)
 def test_segment_integrals_match_quadrature(a, b):
     m_max = 12
-    cos_int = np.empty(m_max + 1)
-    sin_int = np.empty(m_max + 1)
-    segment_integrals(a, b, cos_int, sin_int)
+    cos_int, sin_int = segment_integrals(m_max, a, b)
     for m in range(m_max + 1):
         assert cos_int[m] == pytest.approx(
             _quad(lambda t, m=m: np.cos(m * t), a, b), abs=1e-13
@@ -59,15 +70,12 @@ def test_segment_integrals_match_quadrature(a, b):
 @pytest.mark.parametrize(("a", "b"), SEGMENTS[:3])
 def test_basis_and_product_integrals_match_quadrature(harmonic_numbers, a, b):
     hn = harmonic_numbers.astype(np.int64)
-    m_max = 2 * int(hn[-1])
-    cos_int = np.empty(m_max + 1)
-    sin_int = np.empty(m_max + 1)
-    segment_integrals(a, b, cos_int, sin_int)
+    cos_int, sin_int = segment_integrals(2 * int(hn[-1]), a, b)
     n_coef = _basis(hn, 0.0)[0].size
     q = np.empty(n_coef)
     basis_integrals(hn, cos_int, sin_int, q)
     stiffness = 2.5
-    P = np.full((n_coef, n_coef), 1.0)  # accumulates on top of what is there
+    P = np.full((n_coef, n_coef), np.nan)  # overwritten
     product_integrals(hn, cos_int, sin_int, stiffness, P)
     _, norms = _basis(hn, 0.0)
     for r in range(n_coef):
@@ -77,9 +85,7 @@ def test_basis_and_product_integrals_match_quadrature(harmonic_numbers, a, b):
             product = _quad(
                 lambda t, r=r, j=j: _basis(hn, t)[0][r] * _basis(hn, t)[0][j], a, b
             )
-            assert P[r, j] - 1.0 == pytest.approx(
-                stiffness * norms[r] * product, abs=1e-12
-            )
+            assert P[r, j] == pytest.approx(stiffness * norms[r] * product, abs=1e-12)
 
 
 def test_segments_of_a_period_give_the_fourier_coefficients_of_a_stuck_spring():
@@ -88,19 +94,16 @@ def test_segments_of_a_period_give_the_fourier_coefficients_of_a_stuck_spring():
     hn = np.array([0, 1, 2, 3], dtype=np.int64)
     X = np.array([0.1, 1.0, -0.4, 0.3, 0.2, -0.1, 0.05])
     kt, z, f_s, cut = 3.0, 0.2, 0.7, 2.1
-    cos_int = np.empty(7)
-    sin_int = np.empty(7)
-    F = np.zeros(7)
-    P = np.zeros((7, 7))
     q = np.empty(7)
-    segment_integrals(0.0, cut, cos_int, sin_int)
-    basis_integrals(hn, cos_int, sin_int, q)
-    product_integrals(hn, cos_int, sin_int, kt, P)
-    F -= kt * z * q
-    segment_integrals(cut, 2.0 * np.pi, cos_int, sin_int)
-    basis_integrals(hn, cos_int, sin_int, q)
+    P = np.empty((7, 7))
+    # stick on two segments [0, 0.9) and [0.9, cut): the sums serve both
+    C, S = segment_integrals(6, 0.0, 0.9, 0.9, cut)
+    basis_integrals(hn, C, S, q)
+    product_integrals(hn, C, S, kt, P)
+    F = P @ X - kt * z * q
+    C, S = segment_integrals(6, cut, 2.0 * np.pi)
+    basis_integrals(hn, C, S, q)
     F += f_s * q
-    F += P @ X
 
     def force(t):
         return kt * (_basis(hn, t)[0] @ X - z) if t < cut else f_s

@@ -1,19 +1,21 @@
 """Fourier integrals of a contact force over pieces of the period.
 
-A force known over one period ``θ ∈ [θ0, θ0 + 2π)`` has the coefficients
-(layout of :mod:`hbmfric.kernels.dft`)
+A force known over one period has the coefficients (layout of
+:mod:`hbmfric.kernels.dft`)
 
     F_r = c_r ∫ f(θ) ψ_r(θ) dθ,   c_r = 1/(2π) for the mean, 1/π otherwise,
 
 with ``ψ_r`` the basis function of row ``r`` (``1``, ``cos kθ`` or
 ``sin kθ``). The AFT kernels build this integral piece by piece:
 
-* exactly, segment by segment, where the force on a segment is a constant
-  or linear in the displacement (:func:`segment_integrals`,
-  :func:`basis_integrals`, :func:`product_integrals`): a constant ``f``
-  adds ``f q`` with ``q = basis_integrals``, a stuck spring
-  ``f = kt (u - z)`` adds ``P X - kt z q`` with ``P = kt ∫ φ_j ψ_r``
-  (``product_integrals``, ``φ_j`` the basis of ``X``);
+* exactly, where the force on a set of segments is constant or linear in
+  the displacement: the sums ``C[m] = Σ ∫ cos mθ``, ``S[m] = Σ ∫ sin mθ``
+  over the segments (:func:`add_segment_integrals`, from the series of
+  :func:`trig_series` at the segment ends) give a constant force ``f`` the
+  coefficients ``f q`` (``q`` from :func:`basis_integrals`) and a spring
+  ``f = kt u`` the coefficients ``P X`` with ``P = kt c_r ∫ φ_j ψ_r``
+  (:func:`product_integrals`, row by row :func:`product_rows`; ``φ_j`` the
+  basis of ``X``);
 * by the trapezoidal rule over samples (:func:`project_samples`), the
   forward DFT of the sampled force and of its gradient ``df/dX``, for a
   whole period or for part of it.
@@ -25,119 +27,157 @@ from .._jit import jit
 
 
 @jit
-def segment_integrals(a, b, cos_int, sin_int):
-    """Exact integrals of ``cos mθ`` and ``sin mθ`` over ``[a, b]``.
+def trig_series(theta, c, s):
+    """``c[m] = cos mθ``, ``s[m] = sin mθ`` for ``m = 0 … c.size - 1``, by
+    the angle-addition recurrence (two trigonometric evaluations).
 
-    ``cos mθ`` and ``sin mθ`` at both ends come from the angle-addition
-    recurrence (four trigonometric evaluations whatever ``m_max``).
+    Parameters
+    ----------
+    theta : float
+        Angle, rad.
+    c, s : ndarray, shape (m_max + 1,)
+        Output.
+    """
+    c1 = np.cos(theta)
+    s1 = np.sin(theta)
+    cm = 1.0
+    sm = 0.0
+    c[0] = 1.0
+    s[0] = 0.0
+    for m in range(1, c.size):
+        cm, sm = cm * c1 - sm * s1, sm * c1 + cm * s1
+        c[m] = cm
+        s[m] = sm
+
+
+@jit
+def add_segment_integrals(a, b, ca, sa, cb, sb, C, S):
+    """Add ``∫_a^b cos mθ dθ`` to ``C[m]`` and ``∫_a^b sin mθ dθ`` to
+    ``S[m]``, exactly.
 
     Parameters
     ----------
     a, b : float
-        Segment ends, rad (any order, any size).
-    cos_int, sin_int : ndarray, shape (m_max + 1,)
-        Output: ``cos_int[m] = ∫_a^b cos mθ dθ``, ``sin_int[m] = ∫_a^b
-        sin mθ dθ``, rad; ``m_max`` is twice the highest harmonic when the
-        products of :func:`product_integrals` are wanted.
+        Segment ends, rad (any order, any length).
+    ca, sa, cb, sb : ndarray, shape (>= m_max + 1,)
+        :func:`trig_series` at ``a`` and at ``b``.
+    C, S : ndarray, shape (m_max + 1,)
+        Accumulated in place, rad; ``m_max`` is twice the highest harmonic
+        when the products of :func:`product_integrals` are wanted.
     """
-    m_max = cos_int.size - 1
-    ca = np.cos(a)
-    sa = np.sin(a)
-    cb = np.cos(b)
-    sb = np.sin(b)
-    cma = 1.0
-    sma = 0.0
-    cmb = 1.0
-    smb = 0.0
-    cos_int[0] = b - a
-    sin_int[0] = 0.0
-    for m in range(1, m_max + 1):
-        cma, sma = cma * ca - sma * sa, sma * ca + cma * sa
-        cmb, smb = cmb * cb - smb * sb, smb * cb + cmb * sb
-        cos_int[m] = (smb - sma) / m
-        sin_int[m] = (cma - cmb) / m
+    C[0] += b - a
+    for m in range(1, C.size):
+        C[m] += (sb[m] - sa[m]) / m
+        S[m] += (ca[m] - cb[m]) / m
 
 
 @jit
-def basis_integrals(harmonic_numbers, cos_int, sin_int, out):
-    """Fourier coefficients of a unit force on one segment, zero elsewhere.
+def basis_integrals(harmonic_numbers, C, S, out):
+    """Fourier coefficients of a unit force on the segments, zero elsewhere.
 
     Parameters
     ----------
     harmonic_numbers : ndarray of int64, shape (n_harmonics,)
-    cos_int, sin_int : ndarray, shape (>= max(harmonic_numbers) + 1,)
-        From :func:`segment_integrals`.
+    C, S : ndarray, shape (>= max(harmonic_numbers) + 1,)
+        Segment integrals (:func:`add_segment_integrals`).
     out : ndarray, shape (n_coef,)
-        Output: ``c_r ∫ ψ_r`` over the segment (dimensionless).
+        Output: ``c_r ∫ ψ_r`` over the segments (dimensionless).
     """
+    inv_pi = 1.0 / np.pi
     row = 0
     for k in harmonic_numbers:
         if k == 0:
-            out[row] = cos_int[0] * (1.0 / (2.0 * np.pi))
+            out[row] = C[0] * (0.5 * inv_pi)
             row += 1
         else:
-            norm = 1.0 / np.pi
-            out[row] = cos_int[k] * norm
-            out[row + 1] = sin_int[k] * norm
+            out[row] = C[k] * inv_pi
+            out[row + 1] = S[k] * inv_pi
             row += 2
 
 
 @jit
-def product_integrals(harmonic_numbers, cos_int, sin_int, scale, P):
-    """Add the Fourier coefficients of ``f = scale · u`` on one segment.
+def product_rows(harmonic_numbers, k, f, C, S, row0, row1):
+    """Rows of ``f ∫ φ_j ψ_r`` for the row harmonic ``k`` (``f`` the
+    stiffness times the row normalisation ``c_r``).
 
-    Adds ``scale c_r ∫ φ_j ψ_r`` over the segment to ``P[r, j]``, so that
-    ``P @ X`` is the contribution of the segment to the coefficients of a
-    force proportional to the displacement ``u = Σ X_j φ_j`` there (and
-    ``P`` its derivative with respect to ``X``). The products are reduced
-    by ``cos jθ cos kθ = ½ (cos (j-k)θ + cos (j+k)θ)`` and its siblings.
+    Products of harmonics ``j`` and ``k`` reduce to harmonics ``|j - k|``
+    and ``j + k`` (``cos jθ cos kθ = ½ (cos (j-k)θ + cos (j+k)θ)`` and its
+    siblings).
 
     Parameters
     ----------
     harmonic_numbers : ndarray of int64, shape (n_harmonics,)
-    cos_int, sin_int : ndarray, shape (>= 2 max(harmonic_numbers) + 1,)
-        From :func:`segment_integrals`.
+    k : int
+        Row harmonic, one of ``harmonic_numbers``.
+    f : float
+        Scale of the rows.
+    C, S : ndarray, shape (>= 2 max(harmonic_numbers) + 1,)
+        Segment integrals (:func:`add_segment_integrals`).
+    row0, row1 : ndarray, shape (n_coef,)
+        Output (overwritten): the cosine row and the sine row of ``k``;
+        ``row1`` is not touched for ``k = 0``.
+    """
+    first = 0
+    col = 0
+    if harmonic_numbers[0] == 0:
+        # the mean column
+        if k == 0:
+            row0[0] = f * C[0]
+        else:
+            row0[0] = f * C[k]
+            row1[0] = f * S[k]
+        first = 1
+        col = 1
+    if k == 0:
+        for jb in range(first, harmonic_numbers.size):
+            j = harmonic_numbers[jb]
+            row0[col] = f * C[j]
+            row0[col + 1] = f * S[j]
+            col += 2
+        return
+    hf = 0.5 * f
+    for jb in range(first, harmonic_numbers.size):
+        j = harmonic_numbers[jb]
+        d = j - k
+        ad = d if d >= 0 else -d
+        sd = S[ad] if d >= 0 else -S[ad]
+        sp = j + k
+        row0[col] = hf * (C[ad] + C[sp])  # cos jθ cos kθ
+        row0[col + 1] = hf * (S[sp] + sd)  # sin jθ cos kθ
+        row1[col] = hf * (S[sp] - sd)  # cos jθ sin kθ
+        row1[col + 1] = hf * (C[ad] - C[sp])  # sin jθ sin kθ
+        col += 2
+
+
+@jit
+def product_integrals(harmonic_numbers, C, S, scale, P):
+    """Fourier coefficients of ``f = scale · u`` on the segments.
+
+    ``P[r, j] = scale c_r ∫ φ_j ψ_r`` over the segments, so that ``P @ X``
+    is the coefficient vector of a force proportional to the displacement
+    ``u = Σ X_j φ_j`` there and zero elsewhere (and ``P`` its derivative
+    with respect to ``X``).
+
+    Parameters
+    ----------
+    harmonic_numbers : ndarray of int64, shape (n_harmonics,)
+    C, S : ndarray, shape (>= 2 max(harmonic_numbers) + 1,)
+        Segment integrals (:func:`add_segment_integrals`).
     scale : float
-        Stiffness of the segment, N/m.
+        Stiffness on the segments, N/m.
     P : ndarray, shape (n_coef, n_coef)
-        Accumulated in place, N/m.
+        Output (overwritten), N/m.
     """
     row = 0
     for k in harmonic_numbers:
-        n_rows = 1 if k == 0 else 2
-        norm = 1.0 / (2.0 * np.pi) if k == 0 else 1.0 / np.pi
-        for rr in range(n_rows):
-            is_sin_row = rr == 1
-            col = 0
-            for j in harmonic_numbers:
-                n_cols = 1 if j == 0 else 2
-                for cc in range(n_cols):
-                    is_sin_col = cc == 1
-                    s = j + k
-                    d = j - k
-                    ad = abs(d)
-                    if j == 0 or k == 0:
-                        if j == 0 and k == 0:
-                            val = cos_int[0]
-                        elif j == 0:
-                            val = sin_int[k] if is_sin_row else cos_int[k]
-                        else:
-                            val = sin_int[j] if is_sin_col else cos_int[j]
-                    elif not is_sin_col and not is_sin_row:
-                        val = 0.5 * (cos_int[ad] + cos_int[s])
-                    elif is_sin_col and is_sin_row:
-                        val = 0.5 * (cos_int[ad] - cos_int[s])
-                    elif is_sin_col:
-                        # sin jθ cos kθ
-                        sgn = 1.0 if d > 0 else (-1.0 if d < 0 else 0.0)
-                        val = 0.5 * (sin_int[s] + sgn * sin_int[ad])
-                    else:
-                        # cos jθ sin kθ
-                        sgn = 1.0 if d < 0 else (-1.0 if d > 0 else 0.0)
-                        val = 0.5 * (sin_int[s] + sgn * sin_int[ad])
-                    P[row, col] += scale * val * norm
-                    col += 1
+        if k == 0:
+            product_rows(
+                harmonic_numbers, k, scale / (2.0 * np.pi), C, S, P[row], P[row]
+            )
             row += 1
+        else:
+            product_rows(harmonic_numbers, k, scale / np.pi, C, S, P[row], P[row + 1])
+            row += 2
 
 
 @jit

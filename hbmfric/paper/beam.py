@@ -49,6 +49,7 @@ from ..api import frf
 from ..results import Branch
 from ..systems import CantileverBeam
 from ..validation import steady_state
+from ._figures import pyplot, save_figure
 from .sdof import FigureResult
 
 HZ = 2.0 * np.pi
@@ -297,10 +298,7 @@ class BeamValidation(BeamFamily):
 
     def write_png(self, path: Path) -> Path:
         """HBM curves (lines) and time-integration points (circles)."""
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
+        plt = pyplot()
 
         fig, ax = plt.subplots(figsize=(6.4, 4.4))
         for i, (label, b, par) in enumerate(
@@ -323,11 +321,7 @@ class BeamValidation(BeamFamily):
         ax.set_title(self.title)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
-        fig.tight_layout()
-        fig.savefig(path, dpi=120)
-        plt.close(fig)
-        self.files.append(Path(path))
-        return Path(path)
+        return save_figure(fig, path, self.files)
 
     def max_difference(self) -> float:
         """Largest relative difference HBM/time integration (first harmonic

@@ -23,6 +23,7 @@ import numpy as np
 from ..api import frf
 from ..laws import Jenkins, Menq, Roughness
 from ..results import Branch
+from ._figures import pyplot, save_figure
 from .scenes import PAPER_SDOF, paper_oscillator
 
 #: Menq law of the paper scene: microslip starts at this fraction of F*
@@ -104,10 +105,7 @@ class FigureResult:
 
     def write_png(self, path: Path) -> Path:
         """Plot the curves (amplitude per unit force against Ω)."""
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
+        plt = pyplot()
 
         fig, ax = plt.subplots(figsize=(6.4, 4.4))
         ratios = sorted({par["ratio"] for par in self.parameters})
@@ -130,11 +128,7 @@ class FigureResult:
         ax.set_title(self.title)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7 if len(self.labels) > 6 else None)
-        fig.tight_layout()
-        fig.savefig(path, dpi=120)
-        plt.close(fig)
-        self.files.append(Path(path))
-        return Path(path)
+        return save_figure(fig, path, self.files)
 
 
 def sdof_family(

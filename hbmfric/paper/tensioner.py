@@ -24,6 +24,7 @@ from ..continuation import ContinuationOptions
 from ..identify import DahlIdentification, modified_dahl
 from ..systems.tensioner import BeltTensioner, default_tensioner
 from ..systems.tensioner_response import TensionFRF, hbm_frf, time_domain_frf
+from ._figures import pyplot, save_figure
 
 #: forcing amplitudes f1 of the Fig. 5 family, N
 FORCES = (2.0, 5.0, 20.0, 50.0)
@@ -97,17 +98,8 @@ class LoopFigure:
         return Path(path)
 
     def write_png(self, path: Path) -> Path:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-
-        ax = self.identification.plot()
-        ax.figure.tight_layout()
-        ax.figure.savefig(path, dpi=120)
-        plt.close(ax.figure)
-        self.files.append(Path(path))
-        return Path(path)
+        pyplot()  # off-screen backend before the identification draws
+        return save_figure(self.identification.plot().figure, path, self.files)
 
 
 @dataclass
@@ -146,10 +138,7 @@ class TensionFigure:
         return Path(path)
 
     def write_png(self, path: Path) -> Path:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
+        plt = pyplot()
 
         fig, ax = plt.subplots(figsize=(6.8, 4.6))
         for i, (h, t) in enumerate(zip(self.hbm, self.time_domain, strict=True)):
@@ -176,11 +165,7 @@ class TensionFigure:
         )
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
-        fig.tight_layout()
-        fig.savefig(path, dpi=120)
-        plt.close(fig)
-        self.files.append(Path(path))
-        return Path(path)
+        return save_figure(fig, path, self.files)
 
 
 def tensioner_loop(progress: Callable[[str], None] | None = None) -> LoopFigure:
