@@ -91,6 +91,7 @@ class Continuation:
             amplitude_scale = problem.amplitude_scale((self.low, self.high))
         self.scale = np.full(n + 1, float(amplitude_scale))
         self.scale[n] = self.high - self.low
+        self.base_scale = float(amplitude_scale)
         self.tol_residual = self.options.tol_residual * max(
             float(np.max(np.abs(problem.load))), 1e-300
         )
@@ -281,7 +282,30 @@ class Continuation:
         state.tangents_omega.append(t_now)
         state.n_steps += 1
         state.step = self.controller.accept(ds, effort, angle)
+        self._follow_amplitude(state)
         return state
+
+    def _follow_amplitude(self, state: ContinuationState) -> None:
+        """Keep the displacement scale at least the current amplitude.
+
+        The base scale is the peak of the linearised response; a branch
+        may climb far above it (a resonance that friction cannot bound, at
+        small damping, peaks at ``(F - 4 f_s/π) / (c Ω)``) and would then
+        need as many steps as it is scales high. Once the largest
+        coefficient exceeds 1.5 scales, the scale follows it (back down to
+        the base scale as the branch descends), so that each step changes
+        the amplitude by at most ``max_step`` relative to itself. The
+        tangent is carried over to the new scaled variables.
+        """
+        n = self.problem.n_unknowns
+        target = max(self.base_scale, float(np.max(np.abs(state.y[:n]))))
+        current = self.scale[0]
+        if current / 1.5 <= target <= 1.5 * current:
+            return
+        t = state.tangent * self.scale
+        self.scale[:n] = target
+        t /= self.scale
+        state.tangent = t / np.linalg.norm(t)
 
     def _land_on_boundary(self, state: ContinuationState, y_out: np.ndarray):
         """The step left the range: solve the last point on the boundary."""

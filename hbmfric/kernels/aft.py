@@ -538,27 +538,125 @@ def _series(theta, c, s):
         s[m] = sm
 
 
+#: Gauss–Legendre rule of :func:`_stick_quadrature` (nodes on [-1, 1])
+_GAUSS_NODES = tuple(float(x) for x in np.polynomial.legendre.leggauss(6)[0])
+_GAUSS_WEIGHTS = tuple(float(w) for w in np.polynomial.legendre.leggauss(6)[1])
+#: a stick segment is short when ``max(harmonic_numbers) * length`` is below
+#: this: the 6-point rule is then exact to rounding (error below
+#: ``(0.25)**12 / 12! ≈ 1e-16`` relative)
+_SHORT_ARC = 0.5
+
+
+@jit
+def _stick_quadrature(harmonic_numbers, X, a, b, entry_force, kt, out):
+    """Add ``∫_a^b f ψ_k`` (normalised rows) of a short stick segment to
+    ``out``, with ``f = entry_force + kt (u(θ) - u(a))``.
+
+    The closed-form integrals of ``kt u`` and ``kt z`` over a short arc are
+    each about ``kt |u| (b - a)`` while their difference is at most
+    ``2 f_s (b - a)``: with ``kt |u| / f_s = 1e8`` the rounding of the
+    integrals alone (relative ``1e-16 / (m (b - a))``) leaves 1e-9 N of
+    noise in ``F``, the Newton tolerance. Here ``u(θ) - u(a)`` is summed
+    from ``-2 sin(k (θ - a)/2) sin(k (θ + a)/2)`` (cosines) and
+    ``2 sin(k (θ - a)/2) cos(k (θ + a)/2)`` (sines), which keeps its
+    relative accuracy, and integrated by Gauss–Legendre.
+    """
+    half = 0.5 * (b - a)
+    mid = 0.5 * (a + b)
+    inv_pi = 1.0 / np.pi
+    for g in range(len(_GAUSS_NODES)):
+        theta = mid + half * _GAUSS_NODES[g]
+        d = 0.5 * (theta - a)
+        sm = 0.5 * (theta + a)
+        cd1 = np.cos(d)
+        sd1 = np.sin(d)
+        cs1 = np.cos(sm)
+        ss1 = np.sin(sm)
+        c1 = np.cos(theta)
+        s1 = np.sin(theta)
+        cdk = 1.0
+        sdk = 0.0
+        csk = 1.0
+        ssk = 0.0
+        ck = 1.0
+        sk = 0.0
+        m = 0
+        du = 0.0
+        col = 0
+        for k in harmonic_numbers:
+            while m < k:
+                cdk, sdk = cdk * cd1 - sdk * sd1, sdk * cd1 + cdk * sd1
+                csk, ssk = csk * cs1 - ssk * ss1, ssk * cs1 + csk * ss1
+                m += 1
+            if k == 0:
+                col += 1
+            else:
+                du += 2.0 * sdk * (X[col + 1] * csk - X[col] * ssk)
+                col += 2
+        f = (entry_force + kt * du) * half * _GAUSS_WEIGHTS[g]
+        m = 0
+        row = 0
+        for k in harmonic_numbers:
+            while m < k:
+                ck, sk = ck * c1 - sk * s1, sk * c1 + ck * s1
+                m += 1
+            if k == 0:
+                out[row] += f * (0.5 * inv_pi)
+                row += 1
+            else:
+                out[row] += f * ck * inv_pi
+                out[row + 1] += f * sk * inv_pi
+                row += 2
+
+
 @jit
 def _close_segment(
-    harmonic_numbers, a, b, ca, sa, cb, sb, stuck, sign, z, C, S, slip, Q, Phi, zs, ns
+    harmonic_numbers,
+    X,
+    a,
+    b,
+    ca,
+    sa,
+    cb,
+    sb,
+    stuck,
+    sign,
+    z,
+    kt,
+    slip_force,
+    C,
+    S,
+    C_short,
+    S_short,
+    slip,
+    Q,
+    Phi,
+    zs,
+    ns,
 ):
     """Add the segment ``[a, b]`` (trigonometric series ``ca, sa`` at ``a``,
     ``cb, sb`` at ``b``) to the Fourier integrals.
 
-    Stick, ``f = kt (u - z)`` with the slider ``z`` set at the segment start
-    ``a`` (a reversal, or the global maximum): adds ``∫ cos mθ``, ``∫ sin mθ``
-    to ``C``, ``S`` (they assemble ``kt ∫ φ_j ψ_k`` once at the end) and
-    stores row ``ns`` of ``Q`` (``∫ ψ_k``, normalised), ``Phi`` (the basis at
-    ``a``: ``dz/dX``) and ``zs``. Slip, ``f = sign f_s``: adds
-    ``sign ∫ ψ_k`` to ``slip``. Returns the new stick-segment count.
+    Stick, ``f = kt (u - z)`` with the slider ``z = u(a) - sign f_s / kt``
+    set at the segment start ``a`` (a reversal, or the global maximum):
+    adds ``∫ cos mθ``, ``∫ sin mθ`` to ``C``, ``S`` (``C_short``,
+    ``S_short`` for a short segment) which assemble ``kt ∫ φ_j ψ_k`` once
+    at the end, and stores row ``ns`` of ``Q`` (``∫ ψ_k``, normalised),
+    ``Phi`` (the basis at ``a``: ``dz/dX``) and ``zs`` (0 for a short
+    segment, whose force integrals :func:`_stick_quadrature` adds to
+    ``slip`` directly). Slip, ``f = sign f_s``: adds ``sign f_s ∫ ψ_k`` to
+    ``slip``. Returns the new stick-segment count.
     """
     m_max = C.size - 1
     inv_pi = 1.0 / np.pi
+    short = stuck and harmonic_numbers[-1] * (b - a) <= _SHORT_ARC
     if stuck:
-        C[0] += b - a
+        CC = C_short if short else C
+        SS = S_short if short else S
+        CC[0] += b - a
         for m in range(1, m_max + 1):
-            C[m] += (sb[m] - sa[m]) / m
-            S[m] += (ca[m] - cb[m]) / m
+            CC[m] += (sb[m] - sa[m]) / m
+            SS[m] += (ca[m] - cb[m]) / m
     row = 0
     for k in harmonic_numbers:
         if k == 0:
@@ -576,21 +674,34 @@ def _close_segment(
                 Q[ns, row + 1] = qs
                 Phi[ns, row + 1] = sa[k]
         else:
-            slip[row] += sign * qc
+            slip[row] += sign * slip_force * qc
             if k != 0:
-                slip[row + 1] += sign * qs
+                slip[row + 1] += sign * slip_force * qs
         row += 1 if k == 0 else 2
-    if stuck:
+    if not stuck:
+        return ns
+    if short:
+        zs[ns] = 0.0
+        _stick_quadrature(harmonic_numbers, X, a, b, sign * slip_force, kt, slip)
+    else:
         zs[ns] = z
-        return ns + 1
-    return ns
+    return ns + 1
 
 
 @jit
-def _stick_matrix(harmonic_numbers, kt, C, S, P):
+def _put(P, r, c, val, add):
+    if add:
+        P[r, c] += val
+    else:
+        P[r, c] = val
+
+
+@jit
+def _stick_matrix(harmonic_numbers, kt, C, S, P, add):
     """``P[r, c] = kt ∫_stick φ_c ψ_r`` (normalised rows) from the summed
     segment integrals ``C[m] = ∫ cos mθ``, ``S[m] = ∫ sin mθ``: products of
-    harmonics ``j`` and ``k`` reduce to harmonics ``|j - k|`` and ``j + k``."""
+    harmonics ``j`` and ``k`` reduce to harmonics ``|j - k|`` and ``j + k``.
+    With ``add`` the entries are added to ``P`` instead of assigned."""
     row = 0
     for k in harmonic_numbers:
         f = kt / (2.0 * np.pi) if k == 0 else kt / np.pi
@@ -598,23 +709,23 @@ def _stick_matrix(harmonic_numbers, kt, C, S, P):
         for j in harmonic_numbers:
             if k == 0:
                 if j == 0:
-                    P[row, col] = f * C[0]
+                    _put(P, row, col, f * C[0], add)
                 else:
-                    P[row, col] = f * C[j]
-                    P[row, col + 1] = f * S[j]
+                    _put(P, row, col, f * C[j], add)
+                    _put(P, row, col + 1, f * S[j], add)
             elif j == 0:
-                P[row, col] = f * C[k]
-                P[row + 1, col] = f * S[k]
+                _put(P, row, col, f * C[k], add)
+                _put(P, row + 1, col, f * S[k], add)
             else:
                 d = j - k
                 ad = d if d >= 0 else -d
                 sd = S[ad] if d >= 0 else -S[ad]
                 s = j + k
                 hf = 0.5 * f
-                P[row, col] = hf * (C[ad] + C[s])  # cos jθ cos kθ
-                P[row + 1, col + 1] = hf * (C[ad] - C[s])  # sin jθ sin kθ
-                P[row, col + 1] = hf * (S[s] + sd)  # sin jθ cos kθ
-                P[row + 1, col] = hf * (S[s] - sd)  # cos jθ sin kθ
+                _put(P, row, col, hf * (C[ad] + C[s]), add)  # cos jθ cos kθ
+                _put(P, row + 1, col + 1, hf * (C[ad] - C[s]), add)  # sin jθ sin kθ
+                _put(P, row, col + 1, hf * (S[s] + sd), add)  # sin jθ cos kθ
+                _put(P, row + 1, col, hf * (S[s] - sd), add)  # cos jθ sin kθ
             col += 1 if j == 0 else 2
         row += 1 if k == 0 else 2
 
@@ -670,7 +781,7 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
     cap = 4 * k_max + 8  # reversals: at most 2 k_max, with room for rounding
     # one work buffer, cut into views
     size = 2 * n_time + 2 * cap + 5 * (_MAX_DEPTH + 2)
-    size += 6 * (m_max + 1) + n_coef + (cap + 1) * (2 * n_coef + 1)
+    size += 8 * (m_max + 1) + n_coef + (cap + 1) * (2 * n_coef + 1)
     work = np.empty(size)
     o = 0
     u = work[o : o + n_time]
@@ -736,6 +847,10 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
     o += m_max + 1
     S = work[o : o + m_max + 1]
     o += m_max + 1
+    C_short = work[o : o + m_max + 1]
+    o += m_max + 1
+    S_short = work[o : o + m_max + 1]
+    o += m_max + 1
     slip = work[o : o + n_coef]
     o += n_coef
     Q = work[o : o + (cap + 1) * n_coef].reshape((cap + 1, n_coef))
@@ -745,6 +860,8 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
     zs = work[o : o + cap + 1]
     C[:] = 0.0
     S[:] = 0.0
+    C_short[:] = 0.0
+    S_short[:] = 0.0
     slip[:] = 0.0
 
     # march from the global maximum, stuck at f = +f_s
@@ -781,6 +898,7 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
                 _series(event, cb, sb)
                 ns = _close_segment(
                     harmonic_numbers,
+                    X,
                     seg_start,
                     event,
                     ca,
@@ -790,8 +908,12 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
                     True,
                     sign,
                     z,
+                    kt,
+                    slip_force,
                     C,
                     S,
+                    C_short,
+                    S_short,
                     slip,
                     Q,
                     Phi,
@@ -808,6 +930,7 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
             _series(t_next, cb, sb)
             ns = _close_segment(
                 harmonic_numbers,
+                X,
                 seg_start,
                 t_next,
                 ca,
@@ -817,8 +940,12 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
                 False,
                 sign,
                 z,
+                kt,
+                slip_force,
                 C,
                 S,
+                C_short,
+                S_short,
                 slip,
                 Q,
                 Phi,
@@ -836,6 +963,7 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
     _series(theta_end, cb, sb)
     ns = _close_segment(
         harmonic_numbers,
+        X,
         seg_start,
         theta_end,
         ca,
@@ -845,22 +973,30 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
         stuck,
         sign,
         z,
+        kt,
+        slip_force,
         C,
         S,
+        C_short,
+        S_short,
         slip,
         Q,
         Phi,
         zs,
         ns,
     )
-    _stick_matrix(harmonic_numbers, kt, C, S, dF)
+    # F from the long stick segments' matrix (short ones are in ``slip``),
+    # then the short segments' share of the Jacobian
+    _stick_matrix(harmonic_numbers, kt, C, S, dF, False)
     for r in range(n_coef):
         acc = 0.0
         for c in range(n_coef):
             acc += dF[r, c] * X[c]
         for s in range(ns):
             acc -= kt * zs[s] * Q[s, r]
-        F[r] = acc + slip_force * slip[r]
+        F[r] = acc + slip[r]
+    if C_short[0] != 0.0:
+        _stick_matrix(harmonic_numbers, kt, C_short, S_short, dF, True)
     for s in range(ns):
         for r in range(n_coef):
             g = kt * Q[s, r]

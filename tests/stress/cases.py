@@ -136,7 +136,11 @@ def run_case(c: Case, spot: bool = True) -> dict:
     # successive points close in the scaled norm of the continuation
     problem = HBMProblem(osc, force, c.harmonics)
     scale = problem.amplitude_scale(omega)
-    dX = np.abs(np.diff(b.coefficients[:, 0], axis=0)) / scale
+    # the continuation's scale follows the amplitude once it exceeds 1.5
+    # scales (Continuation._follow_amplitude): divide by a lower bound of it
+    amp = np.abs(b.coefficients.reshape(len(b), -1)).max(axis=1)
+    local = np.maximum(scale, np.minimum(amp[1:], amp[:-1]) / 1.5)
+    dX = np.abs(np.diff(b.coefficients[:, 0], axis=0)) / local[:, None]
     dW = np.abs(np.diff(b.omega)) / (omega[1] - omega[0])
     gaps = np.maximum(dW, dX.max(axis=1)) if len(b) > 1 else np.zeros(0)
     out["max_gap"] = float(gaps.max()) if gaps.size else 0.0
