@@ -89,26 +89,24 @@ def spot_indices(branch: hf.Branch) -> list[int]:
 
 def spot_check(osc, force: float, branch: hf.Branch, i: int) -> float:
     """Relative first-harmonic difference between the HBM point and the
-    time-integration steady state started on it (1024 steps per period,
-    4096 if the integrator's contact update fails at the coarser step)."""
+    time-integration steady state started on it (1024 steps per period)."""
     sol = branch.point(i)
     hn = sol.harmonic_numbers
     X = sol.coefficients[0]
     cols = np.cumsum([0] + [1 if k == 0 else 2 for k in hn[:-1]])
     x0 = sum(X[c] for k, c in zip(hn, cols, strict=True))
     v0 = sum(sol.omega * k * X[c + 1] for k, c in zip(hn, cols, strict=True) if k > 0)
-    for steps in (1024, 4096):
-        ref = hf.validation.steady_state(
-            osc,
-            force,
-            sol.omega,
-            steps_per_period=steps,
-            initial_state=(x0, v0),
-            tol=1e-8,
-            max_periods=3000,
-        )
-        if ref.status == 0:
-            break
+    ref = hf.validation.steady_state(
+        osc,
+        force,
+        sol.omega,
+        steps_per_period=1024,
+        initial_state=(x0, v0),
+        tol=1e-8,
+        max_periods=3000,
+    )
+    if ref.status != 0:
+        return math.inf
     a = sol.amplitude(harmonic=1)
     return abs(ref.amplitude(harmonic=1) - a) / a
 
