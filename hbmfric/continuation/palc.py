@@ -255,7 +255,9 @@ class Continuation:
         corner = False
         if ok:
             smooth = angle <= o.max_angle and distance <= o.max_correction * ds
-            corner = not smooth and ds <= o.corner_step and distance <= 2.0 * ds
+            corner = not smooth and ds <= o.corner_step and (
+                distance <= 2.0 * ds or self._short_turn(state.y)
+            )
             ok = smooth or corner
         if not ok:
             state.n_rejected += 1
@@ -306,6 +308,21 @@ class Continuation:
         self.scale[:n] = target
         t /= self.scale
         state.tangent = t / np.linalg.norm(t)
+
+    def _short_turn(self, y: np.ndarray) -> bool:
+        """A sharp corner: the new branch piece leaves the corner at a large
+        angle ``α`` to the old tangent, so the corrector's hyperplane meets it
+        about ``ds tan α`` from the predictor (``α = 88°`` where a stuck
+        resonance at ζ = 1e-4 starts to slip), beyond the ``2 ds`` of the
+        plain corner rule at every step size. Accepted when the corrected
+        point is within ``corner_step`` of the current one (scaled) and the
+        chord to it runs along the new tangent (cosine >= 0.9): a step that
+        short along the new piece cannot have left the branch."""
+        chord = (self._y_new - y) / self.scale
+        length = float(np.linalg.norm(chord))
+        if not length <= self.options.corner_step:
+            return False
+        return float(np.dot(chord, self._t_new)) >= 0.9 * length
 
     def _land_on_boundary(self, state: ContinuationState, y_out: np.ndarray):
         """The step left the range: solve the last point on the boundary."""
