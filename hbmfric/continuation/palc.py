@@ -255,8 +255,10 @@ class Continuation:
         corner = False
         if ok:
             smooth = angle <= o.max_angle and distance <= o.max_correction * ds
-            corner = not smooth and ds <= o.corner_step and (
-                distance <= 2.0 * ds or self._short_turn(state.y)
+            corner = (
+                not smooth
+                and ds <= o.corner_step
+                and (distance <= 2.0 * ds or self._short_turn(state.y))
             )
             ok = smooth or corner
         if not ok:
