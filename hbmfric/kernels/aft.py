@@ -312,6 +312,13 @@ def _locate(harmonic_numbers, X, lo, hi, level, on_slope):
     g_lo = d1 if on_slope else v - level
     v, d1, d2 = evaluate(harmonic_numbers, X, hi)
     g_hi = d1 if on_slope else v - level
+    return _refine(harmonic_numbers, X, lo, hi, g_lo, g_hi, level, on_slope)
+
+
+@jit
+def _refine(harmonic_numbers, X, lo, hi, g_lo, g_hi, level, on_slope):
+    """:func:`_locate` with the bracket-end values ``g_lo``, ``g_hi`` of the
+    function (``u - level`` or ``u'``) already known."""
     if g_lo == 0.0:
         return lo
     if g_hi == 0.0:
@@ -320,6 +327,42 @@ def _locate(harmonic_numbers, X, lo, hi, level, on_slope):
         # no sign change: the event sits at the bracket end nearest to zero
         return lo if abs(g_lo) < abs(g_hi) else hi
     theta = lo + (hi - lo) * g_lo / (g_lo - g_hi)
+    return _newton_from(harmonic_numbers, X, lo, hi, g_lo, theta, level, on_slope)
+
+
+@jit
+def _hermite_root(a, b, va, vb, wa, wb):
+    """Root in ``[a, b]`` of the cubic Hermite interpolant of values
+    ``va, vb`` and slopes ``wa, wb`` (signs of ``va``, ``vb`` differ): two
+    Newton steps from the secant root, kept inside the bracket. A starting
+    point for :func:`_newton_from` good to ``O((b - a)⁴)``."""
+    L = b - a
+    t = va / (va - vb)
+    for _ in range(2):
+        t2 = t * t
+        t3 = t2 * t
+        p = (
+            (2.0 * t3 - 3.0 * t2 + 1.0) * va
+            + (t3 - 2.0 * t2 + t) * L * wa
+            + (3.0 * t2 - 2.0 * t3) * vb
+            + (t3 - t2) * L * wb
+        )
+        dp = (
+            (6.0 * t2 - 6.0 * t) * va
+            + (3.0 * t2 - 4.0 * t + 1.0) * L * wa
+            + (6.0 * t - 6.0 * t2) * vb
+            + (3.0 * t2 - 2.0 * t) * L * wb
+        )
+        if dp == 0.0:
+            break
+        t = min(max(t - p / dp, 0.0), 1.0)
+    return a + t * L
+
+
+@jit
+def _newton_from(harmonic_numbers, X, lo, hi, g_lo, theta, level, on_slope):
+    """The safeguarded Newton iteration of :func:`_locate` from ``theta``
+    inside the bracket ``[lo, hi]`` (``g_lo``: the function at ``lo``)."""
     for _ in range(60):
         v, d1, d2 = evaluate(harmonic_numbers, X, theta)
         g = d1 if on_slope else v - level
@@ -419,24 +462,31 @@ def _samples_uv(harmonic_numbers, X, inverse, derivative, u, v):
 
 
 @jit
-def _derivative_bounds(harmonic_numbers, X):
-    """``(max |u''|, max |u'''|)`` bounds ``Σ k² |X_k|`` and ``Σ k³ |X_k|``."""
+def _derivative_bounds(harmonic_numbers, X, X2):
+    """Bounds ``Σ k² |X_k|`` and ``Σ k³ |X_k|`` of the second and third
+    θ-derivatives of ``u``; fills ``X2`` with the coefficients ``-k² X`` of
+    the second derivative."""
     b2 = 0.0
     b3 = 0.0
     col = 0
     for k in harmonic_numbers:
         if k == 0:
+            X2[col] = 0.0
             col += 1
             continue
         amp = np.sqrt(X[col] * X[col] + X[col + 1] * X[col + 1])
         b2 += k * k * amp
         b3 += k * k * k * amp
+        X2[col] = -k * k * X[col]
+        X2[col + 1] = -k * k * X[col + 1]
         col += 2
     return b2, b3
 
 
 @jit
-def _find_reversals(harmonic_numbers, X, u, v, b2, b3, theta, value, stack):
+def _find_reversals(
+    harmonic_numbers, X, X2, inverse, u, v, b2, b3, theta, value, stack
+):
     """All sign changes of ``u'`` over one period, in increasing order.
 
     A sample interval whose end slopes have one sign and exceed what the
@@ -449,9 +499,13 @@ def _find_reversals(harmonic_numbers, X, u, v, b2, b3, theta, value, stack):
     shorter than one interval) is found whatever its length above
     ``h / 2**_MAX_DEPTH``.
 
+    ``X2`` holds the coefficients of ``u''`` (``-k² X``): at the samples
+    ``u''`` is a row of ``inverse`` times ``X2``.
+
     Returns the number of reversals (``-1`` if ``theta`` overflows);
     ``theta[i]`` in ``(0, 2π]``, ``value[i] = u(theta[i])``.
     """
+    n_coef = X.size
     n = u.size
     h = 2.0 * np.pi / n
     count = 0
@@ -479,8 +533,15 @@ def _find_reversals(harmonic_numbers, X, u, v, b2, b3, theta, value, stack):
             pb = vb > 0.0
             if pa == pb and abs(va) + abs(vb) > b2 * width:
                 continue
-            wa = evaluate(harmonic_numbers, X, a)[2]
-            wb = evaluate(harmonic_numbers, X, b)[2]
+            if depth == 0.0:
+                wa = 0.0
+                wb = 0.0
+                for c in range(n_coef):
+                    wa += inverse[i, c] * X2[c]
+                    wb += inverse[j, c] * X2[c]
+            else:
+                wa = evaluate(harmonic_numbers, X, a)[2]
+                wb = evaluate(harmonic_numbers, X, b)[2]
             bend = 0.125 * b3 * width * width
             if pa == pb:
                 s = 1.0 if pa else -1.0
@@ -492,7 +553,11 @@ def _find_reversals(harmonic_numbers, X, u, v, b2, b3, theta, value, stack):
             elif (wa > 0.0) == (wb > 0.0) and abs(wa) + abs(wb) > b3 * width:
                 if count == theta.size:
                     return -1
-                th = _locate(harmonic_numbers, X, a, b, 0.0, True)
+                if va == 0.0 or vb == 0.0:
+                    th = a if va == 0.0 else b
+                else:
+                    th0 = _hermite_root(a, b, va, vb, wa, wb)
+                    th = _newton_from(harmonic_numbers, X, a, b, va, th0, 0.0, True)
                 theta[count] = th
                 value[count] = evaluate(harmonic_numbers, X, th)[0]
                 count += 1
@@ -501,7 +566,7 @@ def _find_reversals(harmonic_numbers, X, u, v, b2, b3, theta, value, stack):
                 if pa != pb:
                     if count == theta.size:
                         return -1
-                    th = _locate(harmonic_numbers, X, a, b, 0.0, True)
+                    th = _refine(harmonic_numbers, X, a, b, va, vb, 0.0, True)
                     theta[count] = th
                     value[count] = evaluate(harmonic_numbers, X, th)[0]
                     count += 1
@@ -689,45 +754,101 @@ def _close_segment(
 
 
 @jit
-def _put(P, r, c, val, add):
-    if add:
-        P[r, c] += val
-    else:
-        P[r, c] = val
-
-
-@jit
-def _stick_matrix(harmonic_numbers, kt, C, S, P, add):
+def _stick_matrix(harmonic_numbers, kt, C, S, P):
     """``P[r, c] = kt ∫_stick φ_c ψ_r`` (normalised rows) from the summed
     segment integrals ``C[m] = ∫ cos mθ``, ``S[m] = ∫ sin mθ``: products of
     harmonics ``j`` and ``k`` reduce to harmonics ``|j - k|`` and ``j + k``.
-    With ``add`` the entries are added to ``P`` instead of assigned."""
-    row = 0
-    for k in harmonic_numbers:
-        f = kt / (2.0 * np.pi) if k == 0 else kt / np.pi
-        col = 0
-        for j in harmonic_numbers:
-            if k == 0:
-                if j == 0:
-                    _put(P, row, col, f * C[0], add)
-                else:
-                    _put(P, row, col, f * C[j], add)
-                    _put(P, row, col + 1, f * S[j], add)
-            elif j == 0:
-                _put(P, row, col, f * C[k], add)
-                _put(P, row + 1, col, f * S[k], add)
-            else:
-                d = j - k
-                ad = d if d >= 0 else -d
-                sd = S[ad] if d >= 0 else -S[ad]
-                s = j + k
-                hf = 0.5 * f
-                _put(P, row, col, hf * (C[ad] + C[s]), add)  # cos jθ cos kθ
-                _put(P, row + 1, col + 1, hf * (C[ad] - C[s]), add)  # sin jθ sin kθ
-                _put(P, row, col + 1, hf * (S[s] + sd), add)  # sin jθ cos kθ
-                _put(P, row + 1, col, hf * (S[s] - sd), add)  # cos jθ sin kθ
-            col += 1 if j == 0 else 2
-        row += 1 if k == 0 else 2
+    Apart from the mean row (normalised by ``1/2π``, the others by ``1/π``)
+    ``P`` is symmetric: the upper triangle is computed and mirrored."""
+    nh = harmonic_numbers.size
+    first = 1 if harmonic_numbers[0] == 0 else 0
+    fk = kt / np.pi
+    hf = 0.5 * fk
+    if first == 1:
+        f0 = kt / (2.0 * np.pi)
+        P[0, 0] = f0 * C[0]
+        for jb in range(1, nh):
+            j = harmonic_numbers[jb]
+            c = 2 * jb - 1
+            P[0, c] = f0 * C[j]
+            P[0, c + 1] = f0 * S[j]
+            P[c, 0] = fk * C[j]
+            P[c + 1, 0] = fk * S[j]
+    for kb in range(first, nh):
+        k = harmonic_numbers[kb]
+        r = first + 2 * (kb - first)
+        # j = k: the difference harmonic is 0 (S[0] = 0)
+        c2 = C[2 * k]
+        s2 = S[2 * k]
+        P[r, r] = hf * (C[0] + c2)
+        P[r, r + 1] = hf * s2
+        P[r + 1, r] = hf * s2
+        P[r + 1, r + 1] = hf * (C[0] - c2)
+        for jb in range(kb + 1, nh):
+            j = harmonic_numbers[jb]
+            c = first + 2 * (jb - first)
+            cd = C[j - k]
+            sd = S[j - k]
+            cs = C[j + k]
+            ss = S[j + k]
+            cc = hf * (cd + cs)  # cos jθ cos kθ
+            sc = hf * (ss + sd)  # sin jθ cos kθ
+            cs_ = hf * (ss - sd)  # cos jθ sin kθ
+            s_s = hf * (cd - cs)  # sin jθ sin kθ
+            P[r, c] = cc
+            P[r, c + 1] = sc
+            P[r + 1, c] = cs_
+            P[r + 1, c + 1] = s_s
+            P[c, r] = cc
+            P[c + 1, r] = sc
+            P[c, r + 1] = cs_
+            P[c + 1, r + 1] = s_s
+
+
+@jit
+def _assemble(
+    harmonic_numbers, kt, X, C, S, C_short, S_short, slip, Q, Phi, zs, ns, F, dF
+):
+    """``F`` and ``dF`` from the segment sums.
+
+    ``dF = P(C, S) + P(C_short, S_short) - kt Σ_s Q[s] ⊗ Phi[s]`` and
+    ``F = P(C, S) X - kt Σ_s zs[s] Q[s] + slip`` (the short stick segments'
+    force is in ``slip`` already).
+    """
+    n = X.size
+    _stick_matrix(harmonic_numbers, kt, C, S, dF)
+    for r in range(n):
+        # four partial sums: independent addition chains
+        a0 = 0.0
+        a1 = 0.0
+        a2 = 0.0
+        a3 = 0.0
+        c = 0
+        while c + 3 < n:
+            a0 += dF[r, c] * X[c]
+            a1 += dF[r, c + 1] * X[c + 1]
+            a2 += dF[r, c + 2] * X[c + 2]
+            a3 += dF[r, c + 3] * X[c + 3]
+            c += 4
+        while c < n:
+            a0 += dF[r, c] * X[c]
+            c += 1
+        acc = (a0 + a1) + (a2 + a3)
+        for s in range(ns):
+            acc -= kt * zs[s] * Q[s, r]
+        F[r] = acc + slip[r]
+    if C_short[0] != 0.0:
+        # rare (kt |u| >> f_s): allocated only here
+        tmp = np.empty((n, n))
+        _stick_matrix(harmonic_numbers, kt, C_short, S_short, tmp)
+        for r in range(n):
+            for c in range(n):
+                dF[r, c] += tmp[r, c]
+    for s in range(ns):
+        for r in range(n):
+            g = kt * Q[s, r]
+            for c in range(n):
+                dF[r, c] -= g * Phi[s, c]
 
 
 @jit
@@ -780,9 +901,9 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
     m_max = 2 * k_max
     cap = 4 * k_max + 8  # reversals: at most 2 k_max, with room for rounding
     # one work buffer, cut into views
-    size = 2 * n_time + 2 * cap + 5 * (_MAX_DEPTH + 2)
-    size += 8 * (m_max + 1) + n_coef + (cap + 1) * (2 * n_coef + 1)
-    work = np.empty(size)
+    # work buffers (views of two allocations: the second is sized by the
+    # number of reversals, which bounds the stick segments)
+    work = np.empty(2 * n_time + 2 * cap + 5 * (_MAX_DEPTH + 2) + 2 * n_coef)
     o = 0
     u = work[o : o + n_time]
     o += n_time
@@ -796,8 +917,12 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
     o += 5 * (_MAX_DEPTH + 2)
 
     _samples_uv(harmonic_numbers, X, inverse, derivative, u, v)
-    b2, b3 = _derivative_bounds(harmonic_numbers, X)
-    n_rev = _find_reversals(harmonic_numbers, X, u, v, b2, b3, rev_th, rev_u, stack)
+    X2 = work[o : o + n_coef]
+    o += n_coef
+    b2, b3 = _derivative_bounds(harmonic_numbers, X, X2)
+    n_rev = _find_reversals(
+        harmonic_numbers, X, X2, inverse, u, v, b2, b3, rev_th, rev_u, stack
+    )
     if n_rev < 0:
         F[:] = 0.0
         dF[:, :] = 0.0
@@ -835,6 +960,9 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
                 dF[0, c] -= kt * basis_r[c]
         return STUCK
 
+    n_seg = n_rev + 2
+    work = np.empty(8 * (m_max + 1) + n_coef + n_seg * (2 * n_coef + 1))
+    o = 0
     ca = work[o : o + m_max + 1]
     o += m_max + 1
     sa = work[o : o + m_max + 1]
@@ -853,11 +981,11 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
     o += m_max + 1
     slip = work[o : o + n_coef]
     o += n_coef
-    Q = work[o : o + (cap + 1) * n_coef].reshape((cap + 1, n_coef))
-    o += (cap + 1) * n_coef
-    Phi = work[o : o + (cap + 1) * n_coef].reshape((cap + 1, n_coef))
-    o += (cap + 1) * n_coef
-    zs = work[o : o + cap + 1]
+    Q = work[o : o + n_seg * n_coef].reshape((n_seg, n_coef))
+    o += n_seg * n_coef
+    Phi = work[o : o + n_seg * n_coef].reshape((n_seg, n_coef))
+    o += n_seg * n_coef
+    zs = work[o : o + n_seg]
     C[:] = 0.0
     S[:] = 0.0
     C_short[:] = 0.0
@@ -890,11 +1018,27 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
                 while p * h <= t_prev:
                     p += 1
                 lo = t_prev
+                u_lo = u_prev
                 while p * h < t_next and d * (u[p % n_time] - level) <= 0.0:
                     lo = p * h
+                    u_lo = u[p % n_time]
                     p += 1
-                hi = min(p * h, t_next)
-                event = _locate(harmonic_numbers, X, lo, hi, level, False)
+                if p * h < t_next:
+                    hi = p * h
+                    u_hi = u[p % n_time]
+                else:
+                    hi = t_next
+                    u_hi = u_next
+                event = _refine(
+                    harmonic_numbers,
+                    X,
+                    lo,
+                    hi,
+                    u_lo - level,
+                    u_hi - level,
+                    level,
+                    False,
+                )
                 _series(event, cb, sb)
                 ns = _close_segment(
                     harmonic_numbers,
@@ -985,21 +1129,20 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
         zs,
         ns,
     )
-    # F from the long stick segments' matrix (short ones are in ``slip``),
-    # then the short segments' share of the Jacobian
-    _stick_matrix(harmonic_numbers, kt, C, S, dF, False)
-    for r in range(n_coef):
-        acc = 0.0
-        for c in range(n_coef):
-            acc += dF[r, c] * X[c]
-        for s in range(ns):
-            acc -= kt * zs[s] * Q[s, r]
-        F[r] = acc + slip[r]
-    if C_short[0] != 0.0:
-        _stick_matrix(harmonic_numbers, kt, C_short, S_short, dF, True)
-    for s in range(ns):
-        for r in range(n_coef):
-            g = kt * Q[s, r]
-            for c in range(n_coef):
-                dF[r, c] -= g * Phi[s, c]
+    _assemble(
+        harmonic_numbers,
+        kt,
+        X,
+        C,
+        S,
+        C_short,
+        S_short,
+        slip,
+        Q,
+        Phi,
+        zs,
+        ns,
+        F,
+        dF,
+    )
     return GROSS_SLIP
