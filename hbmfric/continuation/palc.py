@@ -302,7 +302,7 @@ class Continuation:
         tangent is carried over to the new scaled variables.
         """
         n = self.problem.n_unknowns
-        target = max(self.base_scale, float(np.max(np.abs(state.y[:n]))))
+        target = max(self.base_scale, _newton._norm_inf(state.y[:n]))
         current = self.scale[0]
         if current / 1.5 <= target <= 1.5 * current:
             return
