@@ -10,14 +10,17 @@ and the Jacobian ``dF/dX`` out, plus an integer contact-state code.
     the sampled force back with the forward DFT. The Jacobian is carried
     through the march analytically. Works for every law.
 ``aft_jenkins_events``
-    Jenkins only. The samples serve to *detect* stick/slip events; each event
-    is then located inside its sample interval by a safeguarded Newton
-    iteration on the trigonometric polynomial ``u(θ)``, and the Fourier
-    integrals of the piecewise force (``kt (u - z)`` in stick, ``±f_s`` in
-    slip) are evaluated in closed form segment by segment. The coefficients
-    are exact to rounding for any ``n_time`` that resolves the events, and the
-    Jacobian needs ``O(n_segments n_coef²)`` work instead of
-    ``O(n_time n_coef²)``.
+    Jenkins only. Every reversal of ``u(θ)`` is found (the samples bracket
+    them; derivative bounds prove the other intervals free of reversals, so
+    that a pair of reversals inside one sample interval is not lost) and
+    located by a safeguarded Newton iteration on the trigonometric
+    polynomial; between reversals ``u`` is monotone, so each stick-to-slip
+    crossing is bracketed and unique. The Fourier integrals of the piecewise
+    force (``kt (u - z)`` in stick, ``±f_s`` in slip) are evaluated in
+    closed form segment by segment (Gauss quadrature on short stick arcs,
+    where the closed forms cancel). The coefficients are exact to rounding
+    for any ``n_time > 2 H``, and the Jacobian needs one ``n_coef²``
+    assembly instead of ``O(n_time n_coef²)`` work.
 
 Steady-state rules (SPEC §3): a contact in gross slip is marched once, from
 the sample of maximum displacement in the saturated state ``f = +f_s``; a
