@@ -290,19 +290,21 @@ class Continuation:
         return state
 
     def _follow_amplitude(self, state: ContinuationState) -> None:
-        """Keep the displacement scale at least the current amplitude.
+        """Keep the displacement scale at least a tenth of the amplitude.
 
         The base scale is the peak of the linearised response; a branch
         may climb far above it (a resonance that friction cannot bound, at
-        small damping, peaks at ``(F - 4 f_s/π) / (c Ω)``) and would then
-        need as many steps as it is scales high. Once the largest
-        coefficient exceeds 1.5 scales, the scale follows it (back down to
-        the base scale as the branch descends), so that each step changes
-        the amplitude by at most ``max_step`` relative to itself. The
+        small damping, peaks at ``(F - 4 f_s/π) / (c Ω)``, 4000 base scales
+        in the stress matrix) and would then need as many steps as it is
+        scales high. Once the largest coefficient exceeds 15 base scales,
+        the scale follows a tenth of it (back down to the base scale as the
+        branch descends), so that a step changes the amplitude by at most
+        ``10 max_step`` relative to itself. Branches within 15 base scales
+        (every ordinary FRF) keep the base scale and their resolution. The
         tangent is carried over to the new scaled variables.
         """
         n = self.problem.n_unknowns
-        target = max(self.base_scale, _newton._norm_inf(state.y[:n]))
+        target = max(self.base_scale, 0.1 * _newton._norm_inf(state.y[:n]))
         current = self.scale[0]
         if current / 1.5 <= target <= 1.5 * current:
             return

@@ -134,10 +134,11 @@ def run_case(c: Case, spot: bool = True) -> dict:
     # successive points close in the scaled norm of the continuation
     problem = HBMProblem(osc, force, c.harmonics)
     scale = problem.amplitude_scale(omega)
-    # the continuation's scale follows the amplitude once it exceeds 1.5
-    # scales (Continuation._follow_amplitude): divide by a lower bound of it
+    # the continuation's scale follows a tenth of the amplitude once that
+    # exceeds 1.5 base scales (Continuation._follow_amplitude): divide by a
+    # lower bound of it
     amp = np.abs(b.coefficients.reshape(len(b), -1)).max(axis=1)
-    local = np.maximum(scale, np.minimum(amp[1:], amp[:-1]) / 1.5)
+    local = np.maximum(scale, 0.1 * np.minimum(amp[1:], amp[:-1]) / 1.5)
     dX = np.abs(np.diff(b.coefficients[:, 0], axis=0)) / local[:, None]
     dW = np.abs(np.diff(b.omega)) / (omega[1] - omega[0])
     gaps = np.maximum(dW, dX.max(axis=1)) if len(b) > 1 else np.zeros(0)
