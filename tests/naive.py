@@ -660,3 +660,104 @@ def sdof_residual(harmonics, X, omega, mass, damping, stiffness, force, contact=
     if contact is not None:
         R = R + contact
     return R
+
+
+def _bisect(fun, lo, hi, iterations=200):
+    """Root of ``fun`` in ``[lo, hi]`` (signs differ at the ends) by
+    bisection to the last bit."""
+    f_lo = fun(lo)
+    for _ in range(iterations):
+        mid = 0.5 * (lo + hi)
+        if mid in (lo, hi):
+            break
+        f_mid = fun(mid)
+        if (f_mid > 0.0) == (f_lo > 0.0):
+            lo, f_lo = mid, f_mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+def jenkins_exact_coefficients(harmonics, X, kt, fs, n_grid=40000, n_gauss=48):
+    """Fourier coefficients of the steady-state Jenkins force of the
+    trigonometric polynomial ``u`` (coefficients ``X``), without sampling
+    error.
+
+    Reversals: sign changes of ``u'`` on a grid of ``n_grid`` points,
+    bisected to the last bit (pairs closer than ``2π / n_grid`` are not
+    seen). From the global maximum (stuck at ``f = +fs``), the contact
+    sticks from each reversal after a slip until ``|kt (u - z)|`` reaches
+    ``fs`` (bisection), then slips to the next reversal. The force
+    ``kt (u - z)`` or ``±fs`` is integrated against ``cos kθ``, ``sin kθ``
+    segment by segment with Gauss–Legendre rules on pieces of at most
+    0.1 rad.
+
+    Returns
+    -------
+    ndarray, shape (n_coef,)
+        ``[F0, Fc1, Fs1, …]``, N (gross slip only: ``ValueError`` when the
+    contact sticks over the whole period).
+    """
+    X = np.asarray(X, dtype=float)
+
+    def u(t):
+        return float(synthesize(harmonics, X, np.array([t]))[0])
+
+    def du(t):
+        return float(synthesize_derivative(harmonics, X, np.array([t]))[0])
+
+    grid = 2.0 * np.pi * np.arange(n_grid + 1) / n_grid
+    slope = synthesize_derivative(harmonics, X, grid)
+    slope[n_grid] = slope[0]  # the same instant: one sign for both
+    reversals = []
+    for i in range(n_grid):
+        if (slope[i] > 0.0) != (slope[i + 1] > 0.0):
+            reversals.append(_bisect(du, grid[i], grid[i + 1]))
+    values = [u(t) for t in reversals]
+    if kt * (max(values) - min(values)) <= 2.0 * fs:
+        raise ValueError("the contact sticks: gross slip only")
+    top = int(np.argmax(values))
+    start = reversals[top]
+    order = [
+        (reversals[(top + q) % len(reversals)], values[(top + q) % len(reversals)])
+        for q in range(1, len(reversals))
+    ]
+    order = [(t if t > start else t + 2.0 * np.pi, v) for t, v in order]
+    order.append((start + 2.0 * np.pi, values[top]))
+    # segments (a, b, kind, value): kind "stick" with slider z, "slip" with sign
+    segments = []
+    seg_start, stuck, sign, z = start, True, 1.0, values[top] - fs / kt
+    t_prev, u_prev = start, values[top]
+    for t_next, u_next in order:
+        if stuck:
+            d = 1.0 if u_next > u_prev else -1.0
+            level = z + d * fs / kt
+            if d * (u_next - level) > 0.0:
+                event = _bisect(lambda t, lv=level: u(t) - lv, t_prev, t_next)
+                segments.append((seg_start, event, True, z))
+                seg_start, stuck, sign = event, False, d
+        if not stuck and t_next < start + 2.0 * np.pi:
+            segments.append((seg_start, t_next, False, sign))
+            seg_start, stuck, z = t_next, True, u_next - sign * fs / kt
+        t_prev, u_prev = t_next, u_next
+    segments.append((seg_start, start + 2.0 * np.pi, stuck, z if stuck else sign))
+    nodes, weights = np.polynomial.legendre.leggauss(n_gauss)
+    out = np.zeros(n_coefficients(harmonics))
+    for a, b, is_stick, val in segments:
+        pieces = max(1, int(np.ceil((b - a) / 0.1)))
+        edges = np.linspace(a, b, pieces + 1)
+        for lo, hi in zip(edges[:-1], edges[1:], strict=True):
+            t = 0.5 * (lo + hi) + 0.5 * (hi - lo) * nodes
+            w = 0.5 * (hi - lo) * weights
+            f = kt * (synthesize(harmonics, X, t) - val) if is_stick else val * fs
+            col = 0
+            for k in harmonics:
+                k = int(k)
+                if k == 0:
+                    out[col] += np.sum(w * f) / (2.0 * np.pi)
+                    col += 1
+                else:
+                    out[col] += np.sum(w * f * np.cos(k * t)) / np.pi
+                    out[col + 1] += np.sum(w * f * np.sin(k * t)) / np.pi
+                    col += 2
+    return out

@@ -41,7 +41,9 @@ class ContinuationOptions:
         Contact transitions (stick to slip) put corners into FRF branches:
         the tangent turns by a finite angle. A converged step no longer than
         this is accepted whatever the turn (and recorded as a corner) if the
-        corrected point lies within ``2 * step`` of the predictor.
+        corrected point lies within ``2 * step`` of the predictor, or (a
+        sharp corner, where the new piece leaves at nearly a right angle)
+        within ``corner_step`` of the current point along the new tangent.
     growth, shrink : float
         Largest step growth factor after success; factor after rejection.
     """

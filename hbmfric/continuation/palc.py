@@ -91,6 +91,7 @@ class Continuation:
             amplitude_scale = problem.amplitude_scale((self.low, self.high))
         self.scale = np.full(n + 1, float(amplitude_scale))
         self.scale[n] = self.high - self.low
+        self.base_scale = float(amplitude_scale)
         self.tol_residual = self.options.tol_residual * max(
             float(np.max(np.abs(problem.load))), 1e-300
         )
@@ -254,7 +255,11 @@ class Continuation:
         corner = False
         if ok:
             smooth = angle <= o.max_angle and distance <= o.max_correction * ds
-            corner = not smooth and ds <= o.corner_step and distance <= 2.0 * ds
+            corner = (
+                not smooth
+                and ds <= o.corner_step
+                and (distance <= 2.0 * ds or self._short_turn(state.y))
+            )
             ok = smooth or corner
         if not ok:
             state.n_rejected += 1
@@ -281,7 +286,47 @@ class Continuation:
         state.tangents_omega.append(t_now)
         state.n_steps += 1
         state.step = self.controller.accept(ds, effort, angle)
+        self._follow_amplitude(state)
         return state
+
+    def _follow_amplitude(self, state: ContinuationState) -> None:
+        """Keep the displacement scale at least a tenth of the amplitude.
+
+        The base scale is the peak of the linearised response; a branch
+        may climb far above it (a resonance that friction cannot bound, at
+        small damping, peaks at ``(F - 4 f_s/π) / (c Ω)``, 4000 base scales
+        in the stress matrix) and would then need as many steps as it is
+        scales high. Once the largest coefficient exceeds 15 base scales,
+        the scale follows a tenth of it (back down to the base scale as the
+        branch descends), so that a step changes the amplitude by at most
+        ``10 max_step`` relative to itself. Branches within 15 base scales
+        (every ordinary FRF) keep the base scale and their resolution. The
+        tangent is carried over to the new scaled variables.
+        """
+        n = self.problem.n_unknowns
+        target = max(self.base_scale, 0.1 * _newton._norm_inf(state.y[:n]))
+        current = self.scale[0]
+        if current / 1.5 <= target <= 1.5 * current:
+            return
+        t = state.tangent * self.scale
+        self.scale[:n] = target
+        t /= self.scale
+        state.tangent = t / np.linalg.norm(t)
+
+    def _short_turn(self, y: np.ndarray) -> bool:
+        """A sharp corner: the new branch piece leaves the corner at a large
+        angle ``α`` to the old tangent, so the corrector's hyperplane meets it
+        about ``ds tan α`` from the predictor (``α = 88°`` where a stuck
+        resonance at ζ = 1e-4 starts to slip), beyond the ``2 ds`` of the
+        plain corner rule at every step size. Accepted when the corrected
+        point is within ``corner_step`` of the current one (scaled) and the
+        chord to it runs along the new tangent (cosine >= 0.9): a step that
+        short along the new piece cannot have left the branch."""
+        chord = (self._y_new - y) / self.scale
+        length = float(np.linalg.norm(chord))
+        if not length <= self.options.corner_step:
+            return False
+        return float(np.dot(chord, self._t_new)) >= 0.9 * length
 
     def _land_on_boundary(self, state: ContinuationState, y_out: np.ndarray):
         """The step left the range: solve the last point on the boundary."""

@@ -116,7 +116,12 @@ def contact_update(code, params, f_prev, u_prev, target, g_c):
     u = u_prev
     f, _, _, df_du = law_update(code, params, f_prev, u_prev, u)
     phi = u + g_c * f - target
-    if abs(phi) <= CONTACT_RTOL * (abs(u) + abs(target) + abs(g_c * f)):
+    # the residual is a difference of terms as large as the start values:
+    # its rounding floor scales with them too, not only with the new ones
+    # (a contact crossing u = 0 would otherwise ask for a relative 1e-14 of
+    # a value 1e7 times smaller than the terms it is computed from)
+    base = abs(u_prev) + abs(g_c * f)
+    if abs(phi) <= CONTACT_RTOL * (abs(target) + 2.0 * base):
         return u, f, 0, True
     lo = -np.inf
     hi = np.inf
@@ -124,7 +129,7 @@ def contact_update(code, params, f_prev, u_prev, target, g_c):
         u_new, lo, hi = _newton_update(u, phi, df_du, g_c, lo, hi)
         f, _, _, df_du = law_update(code, params, f_prev, u_prev, u_new)
         phi = u_new + g_c * f - target
-        scale = abs(u_new) + abs(target) + abs(g_c * f)
+        scale = abs(u_new) + abs(target) + abs(g_c * f) + base
         if abs(phi) <= CONTACT_RTOL * scale:
             return u_new, f, iteration, True
         if u_new == u:
@@ -146,7 +151,8 @@ def contact_update_state(code, params, state, u_prev, target, g_c):
     u = u_prev
     f, df_du = law_step(code, params, state, u_prev, u, False)
     phi = u + g_c * f - target
-    if abs(phi) <= CONTACT_RTOL * (abs(u) + abs(target) + abs(g_c * f)):
+    base = abs(u_prev) + abs(g_c * f)  # see contact_update
+    if abs(phi) <= CONTACT_RTOL * (abs(target) + 2.0 * base):
         law_step(code, params, state, u_prev, u, True)
         return u, f, 0, True
     lo = -np.inf
@@ -155,7 +161,7 @@ def contact_update_state(code, params, state, u_prev, target, g_c):
         u_new, lo, hi = _newton_update(u, phi, df_du, g_c, lo, hi)
         f, df_du = law_step(code, params, state, u_prev, u_new, False)
         phi = u_new + g_c * f - target
-        scale = abs(u_new) + abs(target) + abs(g_c * f)
+        scale = abs(u_new) + abs(target) + abs(g_c * f) + base
         if abs(phi) <= CONTACT_RTOL * scale:
             law_step(code, params, state, u_prev, u_new, True)
             return u_new, f, iteration, True
