@@ -58,14 +58,15 @@ import numpy as np
 
 from ..kernels import newton as _newton
 from ..kernels.truncation import truncation_change
-from ..signals import synthesis_matrix
 from .options import ContinuationOptions
 from .palc import NO_START, Continuation, ContinuationState
 
+#: index in the ladder of the level of the first point
+START = 2
 #: harmonic levels the adaptive run moves between (successive ratios about
 #: 1.2-1.4, inside the factor the thresholds below leave between raise and
 #: lower)
-LADDER = (3, 5, 7, 9, 11, 13, 15, 19, 23, 27, 31, 39, 47, 55, 63)
+LADDER = (3, 5, 7, 11, 15, 21, 31, 45, 63)
 #: the error estimate per first-order change to the next level
 CHANGE_FACTOR = 1.5
 #: the error estimate is at least this times ``H |X_H| / |X_1|``
@@ -87,9 +88,10 @@ LINEAR = 1e-6
 #: the estimate ahead grows by at most this factor per step
 MAX_GROWTH = 4.0
 #: points between calibrations of the free measure on one level
-RECALIBRATE = 8
-#: recalibrate when the free measure moved by more than this factor
-DRIFT = 2.0
+RECALIBRATE = 16
+#: between calibrations, stay only if the decision would not change with
+#: an estimate this factor off
+MARGIN = 1.5
 
 
 def top_measure(harmonic_numbers: np.ndarray, X: np.ndarray) -> float:
@@ -139,7 +141,11 @@ def level_for(estimate: float, current: int, goal: float, ladder, decay=DECAY) -
 
 class _Level:
     """One harmonic level: its problem, its continuation (built on first
-    use) and the flat indices the free measure reads."""
+    use) and the flat indices the free measure reads.
+
+    The harmonics of a lower level are a prefix of those of a higher one
+    (``1, 3, 5, …`` or ``0, 1, 2, …``), so a point moves between levels by
+    copying the leading coefficients of every DOF."""
 
     def __init__(self, problem, make_cont: Callable) -> None:
         p = problem
@@ -147,18 +153,19 @@ class _Level:
         self._make_cont = make_cont
         self._cont = None
         self.n = p.n_unknowns
-        hn = [int(k) for k in p.harmonic_numbers]
-        self.h = hn[-1]
-        start = np.cumsum([0] + [1 if k == 0 else 2 for k in hn])
+        self.n_coef = p.n_coef
+        hn = p.harmonic_numbers
+        self.h = int(hn[-1])
         self.n_dof = p.n_unknowns // p.n_coef  # 1 for a problem condensed on a contact
-        base = [d * p.n_coef for d in range(self.n_dof)]
-        self.columns = {k: [b + int(start[i]) for b in base] for i, k in enumerate(hn)}
-        self.first_column = int(start[hn.index(1)])
-        self.first = self.columns[1]
-        self.top = self.columns[hn[-1]] if hn[-1] > 1 else []
-        prev = hn[-2] if len(hn) >= 2 else 0
-        self.prev = self.columns[prev] if prev > 1 else []
-        self.prev_weight = (prev / hn[-1]) ** 4 if prev > 1 else 0.0
+        first = 1 if hn[0] == 0 else 0  # column of the first harmonic
+        base = range(0, self.n, p.n_coef)
+        self.first_column = first
+        self.first = [b + first for b in base]
+        top, prev = p.n_coef - 2, p.n_coef - 4
+        self.top = [b + top for b in base] if self.h > 1 else []
+        k_prev = int(hn[-2]) if hn.size >= 2 else 0
+        self.prev = [b + prev for b in base] if k_prev > 1 else []
+        self.prev_weight = (k_prev / self.h) ** 4 if k_prev > 1 else 0.0
         self._work = None
 
     @property
@@ -195,12 +202,14 @@ class _Level:
         """:func:`truncation_change` of a point padded into this level."""
         if self._work is None:
             n = self.n
-            samples = max(64, 4 * self.h)
-            theta = 2.0 * np.pi * np.arange(samples) / samples
+            # the AFT's own synthesis samples, thinned to about 4 H
+            kp = getattr(
+                self.problem, "full_kernel_problem", self.problem.kernel_problem
+            )
+            inverse = kp[9]
+            every = max(1, inverse.shape[0] // max(64, 4 * self.h))
             self._work = (
-                np.ascontiguousarray(
-                    synthesis_matrix(self.problem.harmonic_numbers, theta)
-                ),
+                np.ascontiguousarray(inverse[::every]),
                 np.empty(n),
                 np.empty((n, n + 1)),
                 np.empty((n, n)),
@@ -267,7 +276,6 @@ class AdaptiveContinuation:
         self.tolerance = float(tolerance)
         self.ladder = tuple(ladder)
         self._levels: dict[int, _Level] = {}
-        self._maps: dict[tuple[int, int], tuple] = {}
         self.amplitude_scale = amplitude_scale
         if amplitude_scale is None:
             self.amplitude_scale = float(self._level(self.ladder[0]).cont.scale[0])
@@ -280,14 +288,19 @@ class AdaptiveContinuation:
         """Forget the estimate history (after a level change)."""
         self._last = math.nan  # previous estimate at this level
         self._low = 0  # points in a row that could go lower
-        self._ratio = math.nan  # change / free measure at the last calibration
-        self._age = 0  # points since the last calibration
-        self._measured = math.nan  # free measure at the last calibration
+        self._age = RECALIBRATE  # points since the last calibration
+        self._factor = math.nan  # estimate per free measure at the last one
 
     # ------------------------------------------------------------------
     def _level(self, h: int) -> _Level:
         if h not in self._levels:
-            self._levels[h] = _Level(self.make_problem(h), self._make_cont)
+            level = _Level(self.make_problem(h), self._make_cont)
+            below = [lv for lv in self.ladder if lv < h]
+            # the estimate (per tolerance) under which a lower level would do
+            level.lower_below = (
+                LOWER_AT * (below[-1] / h) ** DECAY if below else -math.inf
+            )
+            self._levels[h] = level
         return self._levels[h]
 
     def _make_cont(self, problem) -> Continuation:
@@ -302,60 +315,32 @@ class AdaptiveContinuation:
     def _cont(self, h: int) -> Continuation:
         return self._level(h).cont
 
-    def _index_map(self, h_src: int, h_dst: int) -> tuple[np.ndarray, np.ndarray]:
-        key = (h_src, h_dst)
-        if key not in self._maps:
-            cs, cd = self._level(h_src).columns, self._level(h_dst).columns
-            src, dst = [], []
-            for k, idx in cd.items():
-                if k in cs:
-                    for w in range(1 if k == 0 else 2):
-                        src += [i + w for i in cs[k]]
-                        dst += [i + w for i in idx]
-            self._maps[key] = (np.array(src, np.int64), np.array(dst, np.int64))
-        return self._maps[key]
-
     def pad(self, v: np.ndarray, h_src: int, h_dst: int) -> np.ndarray:
         """Map ``[X, Ω]`` (or a tangent) from level ``h_src`` to ``h_dst``:
         shared harmonics copied, new ones zero, dropped ones cut."""
-        src, dst = self._index_map(h_src, h_dst)
-        out = np.zeros(self._level(h_dst).n + 1)
-        out[dst] = v[src]
+        src, dst = self._level(h_src), self._level(h_dst)
+        out = np.zeros(dst.n + 1)
+        m = min(src.n_coef, dst.n_coef)
+        out[:-1].reshape(dst.n_dof, dst.n_coef)[:, :m] = v[:-1].reshape(
+            src.n_dof, src.n_coef
+        )[:, :m]
         out[-1] = v[-1]
         return out
 
     # ------------------------------------------------------------------
     def _calibrate(self, h: int, y: np.ndarray, measure: float) -> float:
-        """Change estimate to the next level; stores its ratio to the free
-        measure. Returns the error estimate."""
+        """Fresh error estimate from the change to the next level; stores
+        its ratio to the free measure."""
         up = [lv for lv in self.ladder if lv > h]
+        self._age = 0
         if not up:
+            self._factor = TOP_FACTOR
             return TOP_FACTOR * measure
         self.n_calibrations += 1
         change = self._level(up[0]).change(self.pad(y, h, up[0]))
-        self._age = 0
-        self._measured = measure
-        if math.isfinite(measure) and measure > 0.0:
-            self._ratio = change / measure
-        return max(CHANGE_FACTOR * change, TOP_FLOOR * measure)
-
-    def estimate(self, h: int, y: np.ndarray, fresh: bool = False) -> float:
-        """Error estimate of the point ``y`` at level ``h`` (calibrated
-        afresh if ``fresh``, after ``RECALIBRATE`` points, or when the free
-        measure drifted by more than ``DRIFT``)."""
-        measure = self._level(h).measure(y)
-        if measure <= 0.0:
-            return 0.0
-        self._age += 1
-        ratio = self._ratio
-        if (
-            fresh
-            or not ratio >= 0.0
-            or self._age >= RECALIBRATE
-            or not self._measured / DRIFT <= measure <= DRIFT * self._measured
-        ):
-            return self._calibrate(h, y, measure)
-        return max(CHANGE_FACTOR * ratio, TOP_FLOOR) * measure
+        est = max(CHANGE_FACTOR * change, TOP_FLOOR * measure)
+        self._factor = est / measure
+        return est
 
     def _move(self, state: ContinuationState, h: int, h_new: int) -> None:
         """Continue from the current point at level ``h_new``: point and
@@ -393,16 +378,31 @@ class AdaptiveContinuation:
         point; returns it (``levels[-1]`` is updated if the point is solved
         again)."""
         tol = self.tolerance
-        est = self.estimate(h, state.y)
+        level = self._levels[h]
+        measure = level.measure(state.y)
         lowest = self.ladder[0]
-        if est <= LINEAR * tol:  # linear response: the lowest level is exact
-            self._last = est
+        if measure <= LINEAR * tol:  # linear response: the lowest level is exact
+            self._last = 0.0
             if h != lowest:
                 self._move(state, h, lowest)
                 return lowest
             return h
-        if est > RAISE_AT * tol and self._age > 0:
-            est = self.estimate(h, state.y, fresh=True)  # decide on a fresh one
+        last = self._last
+        self._age += 1
+        if self._age < RECALIBRATE:
+            # the free measure times the last ratio: enough to decide to stay
+            est = self._factor * measure
+            ahead = est
+            if last > 0.0 and est > last:
+                ahead = est * min(est / last, MAX_GROWTH)
+            if (
+                MARGIN * ahead <= RAISE_AT * tol
+                and est >= MARGIN * level.lower_below * tol
+            ):
+                self._last = est
+                self._low = 0
+                return h
+        est = self._calibrate(h, state.y, measure)
         # a point over the tolerance: solve it again higher (rare: the
         # estimate ahead normally raises the level one step earlier)
         for _ in range(len(self.ladder)):
@@ -413,23 +413,24 @@ class AdaptiveContinuation:
             if not self._resolve(state, h, h_new):
                 break
             levels[-1] = h = h_new
-            est = self.estimate(h, state.y)
-        last = self._last
-        growth = est / last if last > 0.0 else 1.0
-        ahead = est * min(max(growth, 1.0), MAX_GROWTH)
+            level = self._levels[h]
+            measure = level.measure(state.y)
+            if measure <= LINEAR * tol:
+                return h
+            est = self._calibrate(h, state.y, measure)
+            last = math.nan
+        ahead = est
+        if last > 0.0 and est > last:
+            ahead = est * min(est / last, MAX_GROWTH)
         self._last = est
         if ahead > RAISE_AT * tol:
             h_new = level_for(ahead, h, TARGET * tol, self.ladder)
             if h_new > h:
                 self._move(state, h, h_new)
-                return h_new
-            return h
-        below = [lv for lv in self.ladder if lv < h]
-        if below and est * (h / below[-1]) ** DECAY < LOWER_AT * tol:
+            return max(h_new, h)
+        if est < level.lower_below * tol:
             self._low += 1
             if self._low >= LOWER_PATIENCE:
-                if self._age > 0:
-                    est = self.estimate(h, state.y, fresh=True)
                 h_new = level_for(est, h, LOWER_AT * tol, self.ladder)
                 if h_new < h:
                     self._move(state, h, h_new)
@@ -454,7 +455,10 @@ class AdaptiveContinuation:
             Wall time, s.
         """
         start = time.perf_counter()
-        h = self.ladder[0]
+        # start in the middle of the ladder: from the linear guesses Newton
+        # reaches a slipping first point in 15-20 iterations at H >= 5, 52
+        # at H = 3 (SDOF Jenkins, F = 2); a stuck one drops at once
+        h = self.ladder[min(START, len(self.ladder) - 1)]
         state = self._cont(h).init()
         levels = [h] * len(state.points)
         if state.stop_reason == NO_START:
@@ -462,7 +466,7 @@ class AdaptiveContinuation:
         h = self._adapt(state, h, levels)
         while not state.finished:
             before = len(state.points)
-            state = self._cont(h).step(state)
+            state = self._levels[h].cont.step(state)
             if len(state.points) > before:
                 levels.append(h)
                 if not state.finished:
