@@ -91,7 +91,9 @@ MAX_GROWTH = 4.0
 RECALIBRATE = 16
 #: between calibrations, stay only if the decision would not change with
 #: an estimate this factor off
-MARGIN = 1.5
+MARGIN = 1.25
+#: points after a calibration during which decisions use the carried ratio
+MIN_GAP = 4
 
 
 def top_measure(harmonic_numbers: np.ndarray, X: np.ndarray) -> float:
@@ -198,8 +200,8 @@ class _Level:
             return 0.0 if top == 0.0 else math.inf
         return self.h * top / a1
 
-    def change(self, y_padded: np.ndarray) -> float:
-        """:func:`truncation_change` of a point padded into this level."""
+    def change(self, x: np.ndarray) -> float:
+        """:func:`truncation_change` of a point ``x`` of a lower level."""
         if self._work is None:
             n = self.n
             # the AFT's own synthesis samples, thinned to about 4 H
@@ -210,19 +212,21 @@ class _Level:
             every = max(1, inverse.shape[0] // max(64, 4 * self.h))
             self._work = (
                 np.ascontiguousarray(inverse[::every]),
+                np.empty(n + 1),
                 np.empty(n),
                 np.empty((n, n + 1)),
                 np.empty((n, n)),
                 np.empty(n),
             )
-        synthesis, R, J, A, dX = self._work
+        synthesis, y, R, J, A, dX = self._work
         return float(
             truncation_change(
-                y_padded,
+                x,
                 self.problem.kernel_problem,
                 self.n_dof,
                 self.first_column,
                 synthesis,
+                y,
                 R,
                 J,
                 A,
@@ -278,7 +282,8 @@ class AdaptiveContinuation:
         self._levels: dict[int, _Level] = {}
         self.amplitude_scale = amplitude_scale
         if amplitude_scale is None:
-            self.amplitude_scale = float(self._level(self.ladder[0]).cont.scale[0])
+            start = self.ladder[min(START, len(self.ladder) - 1)]
+            self.amplitude_scale = float(self._level(start).cont.scale[0])
         self.n_switches = 0
         self.n_resolves = 0
         self.n_calibrations = 0
@@ -337,7 +342,7 @@ class AdaptiveContinuation:
             self._factor = TOP_FACTOR
             return TOP_FACTOR * measure
         self.n_calibrations += 1
-        change = self._level(up[0]).change(self.pad(y, h, up[0]))
+        change = self._level(up[0]).change(y)
         est = max(CHANGE_FACTOR * change, TOP_FLOOR * measure)
         self._factor = est / measure
         return est
@@ -385,24 +390,31 @@ class AdaptiveContinuation:
             self._last = 0.0
             if h != lowest:
                 self._move(state, h, lowest)
+                # the dropped harmonics are zero: the point is the lowest
+                # level's solution too
+                state.points[-1] = state.y.copy()
+                levels[-1] = lowest
                 return lowest
             return h
         last = self._last
         self._age += 1
+        stale = self._factor * measure
         if self._age < RECALIBRATE:
             # the free measure times the last ratio: enough to decide to stay
-            est = self._factor * measure
-            ahead = est
-            if last > 0.0 and est > last:
-                ahead = est * min(est / last, MAX_GROWTH)
+            ahead = stale
+            if last > 0.0 and stale > last:
+                ahead = stale * min(stale / last, MAX_GROWTH)
             if (
                 MARGIN * ahead <= RAISE_AT * tol
-                and est >= MARGIN * level.lower_below * tol
+                and stale >= MARGIN * level.lower_below * tol
             ):
-                self._last = est
+                self._last = stale
                 self._low = 0
                 return h
-        est = self._calibrate(h, state.y, measure)
+        if self._age < MIN_GAP and stale <= tol:
+            est = stale  # calibrated a moment ago: decide on the carried one
+        else:
+            est = self._calibrate(h, state.y, measure)
         # a point over the tolerance: solve it again higher (rare: the
         # estimate ahead normally raises the level one step earlier)
         for _ in range(len(self.ladder)):

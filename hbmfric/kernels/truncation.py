@@ -13,19 +13,20 @@ from .residual import residual
 
 
 @jit
-def truncation_change(y, problem, n_dof, first, synthesis, R, J, A, dX):
+def truncation_change(x, problem, n_dof, first, synthesis, y, R, J, A, dX):
     """Relative change of the first-harmonic amplitude and of half the
     peak-to-peak value when a solution gains harmonics.
 
-    ``y`` is a solution of a smaller basis written (zero-padded) in the basis
-    of ``problem``; one Newton step at fixed Ω in that basis gives the change
-    ``dX`` to first order. The change of an extreme of ``x(t)`` is ``dx`` at
-    the instant of the extreme (located on the samples of ``synthesis``).
+    ``x`` is a solution of a smaller basis; zero-padded into the basis of
+    ``problem`` (whose harmonics extend those of ``x``), one Newton step at
+    fixed Ω in that basis gives the change ``dX`` to first order. The
+    change of an extreme of ``x(t)`` is ``dx`` at the instant of the
+    extreme (located on the samples of ``synthesis``).
 
     Parameters
     ----------
-    y : ndarray, shape (n + 1,)
-        ``[X, Ω]`` in the basis of ``problem`` (``n`` unknowns).
+    x : ndarray, shape (n_dof * n_coef_small + 1,)
+        ``[X, Ω]`` in the smaller basis.
     problem : tuple or CondensedProblem
         Kernel problem of the larger basis
         (:func:`hbmfric.kernels.residual.residual`).
@@ -35,8 +36,9 @@ def truncation_change(y, problem, n_dof, first, synthesis, R, J, A, dX):
         Column of the first-harmonic cosine coefficient within a DOF.
     synthesis : ndarray, shape (n_samples, n_coef)
         Basis functions at ``n_samples`` instants of the period.
-    R, J, A, dX : ndarray
-        Work arrays, shapes (n,), (n, n + 1), (n, n), (n,).
+    y, R, J, A, dX : ndarray
+        Work arrays, shapes (n + 1,), (n,), (n, n + 1), (n, n), (n,); ``y``
+        holds the padded point on return.
 
     Returns
     -------
@@ -48,6 +50,11 @@ def truncation_change(y, problem, n_dof, first, synthesis, R, J, A, dX):
     """
     n = y.size - 1
     n_coef = n // n_dof
+    n_small = (x.size - 1) // n_dof
+    for d in range(n_dof):
+        for k in range(n_coef):
+            y[d * n_coef + k] = x[d * n_small + k] if k < n_small else 0.0
+    y[n] = x[x.size - 1]
     status = residual(y, problem, R, J)
     if status < 0:
         return np.inf
