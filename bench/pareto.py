@@ -132,7 +132,7 @@ def settings(quick: bool = False) -> list[Setting]:
                     out.append(Setting(label, kw))
     if _supports_auto():
         for tol in (
-            (1e-2, 1e-3, 1e-4) if quick else (3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4)
+            (1e-2, 1e-3, 1e-4) if quick else (1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5)
         ):
             out.append(
                 Setting(
@@ -258,6 +258,11 @@ def evaluate(problem: Problem, setting: Setting, ref: Reference, repeats: int) -
         rejected=branch.n_rejected,
         status=branch.stop_reason,
     )
+    if branch.point_harmonics is not None:
+        levels, counts = np.unique(branch.point_harmonics, return_counts=True)
+        row["levels"] = " ".join(
+            f"{h}:{c}" for h, c in zip(levels, counts, strict=True)
+        )
     if setting.default:
         row.update(
             harmonics=branch.info["harmonics"],
@@ -337,6 +342,73 @@ def mark_front(rows: list[dict]) -> None:
         )
 
 
+def _interpolated_front_time(fixed: list[dict], error: float) -> float:
+    """Run time of the fixed-setting Pareto front at ``error``, log-log
+    interpolated between its two neighbouring points (nan outside)."""
+    front = sorted(
+        (float(r["time_s"]), float(r["error"]))
+        for r in fixed
+        if r.get("pareto") is True or r.get("pareto") == "True"
+    )
+    for (t0, e0), (t1, e1) in zip(front[:-1], front[1:], strict=True):
+        if e1 <= error <= e0 and e0 > 0.0 and e1 > 0.0:
+            if e0 == e1:
+                return t0
+            s = math.log(error / e0) / math.log(e1 / e0)
+            return math.exp(math.log(t0) + s * math.log(t1 / t0))
+    return math.nan
+
+
+def compare_auto(problem: Problem, rows: list[dict], repeats: int = 7) -> None:
+    """Time of every ``harmonics="auto"`` row against the best fixed setting
+    at equal error, in the same run.
+
+    For each adaptive row, the fixed settings (default included) at least
+    as accurate whose grid time is within 1.5x of the fastest of them (at
+    most four) are timed again with the adaptive setting, interleaved,
+    ``repeats`` times (least of each); ``fixed_at_error`` is the fastest of
+    them and ``ratio_to_fixed`` the adaptive time over its time (< 1: auto
+    is faster). ``front_time``
+    is the fixed front log-log interpolated at the adaptive row's error and
+    ``ratio_to_front`` the adaptive time (grid run) over it.
+    """
+    fixed = [
+        r for r in rows if not r["adaptive"] and np.isfinite(r.get("error", np.nan))
+    ]
+    by_label = {s.label: s for s in settings(False) + settings(True)}
+    system = problem.system()
+    for r in rows:
+        if not r["adaptive"] or not np.isfinite(r.get("error", np.nan)):
+            continue
+        ok = [f for f in fixed if float(f["error"]) <= float(r["error"])]
+        front_t = _interpolated_front_time(fixed, float(r["error"]))
+        r["front_time_s"] = front_t
+        r["ratio_to_front"] = float(r["time_s"]) / front_t
+        if not ok:
+            continue
+        # the grid times are noisy: re-time every fixed candidate within
+        # 1.5x of the fastest (at most four), interleaved with auto
+        ok.sort(key=lambda f: float(f["time_s"]))
+        fastest = float(ok[0]["time_s"])
+        candidates = [f for f in ok if float(f["time_s"]) <= 1.5 * fastest][:4]
+        runs = {"auto": dict(problem.frf_options, **by_label[r["setting"]].kwargs)}
+        for f in candidates:
+            runs[f["setting"]] = dict(
+                problem.frf_options, **by_label[f["setting"]].kwargs
+            )
+        least = dict.fromkeys(runs, math.inf)
+        for _ in range(repeats):
+            for key, kw in runs.items():
+                t = time.perf_counter()
+                hf.frf(system, problem.force, problem.omega, **kw)
+                least[key] = min(least[key], time.perf_counter() - t)
+        best = min((k for k in runs if k != "auto"), key=least.get)
+        r["fixed_at_error"] = best
+        r["auto_time_retimed_s"] = least["auto"]
+        r["fixed_time_retimed_s"] = least[best]
+        r["ratio_to_fixed"] = least["auto"] / least[best]
+
+
 def replot(out: Path) -> list[dict]:
     """Recompute the marks and the plot from ``pareto.csv`` and
     ``reference.csv`` (no new runs)."""
@@ -398,6 +470,13 @@ COLUMNS = [
     "error",
     "pareto",
     "dominated_by",
+    "levels",
+    "fixed_at_error",
+    "fixed_time_retimed_s",
+    "auto_time_retimed_s",
+    "ratio_to_fixed",
+    "front_time_s",
+    "ratio_to_front",
 ]
 
 
@@ -542,6 +621,16 @@ def run(out: Path, quick: bool = False, repeats: int = 3, problems=None) -> list
                 flush=True,
             )
         mark_front(sub)
+        compare_auto(problem, sub)
+        for r in sub:
+            if r["adaptive"] and r.get("ratio_to_fixed") is not None:
+                print(
+                    f"  {r['setting']:<16} error {r['error']:.2e}: "
+                    f"{r['ratio_to_fixed']:.2f} x the time of "
+                    f"{r['fixed_at_error']} (interleaved), "
+                    f"{r['ratio_to_front']:.2f} x the interpolated front",
+                    flush=True,
+                )
         rows += sub
     write_csv(rows, out / "pareto.csv")
     write_reference(refs, out / "reference.csv")
