@@ -380,7 +380,8 @@ def compare_auto(problem: Problem, rows: list[dict], repeats: int = 7) -> None:
     for r in rows:
         if not r["adaptive"] or not np.isfinite(r.get("error", np.nan)):
             continue
-        ok = [f for f in fixed if float(f["error"]) <= float(r["error"])]
+        # (equal errors: the same H at the worst check frequency)
+        ok = [f for f in fixed if float(f["error"]) <= float(r["error"]) * (1 + 1e-6)]
         front_t = _interpolated_front_time(fixed, float(r["error"]))
         r["front_time_s"] = front_t
         r["ratio_to_front"] = float(r["time_s"]) / front_t
@@ -409,9 +410,8 @@ def compare_auto(problem: Problem, rows: list[dict], repeats: int = 7) -> None:
         r["ratio_to_fixed"] = least["auto"] / least[best]
 
 
-def replot(out: Path) -> list[dict]:
-    """Recompute the marks and the plot from ``pareto.csv`` and
-    ``reference.csv`` (no new runs)."""
+def _read(out: Path) -> tuple[list[dict], dict]:
+    """Rows of ``pareto.csv`` and references of ``reference.csv``."""
     rows = []
     with open(out / "pareto.csv") as fh:
         for r in csv.DictReader(fh):
@@ -440,8 +440,20 @@ def replot(out: Path) -> list[dict]:
             ),
             elapsed=math.nan,
         )
+    return rows, refs
+
+
+def replot(out: Path, retime: bool = False) -> list[dict]:
+    """Recompute the marks and the plot from ``pareto.csv`` and
+    ``reference.csv``; with ``retime``, also time the adaptive rows again
+    against the fixed settings at equal error (:func:`compare_auto`)."""
+    rows, refs = _read(out)
     for name in refs:
-        mark_front([r for r in rows if r["problem"] == name])
+        sub = [r for r in rows if r["problem"] == name]
+        mark_front(sub)
+        if retime:
+            (problem,) = [p for p in PROBLEMS if p.name == name]
+            compare_auto(problem, sub)
     write_csv(rows, out / "pareto.csv")
     plot(rows, refs, out / "pareto.png")
     return rows
@@ -555,7 +567,7 @@ def plot(rows: list[dict], refs: dict, path: Path) -> None:
         )
         auto = [r for r in sub if r["adaptive"] and np.isfinite(r.get("error", np.nan))]
         if auto:
-            auto.sort(key=lambda r: r["time_s"])
+            auto.sort(key=lambda r: -r["error"])
             ax.loglog(
                 [1e3 * r["time_s"] for r in auto],
                 [r["error"] for r in auto],
@@ -647,12 +659,17 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--replot", action="store_true", help="redo marks and plot from the CSV"
     )
+    parser.add_argument(
+        "--retime",
+        action="store_true",
+        help="with --replot: time the auto rows again against fixed H",
+    )
     args = parser.parse_args(argv)
     problems = PROBLEMS
     if args.problem:
         problems = [p for p in PROBLEMS if p.name in args.problem]
     if args.replot:
-        rows = replot(Path(args.out))
+        rows = replot(Path(args.out), args.retime)
     else:
         rows = run(Path(args.out), args.quick, args.repeats, problems)
     for name in dict.fromkeys(r["problem"] for r in rows):

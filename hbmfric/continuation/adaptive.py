@@ -2,7 +2,9 @@
 along the branch from an estimate of the truncation error.
 
 Estimate. The quantities the error is measured on are the first-harmonic
-amplitude and half the peak-to-peak value. Their change when the basis grows
+amplitude and half the peak-to-peak value, at the contact DOF (where the
+higher harmonics are made; the linear structure filters them elsewhere: on
+the beam the error at the tip is at most 0.12 times the one at the contact). Their change when the basis grows
 to the next level of the ladder is computed to first order by
 :func:`hbmfric.kernels.truncation.truncation_change` (one residual and one
 LU in the larger basis at the zero-padded point, about one Newton iteration).
@@ -159,8 +161,10 @@ class _Level:
         hn = p.harmonic_numbers
         self.h = int(hn[-1])
         self.n_dof = p.n_unknowns // p.n_coef  # 1 for a problem condensed on a contact
+        # the measured DOF: the contact's (1 DOF: the only one)
+        self.dof = int(getattr(p.system, "contact_dof", 0)) if self.n_dof > 1 else 0
         first = 1 if hn[0] == 0 else 0  # column of the first harmonic
-        base = range(0, self.n, p.n_coef)
+        base = [self.dof * p.n_coef]
         self.first_column = first
         self.first = [b + first for b in base]
         top, prev = p.n_coef - 2, p.n_coef - 4
@@ -224,6 +228,7 @@ class _Level:
                 x,
                 self.problem.kernel_problem,
                 self.n_dof,
+                self.dof,
                 self.first_column,
                 synthesis,
                 y,
