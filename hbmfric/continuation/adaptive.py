@@ -104,6 +104,31 @@ MARGIN = 1.25
 MIN_GAP = 4
 
 
+def truncation_estimate(harmonic_numbers: np.ndarray, X: np.ndarray) -> float:
+    """Relative amplitude of the highest retained harmonic,
+    ``max_d |X_d,H| / max_d |X_d,1|`` (0 if the first harmonic is 0, inf if
+    ``H <= 1``): the size of a difference truncation can explain (used by the
+    stress checks, ``tests/stress``).
+
+    Parameters
+    ----------
+    harmonic_numbers : ndarray of int, shape (n_harmonics,)
+    X : ndarray, shape (n_dof, n_coef)
+        Coefficients per DOF, m.
+    """
+    hn = [int(k) for k in harmonic_numbers]
+    if hn[-1] < 2:
+        return math.inf
+    X = np.atleast_2d(X)
+    cols = np.cumsum([0] + [1 if k == 0 else 2 for k in hn])
+    c1, ct = int(cols[hn.index(1)]), int(cols[-2])
+    a1 = float(np.max(np.hypot(X[:, c1], X[:, c1 + 1])))
+    top = float(np.max(np.hypot(X[:, ct], X[:, ct + 1])))
+    if a1 == 0.0:
+        return 0.0 if top == 0.0 else math.inf
+    return top / a1
+
+
 def top_measure(harmonic_numbers: np.ndarray, X: np.ndarray) -> float:
     """Free truncation measure ``H max(|X_H|, (K'/H)^4 |X_K'|) / |X_1|``.
 
