@@ -111,6 +111,29 @@ def test_auto_few_changes_no_flapping(branches):
         assert b.info["harmonic_switches"] >= changes.size
 
 
+def test_auto_cubic_spring_no_flapping():
+    """A cubic spring's harmonics decay geometrically, not like a power of
+    their order: at its 3rd superharmonic resonance the top harmonic of
+    H = 21 vanishes while harmonic 3 is large. The run must neither take
+    that for a linear response nor flap between levels (it once went back
+    and forth between H = 21 and 3 for 5000 steps), and it meets the
+    tolerance against H = 63."""
+    duffing = hf.Oscillator(1.0, 0.02, 1.0, hf.Cubic(0.5))
+    tol = 1e-3
+    b = hf.frf(duffing, 0.5, (0.3, 3.0), "auto", harmonic_tolerance=tol)
+    assert b.stop_reason == "end of frequency range reached"
+    fixed = hf.frf(duffing, 0.5, (0.3, 3.0), 15)
+    assert len(b) <= 1.2 * len(fixed)
+    assert b.info["harmonic_switches"] <= 12
+    for i in np.linspace(0, len(b) - 1, 8).astype(int):
+        ref = hf.periodic_solution(
+            duffing, 0.5, float(b.omega[i]), 63, initial_guess=b.point(i)
+        )
+        for harmonic in (1, None):
+            r = ref.amplitude(harmonic=harmonic)
+            assert abs(b.amplitude(harmonic=harmonic)[i] - r) <= tol * r
+
+
 def test_auto_branch_continuous_across_changes(branches):
     """Where H changes, successive points stay as close as elsewhere on the
     branch (in the scaled norm of the continuation), and the point after the

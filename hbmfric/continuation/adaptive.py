@@ -93,6 +93,10 @@ LOWER_AT = 0.1
 LOWER_PATIENCE = 3
 #: an estimate below this fraction of the tolerance means a linear response
 LINEAR = 1e-6
+#: a raise within this many points of a lowering returns to the level left
+FLAP_WINDOW = 10
+#: ... and then no lowering for this many points
+COOLDOWN = 50
 #: the estimate ahead grows by at most this factor per step
 MAX_GROWTH = 4.0
 #: points between calibrations of the free measure on one level
@@ -323,6 +327,8 @@ class AdaptiveContinuation:
         self.n_switches = 0
         self.n_resolves = 0
         self.n_calibrations = 0
+        self._lowered = (0, 0)  # level left by the last lowering, and where
+        self._no_lower_before = 0  # point count before which no lowering
         self._reset()
 
     def _reset(self) -> None:
@@ -380,8 +386,20 @@ class AdaptiveContinuation:
         self.n_calibrations += 1
         change = self._level(up[0]).change(y)
         est = max(CHANGE_FACTOR * change, TOP_FLOOR * measure)
-        self._factor = est / measure
+        self._factor = est / max(measure, 1e-300)
         return est
+
+    def _linear(self, h: int, y: np.ndarray) -> bool:
+        """Whether every harmonic above the lowest level vanishes at the
+        measured DOF (a stuck contact, a linear response): then the lowest
+        level is exact. A vanishing top harmonic alone is not enough (a
+        cubic spring's harmonics decay geometrically)."""
+        level, lowest = self._levels[h], self._level(self.ladder[0])
+        block = y[level.dof * level.n_coef : (level.dof + 1) * level.n_coef]
+        rest = float(np.max(np.abs(block[lowest.n_coef :]), initial=0.0))
+        i = level.first[0]
+        a1 = math.hypot(y[i], y[i + 1])
+        return rest <= LINEAR * self.tolerance * a1
 
     def _move(self, state: ContinuationState, h: int, h_new: int) -> None:
         """Continue from the current point at level ``h_new``: point and
@@ -422,7 +440,8 @@ class AdaptiveContinuation:
         level = self._levels[h]
         measure = level.measure(state.y)
         lowest = self.ladder[0]
-        if measure <= LINEAR * tol:  # linear response: the lowest level is exact
+        if measure <= LINEAR * tol and self._linear(h, state.y):
+            # linear response: the lowest level is exact
             self._last = 0.0
             if h != lowest:
                 self._move(state, h, lowest)
@@ -456,14 +475,13 @@ class AdaptiveContinuation:
         for _ in range(len(self.ladder)):
             if est <= tol or h == self.ladder[-1]:
                 break
-            h_new = level_for(est, h, TARGET * tol, self.ladder)
-            h_new = min(lv for lv in self.ladder if lv > h) if h_new <= h else h_new
+            h_new = self._raise_to(est, h, len(levels))
             if not self._resolve(state, h, h_new):
                 break
             levels[-1] = h = h_new
             level = self._levels[h]
             measure = level.measure(state.y)
-            if measure <= LINEAR * tol:
+            if measure <= LINEAR * tol and self._linear(h, state.y):
                 return h
             est = self._calibrate(h, state.y, measure)
             last = math.nan
@@ -472,21 +490,37 @@ class AdaptiveContinuation:
             ahead = est * min(est / last, MAX_GROWTH)
         self._last = est
         if ahead > RAISE_AT * tol:
-            h_new = level_for(ahead, h, TARGET * tol, self.ladder)
+            h_new = self._raise_to(ahead, h, len(levels))
             if h_new > h:
                 self._move(state, h, h_new)
             return max(h_new, h)
-        if est < level.lower_below * tol:
+        if est < level.lower_below * tol and len(levels) >= self._no_lower_before:
             self._low += 1
             if self._low >= LOWER_PATIENCE:
                 h_new = level_for(est, h, LOWER_AT * tol, self.ladder)
                 if h_new < h:
                     self._move(state, h, h_new)
+                    self._lowered = (h, len(levels))
                     return h_new
                 self._low = 0
         else:
             self._low = 0
         return h
+
+    def _raise_to(self, est: float, h: int, n_points: int) -> int:
+        """Level to raise to from ``h``. Soon after lowering from a level
+        (the ``H^-DECAY`` law was wrong: a cubic spring's harmonics decay
+        geometrically), go back to it and do not lower again for
+        ``COOLDOWN`` points."""
+        left, at = self._lowered
+        if left > h and n_points - at <= FLAP_WINDOW:
+            self._no_lower_before = n_points + COOLDOWN
+            self._lowered = (0, 0)
+            return left
+        h_new = level_for(est, h, TARGET * self.tolerance, self.ladder)
+        if h_new > h:
+            return h_new
+        return min((lv for lv in self.ladder if lv > h), default=h)
 
     def run(self) -> tuple[ContinuationState, list[np.ndarray], list[int], float]:
         """Trace the branch.
