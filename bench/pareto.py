@@ -514,7 +514,7 @@ def _read(out: Path) -> tuple[list[dict], dict]:
     return rows, refs
 
 
-def replot(out: Path, retime: bool = False) -> list[dict]:
+def replot(out: Path, retime: bool = False, repeats: int = 7) -> list[dict]:
     """Recompute the marks and the plot from ``pareto.csv`` and
     ``reference.csv``; with ``retime``, also time the adaptive rows again
     against the fixed settings at equal error (:func:`compare_auto`)."""
@@ -524,7 +524,7 @@ def replot(out: Path, retime: bool = False) -> list[dict]:
         mark_front(sub)
         if retime:
             (problem,) = [p for p in PROBLEMS if p.name == name]
-            compare_auto(problem, sub)
+            compare_auto(problem, sub, repeats)
     write_csv(rows, out / "pareto.csv")
     plot(rows, refs, out / "pareto.png")
     return rows
@@ -736,6 +736,9 @@ def main(argv: list[str] | None = None) -> int:
         help="with --replot: time the auto rows again against fixed H",
     )
     parser.add_argument(
+        "--retime-repeats", type=int, default=7, help="interleaved runs per setting"
+    )
+    parser.add_argument(
         "--uncondensed-beam",
         action="store_true",
         help="auto against fixed H on the beam without condensation",
@@ -748,7 +751,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.problem:
         problems = [p for p in PROBLEMS if p.name in args.problem]
     if args.replot:
-        rows = replot(Path(args.out), args.retime)
+        rows = replot(Path(args.out), args.retime, args.retime_repeats)
     else:
         rows = run(Path(args.out), args.quick, args.repeats, problems)
     for name in dict.fromkeys(r["problem"] for r in rows):
