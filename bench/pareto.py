@@ -132,7 +132,7 @@ def settings(quick: bool = False) -> list[Setting]:
                     out.append(Setting(label, kw))
     if _supports_auto():
         for tol in (
-            (1e-2, 1e-3, 1e-4) if quick else (3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4)
+            (1e-2, 1e-3, 1e-4) if quick else (1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5)
         ):
             out.append(
                 Setting(
@@ -211,8 +211,9 @@ def reference(problem: Problem, omegas: np.ndarray) -> Reference:
 def _time_branch(problem: Problem, kwargs: dict, repeats: int):
     system = problem.system()
     run = dict(problem.frf_options, **kwargs)
+    t = time.perf_counter()
     branch = hf.frf(system, problem.force, problem.omega, **run)  # warm-up
-    best = math.inf
+    best = math.inf if repeats > 0 else time.perf_counter() - t
     for _ in range(repeats):
         t = time.perf_counter()
         hf.frf(system, problem.force, problem.omega, **run)
@@ -258,6 +259,11 @@ def evaluate(problem: Problem, setting: Setting, ref: Reference, repeats: int) -
         rejected=branch.n_rejected,
         status=branch.stop_reason,
     )
+    if branch.point_harmonics is not None:
+        levels, counts = np.unique(branch.point_harmonics, return_counts=True)
+        row["levels"] = " ".join(
+            f"{h}:{c}" for h, c in zip(levels, counts, strict=True)
+        )
     if setting.default:
         row.update(
             harmonics=branch.info["harmonics"],
@@ -337,9 +343,146 @@ def mark_front(rows: list[dict]) -> None:
         )
 
 
-def replot(out: Path) -> list[dict]:
-    """Recompute the marks and the plot from ``pareto.csv`` and
-    ``reference.csv`` (no new runs)."""
+def _interpolated_front_time(fixed: list[dict], error: float) -> float:
+    """Run time of the fixed-setting Pareto front at ``error``, log-log
+    interpolated between its two neighbouring points (nan outside)."""
+    front = sorted(
+        (float(r["time_s"]), float(r["error"]))
+        for r in fixed
+        if r.get("pareto") is True or r.get("pareto") == "True"
+    )
+    for (t0, e0), (t1, e1) in zip(front[:-1], front[1:], strict=True):
+        if e1 <= error <= e0 and e0 > 0.0 and e1 > 0.0:
+            if e0 == e1:
+                return t0
+            s = math.log(error / e0) / math.log(e1 / e0)
+            return math.exp(math.log(t0) + s * math.log(t1 / t0))
+    return math.nan
+
+
+def compare_auto(problem: Problem, rows: list[dict], repeats: int = 7) -> None:
+    """Time of every ``harmonics="auto"`` row against the best fixed setting
+    at equal error, in the same run.
+
+    For each adaptive row, the fixed settings (default included) at least
+    as accurate whose grid time is within 1.5x of the fastest of them (at
+    most four) are timed again with the adaptive setting, interleaved,
+    ``repeats`` times (least of each); ``fixed_at_error`` is the fastest of
+    them and ``ratio_to_fixed`` the adaptive time over its time (< 1: auto
+    is faster). ``front_time``
+    is the fixed front log-log interpolated at the adaptive row's error and
+    ``ratio_to_front`` the adaptive time (grid run) over it.
+    """
+    fixed = [
+        r for r in rows if not r["adaptive"] and np.isfinite(r.get("error", np.nan))
+    ]
+    by_label = {s.label: s for s in settings(False) + settings(True)}
+    system = problem.system()
+    for r in rows:
+        if not r["adaptive"] or not np.isfinite(r.get("error", np.nan)):
+            continue
+        # (equal errors: the same H at the worst check frequency)
+        ok = [f for f in fixed if float(f["error"]) <= float(r["error"]) * (1 + 1e-6)]
+        front_t = _interpolated_front_time(fixed, float(r["error"]))
+        r["front_time_s"] = front_t
+        r["ratio_to_front"] = float(r["time_s"]) / front_t
+        if not ok:
+            continue
+        # the grid times are noisy: re-time every fixed candidate within
+        # 1.5x of the fastest (at most four), interleaved with auto
+        ok.sort(key=lambda f: float(f["time_s"]))
+        fastest = float(ok[0]["time_s"])
+        candidates = [f for f in ok if float(f["time_s"]) <= 1.5 * fastest][:4]
+        runs = {"auto": dict(problem.frf_options, **by_label[r["setting"]].kwargs)}
+        for f in candidates:
+            runs[f["setting"]] = dict(
+                problem.frf_options, **by_label[f["setting"]].kwargs
+            )
+        least = dict.fromkeys(runs, math.inf)
+        for _ in range(repeats):
+            for key, kw in runs.items():
+                t = time.perf_counter()
+                hf.frf(system, problem.force, problem.omega, **kw)
+                least[key] = min(least[key], time.perf_counter() - t)
+        best = min((k for k in runs if k != "auto"), key=least.get)
+        r["fixed_at_error"] = best
+        r["auto_time_retimed_s"] = least["auto"]
+        r["fixed_time_retimed_s"] = least[best]
+        r["ratio_to_fixed"] = least["auto"] / least[best]
+
+
+def uncondensed_beam(out: Path, repeats: int = 2) -> list[dict]:
+    """Auto against fixed H on the beam solved *without* condensation (624
+    unknowns at H = 15), where the cost per point grows steeply with H.
+
+    Fixed H in {5, 7, 11, 15} and auto at three tolerances, errors against
+    the beam's time-integration reference in ``reference.csv`` (the same
+    equations); each auto run is then timed ``repeats`` times interleaved
+    with the fastest fixed H at least as accurate. Writes
+    ``pareto_beam_uncondensed.csv``.
+    """
+    (beam_problem,) = [p for p in PROBLEMS if p.name.startswith("beam")]
+    problem = Problem(
+        "beam Fex=2 N uncondensed",
+        beam_problem.system,
+        beam_problem.force,
+        beam_problem.omega,
+        dof=beam_problem.dof,
+        frf_options={"condense": False},
+    )
+    _, refs = _read(out)
+    ref = refs[beam_problem.name]
+    system = problem.system()
+    hf.frf(system, problem.force, (600.0, 610.0), 3, condense=False)  # compile
+    grid = [Setting(f"H={h}", {"harmonics": h}) for h in (5, 7, 11, 15)] + [
+        Setting(
+            f"auto tol={tol:g}",
+            {"harmonics": "auto", "harmonic_tolerance": tol},
+            adaptive=True,
+        )
+        for tol in (3e-3, 1e-3, 3e-4)
+    ]
+    rows = []
+    for setting in grid:
+        row = evaluate(problem, setting, ref, 0)
+        rows.append(row)
+        print(
+            f"  {setting.label:<16} {row['time_s']:7.2f} s  error {row['error']:.2e}"
+            f"  {row.get('levels', '')}",
+            flush=True,
+        )
+    fixed = [r for r in rows if not r["adaptive"]]
+    for r, setting in zip(rows, grid, strict=True):
+        if not r["adaptive"]:
+            continue
+        ok = [f for f in fixed if f["error"] <= r["error"] * (1 + 1e-6)]
+        if not ok:
+            continue
+        best = min(ok, key=lambda f: f["time_s"])
+        (fixed_setting,) = [s for s in grid if s.label == best["setting"]]
+        runs = {"auto": setting.kwargs, "fixed": fixed_setting.kwargs}
+        least = dict.fromkeys(runs, math.inf)
+        for _ in range(repeats):
+            for key, kw in runs.items():
+                t = time.perf_counter()
+                hf.frf(system, problem.force, problem.omega, condense=False, **kw)
+                least[key] = min(least[key], time.perf_counter() - t)
+        r["fixed_at_error"] = best["setting"]
+        r["auto_time_retimed_s"] = least["auto"]
+        r["fixed_time_retimed_s"] = least["fixed"]
+        r["ratio_to_fixed"] = least["auto"] / least["fixed"]
+        print(
+            f"  {r['setting']:<16} error {r['error']:.2e}: "
+            f"{r['ratio_to_fixed']:.2f} x the time of {best['setting']} "
+            f"({least['auto']:.2f} s against {least['fixed']:.2f} s, interleaved)",
+            flush=True,
+        )
+    write_csv(rows, out / "pareto_beam_uncondensed.csv")
+    return rows
+
+
+def _read(out: Path) -> tuple[list[dict], dict]:
+    """Rows of ``pareto.csv`` and references of ``reference.csv``."""
     rows = []
     with open(out / "pareto.csv") as fh:
         for r in csv.DictReader(fh):
@@ -368,8 +511,20 @@ def replot(out: Path) -> list[dict]:
             ),
             elapsed=math.nan,
         )
+    return rows, refs
+
+
+def replot(out: Path, retime: bool = False, repeats: int = 7) -> list[dict]:
+    """Recompute the marks and the plot from ``pareto.csv`` and
+    ``reference.csv``; with ``retime``, also time the adaptive rows again
+    against the fixed settings at equal error (:func:`compare_auto`)."""
+    rows, refs = _read(out)
     for name in refs:
-        mark_front([r for r in rows if r["problem"] == name])
+        sub = [r for r in rows if r["problem"] == name]
+        mark_front(sub)
+        if retime:
+            (problem,) = [p for p in PROBLEMS if p.name == name]
+            compare_auto(problem, sub, repeats)
     write_csv(rows, out / "pareto.csv")
     plot(rows, refs, out / "pareto.png")
     return rows
@@ -398,6 +553,13 @@ COLUMNS = [
     "error",
     "pareto",
     "dominated_by",
+    "levels",
+    "fixed_at_error",
+    "fixed_time_retimed_s",
+    "auto_time_retimed_s",
+    "ratio_to_fixed",
+    "front_time_s",
+    "ratio_to_front",
 ]
 
 
@@ -476,7 +638,7 @@ def plot(rows: list[dict], refs: dict, path: Path) -> None:
         )
         auto = [r for r in sub if r["adaptive"] and np.isfinite(r.get("error", np.nan))]
         if auto:
-            auto.sort(key=lambda r: r["time_s"])
+            auto.sort(key=lambda r: -r["error"])
             ax.loglog(
                 [1e3 * r["time_s"] for r in auto],
                 [r["error"] for r in auto],
@@ -542,6 +704,16 @@ def run(out: Path, quick: bool = False, repeats: int = 3, problems=None) -> list
                 flush=True,
             )
         mark_front(sub)
+        compare_auto(problem, sub)
+        for r in sub:
+            if r["adaptive"] and r.get("ratio_to_fixed") is not None:
+                print(
+                    f"  {r['setting']:<16} error {r['error']:.2e}: "
+                    f"{r['ratio_to_fixed']:.2f} x the time of "
+                    f"{r['fixed_at_error']} (interleaved), "
+                    f"{r['ratio_to_front']:.2f} x the interpolated front",
+                    flush=True,
+                )
         rows += sub
     write_csv(rows, out / "pareto.csv")
     write_reference(refs, out / "reference.csv")
@@ -558,12 +730,28 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--replot", action="store_true", help="redo marks and plot from the CSV"
     )
+    parser.add_argument(
+        "--retime",
+        action="store_true",
+        help="with --replot: time the auto rows again against fixed H",
+    )
+    parser.add_argument(
+        "--retime-repeats", type=int, default=7, help="interleaved runs per setting"
+    )
+    parser.add_argument(
+        "--uncondensed-beam",
+        action="store_true",
+        help="auto against fixed H on the beam without condensation",
+    )
     args = parser.parse_args(argv)
+    if args.uncondensed_beam:
+        uncondensed_beam(Path(args.out))
+        return 0
     problems = PROBLEMS
     if args.problem:
         problems = [p for p in PROBLEMS if p.name in args.problem]
     if args.replot:
-        rows = replot(Path(args.out))
+        rows = replot(Path(args.out), args.retime, args.retime_repeats)
     else:
         rows = run(Path(args.out), args.quick, args.repeats, problems)
     for name in dict.fromkeys(r["problem"] for r in rows):

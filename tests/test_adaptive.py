@@ -4,6 +4,9 @@ import numpy as np
 import pytest
 
 import hbmfric as hf
+from hbmfric.api import _problem
+from hbmfric.continuation import adaptive
+from hbmfric.continuation.palc import Continuation
 
 OSC = hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0))
 
@@ -51,16 +54,84 @@ def test_auto_reaches_tolerance_against_high_h(force, tol):
     assert worst > 0.0  # the check can fail: slipping points carry an error
 
 
+def test_auto_reaches_tolerance_against_time_integration():
+    """Gross slip over the whole range (F = 2): at the branch points nearest
+    to four frequencies, the first harmonic and half the peak-to-peak agree
+    with the time-integration steady state (Newmark, 2048 steps per period,
+    its own error about 3e-6) to the tolerance, while H = 3 everywhere would
+    not."""
+    tol = 1e-3
+    b = hf.frf(OSC, 2.0, (0.5, 3.0), "auto", harmonic_tolerance=tol)
+    worst = 0.0
+    worst_h3 = 0.0
+    for w in (0.6, 0.95, 1.5, 2.5):
+        i = int(np.argmin(np.abs(b.omega - w)))
+        omega = float(b.omega[i])
+        ref = hf.validation.steady_state(OSC, 2.0, omega, initial_state="linear")
+        assert ref.converged
+        low = hf.periodic_solution(OSC, 2.0, omega, 3, initial_guess=b.point(i))
+        for harmonic in (1, None):
+            r = ref.amplitude(harmonic=harmonic)
+            worst = max(worst, abs(b.amplitude(harmonic=harmonic)[i] - r) / r)
+            worst_h3 = max(worst_h3, abs(low.amplitude(harmonic=harmonic) - r) / r)
+    assert worst <= tol, worst
+    assert worst_h3 > 3 * tol, worst_h3
+
+
 def test_auto_low_h_when_stuck_high_h_at_the_peak(branches):
     b = branches[1e-4]
     h = b.point_harmonics
     amp = b.amplitude(harmonic=1)
-    assert h[0] == 3 and h[-1] == 3  # both ends stuck: linear, lowest level
-    assert h[int(np.argmax(amp))] >= 7
+    lowest = adaptive.LADDER[0]
+    assert h[0] == lowest and h[-1] == lowest  # both ends stuck: linear
+    peak = int(np.argmax(amp))
+    assert h[peak] >= 11
+    assert h[peak] > 2 * lowest
     assert b.harmonic_numbers[-1] == h.max()
     # the truncated coefficients of a low-level point are exactly zero
-    low = np.flatnonzero(h == 3)[0]
-    assert np.all(b.coefficients[low, 0, 4:] == 0.0)
+    low = np.flatnonzero(h == lowest)[0]
+    assert np.all(b.coefficients[low, 0, (lowest + 1) :] == 0.0)
+    # on the slipping stretch H follows the error: less where it is smaller
+    # (F = 2 slips everywhere; the low-frequency end needs the most)
+    b2 = hf.frf(OSC, 2.0, (0.5, 3.0), "auto", harmonic_tolerance=1e-4)
+    h2 = b2.point_harmonics
+    assert h2[b2.omega < 0.7].min() > h2[b2.omega > 2.0].max()
+
+
+def test_auto_few_changes_no_flapping(branches):
+    """H changes at a few points only, and never goes back to the level it
+    just left within ``LOWER_PATIENCE`` points."""
+    for b in branches.values():
+        h = b.point_harmonics
+        changes = np.flatnonzero(np.diff(h)) + 1
+        assert 1 <= changes.size <= 8, h
+        for a, c in zip(changes[:-1], changes[1:], strict=True):
+            if h[c] == h[a - 1]:
+                assert c - a >= adaptive.LOWER_PATIENCE
+        assert b.info["harmonic_switches"] >= changes.size
+
+
+def test_auto_cubic_spring_no_flapping():
+    """A cubic spring's harmonics decay geometrically, not like a power of
+    their order: at its 3rd superharmonic resonance the top harmonic of
+    H = 21 vanishes while harmonic 3 is large. The run must neither take
+    that for a linear response nor flap between levels (it once went back
+    and forth between H = 21 and 3 for 5000 steps), and it meets the
+    tolerance against H = 63."""
+    duffing = hf.Oscillator(1.0, 0.02, 1.0, hf.Cubic(0.5))
+    tol = 1e-3
+    b = hf.frf(duffing, 0.5, (0.3, 3.0), "auto", harmonic_tolerance=tol)
+    assert b.stop_reason == "end of frequency range reached"
+    fixed = hf.frf(duffing, 0.5, (0.3, 3.0), 15)
+    assert len(b) <= 1.2 * len(fixed)
+    assert b.info["harmonic_switches"] <= 12
+    for i in np.linspace(0, len(b) - 1, 8).astype(int):
+        ref = hf.periodic_solution(
+            duffing, 0.5, float(b.omega[i]), 63, initial_guess=b.point(i)
+        )
+        for harmonic in (1, None):
+            r = ref.amplitude(harmonic=harmonic)
+            assert abs(b.amplitude(harmonic=harmonic)[i] - r) <= tol * r
 
 
 def test_auto_branch_continuous_across_changes(branches):
@@ -83,6 +154,66 @@ def test_auto_branch_continuous_across_changes(branches):
         )
         a = b.amplitude(harmonic=1)[i]
         assert abs(fixed.amplitude(harmonic=1) - a) <= 1e-8 * a
+
+
+def test_change_estimate_matches_solved_change():
+    """The compiled first-order change (one Newton step in the next level's
+    basis) against the change actually found by solving both levels, at
+    slipping points of the F = 2 branch: the same to 25 %."""
+    h, h_up = 7, 11
+    p, p_up = (_problem(OSC, 2.0, k, None, None, "auto", None) for k in (h, h_up))
+    cont = Continuation(p, (0.5, 3.0))
+    cont_up = Continuation(p_up, (0.5, 3.0))
+    run = adaptive.AdaptiveContinuation(
+        lambda k: {h: p, h_up: p_up}[k], (0.5, 3.0), 1, cont.options, 1.0, 1e-3
+    )
+    level = run._level(h_up)
+    for w in (0.7, 1.0, 2.0):
+        y, status, _ = cont.solve_at(w, p.initial_guesses(w)[0][:-1])
+        assert status == 0
+        y_up, status, _ = cont_up.solve_at(w, run.pad(y, h, h_up)[:-1])
+        assert status == 0
+        change = level.change(y)
+        a1 = np.hypot(y[0], y[1])
+        a1_up = np.hypot(y_up[0], y_up[1])
+        t = np.linspace(0.0, 2 * np.pi, 4096, endpoint=False)
+        hpp, hpp_up = (
+            0.5 * np.ptp(hf.signals.synthesis_matrix(q.harmonic_numbers, t) @ v[:-1])
+            for q, v in ((p, y), (p_up, y_up))
+        )
+        solved = max(abs(a1_up - a1) / a1, abs(hpp_up - hpp) / hpp)
+        assert solved > 1e-6  # slipping: there is a change to measure
+        assert change == pytest.approx(solved, rel=0.25)
+
+
+def test_top_measure_zero_when_stuck():
+    """A stuck Jenkins contact is linear: the higher harmonics vanish."""
+    sol = hf.periodic_solution(OSC, 0.1, 0.7, 15)
+    assert sol.contact_state == "contact stuck over the whole period"
+    assert adaptive.top_measure(sol.harmonic_numbers, sol.coefficients) < 1e-12
+    slip = hf.periodic_solution(OSC, 2.0, 0.7, 15)
+    assert adaptive.top_measure(slip.harmonic_numbers, slip.coefficients) > 1e-5
+
+
+def test_auto_compiles_nothing_per_level():
+    """Kernels compile once per type signature: a second run that visits
+    other levels (another force and tolerance) adds no signature."""
+    from hbmfric.kernels import aft, hbm, linalg, newton, truncation
+
+    def counts():
+        out = {}
+        for mod in (aft, hbm, linalg, newton, truncation):
+            for name in dir(mod):
+                obj = getattr(mod, name)
+                if hasattr(obj, "signatures"):
+                    out[mod.__name__ + "." + name] = len(obj.signatures)
+        return out
+
+    first = hf.frf(OSC, 0.5, (0.5, 3.0), "auto", harmonic_tolerance=1e-3)
+    before = counts()
+    second = hf.frf(OSC, 2.0, (0.5, 3.0), "auto", harmonic_tolerance=3e-5)
+    assert set(second.point_harmonics) - set(first.point_harmonics)  # new levels
+    assert counts() == before
 
 
 def test_auto_save_load(tmp_path, branches):

@@ -1,26 +1,59 @@
 """Adaptive harmonics: continuation that picks the highest harmonic ``H``
 along the branch from an estimate of the truncation error.
 
-Estimate: the amplitude of the highest retained harmonic relative to the
-first-harmonic amplitude (largest over the DOFs). For dry friction the
-harmonics of the displacement decay like a power of their order (about
-``k^-4`` for a Jenkins contact in gross slip), so the highest retained one
-bounds the relative error of the first-harmonic amplitude and of the
-peak-to-peak value made by dropping the rest (``bench/pareto.py`` measures
-the ratio against time integration; it stays below about 1.2). A contact
-that sticks over the whole period is linear: its higher harmonics vanish
-and the estimate is 0.
+Estimate. The error is that of the first-harmonic amplitude and of half the
+peak-to-peak value at the contact DOF (where the higher harmonics are made;
+the linear structure filters them elsewhere: on the beam the error at the
+tip is at most 0.12 times the one at the contact). Their change when the
+basis grows to the next level of the ladder is computed to first order by
+:func:`hbmfric.kernels.truncation.truncation_change` (one residual and one
+LU in the larger basis at the zero-padded point: about one Newton
+iteration). That calibration runs every ``RECALIBRATE`` points and before
+a decision (at most once in ``MIN_GAP`` points); at every other point the
+change is carried by a free measure of the same point,
+``H max(|X_H|, (K'/H)^4 |X_K'|) / |X_1|`` (the highest retained harmonics,
+``K'`` the one below ``H``, which guards against a top harmonic near a zero
+of the spectrum), times their ratio at the last calibration. The estimate is
 
-After every accepted point: if the estimate exceeds the tolerance, ``H`` is
-raised to the smallest level of the ladder at which a ``k^-3`` decay (a
-conservative rate) predicts half the tolerance, and the point is solved
-again at fixed Ω in the larger basis (the previous coefficients padded with
-zeros as the guess); if it falls below a twentieth of the tolerance, ``H`` is
-lowered to the smallest level predicted to stay under a quarter of it (the
-gap between the two thresholds keeps ``H`` from flapping). Stuck stretches
-thus run at the lowest level and stick–slip stretches at the level their
-accuracy needs. Arc length, step size and counters carry over across a
-change (the scaled variables do not depend on ``H``).
+    ``max(CHANGE_FACTOR * change, TOP_FLOOR * H |X_H| / |X_1|)``
+
+Constants measured on the SDOF Jenkins problems (F = 0.5 and 2, error of the
+first harmonic and of half the peak-to-peak against H = 63): the actual
+error is 0.5-0.6 times the estimate in the median and exceeds it at 10 % of
+the points by at most 1.2 (F = 0.5) and 1.9 (F = 2); the floor catches the
+points where the change to the next level happens to be small. The free
+measure alone is no estimate: its ratio to the error drifts by 100x along a
+gross-slip branch. A contact stuck over the whole period is linear: the
+higher harmonics vanish and the estimate is 0.
+
+Decisions, after every accepted point (the estimate at the next point is
+extrapolated from the last two at the same level):
+
+* raise when the estimate ahead exceeds ``RAISE_AT`` times the tolerance, to
+  the smallest level at which a ``H^-DECAY`` law predicts ``TARGET`` times
+  it. The next step starts at the new level from the zero-padded point and
+  tangent (the corrector adds the new harmonics); only if the current point
+  itself exceeds the tolerance is it solved again at the new level, so every
+  stored point meets its estimate;
+* lower after ``LOWER_PATIENCE`` points in a row whose estimate, moved to a
+  lower level by the same law, stays below ``LOWER_AT`` times the tolerance
+  (the gap to ``RAISE_AT`` keeps ``H`` from flapping), by truncation; a
+  linear (stuck) response drops to the lowest level at once (the point
+  itself too: its dropped harmonics are zero).
+
+The lowest level is ``H = 3``, not 1: the per-point cost of a continuation
+step hardly depends on ``H`` at low ``H`` (SDOF Jenkins, stuck: 23 µs at
+H = 1, 24 µs at H = 3, 32 µs at H = 15), and at ``H = 1`` the estimate would
+need an evaluation in the larger basis at every point (5 µs), which costs
+more than it saves. The run starts at ``LADDER[START]`` (H = 7): from the
+linear guesses Newton needs 52 iterations for a gross-slip first point at
+H = 3 and 19 at H = 7.
+
+Arc length, step size and counters carry over across a change (the scaled
+variables do not depend on ``H``). Each level's problem, work arrays and
+continuation are built once per run, on first use; the compiled kernels take
+the level's arrays, so no level compiles anything. ``bench/README.md``
+(section "Adaptive harmonics") has the run time against fixed ``H``.
 """
 
 from __future__ import annotations
@@ -32,30 +65,76 @@ from collections.abc import Callable
 import numpy as np
 
 from ..kernels import newton as _newton
-from ..signals import synthesis_matrix
+from ..kernels.truncation import truncation_change
 from .options import ContinuationOptions
 from .palc import NO_START, Continuation, ContinuationState
 
-#: harmonic levels the adaptive run moves between
+#: index in the ladder of the level of the first point
+START = 2
+#: harmonic levels the adaptive run moves between (successive ratios about
+#: 1.2-1.4, inside the factor the thresholds below leave between raise and
+#: lower)
 LADDER = (3, 5, 7, 11, 15, 21, 31, 45, 63)
-#: thresholds relative to the tolerance
-RAISE_TARGET = 0.5
-LOWER_BELOW = 0.05
-LOWER_TARGET = 0.25
-#: decay exponent assumed to predict the estimate at another level
-DECAY = 3.0
-#: the change estimate times this bounds the error (harmonics beyond the
-#: next level; the ratio of error to change reaches about 3.5 near a
-#: slipping resonance of the SDOF Jenkins problem)
-TAIL_FACTOR = 4.0
-#: low estimates in a row before a slipping stretch goes down one level
+#: the error estimate per first-order change to the next level
+CHANGE_FACTOR = 1.5
+#: the error estimate is at least this times ``H |X_H| / |X_1|``
+TOP_FLOOR = 0.05
+#: without a calibration (top level): error per ``H |X_H| / |X_1|``
+TOP_FACTOR = 0.5
+#: decay exponent of the estimate with ``H`` used to predict other levels
+DECAY = 3.5
+#: raise when the estimate ahead exceeds this fraction of the tolerance
+RAISE_AT = 0.5
+#: a raise aims at this fraction of the tolerance
+TARGET = 0.25
+#: lower when a lower level is predicted below this fraction
+LOWER_AT = 0.1
+#: points in a row below ``LOWER_AT`` before lowering
 LOWER_PATIENCE = 3
-#: points between fresh change estimates on one level
-RECHECK = 4
+#: an estimate below this fraction of the tolerance means a linear response
+LINEAR = 1e-6
+#: a raise within this many points of a lowering returns to the level left
+FLAP_WINDOW = 10
+#: ... and then no lowering for this many points
+COOLDOWN = 50
+#: the estimate ahead grows by at most this factor per step
+MAX_GROWTH = 4.0
+#: points between calibrations of the free measure on one level
+RECALIBRATE = 16
+#: between calibrations, stay only if the decision would not change with
+#: an estimate this factor off
+MARGIN = 1.25
+#: points after a calibration during which decisions use the carried ratio
+MIN_GAP = 4
 
 
 def truncation_estimate(harmonic_numbers: np.ndarray, X: np.ndarray) -> float:
-    """Relative amplitude of the highest retained harmonic.
+    """Relative amplitude of the highest retained harmonic,
+    ``max_d |X_d,H| / max_d |X_d,1|`` (0 if the first harmonic is 0, inf if
+    ``H <= 1``): the size of a difference truncation can explain (used by the
+    stress checks, ``tests/stress``).
+
+    Parameters
+    ----------
+    harmonic_numbers : ndarray of int, shape (n_harmonics,)
+    X : ndarray, shape (n_dof, n_coef)
+        Coefficients per DOF, m.
+    """
+    hn = [int(k) for k in harmonic_numbers]
+    if hn[-1] < 2:
+        return math.inf
+    X = np.atleast_2d(X)
+    cols = np.cumsum([0] + [1 if k == 0 else 2 for k in hn])
+    c1, ct = int(cols[hn.index(1)]), int(cols[-2])
+    a1 = float(np.max(np.hypot(X[:, c1], X[:, c1 + 1])))
+    top = float(np.max(np.hypot(X[:, ct], X[:, ct + 1])))
+    if a1 == 0.0:
+        return 0.0 if top == 0.0 else math.inf
+    return top / a1
+
+
+def top_measure(harmonic_numbers: np.ndarray, X: np.ndarray) -> float:
+    """Free truncation measure ``H max(|X_H|, (K'/H)^4 |X_K'|) / |X_1|``.
 
     Parameters
     ----------
@@ -66,35 +145,134 @@ def truncation_estimate(harmonic_numbers: np.ndarray, X: np.ndarray) -> float:
     Returns
     -------
     float
-        ``max_d |X_d,H| / max_d |X_d,1|`` (0 if the first harmonic is 0).
+        Largest over the DOFs, relative to the largest first harmonic (0 if
+        the first harmonic is 0); inf if ``H <= 1``.
     """
-    hn = np.asarray(harmonic_numbers)
+    hn = [int(k) for k in harmonic_numbers]
     if hn[-1] < 2:
         return math.inf  # nothing to compare with
-    cols = np.cumsum([0] + [1 if k == 0 else 2 for k in hn[:-1]])
-    c1 = int(cols[int(np.searchsorted(hn, 1))])
-    ct = int(cols[-1])
-    a1 = float(np.max(np.hypot(X[:, c1], X[:, c1 + 1])))
-    top = float(np.max(np.hypot(X[:, ct], X[:, ct + 1])))
+    X = np.atleast_2d(X)
+    cols = np.cumsum([0] + [1 if k == 0 else 2 for k in hn])
+
+    def amp(k: int) -> np.ndarray:
+        c = cols[hn.index(k)]
+        return np.hypot(X[:, c], X[:, c + 1])
+
+    a1 = float(np.max(amp(1)))
+    top = amp(hn[-1])
+    if len(hn) >= 2 and hn[-2] > 1:
+        top = np.maximum(top, (hn[-2] / hn[-1]) ** 4 * amp(hn[-2]))
+    top = float(np.max(top))
     if a1 == 0.0:
         return 0.0 if top == 0.0 else math.inf
-    return top / a1
+    return hn[-1] * top / a1
 
 
-def next_level(current: int, estimate: float, tolerance: float, ladder) -> int:
-    """Harmonic level for the next points, given the estimate at ``current``."""
-    if estimate > tolerance:
-        need = current * (estimate / (RAISE_TARGET * tolerance)) ** (1.0 / DECAY)
-        for h in ladder:
-            if h > current and h >= need:
-                return h
-        return max(ladder[-1], current)
-    if estimate < LOWER_BELOW * tolerance:
-        need = current * (estimate / (LOWER_TARGET * tolerance)) ** (1.0 / DECAY)
-        for h in ladder:
-            if h >= need:
-                return min(h, current)
-    return current
+def level_for(estimate: float, current: int, goal: float, ladder, decay=DECAY) -> int:
+    """Smallest level of ``ladder`` at which ``estimate`` (measured at
+    ``current``) is predicted to fall to ``goal`` by the ``H^-decay`` law
+    (the top level if none does)."""
+    for h in ladder:
+        if estimate * (current / h) ** decay <= goal:
+            return h
+    return ladder[-1]
+
+
+class _Level:
+    """One harmonic level: its problem, its continuation (built on first
+    use) and the flat indices the free measure reads.
+
+    The harmonics of a lower level are a prefix of those of a higher one
+    (``1, 3, 5, …`` or ``0, 1, 2, …``), so a point moves between levels by
+    copying the leading coefficients of every DOF."""
+
+    def __init__(self, problem, make_cont: Callable) -> None:
+        p = problem
+        self.problem = p
+        self._make_cont = make_cont
+        self._cont = None
+        self.n = p.n_unknowns
+        self.n_coef = p.n_coef
+        hn = p.harmonic_numbers
+        self.h = int(hn[-1])
+        self.n_dof = p.n_unknowns // p.n_coef  # 1 for a problem condensed on a contact
+        # the measured DOF: the contact's (1 DOF: the only one)
+        self.dof = int(getattr(p.system, "contact_dof", 0)) if self.n_dof > 1 else 0
+        first = 1 if hn[0] == 0 else 0  # column of the first harmonic
+        base = [self.dof * p.n_coef]
+        self.first_column = first
+        self.first = [b + first for b in base]
+        top, prev = p.n_coef - 2, p.n_coef - 4
+        self.top = [b + top for b in base] if self.h > 1 else []
+        k_prev = int(hn[-2]) if hn.size >= 2 else 0
+        self.prev = [b + prev for b in base] if k_prev > 1 else []
+        self.prev_weight = (k_prev / self.h) ** 4 if k_prev > 1 else 0.0
+        self._work = None
+
+    @property
+    def cont(self) -> Continuation:
+        if self._cont is None:
+            self._cont = self._make_cont(self.problem)
+        return self._cont
+
+    def measure(self, y: np.ndarray) -> float:
+        """Free measure at ``y`` (this level's layout); inf for ``H = 1``."""
+        if not self.top:
+            return math.inf
+        hypot = math.hypot
+        a1 = 0.0
+        for i in self.first:
+            a = hypot(y[i], y[i + 1])
+            if a > a1:
+                a1 = a
+        top = 0.0
+        for i in self.top:
+            a = hypot(y[i], y[i + 1])
+            if a > top:
+                top = a
+        w = self.prev_weight
+        for i in self.prev:
+            a = w * hypot(y[i], y[i + 1])
+            if a > top:
+                top = a
+        if a1 == 0.0:
+            return 0.0 if top == 0.0 else math.inf
+        return self.h * top / a1
+
+    def change(self, x: np.ndarray) -> float:
+        """:func:`truncation_change` of a point ``x`` of a lower level."""
+        if self._work is None:
+            n = self.n
+            # the AFT's own synthesis samples, thinned to about 4 H
+            kp = getattr(
+                self.problem, "full_kernel_problem", self.problem.kernel_problem
+            )
+            inverse = kp[9]
+            every = max(1, inverse.shape[0] // max(64, 4 * self.h))
+            self._work = (
+                np.ascontiguousarray(inverse[::every]),
+                np.empty(n + 1),
+                np.empty(n),
+                np.empty((n, n + 1)),
+                np.empty((n, n)),
+                np.empty(n),
+            )
+        synthesis, y, R, J, A, dX = self._work
+        return float(
+            truncation_change(
+                x,
+                self.problem.kernel_problem,
+                self.n_dof,
+                self.dof,
+                self.first_column,
+                synthesis,
+                y,
+                R,
+                J,
+                A,
+                dX,
+            )
+        )
 
 
 class AdaptiveContinuation:
@@ -112,6 +290,17 @@ class AdaptiveContinuation:
         Target relative truncation error (> 0).
     ladder : sequence of int
         Allowed levels of ``H``, increasing.
+
+    Attributes
+    ----------
+    n_switches : int
+        Level changes (each a zero-padding or truncation of the point).
+    n_resolves : int
+        Points solved again at a higher level because they exceeded the
+        tolerance.
+    n_calibrations : int
+        Change estimates computed (each one residual and LU in the next
+        level's basis).
     """
 
     def __init__(
@@ -130,220 +319,208 @@ class AdaptiveContinuation:
         self.options = options
         self.tolerance = float(tolerance)
         self.ladder = tuple(ladder)
-        self._conts: dict[int, Continuation] = {}
-        self._cols: dict[int, dict] = {}
-        self._maps: dict[tuple[int, int], tuple] = {}
-        self._probes: dict[int, tuple] = {}
-        self._synth: dict[int, np.ndarray] = {}
-        self._ratio: dict[int, tuple[float, int]] = {}
-        self._low_count = 0
+        self._levels: dict[int, _Level] = {}
+        self.amplitude_scale = amplitude_scale
         if amplitude_scale is None:
-            amplitude_scale = self._cont(self.ladder[0]).scale[0]
-        self.amplitude_scale = float(amplitude_scale)
+            start = self.ladder[min(START, len(self.ladder) - 1)]
+            self.amplitude_scale = float(self._level(start).cont.scale[0])
         self.n_switches = 0
+        self.n_resolves = 0
+        self.n_calibrations = 0
+        self._lowered = (0, 0)  # level left by the last lowering, and where
+        self._no_lower_before = 0  # point count before which no lowering
+        self._reset()
+
+    def _reset(self) -> None:
+        """Forget the estimate history (after a level change)."""
+        self._last = math.nan  # previous estimate at this level
+        self._low = 0  # points in a row that could go lower
+        self._age = RECALIBRATE  # points since the last calibration
+        self._factor = math.nan  # estimate per free measure at the last one
+
+    # ------------------------------------------------------------------
+    def _level(self, h: int) -> _Level:
+        if h not in self._levels:
+            level = _Level(self.make_problem(h), self._make_cont)
+            below = [lv for lv in self.ladder if lv < h]
+            # the estimate (per tolerance) under which a lower level would do
+            level.lower_below = (
+                LOWER_AT * (below[-1] / h) ** DECAY if below else -math.inf
+            )
+            self._levels[h] = level
+        return self._levels[h]
+
+    def _make_cont(self, problem) -> Continuation:
+        return Continuation(
+            problem,
+            self.omega_range,
+            self.direction,
+            self.options,
+            getattr(self, "amplitude_scale", None),
+        )
 
     def _cont(self, h: int) -> Continuation:
-        if h not in self._conts:
-            scale = getattr(self, "amplitude_scale", None)
-            self._conts[h] = Continuation(
-                self.make_problem(h),
-                self.omega_range,
-                self.direction,
-                self.options,
-                scale,
-            )
-        return self._conts[h]
-
-    def _columns(self, h: int) -> dict:
-        """Flat index of the first coefficient of each harmonic, per DOF."""
-        if h not in self._cols:
-            p = self._cont(h).problem
-            start = np.cumsum([0] + [1 if k == 0 else 2 for k in p.harmonic_numbers])
-            # DOFs among the unknowns (1 for a problem condensed on a contact)
-            base = np.arange(p.n_unknowns // p.n_coef)[:, None] * p.n_coef
-            self._cols[h] = {
-                int(k): (base + start[i]).ravel()
-                for i, k in enumerate(p.harmonic_numbers)
-            }
-        return self._cols[h]
-
-    def _samples(self, h: int) -> np.ndarray:
-        """Synthesis matrix of level ``h`` on ``max(64, 8 h)`` instants."""
-        if h not in self._synth:
-            hn = self._cont(h).problem.harmonic_numbers
-            n = max(64, 8 * int(hn[-1]))
-            self._synth[h] = synthesis_matrix(hn, 2.0 * np.pi * np.arange(n) / n)
-        return self._synth[h]
-
-    def _index_map(self, h_src: int, h_dst: int) -> tuple[np.ndarray, np.ndarray]:
-        key = (h_src, h_dst)
-        if key not in self._maps:
-            cs, cd = self._columns(h_src), self._columns(h_dst)
-            src, dst = [], []
-            for k, idx in cd.items():
-                if k in cs:
-                    width = 1 if k == 0 else 2
-                    for w in range(width):
-                        src.append(cs[k] + w)
-                        dst.append(idx + w)
-            self._maps[key] = (
-                np.concatenate(src) if src else np.zeros(0, np.int64),
-                np.concatenate(dst) if dst else np.zeros(0, np.int64),
-            )
-        return self._maps[key]
+        return self._level(h).cont
 
     def pad(self, v: np.ndarray, h_src: int, h_dst: int) -> np.ndarray:
         """Map ``[X, Ω]`` (or a tangent) from level ``h_src`` to ``h_dst``:
         shared harmonics copied, new ones zero, dropped ones cut."""
-        src, dst = self._index_map(h_src, h_dst)
-        out = np.zeros(self._cont(h_dst).problem.n_unknowns + 1)
-        out[dst] = v[src]
+        src, dst = self._level(h_src), self._level(h_dst)
+        out = np.zeros(dst.n + 1)
+        m = min(src.n_coef, dst.n_coef)
+        out[:-1].reshape(dst.n_dof, dst.n_coef)[:, :m] = v[:-1].reshape(
+            src.n_dof, src.n_coef
+        )[:, :m]
         out[-1] = v[-1]
         return out
 
-    def _estimate(self, h: int, y: np.ndarray) -> float:
-        """:func:`truncation_estimate` of the point ``y`` at level ``h``."""
-        if h not in self._probes:
-            cols = self._columns(h)
-            first = cols.get(1)
-            self._probes[h] = (
-                None if first is None or h < 2 else first.tolist(),
-                cols[max(cols)].tolist(),
-            )
-        first, top_cols = self._probes[h]
-        if first is None:
-            return math.inf
-        a1 = 0.0
-        for i in first:
-            a1 = max(a1, math.hypot(y[i], y[i + 1]))
-        top = 0.0
-        for i in top_cols:
-            top = max(top, math.hypot(y[i], y[i + 1]))
-        if a1 == 0.0:
-            return 0.0 if top == 0.0 else math.inf
-        return top / a1
-
-    def _change_estimate(self, h: int, y: np.ndarray) -> float:
-        """Relative change of the response if ``H`` grew to the next level.
-
-        The Newton correction ``dX`` at fixed Ω from ``y`` padded with zeros
-        gives, to first order, the change of the first-harmonic amplitude
-        and of half the peak-to-peak value (the change of an extreme is
-        ``dx`` at the instant of the extreme, located on the AFT samples);
-        the larger relative change, largest over the DOFs."""
-        up = [level for level in self.ladder if level > h]
+    # ------------------------------------------------------------------
+    def _calibrate(self, h: int, y: np.ndarray, measure: float) -> float:
+        """Fresh error estimate from the change to the next level; stores
+        its ratio to the free measure."""
+        up = [lv for lv in self.ladder if lv > h]
+        self._age = 0
         if not up:
-            return self._estimate(h, y)
-        h_up = up[0]
-        problem = self._cont(h_up).problem
-        y_up = self.pad(y, h, h_up)
-        R, J, status = problem.residual(y_up)
-        if status < 0:
-            return math.inf
-        try:
-            dX = np.linalg.solve(J[:, :-1], -R)
-        except np.linalg.LinAlgError:
-            return math.inf
-        n_coef = problem.n_coef
-        n_dof = problem.n_unknowns // n_coef
-        X = y_up[:-1].reshape(n_dof, n_coef)
-        D = dX.reshape(n_dof, n_coef)
-        inverse = self._samples(h_up)
-        x = X @ inverse.T  # (n_dof, n_time) samples
-        dx = D @ inverse.T
-        rows = np.arange(n_dof)
-        i_max = np.argmax(x, axis=1)
-        i_min = np.argmin(x, axis=1)
-        hpp = 0.5 * (x[rows, i_max] - x[rows, i_min])
-        dhpp = 0.5 * (dx[rows, i_max] - dx[rows, i_min])
-        c1 = self._columns(h_up)[1] - rows * n_coef
-        a1 = np.hypot(X[rows, c1], X[rows, c1 + 1])
-        a1_new = np.hypot(X[rows, c1] + D[rows, c1], X[rows, c1 + 1] + D[rows, c1 + 1])
-        ref = np.max(a1)
-        if not ref > 0.0:
-            return math.inf
-        # DOFs that barely move are measured against the largest amplitude
-        e1 = np.abs(a1_new - a1) / np.maximum(a1, 1e-3 * ref)
-        epp = np.abs(dhpp) / np.maximum(hpp, 1e-3 * ref)
-        # the change to the next level misses the harmonics beyond it
-        return TAIL_FACTOR * float(max(np.max(e1), np.max(epp)))
+            self._factor = TOP_FACTOR
+            return TOP_FACTOR * measure
+        self.n_calibrations += 1
+        change = self._level(up[0]).change(y)
+        est = max(CHANGE_FACTOR * change, TOP_FLOOR * measure)
+        self._factor = est / max(measure, 1e-300)
+        return est
 
-    def _calibrated(self, h: int, y: np.ndarray, cheap: float) -> float:
-        """The change estimate, computed afresh every ``RECHECK`` points and
-        at every new level, in between the cheap estimate times the ratio
-        of the two at the last calibration (it varies slowly along a
-        branch)."""
-        ratio, age = self._ratio.get(h, (0.0, RECHECK))
-        if age >= RECHECK:
-            change = max(cheap, self._change_estimate(h, y))
-            self._ratio = {h: (change / cheap, 1)}
-            return change
-        self._ratio[h] = (ratio, age + 1)
-        return cheap * ratio
+    def _linear(self, h: int, y: np.ndarray) -> bool:
+        """Whether every harmonic above the lowest level vanishes at the
+        measured DOF (a stuck contact, a linear response): then the lowest
+        level is exact. A vanishing top harmonic alone is not enough (a
+        cubic spring's harmonics decay geometrically)."""
+        level, lowest = self._levels[h], self._level(self.ladder[0])
+        block = y[level.dof * level.n_coef : (level.dof + 1) * level.n_coef]
+        rest = float(np.max(np.abs(block[lowest.n_coef :]), initial=0.0))
+        i = level.first[0]
+        a1 = math.hypot(y[i], y[i + 1])
+        return rest <= LINEAR * self.tolerance * a1
 
-    def _switch(self, state, h, h_new):
-        """Solve the current point again at level ``h_new``; returns the new
-        level actually in use."""
+    def _move(self, state: ContinuationState, h: int, h_new: int) -> None:
+        """Continue from the current point at level ``h_new``: point and
+        tangent zero-padded or truncated (the stored point keeps level
+        ``h``)."""
+        t = self.pad(state.tangent, h, h_new)
+        state.y = self.pad(state.y, h, h_new)
+        state.tangent = t / float(np.linalg.norm(t))
+        state.J = self._cont(h_new)._J
+        self.n_switches += 1
+        self._reset()
+
+    def _resolve(self, state: ContinuationState, h: int, h_new: int) -> bool:
+        """Solve the current (last) point again at level ``h_new``."""
         dst = self._cont(h_new)
         guess = self.pad(state.y, h, h_new)
         y, status, it = dst.solve_at(float(state.y[-1]), guess[:-1])
         state.n_newton += it
         if status != _newton.CONVERGED or not np.all(np.isfinite(y)):
-            return h
-        previous = self.pad(state.tangent, h, h_new)
-        t = dst._tangent(previous)
+            return False
+        t = dst._tangent(self.pad(state.tangent, h, h_new))
         if not np.all(np.isfinite(t)):
-            return h
+            return False
         state.y = y
         state.tangent = t
         state.J = dst._J
         state.points[-1] = y.copy()
         self.n_switches += 1
-        return h_new
+        self.n_resolves += 1
+        self._reset()
+        return True
 
-    def _level_estimate(self, h: int, y: np.ndarray) -> float:
-        est = self._estimate(h, y)
-        if est > 0.0:  # not a linear (stuck) response
-            est = self._calibrated(h, y, est)
-        return est
-
-    def _adapt(self, state, h: int, levels: list) -> int:
-        """Move the current (last) point to the level its estimate asks for.
-
-        Raising is immediate (and checked again at the new level). Lowering
-        a slipping response waits for ``LOWER_PATIENCE`` low estimates in a
-        row, goes down one level, and is undone if the estimate at the lower
-        level exceeds the tolerance (convergence in ``H`` is not monotone
-        near a resonance). A stuck response (estimate 0) drops at once.
-        """
-        est = self._level_estimate(h, state.y)
-        h_new = next_level(h, est, self.tolerance, self.ladder)
-        if h_new < h:
-            if est > 0.0:
-                self._low_count += 1
-                if self._low_count < LOWER_PATIENCE:
-                    return h
-                h_new = max(h_new, max(lv for lv in self.ladder if lv < h))
-            self._low_count = 0
-            got = self._switch(state, h, h_new)
-            if got == h:
+    def _adapt(self, state: ContinuationState, h: int, levels: list) -> int:
+        """Choose the level for the next step after the current (last)
+        point; returns it (``levels[-1]`` is updated if the point is solved
+        again)."""
+        tol = self.tolerance
+        level = self._levels[h]
+        measure = level.measure(state.y)
+        lowest = self.ladder[0]
+        if measure <= LINEAR * tol and self._linear(h, state.y):
+            # linear response: the lowest level is exact
+            self._last = 0.0
+            if h != lowest:
+                self._move(state, h, lowest)
+                # the dropped harmonics are zero: the point is the lowest
+                # level's solution too
+                state.points[-1] = state.y.copy()
+                levels[-1] = lowest
+                return lowest
+            return h
+        last = self._last
+        self._age += 1
+        stale = self._factor * measure
+        if self._age < RECALIBRATE:
+            # the free measure times the last ratio: enough to decide to stay
+            ahead = stale
+            if last > 0.0 and stale > last:
+                ahead = stale * min(stale / last, MAX_GROWTH)
+            if (
+                MARGIN * ahead <= RAISE_AT * tol
+                and stale >= MARGIN * level.lower_below * tol
+            ):
+                self._last = stale
+                self._low = 0
                 return h
-            levels[-1] = h = got
-            est = self._level_estimate(h, state.y)
+        if self._age < MIN_GAP and stale <= tol:
+            est = stale  # calibrated a moment ago: decide on the carried one
         else:
-            self._low_count = 0
+            est = self._calibrate(h, state.y, measure)
+        # a point over the tolerance: solve it again higher (rare: the
+        # estimate ahead normally raises the level one step earlier)
         for _ in range(len(self.ladder)):
-            if est <= self.tolerance:
+            if est <= tol or h == self.ladder[-1]:
                 break
-            h_new = next_level(h, est, self.tolerance, self.ladder)
-            if h_new <= h:
+            h_new = self._raise_to(est, h, len(levels))
+            if not self._resolve(state, h, h_new):
                 break
-            got = self._switch(state, h, h_new)
-            if got == h:
-                break
-            levels[-1] = h = got
-            est = self._level_estimate(h, state.y)
+            levels[-1] = h = h_new
+            level = self._levels[h]
+            measure = level.measure(state.y)
+            if measure <= LINEAR * tol and self._linear(h, state.y):
+                return h
+            est = self._calibrate(h, state.y, measure)
+            last = math.nan
+        ahead = est
+        if last > 0.0 and est > last:
+            ahead = est * min(est / last, MAX_GROWTH)
+        self._last = est
+        if ahead > RAISE_AT * tol:
+            h_new = self._raise_to(ahead, h, len(levels))
+            if h_new > h:
+                self._move(state, h, h_new)
+            return max(h_new, h)
+        if est < level.lower_below * tol and len(levels) >= self._no_lower_before:
+            self._low += 1
+            if self._low >= LOWER_PATIENCE:
+                h_new = level_for(est, h, LOWER_AT * tol, self.ladder)
+                if h_new < h:
+                    self._move(state, h, h_new)
+                    self._lowered = (h, len(levels))
+                    return h_new
+                self._low = 0
+        else:
+            self._low = 0
         return h
+
+    def _raise_to(self, est: float, h: int, n_points: int) -> int:
+        """Level to raise to from ``h``. Soon after lowering from a level
+        (the ``H^-DECAY`` law was wrong: a cubic spring's harmonics decay
+        geometrically), go back to it and do not lower again for
+        ``COOLDOWN`` points."""
+        left, at = self._lowered
+        if left > h and n_points - at <= FLAP_WINDOW:
+            self._no_lower_before = n_points + COOLDOWN
+            self._lowered = (0, 0)
+            return left
+        h_new = level_for(est, h, TARGET * self.tolerance, self.ladder)
+        if h_new > h:
+            return h_new
+        return min((lv for lv in self.ladder if lv > h), default=h)
 
     def run(self) -> tuple[ContinuationState, list[np.ndarray], list[int], float]:
         """Trace the branch.
@@ -360,7 +537,10 @@ class AdaptiveContinuation:
             Wall time, s.
         """
         start = time.perf_counter()
-        h = self.ladder[0]
+        # start in the middle of the ladder: from the linear guesses Newton
+        # reaches a slipping first point in 15-20 iterations at H >= 5, 52
+        # at H = 3 (SDOF Jenkins, F = 2); a stuck one drops at once
+        h = self.ladder[min(START, len(self.ladder) - 1)]
         state = self._cont(h).init()
         levels = [h] * len(state.points)
         if state.stop_reason == NO_START:
@@ -368,8 +548,9 @@ class AdaptiveContinuation:
         h = self._adapt(state, h, levels)
         while not state.finished:
             before = len(state.points)
-            state = self._cont(h).step(state)
+            state = self._levels[h].cont.step(state)
             if len(state.points) > before:
                 levels.append(h)
-                h = self._adapt(state, h, levels)
+                if not state.finished:
+                    h = self._adapt(state, h, levels)
         return state, state.points, levels, time.perf_counter() - start
