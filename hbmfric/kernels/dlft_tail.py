@@ -42,9 +42,11 @@ contact force follows from the implicit function theorem,
 topology) comes from the march of ``dlft_located`` run on the corrected
 velocity samples, repeated until it no longer changes.
 
-In pure slip the retained harmonics of the exact periodic solution are then
-an exact fixed point (up to the sampled Fourier integrals and the
-``O(1/K²)`` remainder of the tail). In stick phases only the force jumps
+In pure slip the force is piecewise constant and its Fourier coefficients
+are integrated exactly, so that the retained harmonics of the exact
+periodic solution are a fixed point up to the ``O(1/K²)`` remainder of the
+tail. With stick phases the force is sampled and its DFT corrected for the
+position of each jump, as in ``dlft_located``. In stick phases only the force jumps
 enter the tail (the smooth part of the holding force adds ``O(1/k³)``
 coefficients); the end of a stick phase is found on the samples as before.
 """
@@ -314,8 +316,9 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
     """The march of :func:`~hbmfric.kernels.dlft.dlft_located` on the
     corrected velocity samples ``dc``.
 
-    Event ``e`` sits at ``given[e]`` when that lies within three samples of
-    the interval where the samples place it, else at the zero of the
+    Event ``e`` sits at ``given[e]`` when that lies within three samples
+    (or a quarter period of the highest harmonic) of the interval where the
+    samples place it, else at the zero of the
     linear interpolant of ``dc``. Records the events' kinds, slip
     directions before them and positions. With ``with_grad`` also
     accumulates the sampled force and its gradient (``force``, ``grad``) and
@@ -333,15 +336,25 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
     n1 = dH.shape[1]
     n = n1 - 1
     h = 2.0 * np.pi / n_time
+    # a given position belongs to the event found within this distance
+    window = max(3.0 * h, 0.5 * np.pi / harmonic_numbers[-1])
     corr = np.zeros(n_coef)
     dcorr = np.zeros(n_coef)
     dw = np.zeros(n1)
     dhr = np.zeros(n1)
+    # start at the forward-to-backward sign change of dc nearest to the
+    # largest sample of u (the tail may move it by several samples)
     i_max = np.argmax(u)
-    if dc[i_max] > 0.0:
-        i0 = i_max
-    else:
-        i0 = (i_max - 1) % n_time
+    i0 = i_max if dc[i_max] > 0.0 else (i_max - 1) % n_time
+    for off in range(n_time // 2):
+        a = (i_max + off) % n_time
+        b = (i_max - 1 - off) % n_time
+        if dc[a] > 0.0 and dc[(a + 1) % n_time] <= 0.0:
+            i0 = a
+            break
+        if dc[b] > 0.0 and dc[(b + 1) % n_time] <= 0.0:
+            i0 = b
+            break
     i1 = (i0 + 1) % n_time
     stuck_all = True
     stick = False
@@ -368,7 +381,7 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
                 event = True
         if event and n_e < kinds.size:
             mid = theta_i - 0.5 * h
-            if n_e < n_given and abs(_wrap(given[n_e] - mid)) < 3.0 * h:
+            if n_e < n_given and abs(_wrap(given[n_e] - mid)) < window:
                 theta_e = mid + _wrap(given[n_e] - mid)
             else:
                 den = dc[p] - dc[i]
@@ -431,6 +444,47 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
             if with_grad:
                 force[i] = sign * slip_force
     return n_e, stuck_all
+
+
+@jit
+def _slip_coefficients(harmonic_numbers, n_e, theta, signs, slip_force,
+                       dtheta, F, dF):  # fmt: skip
+    """Exact Fourier coefficients of a pure-slip force (``F``, overwritten)
+    and their Jacobian ``Σ_e ∂F/∂θ_e dθ_e/dy`` (``dF``, overwritten).
+
+    Reversal ``e`` at ``θ_e`` ends slip in direction ``s_e`` (jump
+    ``J_e = -2 s_e f_s``): ``a_k = -Σ J_e sin kθ_e / (πk)``,
+    ``b_k = Σ J_e cos kθ_e / (πk)``, the mean from the interval lengths.
+    """
+    n1 = dF.shape[1]
+    F[:] = 0.0
+    dF[:, :] = 0.0
+    col = 0
+    for k in harmonic_numbers:
+        if k == 0:
+            acc = 0.0
+            for e in range(n_e):
+                nxt = theta[(e + 1) % n_e]
+                length = (nxt - theta[e]) % (2.0 * np.pi)
+                if n_e == 1:
+                    length = 2.0 * np.pi
+                acc += -signs[e] * slip_force * length
+                jump = -2.0 * signs[e] * slip_force
+                for c in range(n1):
+                    dF[col, c] -= jump / (2.0 * np.pi) * dtheta[e, c]
+            F[col] = acc / (2.0 * np.pi)
+            col += 1
+        else:
+            for e in range(n_e):
+                jump = -2.0 * signs[e] * slip_force
+                ck = np.cos(k * theta[e])
+                sk = np.sin(k * theta[e])
+                F[col] -= jump * sk / (np.pi * k)
+                F[col + 1] += jump * ck / (np.pi * k)
+                for c in range(n1):
+                    dF[col, c] -= jump * ck / np.pi * dtheta[e, c]
+                    dF[col + 1, c] -= jump * sk / np.pi * dtheta[e, c]
+            col += 2
 
 
 @jit
@@ -621,16 +675,25 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
                           base, U, Hc, dH, u, d, dc, hh, dhh, inverse,
                           derivative, n_e, given, kinds, signs, theta, dtheta,
                           force, grad, F, dF, work)  # fmt: skip
-    for r in range(n_coef):
-        acc = 0.0
-        for i in range(n_time):
-            acc += forward[r, i] * force[i]
-        F[r] += acc
-        for i in range(n_time):
-            wr = forward[r, i]
-            if wr != 0.0:
-                for c in range(n1):
-                    dF[r, c] += wr * grad[i, c]
+    pure_slip = n_e > 0
+    for e in range(n_e):
+        if kinds[e] != REVERSAL:
+            pure_slip = False
+    if pure_slip:
+        # piecewise constant ±f_s: exact Fourier integrals
+        _slip_coefficients(harmonic_numbers, n_e, theta, signs, slip_force,
+                           dtheta, F, dF)  # fmt: skip
+    else:
+        for r in range(n_coef):
+            acc = 0.0
+            for i in range(n_time):
+                acc += forward[r, i] * force[i]
+            F[r] += acc
+            for i in range(n_time):
+                wr = forward[r, i]
+                if wr != 0.0:
+                    for c in range(n1):
+                        dF[r, c] += wr * grad[i, c]
     for r in range(n_coef):
         R[base + r] += F[r]
         for c in range(n1):
