@@ -40,7 +40,10 @@ before the event). It is solved by Newton in ``θ``; the Jacobian of the
 contact force follows from the implicit function theorem,
 ``dθ/dy = -(∂G/∂θ)⁻¹ ∂G/∂y``. Which events occur and of which kind (the
 topology) comes from the march of ``dlft_located`` run on the corrected
-velocity samples, repeated until it no longer changes.
+velocity samples, repeated until it no longer changes and places every
+event at its solved position. Where that fails (no root of the switching
+conditions where the samples see the events, met at coarse ``H`` far from
+a solution) the located scheme without tail is used for that evaluation.
 
 In pure slip the force is piecewise constant and its Fourier coefficients
 are integrated exactly, so that the retained harmonics of the exact
@@ -55,7 +58,7 @@ import numpy as np
 
 from .._jit import jit
 from .aft import GROSS_SLIP, STUCK
-from .dlft import _jump_correction
+from .dlft import _jump_correction, dlft_located
 from .linalg import solve_inplace
 
 #: status when a dynamic stiffness of the tail is singular (as in
@@ -81,7 +84,9 @@ def contact_receptance(mass, damping, stiffness, contact_dof, omega,
                        harmonic_numbers, mu, q, dq):  # fmt: skip
     """Tail coefficients ``q_k`` of the receptance at the contact DOF.
 
-    ``q_k = G(kΩ) [k ∉ S] - a₂ / k²`` for ``k = 1 … K`` (``q[0]`` unused),
+    ``q_k = G(kΩ) [k ∉ S] - a₂ / k²`` for ``k = 1 … K``; when ``S`` holds
+    odd harmonics only (antiperiodic motion) the tail is odd too: ``q_k = 0``
+    for even ``k`` and ``q[0] = 1`` flags it (else ``q[0] = 0``),
     ``a₂ = -μ/Ω²`` the coefficient of the closed-form high-frequency part,
     and their Ω-derivatives.
 
@@ -106,6 +111,13 @@ def contact_receptance(mass, damping, stiffness, contact_dof, omega,
     """
     n_k = q.size
     kept = np.zeros(n_k, dtype=np.bool_)
+    odd = True
+    for k in harmonic_numbers:
+        if k % 2 == 0:
+            odd = False
+    # flag in the unused q[0]: odd harmonics only (antiperiodic motion)
+    q[0] = 1.0 if odd else 0.0
+    dq[0] = 0.0
     for k in harmonic_numbers:
         if k < n_k:
             kept[k] = True
@@ -146,9 +158,28 @@ def contact_receptance(mass, damping, stiffness, contact_dof, omega,
                     for j in range(n):
                         dz = k * (-2.0 * w * mass[i, j] + 1j * damping[i, j])
                         dg -= z[i] * dz * z[j]
-        q[k] = g - a2 / (k * k)
-        dq[k] = dg - da2 / (k * k)
+        if odd and k % 2 == 0:
+            q[k] = 0.0
+            dq[k] = 0.0
+        else:
+            q[k] = g - a2 / (k * k)
+            dq[k] = dg - da2 / (k * k)
     return a2, da2, True
+
+
+@jit
+def _closed_form(phi, odd):
+    """``Σ cos kφ / k²`` over ``k >= 1`` (odd ``k`` only if ``odd``) and
+    its φ-derivative: ``π²/6 - πx/2 + x²/4`` on ``x = φ mod 2π``, minus a
+    quarter of the same at ``2φ`` for the odd terms."""
+    x = phi % (2.0 * np.pi)
+    c2 = np.pi * np.pi / 6.0 - 0.5 * np.pi * x + 0.25 * x * x
+    d2 = -0.5 * np.pi + 0.5 * x
+    if odd:
+        x = (2.0 * phi) % (2.0 * np.pi)
+        c2 -= 0.25 * (np.pi * np.pi / 6.0 - 0.5 * np.pi * x + 0.25 * x * x)
+        d2 -= 0.5 * (-0.5 * np.pi + 0.5 * x)
+    return c2, d2
 
 
 @jit
@@ -168,9 +199,7 @@ def _kernel(q, dq, a2, da2, phi):
         val += qr * ck - qi * sk
         der -= k * (qr * sk + qi * ck)
         dom += dq[k].real * ck - dq[k].imag * sk
-    x = phi % (2.0 * np.pi)
-    c2 = np.pi * np.pi / 6.0 - 0.5 * np.pi * x + 0.25 * x * x
-    d2 = -0.5 * np.pi + 0.5 * x
+    c2, d2 = _closed_form(phi, q[0].real != 0.0)
     return (
         -(val + a2 * c2) / np.pi,
         -(der + a2 * d2) / np.pi,
@@ -212,6 +241,7 @@ def _tail_samples(n_e, theta, jumps, q, a2, out):
     n_time = out.size
     h = 2.0 * np.pi / n_time
     n_k = q.size
+    odd = q[0].real != 0.0
     coef = np.zeros(n_k, dtype=np.complex128)
     for e in range(n_e):
         for k in range(1, n_k):
@@ -225,9 +255,7 @@ def _tail_samples(n_e, theta, jumps, q, a2, out):
             acc += (coef[k] * table[(k * i) % n_time]).real
         for e in range(n_e):
             x = (i * h - theta[e]) % (2.0 * np.pi)
-            acc += (
-                a2 * jumps[e] * (np.pi * np.pi / 6.0 - 0.5 * np.pi * x + 0.25 * x * x)
-            )
+            acc += a2 * jumps[e] * _closed_form(x, odd)[0]
         out[i] = -acc / np.pi
 
 
@@ -316,10 +344,10 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
     """The march of :func:`~hbmfric.kernels.dlft.dlft_located` on the
     corrected velocity samples ``dc``.
 
-    Event ``e`` sits at ``given[e]`` when that lies within three samples
-    (or a quarter period of the highest harmonic) of the interval where the
-    samples place it, else at the zero of the
-    linear interpolant of ``dc``. Records the events' kinds, slip
+    In slip, a given event ``given[e]`` within three samples (or a quarter
+    period of the highest harmonic) of the current sample is taken in the
+    sample interval that holds it; otherwise an event is where ``dc``
+    changes sign, at the zero of its linear interpolant. Records the events' kinds, slip
     directions before them and positions. With ``with_grad`` also
     accumulates the sampled force and its gradient (``force``, ``grad``) and
     the jump corrections (``F``, ``dF``), with ``dtheta`` the derivatives
@@ -355,6 +383,9 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
         if dc[b] > 0.0 and dc[(b + 1) % n_time] <= 0.0:
             i0 = b
             break
+    if n_given > 0:
+        # the interval that holds the first given event
+        i0 = int(np.floor((given[0] % (2.0 * np.pi)) / h)) % n_time
     i1 = (i0 + 1) % n_time
     stuck_all = True
     stick = False
@@ -375,13 +406,23 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
                     stick = False
                     sign = 1.0 if lam > 0.0 else -1.0
                     armed = sign * dc[i] > 0.0
-            elif sign * dc[i] > 0.0:
-                armed = True
-            elif armed:
-                event = True
+            else:
+                # a given event close by is taken in its own interval
+                near = False
+                if n_e < n_given:
+                    delta = _wrap(given[n_e] - theta_i)
+                    if -window < delta < window:
+                        near = True
+                        event = delta <= 0.0
+                if near:
+                    pass
+                elif sign * dc[i] > 0.0:
+                    armed = True
+                elif armed:
+                    event = True
         if event and n_e < kinds.size:
             mid = theta_i - 0.5 * h
-            if n_e < n_given and abs(_wrap(given[n_e] - mid)) < window:
+            if n_e < n_given and abs(_wrap(given[n_e] - mid)) < window + h:
                 theta_e = mid + _wrap(given[n_e] - mid)
             else:
                 den = dc[p] - dc[i]
@@ -592,6 +633,7 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
     dc = d.copy()
     n_given = 0
     n_e = 0
+    settled = False
     for it in range(MAX_PASSES):
         n_e, _ = _march(False, slip_force, eps, eta, omega, harmonic_numbers,
                         base, U, Hc, dH, u, d, dc, hh, dhh, inverse,
@@ -600,9 +642,14 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
         same = it > 0 and n_e == n_given
         if same:
             for e in range(n_e):
-                if kinds[e] != given_kinds[e] or signs[e] != given_signs[e]:
+                if (
+                    kinds[e] != given_kinds[e]
+                    or signs[e] != given_signs[e]
+                    or abs(_wrap(theta[e] - given[e])) > 1e-12
+                ):
                     same = False
                     break
+        settled = same
         if same:
             # the topology is settled: the positions are those just solved
             for e in range(n_e):
@@ -628,6 +675,11 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
         _tail_samples(n_e, theta, jumps, q, a2, dc)
         for i in range(n_time):
             dc[i] += d[i]
+    if not settled:
+        # the switching conditions have no root where the samples place the
+        # events: fall back to the located scheme without the tail
+        return dlft_located(params, harmonic_numbers, base, m_cc, y, inverse,
+                            forward, derivative, R, J)  # fmt: skip
     # implicit function theorem: dθ/dy = -(∂G/∂θ)⁻¹ ∂G/∂y
     Gv = np.empty(n_e)
     A = np.empty((n_e, n_e))
@@ -671,10 +723,18 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
             dtheta[e, c] = acc
     for e in range(n_e):
         given[e] = theta[e]
-    _, stuck_all = _march(True, slip_force, eps, eta, omega, harmonic_numbers,
-                          base, U, Hc, dH, u, d, dc, hh, dhh, inverse,
-                          derivative, n_e, given, kinds, signs, theta, dtheta,
-                          force, grad, F, dF, work)  # fmt: skip
+    n_final, stuck_all = _march(True, slip_force, eps, eta, omega,
+                                harmonic_numbers, base, U, Hc, dH, u, d, dc,
+                                hh, dhh, inverse, derivative, n_e, given,
+                                kinds, signs, theta, dtheta, force, grad, F,
+                                dF, work)  # fmt: skip
+    consistent = n_final == n_e
+    for e in range(n_e):
+        if abs(_wrap(theta[e] - given[e])) > 1e-12:
+            consistent = False
+    if not consistent:
+        return dlft_located(params, harmonic_numbers, base, m_cc, y, inverse,
+                            forward, derivative, R, J)  # fmt: skip
     pure_slip = n_e > 0
     for e in range(n_e):
         if kinds[e] != REVERSAL:
