@@ -356,7 +356,8 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
     Returns
     -------
     tuple of (int, bool)
-        Number of events, and whether no sample slips.
+        Number of events, whether no sample slips, and whether the march
+        ends in a stick phase (then the forced start event lies inside it).
     """
     b0, b1, b2 = work
     n_time = u.size
@@ -415,6 +416,9 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
                         near = True
                         event = delta <= 0.0
                 if near:
+                    pass
+                elif n_given > 0 and theta_i > theta[0] + 2.0 * np.pi - window:
+                    # the start event again, one period on: not a new one
                     pass
                 elif sign * dc[i] > 0.0:
                     armed = True
@@ -484,7 +488,7 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
             stuck_all = False
             if with_grad:
                 force[i] = sign * slip_force
-    return n_e, stuck_all
+    return n_e, stuck_all, stick
 
 
 @jit
@@ -635,10 +639,20 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
     n_e = 0
     settled = False
     for it in range(MAX_PASSES):
-        n_e, _ = _march(False, slip_force, eps, eta, omega, harmonic_numbers,
+        n_e, _, end_stick = _march(False, slip_force, eps, eta, omega, harmonic_numbers,
                         base, U, Hc, dH, u, d, dc, hh, dhh, inverse,
                         derivative, n_given, given, kinds, signs, theta,
                         dtheta, force, grad, F, dF, work)  # fmt: skip
+        if end_stick and n_e >= 2 and kinds[n_e - 1] == STICK:
+            # the start event lies inside the stick phase that the last
+            # event begins: start there instead, drop the start event
+            given[0] = theta[n_e - 1]
+            for e in range(1, n_e - 1):
+                given[e] = theta[e]
+            n_given = n_e - 1
+            for e in range(n_given):
+                given_kinds[e] = -1
+            continue
         same = it > 0 and n_e == n_given
         if same:
             for e in range(n_e):
@@ -659,10 +673,11 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
                                 harmonic_numbers, U, Hc, q, dq, a2, da2, jumps,
                                 djumps, work):  # fmt: skip
             # keep the interpolated positions; the Jacobian stays consistent
-            _march(False, slip_force, eps, eta, omega, harmonic_numbers,
-                   base, U, Hc, dH, u, d, dc, hh, dhh, inverse, derivative, 0,
-                   given, kinds, signs, theta, dtheta, force, grad, F, dF,
-                   work)  # fmt: skip
+            _, _, end_stick = _march(False, slip_force, eps, eta, omega,
+                                     harmonic_numbers, base, U, Hc, dH, u, d,
+                                     dc, hh, dhh, inverse, derivative, 0,
+                                     given, kinds, signs, theta, dtheta,
+                                     force, grad, F, dF, work)  # fmt: skip
             _switching_system(n_e, kinds, signs, theta, slip_force,
                               harmonic_numbers, U, Hc, q, dq, a2, da2,
                               np.empty(n_e), np.empty((n_e, n_e)), jumps,
@@ -723,7 +738,7 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
             dtheta[e, c] = acc
     for e in range(n_e):
         given[e] = theta[e]
-    n_final, stuck_all = _march(True, slip_force, eps, eta, omega,
+    n_final, stuck_all, _ = _march(True, slip_force, eps, eta, omega,
                                 harmonic_numbers, base, U, Hc, dH, u, d, dc,
                                 hh, dhh, inverse, derivative, n_e, given,
                                 kinds, signs, theta, dtheta, force, grad, F,
