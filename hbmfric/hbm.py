@@ -68,11 +68,11 @@ class HBMProblem:
         integrals) and for the Masing laws Menq and Iwan (located reversal
         points, :mod:`hbmfric.kernels.masing`), samples otherwise. A rigid
         :class:`~hbmfric.Coulomb` contact is solved by DLFT: "auto" and
-        "events" with located reversals and the holding force, the
-        reversals located on the velocity including the linear tail of the
-        response (:mod:`hbmfric.kernels.dlft_tail`; without it,
-        :func:`hbmfric.kernels.dlft.dlft_located`, when the law has
-        ``linear_tail=False`` or the mass matrix is singular), "samples" by
+        "events" with located reversals and the holding force
+        (:func:`hbmfric.kernels.dlft.dlft_located`; with the reversals
+        located on the velocity including the linear tail of the response,
+        :mod:`hbmfric.kernels.dlft_tail`, when the law has
+        ``linear_tail=True`` and the mass matrix is invertible), "samples" by
         the classic sampled DLFT (:func:`hbmfric.kernels.dlft.dlft_contact`).
     subharmonic : int
         ``ν >= 1``: the unknowns are harmonics of ``Ω/ν`` (the Ω of ``y``
