@@ -1,4 +1,4 @@
-"""Located DLFT with the linear tail of the response (default Coulomb scheme).
+"""Located DLFT with the linear tail of the response (``hf.Coulomb(linear_tail=True)``).
 
 Why a tail
 ----------
@@ -132,10 +132,17 @@ def contact_receptance(mass, damping, stiffness, contact_dof, omega,
         w = k * omega
         g = 0.0j
         dg = 0.0j
+        if odd and k % 2 == 0:
+            q[k] = 0.0
+            dq[k] = 0.0
+            continue
         if not kept[k]:
             if n == 1:
                 kd = stiffness[0, 0] - mass[0, 0] * w * w
-                g = 1.0 / (kd + 1j * damping[0, 0] * w)
+                wc = damping[0, 0] * w
+                if kd == 0.0 and wc == 0.0:
+                    return a2, da2, False
+                g = 1.0 / (kd + 1j * wc)
                 dg = -g * g * k * (-2.0 * mass[0, 0] * w + 1j * damping[0, 0])
             else:
                 for i in range(n):
