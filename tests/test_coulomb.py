@@ -21,7 +21,10 @@ the holding force, :func:`hbmfric.kernels.dlft.dlft_located`): 5e-4 to
 3e-3 relative in the non-stop regime for F_s/P <= 0.3, 6e-3 at 0.4 and
 1e-2 at 0.6; 2e-4 to 2e-3 in the stop regime; first order in H. The
 classic DLFT (``aft="samples"``, stick/slip decided on the predicted force)
-is 1e-2 to 7e-2 off at H = 31.
+is 1e-2 to 7e-2 off at H = 31. With the linear tail
+(``hf.Coulomb(linear_tail=True)``, :mod:`hbmfric.kernels.dlft_tail`): peak
+within 3e-5, first harmonic within 1e-7 for F_s/P = 0.1-0.7 in the non-stop
+regime, third order in H.
 """
 
 import math
