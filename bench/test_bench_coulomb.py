@@ -61,3 +61,41 @@ def test_dlft_residual_h31(benchmark, aft):
     benchmark(problem.residual, y)
     benchmark.extra_info["n_time"] = problem.n_time
     assert math.isfinite(float(np.max(np.abs(problem.residual(y)[0]))))
+
+
+TAIL = OSC.with_contact(hf.Coulomb(slip_force=FS, linear_tail=True))
+
+
+@pytest.mark.parametrize("tail", [False, True])
+def test_dlft_tail_residual_h31(benchmark, tail):
+    """One residual-and-Jacobian evaluation in the non-stop regime, H = 31,
+    located scheme without and with the linear tail."""
+    osc = TAIL if tail else OSC
+    problem = HBMProblem(osc, P, 31)
+    sol = hf.periodic_solution(osc, P, 0.7, harmonics=31)
+    y = np.append(sol.coefficients.reshape(-1), 0.7)
+    benchmark(problem.residual, y)
+    benchmark.extra_info["error_first_harmonic"] = abs(
+        sol.amplitude(harmonic=1) / _first_harmonic(0.7) - 1.0
+    )
+
+
+@pytest.mark.parametrize("tail", [False, True])
+def test_dlft_tail_branch_non_stop(benchmark, tail):
+    """Branch 0.6-3 rad/s (non-stop regime only), H = 31, without and with
+    the linear tail."""
+    osc = TAIL if tail else OSC
+    branch = benchmark.pedantic(
+        hf.frf, args=(osc, P, (0.6, 3.0), 31), rounds=2, iterations=1
+    )
+    assert branch.stop_reason == "end of frequency range reached"
+    error, checked = _branch_error(branch)
+    benchmark.extra_info.update(
+        points=len(branch), max_error_vs_den_hartog=error, non_stop_points=checked
+    )
+
+
+def _first_harmonic(w):
+    from test_coulomb import den_hartog_measures
+
+    return den_hartog_measures(C, FS, P, w)[1]

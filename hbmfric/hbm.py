@@ -9,6 +9,7 @@ import numpy as np
 from ._validate import finite_float, positive_int
 from .kernels.dft import fourier_matrices
 from .kernels.dlft import COULOMB
+from .kernels.dlft_tail import tail_length
 from .kernels.hbm import AFT_EVENTS, AFT_SAMPLES, NO_CONTACT, hbm_residual
 from .kernels.laws import JENKINS, MASING
 from .signals import coefficient_columns
@@ -68,8 +69,11 @@ class HBMProblem:
         points, :mod:`hbmfric.kernels.masing`), samples otherwise. A rigid
         :class:`~hbmfric.Coulomb` contact is solved by DLFT: "auto" and
         "events" with located reversals and the holding force
-        (:func:`hbmfric.kernels.dlft.dlft_located`), "samples" by the
-        classic sampled DLFT (:func:`hbmfric.kernels.dlft.dlft_contact`).
+        (:func:`hbmfric.kernels.dlft.dlft_located`; with the reversals
+        located on the velocity including the linear tail of the response,
+        :mod:`hbmfric.kernels.dlft_tail`, when the law has
+        ``linear_tail=True`` and the mass matrix is invertible), "samples" by
+        the classic sampled DLFT (:func:`hbmfric.kernels.dlft.dlft_contact`).
     subharmonic : int
         ``ν >= 1``: the unknowns are harmonics of ``Ω/ν`` (the Ω of ``y``
         is then the fundamental ``Ω/ν``) and the forcing sits on harmonic
@@ -167,7 +171,10 @@ class HBMProblem:
             eps = self._penalty(law, stiffness)
             m_cc = float(mass[system.contact_dof, system.contact_dof])
             # damping of the penalty oscillator (M_cc, η, ε): critical
-            params = np.array([law.slip_force, eps, 2.0 * np.sqrt(eps * m_cc)])
+            mu, n_tail = self._tail(law, mass, aft)
+            params = np.array(
+                [law.slip_force, eps, 2.0 * np.sqrt(eps * m_cc), mu, n_tail]
+            )
             self._coulomb_params = params
         else:
             code, params = law.code, np.ascontiguousarray(law.params, dtype=np.float64)
@@ -185,6 +192,21 @@ class HBMProblem:
             forward,
             derivative,
         )
+
+    def _tail(self, law, mass: np.ndarray, aft: str) -> tuple[float, float]:
+        """``((M⁻¹)_cc, K)`` of the linear tail of a rigid Coulomb contact
+        (:mod:`hbmfric.kernels.dlft_tail`); ``K = 0`` (no tail) for
+        ``aft="samples"``, ``linear_tail=False`` or a singular mass matrix."""
+        if aft != "events" or not law.linear_tail:
+            return 0.0, 0.0
+        c = int(self.system.contact_dof)
+        try:
+            mu = float(np.linalg.inv(mass)[c, c])
+        except np.linalg.LinAlgError:
+            return 0.0, 0.0
+        if not (np.isfinite(mu) and mu > 0.0):
+            return 0.0, 0.0
+        return mu, float(tail_length(int(self.harmonic_numbers[-1])))
 
     def _penalty(self, law, stiffness: np.ndarray) -> float:
         """DLFT penalty ``ε`` of a rigid Coulomb contact, N/m: the law's own,

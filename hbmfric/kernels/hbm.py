@@ -16,6 +16,7 @@ from .._jit import jit
 from .aft import aft_jenkins_events, aft_samples
 from .dahl import aft_dahl
 from .dlft import COULOMB, dlft_contact, dlft_located
+from .dlft_tail import SINGULAR_RECEPTANCE, contact_receptance, dlft_tail
 from .laws import DAHL, JENKINS, is_masing
 from .masing import aft_masing
 
@@ -39,9 +40,11 @@ def hbm_residual(y, problem, R, J):
         with ``mass``, ``damping``, ``stiffness`` of shape (n_dof, n_dof),
         ``load`` of shape (n_dof * n_coef,) (coefficients of ``p(t)``, N),
         ``law_code = -1`` for no contact; ``law_code = COULOMB`` (rigid
-        Coulomb, ``law_params = [slip_force, penalty, penalty_damping]``)
-        is solved by DLFT (:mod:`hbmfric.kernels.dlft`) instead of an AFT:
-        with located reversals for ``aft_scheme = AFT_EVENTS``, the classic
+        Coulomb, ``law_params = [slip_force, penalty, penalty_damping,
+        (M⁻¹)_cc, K]``) is solved by DLFT (:mod:`hbmfric.kernels.dlft`)
+        instead of an AFT: for ``aft_scheme = AFT_EVENTS`` with located
+        reversals, plus the linear tail of the response summed to ``K``
+        when ``K > 0`` (:mod:`hbmfric.kernels.dlft_tail`); the classic
         sampled scheme otherwise.
     R : ndarray, shape (n_dof * n_coef,)
         Output: residual, N.
@@ -102,7 +105,40 @@ def hbm_residual(y, problem, R, J):
                     J[rp + 1, n] += ddiag * xs - cpq * k * xc
         col += 1 if k == 0 else 2
     status = 0
-    if law_code == COULOMB and aft_scheme == AFT_EVENTS:
+    if law_code == COULOMB and aft_scheme == AFT_EVENTS and law_params[4] > 0.0:
+        n_tail = int(law_params[4])
+        q = np.zeros(n_tail + 1, dtype=np.complex128)
+        dq = np.zeros(n_tail + 1, dtype=np.complex128)
+        a2, da2, ok = contact_receptance(
+            mass,
+            damping,
+            stiffness,
+            contact_dof,
+            omega,
+            harmonic_numbers,
+            law_params[3],
+            q,
+            dq,
+        )
+        if not ok:
+            return SINGULAR_RECEPTANCE
+        status = dlft_tail(
+            law_params,
+            harmonic_numbers,
+            contact_dof * n_coef,
+            mass[contact_dof, contact_dof],
+            q,
+            dq,
+            a2,
+            da2,
+            y,
+            inverse,
+            forward,
+            derivative,
+            R,
+            J,
+        )
+    elif law_code == COULOMB and aft_scheme == AFT_EVENTS:
         status = dlft_located(
             law_params,
             harmonic_numbers,
