@@ -322,6 +322,9 @@ def test_kernels_compile_once_and_no_eager_imports():
     )
     report = json.loads(out.stdout.strip().splitlines()[-1])
     assert report["second"] == report["first"]
+    # kernels only Python calls hold one signature; the law kernels are also
+    # compiled from inside other kernels when the cache is cold (a literal
+    # flag, other layouts), a fixed number checked by the line above
     for name in (
         "newton.correct",
         "newton.tangent",
@@ -329,9 +332,6 @@ def test_kernels_compile_once_and_no_eager_imports():
         "aft.periodic_force",
         "aft.aft_samples",
         "masing.aft_masing",
-        "laws.law_step",
-        "laws.law_init",
-        "laws.state_size",
         "integrator.newmark_periods",
         "integrator.record_period",
     ):
