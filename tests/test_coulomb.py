@@ -314,6 +314,11 @@ TAIL_CASES = [
     )  # fmt: skip
     for w in ws
 ]
+# half of them run by default, all with -m slow
+TAIL_CASES = [
+    case if i % 2 == 0 else pytest.param(*case, marks=pytest.mark.slow)
+    for i, case in enumerate(TAIL_CASES)
+]
 
 
 @pytest.mark.parametrize(("c", "fs", "w"), TAIL_CASES)
