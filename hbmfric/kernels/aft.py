@@ -55,6 +55,7 @@ from .laws import (
     slip_limit,
     virgin_curve,
 )
+from .segments import trig_series
 
 #: contact-state codes returned by the AFT kernels
 MEMORYLESS = 0
@@ -591,21 +592,6 @@ def _find_reversals(
     return count
 
 
-@jit
-def _series(theta, c, s):
-    """``c[m] = cos mθ``, ``s[m] = sin mθ`` by the angle-addition recurrence."""
-    c1 = np.cos(theta)
-    s1 = np.sin(theta)
-    cm = 1.0
-    sm = 0.0
-    c[0] = 1.0
-    s[0] = 0.0
-    for m in range(1, c.size):
-        cm, sm = cm * c1 - sm * s1, sm * c1 + cm * s1
-        c[m] = cm
-        s[m] = sm
-
-
 #: Gauss–Legendre rule of :func:`_stick_quadrature` (nodes on [-1, 1])
 _GAUSS_NODES = tuple(float(x) for x in np.polynomial.legendre.leggauss(6)[0])
 _GAUSS_WEIGHTS = tuple(float(w) for w in np.polynomial.legendre.leggauss(6)[1])
@@ -1000,7 +986,7 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
     sign = 1.0
     z = u_max - slip_force / kt
     seg_start = th_max
-    _series(th_max, ca, sa)
+    trig_series(th_max, ca, sa)
     ns = 0
     p = int(th_max / h) + 1  # next sample (unwrapped index)
     t_prev = th_max
@@ -1042,7 +1028,7 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
                     level,
                     False,
                 )
-                _series(event, cb, sb)
+                trig_series(event, cb, sb)
                 ns = _close_segment(
                     harmonic_numbers,
                     X,
@@ -1074,7 +1060,7 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
                 sign = d
         if not stuck and q < n_rev:
             # the slip ends at the reversal
-            _series(t_next, cb, sb)
+            trig_series(t_next, cb, sb)
             ns = _close_segment(
                 harmonic_numbers,
                 X,
@@ -1107,7 +1093,7 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
         t_prev = t_next
         u_prev = u_next
     theta_end = th_max + two_pi
-    _series(theta_end, cb, sb)
+    trig_series(theta_end, cb, sb)
     ns = _close_segment(
         harmonic_numbers,
         X,
