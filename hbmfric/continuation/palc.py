@@ -26,9 +26,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..kernels import arclength as _arclength
 from ..kernels import newton as _newton
 from .options import ContinuationOptions
-from .step_control import StepController
 
 #: stop reasons
 RANGE_END = "end of frequency range reached"
@@ -85,7 +85,6 @@ class Continuation:
         self.low, self.high = float(omega_range[0]), float(omega_range[1])
         self.direction = 1 if direction >= 0 else -1
         self.options = options or ContinuationOptions()
-        self.controller = StepController(self.options)
         n = problem.n_unknowns
         if amplitude_scale is None:
             amplitude_scale = problem.amplitude_scale((self.low, self.high))
@@ -103,6 +102,36 @@ class Continuation:
         self._y_pred = np.empty(n + 1)
         self._y_new = np.empty(n + 1)
         self._t_new = np.empty(n + 1)
+        self._work = (
+            self._R,
+            self._J,
+            self._A,
+            self._piv,
+            self._y_pred,
+            self._y_new,
+            self._t_new,
+        )
+        self._settings = self._settings_array()
+
+    def _settings_array(self) -> np.ndarray:
+        """Options as the flat array of :mod:`hbmfric.kernels.arclength`."""
+        o = self.options
+        s = np.empty(_arclength.N_SETTINGS)
+        s[_arclength.MIN_STEP] = o.min_step
+        s[_arclength.MAX_STEP] = o.max_step
+        s[_arclength.MAX_ANGLE] = o.max_angle
+        s[_arclength.MAX_CORRECTION] = o.max_correction
+        s[_arclength.CORNER_STEP] = o.corner_step
+        s[_arclength.GROWTH] = o.growth
+        s[_arclength.SHRINK] = o.shrink
+        s[_arclength.TARGET_NEWTON] = o.target_newton
+        s[_arclength.TOL_RESIDUAL] = self.tol_residual
+        s[_arclength.TOL_STEP] = o.tol_step
+        s[_arclength.MAX_NEWTON] = o.max_newton
+        s[_arclength.BASE_SCALE] = self.base_scale
+        s[_arclength.LOW] = self.low
+        s[_arclength.HIGH] = self.high
+        return s
 
     # ------------------------------------------------------------------
     def _correct(self, y, y_pred, constraint, max_iter=None):
@@ -228,105 +257,86 @@ class Continuation:
         """One predictor–corrector step (accepted or rejected)."""
         if state.finished:
             return state
-        o = self.options
-        n = self.problem.n_unknowns
-        if state.n_steps + state.n_rejected >= o.max_steps:
+        if state.n_steps + state.n_rejected >= self.options.max_steps:
             return self._finish(state, MAX_STEPS)
-        ds = state.step
-        status, it, effort, distance, angle = _newton.palc_step(
+        y = state.y.copy()
+        tangent = state.tangent.copy()
+        outcome, new_step, evaluations = _arclength.advance(
             self.problem.kernel_problem,
-            state.y,
-            state.tangent,
-            ds,
+            y,
+            tangent,
+            state.step,
             self.scale,
-            self.tol_residual,
-            o.tol_step,
-            o.max_newton,
-            self._R,
-            self._J,
-            self._A,
-            self._piv,
-            self._y_pred,
-            self._y_new,
-            self._t_new,
+            self._settings,
+            *self._work,
         )
-        state.n_newton += it
-        ok = status == _newton.CONVERGED
-        corner = False
-        if ok:
-            smooth = angle <= o.max_angle and distance <= o.max_correction * ds
-            corner = (
-                not smooth
-                and ds <= o.corner_step
-                and (distance <= 2.0 * ds or self._short_turn(state.y))
-            )
-            ok = smooth or corner
-        if not ok:
+        state.n_newton += evaluations
+        if outcome == _arclength.LEFT_RANGE:
+            return self._land_on_boundary(state, self._y_new.copy())
+        state.step = new_step
+        if outcome in (_arclength.REJECTED, _arclength.STEP_TOO_SMALL):
             state.n_rejected += 1
-            state.step = self.controller.reject(ds)
-            if state.step < o.min_step:
+            if outcome == _arclength.STEP_TOO_SMALL:
                 return self._finish(state, MIN_STEP)
             return state
-        # accepted
-        if corner:
-            state.corners.append(len(state.points))
-            angle = 0.0
-        y = self._y_new.copy()
-        omega = y[n]
-        if omega > self.high or omega < self.low:
-            return self._land_on_boundary(state, y)
-        new_tangent = self._t_new.copy()
-        t_old = state.tangent[n]
-        t_now = new_tangent[n]
-        if t_now != 0.0 and (t_old == 0.0 or (t_now > 0.0) != (t_old > 0.0)):
-            state.folds.append(len(state.points))
+        self._record(state, y[None, :], tangent[-1:], np.array([outcome]))
         state.y = y
-        state.tangent = new_tangent
-        state.points.append(y)
-        state.tangents_omega.append(t_now)
-        state.n_steps += 1
-        state.step = self.controller.accept(ds, effort, angle)
-        self._follow_amplitude(state)
+        state.tangent = tangent
         return state
 
-    def _follow_amplitude(self, state: ContinuationState) -> None:
-        """Keep the displacement scale at least a tenth of the amplitude.
-
-        The base scale is the peak of the linearised response; a branch
-        may climb far above it (a resonance that friction cannot bound, at
-        small damping, peaks at ``(F - 4 f_s/π) / (c Ω)``, 4000 base scales
-        in the stress matrix) and would then need as many steps as it is
-        scales high. Once the largest coefficient exceeds 15 base scales,
-        the scale follows a tenth of it (back down to the base scale as the
-        branch descends), so that a step changes the amplitude by at most
-        ``10 max_step`` relative to itself. Branches within 15 base scales
-        (every ordinary FRF) keep the base scale and their resolution. The
-        tangent is carried over to the new scaled variables.
-        """
+    def _trace(self, state: ContinuationState) -> ContinuationState:
+        """Steps until the branch leaves the range, the step collapses,
+        ``max_steps`` is spent or a block of points is full, in one
+        compiled call (:func:`hbmfric.kernels.arclength.trace`)."""
+        budget = self.options.max_steps - (state.n_steps + state.n_rejected)
+        if budget <= 0:
+            return self._finish(state, MAX_STEPS)
+        capacity = min(budget, 256)
         n = self.problem.n_unknowns
-        target = max(self.base_scale, 0.1 * _newton._norm_inf(state.y[:n]))
-        current = self.scale[0]
-        if current / 1.5 <= target <= 1.5 * current:
-            return
-        t = state.tangent * self.scale
-        self.scale[:n] = target
-        t /= self.scale
-        state.tangent = t / np.linalg.norm(t)
+        points = np.empty((capacity, n + 1))
+        tangents_omega = np.empty(capacity)
+        flags = np.zeros(capacity, dtype=np.int64)
+        y = state.y.copy()
+        tangent = state.tangent.copy()
+        outcome, accepted, rejected, evaluations, new_step = _arclength.trace(
+            self.problem.kernel_problem,
+            y,
+            tangent,
+            state.step,
+            self.scale,
+            self._settings,
+            budget,
+            points,
+            tangents_omega,
+            flags,
+            *self._work,
+        )
+        state.n_newton += evaluations
+        state.n_rejected += rejected
+        state.step = new_step
+        self._record(state, points[:accepted], tangents_omega[:accepted], flags)
+        state.y = y
+        state.tangent = tangent
+        if outcome == _arclength.RANGE_LEFT:
+            return self._land_on_boundary(state, self._y_new.copy())
+        if outcome == _arclength.STEP_BELOW_MIN:
+            return self._finish(state, MIN_STEP)
+        if outcome == _arclength.BUDGET_SPENT:
+            return self._finish(state, MAX_STEPS)
+        return state
 
-    def _short_turn(self, y: np.ndarray) -> bool:
-        """A sharp corner: the new branch piece leaves the corner at a large
-        angle ``α`` to the old tangent, so the corrector's hyperplane meets it
-        about ``ds tan α`` from the predictor (``α = 88°`` where a stuck
-        resonance at ζ = 1e-4 starts to slip), beyond the ``2 ds`` of the
-        plain corner rule at every step size. Accepted when the corrected
-        point is within ``corner_step`` of the current one (scaled) and the
-        chord to it runs along the new tangent (cosine >= 0.9): a step that
-        short along the new piece cannot have left the branch."""
-        chord = (self._y_new - y) / self.scale
-        length = float(np.linalg.norm(chord))
-        if not length <= self.options.corner_step:
-            return False
-        return float(np.dot(chord, self._t_new)) >= 0.9 * length
+    @staticmethod
+    def _record(state, points, tangents_omega, flags) -> None:
+        """Append accepted points with their corner and fold marks."""
+        first = len(state.points)
+        for j in range(points.shape[0]):
+            if flags[j] & _arclength.CORNER:
+                state.corners.append(first + j)
+            if flags[j] & _arclength.FOLD:
+                state.folds.append(first + j)
+        state.points.extend(points)
+        state.tangents_omega.extend(tangents_omega.tolist())
+        state.n_steps += points.shape[0]
 
     def _land_on_boundary(self, state: ContinuationState, y_out: np.ndarray):
         """The step left the range: solve the last point on the boundary."""
@@ -355,5 +365,5 @@ class Continuation:
         start = time.perf_counter()
         state = self.init(guess)
         while not state.finished:
-            state = self.step(state)
+            state = self._trace(state)
         return state, time.perf_counter() - start

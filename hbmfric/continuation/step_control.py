@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from ..kernels import arclength as _arclength
 from .options import ContinuationOptions
 
 
@@ -15,21 +16,28 @@ class StepController:
     Contract: :meth:`accept` returns the next step after a converged,
     accepted corrector run; :meth:`reject` returns the shrunk step after a
     failed or rejected one. Neither clips below ``min_step``: the caller
-    stops when the step falls under it.
+    stops when the step falls under it. The rule itself is the compiled
+    :func:`hbmfric.kernels.arclength.next_step`, which the continuation
+    kernels use.
     """
 
     def __init__(self, options: ContinuationOptions) -> None:
         self.options = options
+        o = options
+        self._settings = np.zeros(_arclength.N_SETTINGS)
+        self._settings[_arclength.MAX_STEP] = o.max_step
+        self._settings[_arclength.MAX_ANGLE] = o.max_angle
+        self._settings[_arclength.GROWTH] = o.growth
+        self._settings[_arclength.SHRINK] = o.shrink
+        self._settings[_arclength.TARGET_NEWTON] = o.target_newton
 
     def accept(self, step: float, iterations: int, angle: float) -> float:
         """Next step after success with ``iterations`` Newton iterations and a
         tangent turn of ``angle`` rad."""
-        o = self.options
-        factor = min(o.growth, o.target_newton / max(iterations, 1))
-        if angle > 0.0:
-            factor = min(factor, 0.8 * o.max_angle / angle)
-        factor = max(factor, o.shrink)
-        return min(step * factor, o.max_step)
+        new = _arclength.next_step(
+            float(step), int(iterations), float(angle), self._settings
+        )
+        return float(new)
 
     def reject(self, step: float) -> float:
         """Step after a rejection."""

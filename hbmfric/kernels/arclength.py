@@ -1,0 +1,294 @@
+"""Pseudo-arclength continuation steps with their acceptance rules, compiled.
+
+:func:`advance` is one step of the continuation as a whole: predictor and
+corrector (:func:`hbmfric.kernels.newton.palc_step`), the acceptance tests
+(Newton converged, tangent turn, distance from the predictor, the corner
+rules), fold detection, the next step size and the displacement scale that
+follows the amplitude. :func:`trace` repeats it into preallocated arrays,
+so that a whole branch runs without returning to Python (each return costs
+≈ 4 µs of argument unboxing plus the Python bookkeeping of a step, a third
+of a point's cost on a single-DOF problem). The Python driver
+(:class:`hbmfric.continuation.palc.Continuation`) calls :func:`advance` for
+hand-stepped runs and :func:`trace` for ``run``: one implementation of the
+rules.
+
+Settings come as one flat array indexed by the constants below (built by
+:func:`hbmfric.continuation.palc.Continuation`).
+"""
+
+import numpy as np
+
+from .._jit import jit
+from .newton import CONVERGED, _norm_inf, palc_step
+
+# indices into the settings array
+MIN_STEP = 0
+MAX_STEP = 1
+MAX_ANGLE = 2
+MAX_CORRECTION = 3
+CORNER_STEP = 4
+GROWTH = 5
+SHRINK = 6
+TARGET_NEWTON = 7
+TOL_RESIDUAL = 8
+TOL_STEP = 9
+MAX_NEWTON = 10
+BASE_SCALE = 11
+LOW = 12
+HIGH = 13
+N_SETTINGS = 14
+
+# outcome of a step (bit flags on ACCEPTED)
+REJECTED = 0
+ACCEPTED = 1
+CORNER = 2
+FOLD = 4
+#: the corrected point lies outside [low, high]; it is left in ``y_new``
+LEFT_RANGE = 8
+#: rejected, and the shrunk step is below ``min_step``
+STEP_TOO_SMALL = 16
+
+# outcome of a traced stretch
+RANGE_LEFT = 1
+STEP_BELOW_MIN = 2
+BUDGET_SPENT = 3
+BUFFER_FULL = 4
+
+
+@jit
+def next_step(step, iterations, angle, settings):
+    """Step after an accepted corrector run of ``iterations`` Newton
+    iterations whose tangent turned by ``angle`` rad: grow towards
+    ``target_newton`` iterations per step, by at most ``growth``, keep the
+    turn below 0.8 ``max_angle``, shrink at most by ``shrink``, never above
+    ``max_step``."""
+    factor = min(settings[GROWTH], settings[TARGET_NEWTON] / max(iterations, 1))
+    if angle > 0.0:
+        factor = min(factor, 0.8 * settings[MAX_ANGLE] / angle)
+    factor = max(factor, settings[SHRINK])
+    return min(step * factor, settings[MAX_STEP])
+
+
+@jit
+def _short_turn(y, y_new, t_new, scale, corner_step):
+    """A sharp corner, accepted at any turn.
+
+    Where the new piece of branch leaves the corner at an angle ``α`` to
+    the old tangent, the corrector's hyperplane meets it about ``ds tan α``
+    from the predictor (``α = 88°`` where a stuck resonance at ζ = 1e-4
+    starts to slip), beyond the ``2 ds`` of the plain corner rule at every
+    step size. Accepted when the corrected point is within ``corner_step``
+    of the current one (scaled) and the chord to it runs along the new
+    tangent (cosine >= 0.9): a step that short along the new piece cannot
+    have left the branch."""
+    length = 0.0
+    along = 0.0
+    for i in range(y.size):
+        d = (y_new[i] - y[i]) / scale[i]
+        length += d * d
+        along += d * t_new[i]
+    length = np.sqrt(length)
+    if not length <= corner_step:
+        return False
+    return along >= 0.9 * length
+
+
+@jit
+def follow_amplitude(y, tangent, scale, base_scale):
+    """Keep the displacement scale at least a tenth of the amplitude.
+
+    The base scale is the peak of the linearised response; a branch may
+    climb far above it (a resonance that friction cannot bound peaks at
+    ``(F - 4 f_s/π) / (c Ω)``, 4000 base scales at ζ = 1e-4 in the stress
+    matrix) and would then need as many steps as it is scales high. The
+    scale of every displacement unknown follows a tenth of the largest
+    coefficient (never below ``base_scale``), changed only when off by more
+    than 1.5×, so that a branch within 15 base scales keeps the base scale.
+    The unit tangent is carried over to the new scaled variables.
+    ``y``, ``tangent``, ``scale``: shape (n + 1,), the last entry Ω (its
+    scale is left alone).
+    """
+    n = y.size - 1
+    target = max(base_scale, 0.1 * _norm_inf(y[:n]))
+    current = scale[0]
+    if current / 1.5 <= target <= 1.5 * current:
+        return
+    norm = 0.0
+    for i in range(n + 1):
+        if i < n:
+            tangent[i] *= current / target
+            scale[i] = target
+        norm += tangent[i] * tangent[i]
+    norm = np.sqrt(norm)
+    for i in range(n + 1):
+        tangent[i] /= norm
+
+
+@jit
+def advance(
+    problem, y, tangent, step, scale, settings, R, J, A, piv, y_pred, y_new, t_new
+):
+    """One continuation step, accepted or rejected.
+
+    Parameters
+    ----------
+    problem : tuple
+        HBM problem (:func:`hbmfric.kernels.residual.residual`).
+    y, tangent : ndarray, shape (n + 1,)
+        In: current point (physical units) and unit tangent (scaled). Out,
+        when accepted: the new point and tangent.
+    step : float
+        Arc-length step to try, scaled.
+    scale : ndarray, shape (n + 1,)
+        Variable scales; the displacement scales may change on acceptance
+        (:func:`follow_amplitude`).
+    settings : ndarray, shape (N_SETTINGS,)
+        Options, see the index constants of this module.
+    R, J, A, piv, y_pred, y_new, t_new : ndarray
+        Work arrays of :func:`~hbmfric.kernels.newton.palc_step`. On
+        ``LEFT_RANGE``, ``y_new`` holds the corrected point outside the
+        range.
+
+    Returns
+    -------
+    outcome : int
+        ``REJECTED``, ``STEP_TOO_SMALL``, ``LEFT_RANGE`` or ``ACCEPTED``
+        with the ``CORNER`` and ``FOLD`` bits.
+    new_step : float
+        Step for the next call (unchanged on ``LEFT_RANGE``).
+    evaluations : int
+        Residual evaluations spent.
+    """
+    status, evaluations, effort, distance, angle = palc_step(
+        problem,
+        y,
+        tangent,
+        step,
+        scale,
+        settings[TOL_RESIDUAL],
+        settings[TOL_STEP],
+        int(settings[MAX_NEWTON]),
+        R,
+        J,
+        A,
+        piv,
+        y_pred,
+        y_new,
+        t_new,
+    )
+    ok = status == CONVERGED
+    corner = False
+    if ok:
+        smooth = (
+            angle <= settings[MAX_ANGLE] and distance <= settings[MAX_CORRECTION] * step
+        )
+        corner = (
+            not smooth
+            and step <= settings[CORNER_STEP]
+            and (
+                distance <= 2.0 * step
+                or _short_turn(y, y_new, t_new, scale, settings[CORNER_STEP])
+            )
+        )
+        ok = smooth or corner
+    if not ok:
+        new_step = step * settings[SHRINK]
+        if new_step < settings[MIN_STEP]:
+            return STEP_TOO_SMALL, new_step, evaluations
+        return REJECTED, new_step, evaluations
+    n = y.size - 1
+    omega = y_new[n]
+    if omega > settings[HIGH] or omega < settings[LOW]:
+        return LEFT_RANGE, step, evaluations
+    outcome = ACCEPTED
+    if corner:
+        outcome |= CORNER
+        angle = 0.0
+    t_old = tangent[n]
+    t_now = t_new[n]
+    if t_now != 0.0 and (t_old == 0.0 or (t_now > 0.0) != (t_old > 0.0)):
+        outcome |= FOLD
+    for i in range(n + 1):
+        y[i] = y_new[i]
+        tangent[i] = t_new[i]
+    new_step = next_step(step, effort, angle, settings)
+    follow_amplitude(y, tangent, scale, settings[BASE_SCALE])
+    return outcome, new_step, evaluations
+
+
+@jit
+def trace(
+    problem,
+    y,
+    tangent,
+    step,
+    scale,
+    settings,
+    max_attempts,
+    points,
+    tangents_omega,
+    flags,
+    R,
+    J,
+    A,
+    piv,
+    y_pred,
+    y_new,
+    t_new,
+):
+    """Repeat :func:`advance` until the branch leaves the range, the step
+    falls below its minimum, ``max_attempts`` steps were tried or the
+    output arrays are full.
+
+    Parameters
+    ----------
+    problem, y, tangent, step, scale, settings, R, J, A, piv, y_pred, y_new, t_new
+        As in :func:`advance` (``y``, ``tangent``, ``scale`` updated in
+        place).
+    max_attempts : int
+        Most steps (accepted plus rejected) to try.
+    points : ndarray, shape (capacity, n + 1)
+        Out: accepted points.
+    tangents_omega : ndarray, shape (capacity,)
+        Out: Ω-component of the tangent at each accepted point.
+    flags : ndarray of int64, shape (capacity,)
+        Out: ``CORNER``/``FOLD`` bits of each accepted point.
+
+    Returns
+    -------
+    outcome : int
+        ``RANGE_LEFT`` (``y_new`` holds the point outside the range),
+        ``STEP_BELOW_MIN``, ``BUDGET_SPENT`` or ``BUFFER_FULL``.
+    n_accepted, n_rejected, evaluations : int
+    step : float
+        Step for the next call.
+    """
+    n_accepted = 0
+    n_rejected = 0
+    evaluations = 0
+    n = y.size - 1
+    capacity = points.shape[0]
+    attempts = 0
+    while True:
+        if n_accepted == capacity:
+            return BUFFER_FULL, n_accepted, n_rejected, evaluations, step
+        if attempts == max_attempts:
+            return BUDGET_SPENT, n_accepted, n_rejected, evaluations, step
+        attempts += 1
+        work = (R, J, A, piv, y_pred, y_new, t_new)
+        outcome, step, spent = advance(
+            problem, y, tangent, step, scale, settings, *work
+        )
+        evaluations += spent
+        if outcome == LEFT_RANGE:
+            return RANGE_LEFT, n_accepted, n_rejected, evaluations, step
+        if outcome == REJECTED or outcome == STEP_TOO_SMALL:
+            n_rejected += 1
+            if outcome == STEP_TOO_SMALL:
+                return STEP_BELOW_MIN, n_accepted, n_rejected, evaluations, step
+            continue
+        for i in range(n + 1):
+            points[n_accepted, i] = y[i]
+        tangents_omega[n_accepted] = tangent[n]
+        flags[n_accepted] = outcome
+        n_accepted += 1
