@@ -11,6 +11,8 @@ import numpy as np
 import pytest
 
 import hbmfric as hf
+from hbmfric.continuation import Continuation, ContinuationOptions
+from hbmfric.hbm import HBMProblem
 
 
 def linear_amplitude(omega, mass, damping, stiffness, force):
@@ -148,6 +150,36 @@ def test_duffing_folds_agree_between_sweeps():
     )
 
 
+@pytest.mark.parametrize(
+    ("force", "kwargs"),
+    [(0.1, {}), (0.5, {"max_steps": 40}), (0.5, {"min_step": 0.019})],
+)
+def test_compiled_trace_equals_hand_stepping(jenkins_oscillator, force, kwargs):
+    """``run`` traces blocks of up to 256 points in one compiled call; the
+    same run stepped by hand through ``step`` (one compiled step per call,
+    bookkeeping in Python) must give the same points, folds, corners,
+    counters and stop reason: F = 0.1 has 397 points (two blocks), the
+    other two stop on ``max_steps`` and ``min_step``."""
+    problem = HBMProblem(jenkins_oscillator, force, 15)
+    options = ContinuationOptions(**kwargs)
+    traced, _ = Continuation(problem, (0.5, 3.0), 1, options).run()
+    cont = Continuation(problem, (0.5, 3.0), 1, options)
+    state = cont.init()
+    while not state.finished:
+        state = cont.step(state)
+    assert state.stop_reason == traced.stop_reason
+    assert (state.n_steps, state.n_rejected, state.n_newton) == (
+        traced.n_steps,
+        traced.n_rejected,
+        traced.n_newton,
+    )
+    assert state.folds == traced.folds and state.corners == traced.corners
+    np.testing.assert_array_equal(np.array(state.points), np.array(traced.points))
+    np.testing.assert_array_equal(state.tangents_omega, traced.tangents_omega)
+    if force == 0.1:
+        assert len(traced.points) > 256 and traced.corners
+
+
 def test_stop_reasons_return_partial_branch(jenkins_oscillator):
     branch = hf.frf(jenkins_oscillator, force=0.5, omega=(0.5, 3.0), max_steps=5)
     assert branch.stop_reason == "maximum number of steps reached"
@@ -256,15 +288,15 @@ def test_kernels_compile_once_and_no_eager_imports():
         import numpy as np
         import hbmfric as hf
         from hbmfric.kernels import (
-            aft, dft, hbm, laws, linalg, masing, newton, segments,
+            aft, arclength, dft, hbm, laws, linalg, masing, newton, segments,
         )
         from hbmfric.hbm import HBMProblem
         from hbmfric.validation import integrator
 
         def counts():
             out = {}
-            for mod in (aft, dft, hbm, laws, linalg, masing, newton, segments,
-                        integrator):
+            for mod in (aft, arclength, dft, hbm, laws, linalg, masing, newton,
+                        segments, integrator):
                 for name in dir(mod):
                     obj = getattr(mod, name)
                     if hasattr(obj, "signatures") and obj.__module__ == mod.__name__:
