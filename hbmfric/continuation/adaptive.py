@@ -64,6 +64,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from ..kernels import arclength as _arclength
 from ..kernels import newton as _newton
 from ..kernels.truncation import truncation_change
 from .options import ContinuationOptions
@@ -101,8 +102,8 @@ COOLDOWN = 50
 MAX_GROWTH = 4.0
 #: points between calibrations of the free measure on one level
 RECALIBRATE = 16
-#: between calibrations, stay only if the decision would not change with
-#: an estimate this factor off
+#: between calibrations, stay only if the estimate ahead is this factor
+#: clear of the raise threshold (the lower side needs no margin)
 MARGIN = 1.25
 #: points after a calibration during which decisions use the carried ratio
 MIN_GAP = 4
@@ -459,9 +460,8 @@ class AdaptiveContinuation:
             ahead = stale
             if last > 0.0 and stale > last:
                 ahead = stale * min(stale / last, MAX_GROWTH)
-            if (
-                MARGIN * ahead <= RAISE_AT * tol
-                and stale >= MARGIN * level.lower_below * tol
+            if MARGIN * ahead <= RAISE_AT * tol and stale >= self._lower_limit(
+                level, len(levels) < self._no_lower_before
             ):
                 self._last = stale
                 self._low = 0
@@ -507,6 +507,46 @@ class AdaptiveContinuation:
             self._low = 0
         return h
 
+    def _watch(self, h: int, levels: list) -> np.ndarray:
+        """The stay rule of :meth:`_adapt` at level ``h`` with the current
+        calibration, as the watch array of
+        :func:`hbmfric.kernels.arclength.trace` (same thresholds, same
+        arithmetic: the compiled stretch keeps the level exactly where
+        :meth:`_adapt` would)."""
+        a = _arclength
+        level, tol = self._levels[h], self.tolerance
+        w = np.empty(a.N_WATCH)
+        w[a.WATCH_ACTIVE] = 1.0
+        w[a.W_FACTOR] = self._factor
+        w[a.W_LAST] = self._last
+        w[a.W_AGE] = self._age
+        w[a.W_RECALIBRATE] = RECALIBRATE
+        w[a.W_RAISE] = RAISE_AT * tol
+        # lowering blocked over the whole stretch: no lower threshold
+        blocked = len(levels) + RECALIBRATE <= self._no_lower_before
+        w[a.W_LOWER] = self._lower_limit(level, blocked)
+        w[a.W_MARGIN] = MARGIN
+        w[a.W_MAX_GROWTH] = MAX_GROWTH
+        w[a.W_LINEAR] = LINEAR * tol
+        w[a.W_H] = level.h
+        w[a.W_PREV_WEIGHT] = level.prev_weight
+        w[a.W_FIRST] = level.first[0]
+        w[a.W_TOP] = level.top[0] if level.top else -1
+        w[a.W_PREV] = level.prev[0] if level.prev else -1
+        w[a.W_LOWEST] = float(h == self.ladder[0])
+        return w
+
+    def _lower_limit(self, level: _Level, blocked: bool) -> float:
+        """Estimate under which a point needs a decision about lowering
+        (none while lowering is blocked after a flap). No margin on this
+        side: staying on a stale estimate can only delay a lowering, which
+        costs time, not accuracy (with a margin, a branch whose estimate
+        sits just above the threshold asked for a decision, and a
+        calibration every few points, at 25 points in a row)."""
+        if blocked:
+            return -math.inf
+        return level.lower_below * self.tolerance
+
     def _raise_to(self, est: float, h: int, n_points: int) -> int:
         """Level to raise to from ``h``. Soon after lowering from a level
         (the ``H^-DECAY`` law was wrong: a cubic spring's harmonics decay
@@ -547,10 +587,19 @@ class AdaptiveContinuation:
             return state, state.points, levels, time.perf_counter() - start
         h = self._adapt(state, h, levels)
         while not state.finished:
+            # compiled stretch: stops at the first point that needs a
+            # decision (calibration due, thresholds near, linear response)
             before = len(state.points)
-            state = self._levels[h].cont.step(state)
-            if len(state.points) > before:
-                levels.append(h)
-                if not state.finished:
-                    h = self._adapt(state, h, levels)
+            cont = self._levels[h].cont
+            watch = self._watch(h, levels)
+            state = cont._trace(state, watch)
+            new = len(state.points) - before
+            levels.extend([h] * new)
+            self._last = float(watch[_arclength.W_LAST])
+            self._age = int(watch[_arclength.W_AGE])
+            decide = cont.trace_outcome == _arclength.WATCH_STOP
+            if new > int(decide):
+                self._low = 0  # the points that stayed reset the count
+            if decide and not state.finished:
+                h = self._adapt(state, h, levels)
         return state, state.points, levels, time.perf_counter() - start

@@ -112,6 +112,9 @@ class Continuation:
             self._t_new,
         )
         self._settings = self._settings_array()
+        self._no_watch = np.zeros(_arclength.N_WATCH)
+        #: how the last compiled trace ended (``kernels.arclength`` codes)
+        self.trace_outcome = 0
 
     def _settings_array(self) -> np.ndarray:
         """Options as the flat array of :mod:`hbmfric.kernels.arclength`."""
@@ -284,14 +287,20 @@ class Continuation:
         state.tangent = tangent
         return state
 
-    def _trace(self, state: ContinuationState) -> ContinuationState:
+    def _trace(
+        self,
+        state: ContinuationState,
+        watch: np.ndarray | None = None,
+        capacity: int = 256,
+    ) -> ContinuationState:
         """Steps until the branch leaves the range, the step collapses,
-        ``max_steps`` is spent or a block of points is full, in one
-        compiled call (:func:`hbmfric.kernels.arclength.trace`)."""
+        ``max_steps`` is spent, ``capacity`` points are accepted or (with a
+        ``watch`` array) a point needs an adaptive-harmonics decision, in
+        one compiled call (:func:`hbmfric.kernels.arclength.trace`)."""
         budget = self.options.max_steps - (state.n_steps + state.n_rejected)
         if budget <= 0:
             return self._finish(state, MAX_STEPS)
-        capacity = min(budget, 256)
+        capacity = min(budget, capacity)
         n = self.problem.n_unknowns
         points = np.empty((capacity, n + 1))
         tangents_omega = np.empty(capacity)
@@ -306,11 +315,13 @@ class Continuation:
             self.scale,
             self._settings,
             budget,
+            self._no_watch if watch is None else watch,
             points,
             tangents_omega,
             flags,
             *self._work,
         )
+        self.trace_outcome = int(outcome)
         state.n_newton += evaluations
         state.n_rejected += rejected
         state.step = new_step

@@ -53,6 +53,29 @@ RANGE_LEFT = 1
 STEP_BELOW_MIN = 2
 BUDGET_SPENT = 3
 BUFFER_FULL = 4
+#: the last accepted point needs a decision of the adaptive-harmonics run
+WATCH_STOP = 5
+
+# indices into the watch array (the adaptive run's rule for staying at a
+# level between calibrations, see :func:`stays`); WATCH_ACTIVE = 0 turns
+# the watch off
+WATCH_ACTIVE = 0
+W_FACTOR = 1
+W_LAST = 2
+W_AGE = 3
+W_RECALIBRATE = 4
+W_RAISE = 5
+W_LOWER = 6
+W_MARGIN = 7
+W_MAX_GROWTH = 8
+W_LINEAR = 9
+W_H = 10
+W_PREV_WEIGHT = 11
+W_FIRST = 12
+W_TOP = 13
+W_PREV = 14
+W_LOWEST = 15
+N_WATCH = 16
 
 
 @jit
@@ -122,6 +145,61 @@ def follow_amplitude(y, tangent, scale, base_scale):
     norm = np.sqrt(norm)
     for i in range(n + 1):
         tangent[i] /= norm
+
+
+@jit
+def top_measure(y, watch):
+    """Free truncation measure ``H max(|X_H|, w |X_K'|) / |X_1|`` of the
+    point ``y`` at the measured DOF (indices and ``w`` from ``watch``, see
+    :meth:`hbmfric.continuation.adaptive._Level.measure`): inf without a
+    retained harmonic above the first, 0 for a DOF at rest."""
+    i_top = int(watch[W_TOP])
+    if i_top < 0:
+        return np.inf
+    i = int(watch[W_FIRST])
+    a1 = np.hypot(y[i], y[i + 1])
+    top = np.hypot(y[i_top], y[i_top + 1])
+    i_prev = int(watch[W_PREV])
+    if i_prev >= 0:
+        a = watch[W_PREV_WEIGHT] * np.hypot(y[i_prev], y[i_prev + 1])
+        if a > top:
+            top = a
+    if a1 == 0.0:
+        return 0.0 if top == 0.0 else np.inf
+    return watch[W_H] * top / a1
+
+
+@jit
+def stays(y, watch):
+    """Whether the adaptive-harmonics run keeps its level after the point
+    ``y`` without a decision in Python: a linear response at the lowest
+    level, or the last calibration is fresh, and the free measure times the
+    calibrated ratio, extrapolated one step ahead, is clear of both the
+    raise and the lower threshold by the margin. Staying updates the last
+    estimate and the age in ``watch``; otherwise ``watch`` is unchanged
+    and the caller decides (:meth:`~hbmfric.continuation.adaptive.
+    AdaptiveContinuation._adapt` repeats the same test first)."""
+    measure = top_measure(y, watch)
+    if measure <= watch[W_LINEAR]:
+        # a linear response: stays only at the lowest level, where it is
+        # exact (the estimate is then 0)
+        if watch[W_LOWEST] != 0.0:
+            watch[W_LAST] = 0.0
+            return True
+        return False
+    age = watch[W_AGE] + 1.0
+    if not age < watch[W_RECALIBRATE]:
+        return False
+    stale = watch[W_FACTOR] * measure
+    last = watch[W_LAST]
+    ahead = stale
+    if last > 0.0 and stale > last:
+        ahead = stale * min(stale / last, watch[W_MAX_GROWTH])
+    if watch[W_MARGIN] * ahead <= watch[W_RAISE] and stale >= watch[W_LOWER]:
+        watch[W_LAST] = stale
+        watch[W_AGE] = age
+        return True
+    return False
 
 
 @jit
@@ -225,6 +303,7 @@ def trace(
     scale,
     settings,
     max_attempts,
+    watch,
     points,
     tangents_omega,
     flags,
@@ -247,6 +326,9 @@ def trace(
         place).
     max_attempts : int
         Most steps (accepted plus rejected) to try.
+    watch : ndarray, shape (N_WATCH,)
+        With ``watch[WATCH_ACTIVE] != 0`` (adaptive harmonics) the trace
+        also stops after an accepted point that does not :func:`stays`.
     points : ndarray, shape (capacity, n + 1)
         Out: accepted points.
     tangents_omega : ndarray, shape (capacity,)
@@ -258,7 +340,8 @@ def trace(
     -------
     outcome : int
         ``RANGE_LEFT`` (``y_new`` holds the point outside the range),
-        ``STEP_BELOW_MIN``, ``BUDGET_SPENT`` or ``BUFFER_FULL``.
+        ``STEP_BELOW_MIN``, ``BUDGET_SPENT``, ``BUFFER_FULL`` or
+        ``WATCH_STOP``.
     n_accepted, n_rejected, evaluations : int
     step : float
         Step for the next call.
@@ -292,3 +375,5 @@ def trace(
         tangents_omega[n_accepted] = tangent[n]
         flags[n_accepted] = outcome
         n_accepted += 1
+        if watch[WATCH_ACTIVE] != 0.0 and not stays(y, watch):
+            return WATCH_STOP, n_accepted, n_rejected, evaluations, step
