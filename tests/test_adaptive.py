@@ -7,6 +7,7 @@ import hbmfric as hf
 from hbmfric.api import _problem
 from hbmfric.continuation import adaptive
 from hbmfric.continuation.palc import Continuation
+from hbmfric.kernels import arclength
 
 OSC = hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0))
 
@@ -184,6 +185,52 @@ def test_change_estimate_matches_solved_change():
         solved = max(abs(a1_up - a1) / a1, abs(hpp_up - hpp) / hpp)
         assert solved > 1e-6  # slipping: there is a change to measure
         assert change == pytest.approx(solved, rel=0.25)
+
+
+@pytest.mark.parametrize(
+    ("system", "force", "tol"),
+    [
+        ("jenkins", 0.1, 1e-3),
+        ("jenkins", 0.5, 1e-4),
+        ("jenkins", 2.0, 1e-4),
+        ("cubic", 0.3, 1e-3),
+    ],
+)
+def test_compiled_stretches_decide_as_python(monkeypatch, system, force, tol):
+    """Between decisions the adaptive run stays at its level inside the
+    compiled trace (``kernels.arclength.stays``); with that rule switched
+    off every point goes through ``AdaptiveContinuation._adapt`` in
+    Python. Both must give the same branch bit for bit: same points,
+    levels and counters (the cubic spring exercises the flap cooldown)."""
+    if system == "jenkins":
+        law = hf.Jenkins(stiffness=3.0, slip_force=1.0)
+    else:
+        law = hf.Cubic(0.5)
+    osc = hf.Oscillator(1.0, 0.02 if system == "jenkins" else 0.05, 1.0, law)
+
+    def run():
+        return hf.frf(osc, force, (0.3, 3.0), "auto", harmonic_tolerance=tol)
+
+    compiled = run()
+    make_watch = adaptive.AdaptiveContinuation._watch
+
+    def python_only(self, h, levels):
+        w = make_watch(self, h, levels)
+        w[arclength.W_RECALIBRATE] = -1.0  # never fresh: no stay
+        w[arclength.W_LOWEST] = 0.0  # no linear stay either
+        return w
+
+    monkeypatch.setattr(adaptive.AdaptiveContinuation, "_watch", python_only)
+    stepped = run()
+    np.testing.assert_array_equal(stepped.point_harmonics, compiled.point_harmonics)
+    np.testing.assert_array_equal(stepped.omega, compiled.omega)
+    np.testing.assert_array_equal(stepped.coefficients, compiled.coefficients)
+    assert (stepped.n_steps, stepped.n_rejected, stepped.newton_iterations) == (
+        compiled.n_steps,
+        compiled.n_rejected,
+        compiled.newton_iterations,
+    )
+    assert len(set(compiled.point_harmonics)) >= 2
 
 
 def test_top_measure_zero_when_stuck():
