@@ -12,6 +12,7 @@ from .kernels.dlft import COULOMB
 from .kernels.dlft_tail import tail_length
 from .kernels.hbm import AFT_EVENTS, AFT_SAMPLES, NO_CONTACT, hbm_residual
 from .kernels.laws import JENKINS, MASING
+from .kernels.linear import first_harmonic_response
 from .signals import coefficient_columns
 
 AFT_SCHEMES = ("auto", "events", "samples")
@@ -286,27 +287,24 @@ class HBMProblem:
         pinned = contact == "stuck" and law is not None and law.code == COULOMB
         if contact == "stuck" and law is not None and not pinned:
             K[c, c] += law.stuck_stiffness
-        Z = K - w[:, None, None] ** 2 * mass + 1j * w[:, None, None] * damping
         col1 = coefficient_columns(self.harmonic_numbers)[self.subharmonic]
         load = self.load.reshape(self.n_dof, self.n_coef)
-        # p cos(Ωt - φ) = Re(p e^{-iφ} e^{iΩt})
-        p = load[:, col1] - 1j * load[:, col1 + 1]
+        p_cos = load[:, col1].copy()
+        p_sin = load[:, col1 + 1].copy()
+        M, C = mass, damping
         if pinned:
             # x_c = 0: replace the contact DOF's equation by x_c = 0
-            Z[:, c, :] = 0.0
-            Z[:, :, c] = 0.0
-            Z[:, c, c] = 1.0
-            p[c] = 0.0
-        x = np.zeros((w.size, self.n_dof), dtype=complex)
-        ok = np.abs(np.linalg.det(Z)) > 0
-        if np.any(ok):
-            x[ok] = np.linalg.solve(
-                Z[ok], np.broadcast_to(p, (ok.sum(), self.n_dof))[..., None]
-            )[..., 0]
+            M, C = mass.copy(), damping.copy()
+            for a in (M, C, K):
+                a[c, :] = 0.0
+                a[:, c] = 0.0
+            K[c, c] = 1.0
+            p_cos[c] = p_sin[c] = 0.0
+        cs = np.empty((w.size, 2, self.n_dof))
+        first_harmonic_response(w, M, C, K, p_cos, p_sin, cs)
         X = np.zeros((w.size, self.n_dof, self.n_coef))
-        # x(t) = Re(x e^{iΩt}) = Re x cos Ωt - Im x sin Ωt
-        X[:, :, col1] = x.real
-        X[:, :, col1 + 1] = -x.imag
+        X[:, :, col1] = cs[:, 0]
+        X[:, :, col1 + 1] = cs[:, 1]
         X = X.reshape(w.size, -1)
         return X[0] if np.ndim(omega) == 0 else X
 

@@ -288,15 +288,16 @@ def test_kernels_compile_once_and_no_eager_imports():
         import numpy as np
         import hbmfric as hf
         from hbmfric.kernels import (
-            aft, arclength, dft, hbm, laws, linalg, masing, newton, segments,
+            aft, arclength, dft, hbm, laws, linalg, linear, masing, newton,
+            segments,
         )
         from hbmfric.hbm import HBMProblem
         from hbmfric.validation import integrator
 
         def counts():
             out = {}
-            for mod in (aft, arclength, dft, hbm, laws, linalg, masing, newton,
-                        segments, integrator):
+            for mod in (aft, arclength, dft, hbm, laws, linalg, linear, masing,
+                        newton, segments, integrator):
                 for name in dir(mod):
                     obj = getattr(mod, name)
                     if hasattr(obj, "signatures") and obj.__module__ == mod.__name__:

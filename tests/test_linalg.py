@@ -41,3 +41,41 @@ def test_non_finite_entry_off_the_pivots_fails_the_solve():
     # the factorisation only checks pivots; the solution carries the NaN
     bad = np.array([[1.0, np.nan], [0.0, 1.0]])
     assert not solve_inplace(bad, np.ones(2))
+
+
+def test_first_harmonic_response_against_complex_solve():
+    """The real 2n-system of ``kernels.linear`` against NumPy's complex
+    solve of ``(K - Ω² M + iΩ C) x = p_c - i p_s``; a singular dynamic
+    stiffness (undamped, at a natural frequency) gives zeros and is
+    counted."""
+    from hbmfric.kernels.linear import first_harmonic_response
+
+    rng = np.random.default_rng(3)
+    n = 4
+    a = rng.normal(size=(n, n))
+    M = a @ a.T + n * np.eye(n)
+    b = rng.normal(size=(n, n))
+    K = b @ b.T + n * np.eye(n)
+    C = 0.03 * K + 0.01 * M
+    p_cos, p_sin = rng.normal(size=n), rng.normal(size=n)
+    omegas = np.array([0.1, 0.7, 1.3, 2.9])
+    out = np.empty((omegas.size, 2, n))
+    assert first_harmonic_response(omegas, M, C, K, p_cos, p_sin, out) == 0
+    for q, w in enumerate(omegas):
+        x = np.linalg.solve(K - w**2 * M + 1j * w * C, p_cos - 1j * p_sin)
+        np.testing.assert_allclose(out[q, 0], x.real, rtol=1e-12, atol=1e-14)
+        np.testing.assert_allclose(out[q, 1], -x.imag, rtol=1e-12, atol=1e-14)
+    # undamped at a natural frequency: exactly singular, zeros, counted
+    out2 = np.ones((2, 2, 2))
+    count = first_harmonic_response(
+        np.array([1.0, 0.5]),
+        np.eye(2),
+        np.zeros((2, 2)),
+        np.diag([1.0, 4.0]),
+        np.ones(2),
+        np.zeros(2),
+        out2,
+    )
+    assert count == 1
+    np.testing.assert_array_equal(out2[0], 0.0)
+    np.testing.assert_allclose(out2[1, 0], [1 / 0.75, 1 / 3.75], rtol=1e-14)

@@ -27,7 +27,12 @@ gross-slip branch. A contact stuck over the whole period is linear: the
 higher harmonics vanish and the estimate is 0.
 
 Decisions, after every accepted point (the estimate at the next point is
-extrapolated from the last two at the same level):
+extrapolated from the last two at the same level). Most points need none:
+between calibrations, a point whose carried estimate is clear of both
+thresholds (or a linear point at the lowest level) keeps the level inside
+the compiled continuation (:func:`hbmfric.kernels.arclength.stays`, the
+same test as the start of :meth:`AdaptiveContinuation._adapt`), so the run
+returns to Python about once in 7-20 points:
 
 * raise when the estimate ahead exceeds ``RAISE_AT`` times the tolerance, to
   the smallest level at which a ``H^-DECAY`` law predicts ``TARGET`` times
