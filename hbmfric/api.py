@@ -192,9 +192,22 @@ def frf(
     state, elapsed = cont.run()
     n = problem.n_unknowns
     pts = np.array(state.points).reshape(-1, n + 1)
+    return _branch(
+        system,
+        problem,
+        state,
+        elapsed,
+        pts[:, n].copy(),
+        problem.full_coefficients(pts),
+        _describe(system, problem, {"omega_range": [lo, hi], "sweep": sweep}),
+    )
+
+
+def _branch(system, problem, state, elapsed, omega, coefficients, info, **extra):
+    """The :class:`Branch` of a finished continuation ``state``."""
     return Branch(
-        omega=pts[:, n].copy(),
-        coefficients=problem.full_coefficients(pts),
+        omega=omega,
+        coefficients=coefficients,
         harmonic_numbers=problem.harmonic_numbers.copy(),
         force=problem.force,
         folds=np.array(state.folds, dtype=np.int64),
@@ -203,8 +216,9 @@ def frf(
         n_rejected=state.n_rejected,
         newton_iterations=state.n_newton,
         elapsed=elapsed,
-        info=_describe(system, problem, {"omega_range": [lo, hi], "sweep": sweep}),
+        info=info,
         dof_names=dict(getattr(system, "dof_names", {})),
+        **extra,
     )
 
 
@@ -270,19 +284,14 @@ def _frf_auto(
             "harmonic_calibrations": cont.n_calibrations,
         },
     )
-    return Branch(
-        omega=omegas,
-        coefficients=coefficients,
-        harmonic_numbers=top.harmonic_numbers.copy(),
-        force=top.force,
-        folds=np.array(state.folds, dtype=np.int64),
-        stop_reason=state.stop_reason,
-        n_steps=state.n_steps,
-        n_rejected=state.n_rejected,
-        newton_iterations=state.n_newton,
-        elapsed=elapsed,
-        info=info,
-        dof_names=dict(getattr(system, "dof_names", {})),
+    return _branch(
+        system,
+        top,
+        state,
+        elapsed,
+        omegas,
+        coefficients,
+        info,
         point_harmonics=np.array(levels, dtype=np.int64),
     )
 
