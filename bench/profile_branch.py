@@ -4,9 +4,11 @@ Run: ``python -m bench.profile_branch`` (from the repository root).
 
 Method: the SDOF Jenkins branch (m = 1, c = 0.02, k = 1, kt = 3, f_s = 1,
 F = 0.5, Ω 0.5 → 3, H = 15) is traced ``repeats`` times; every compiled
-Newton-module kernel the continuation calls is wrapped by a timer (about
-0.1 µs per call), which gives the compiled share; the rest of the wall time
-of the same run is Python (``cProfile`` inflates Python time several-fold:
+kernel of the Newton and arc-length modules that Python calls is wrapped by
+a timer (about 0.1 µs per call), which gives the compiled share; the rest
+of the wall time of the same run is Python (since the branch is one
+compiled ``arclength.trace`` call, that is the set-up: problem, scales,
+first point, Branch) (``cProfile`` inflates Python time several-fold:
 it finds the hot spots but cannot measure the split). The
 compiled share is split by replaying the branch's own points: the mean cost
 of one AFT call and of one residual-and-Jacobian assembly over the points,
@@ -22,6 +24,7 @@ import numpy as np
 
 import hbmfric as hf
 from hbmfric.hbm import HBMProblem
+from hbmfric.kernels import arclength as _arclength
 from hbmfric.kernels import newton as _newton
 from hbmfric.kernels.aft import aft_jenkins_events
 from hbmfric.kernels.hbm import hbm_residual
@@ -45,18 +48,19 @@ def _kernel_time(force, harmonics, repeats):
     calls."""
     spent = [0.0]
     originals = {}
-    for name in dir(_newton):
-        obj = getattr(_newton, name)
-        if hasattr(obj, "signatures"):
-            originals[name] = obj
+    for module in (_newton, _arclength):
+        for name in dir(module):
+            obj = getattr(module, name)
+            if hasattr(obj, "signatures"):
+                originals[module, name] = obj
 
-            def timed(*args, _f=obj):
-                t = time.perf_counter()
-                out = _f(*args)
-                spent[0] += time.perf_counter() - t
-                return out
+                def timed(*args, _f=obj):
+                    t = time.perf_counter()
+                    out = _f(*args)
+                    spent[0] += time.perf_counter() - t
+                    return out
 
-            setattr(_newton, name, timed)
+                setattr(module, name, timed)
     try:
         best = (np.inf, np.inf)
         for _ in range(repeats):
@@ -67,8 +71,8 @@ def _kernel_time(force, harmonics, repeats):
             if wall < best[0]:
                 best = (wall, spent[0])
     finally:
-        for name, obj in originals.items():
-            setattr(_newton, name, obj)
+        for (module, name), obj in originals.items():
+            setattr(module, name, obj)
     return best
 
 
