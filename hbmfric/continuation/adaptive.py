@@ -597,7 +597,7 @@ class AdaptiveContinuation:
             before = len(state.points)
             cont = self._levels[h].cont
             watch = self._watch(h, levels)
-            state = cont._trace(state, watch)
+            state = cont._trace(state, watch, RECALIBRATE)
             new = len(state.points) - before
             levels.extend([h] * new)
             self._last = float(watch[_arclength.W_LAST])
