@@ -2,9 +2,10 @@
 
 The continuation is an iterator with explicit state: :meth:`Continuation.init`
 solves the first point and returns a :class:`ContinuationState`;
-:meth:`Continuation.step` advances it by one accepted (or rejected) step; the
-driver :meth:`Continuation.run` is a short loop over ``step`` that a user can
-also write by hand.
+:meth:`Continuation.step` advances it by one accepted (or rejected) step,
+so a user can drive a run by hand; :meth:`Continuation.run` traces the
+whole branch in compiled stretches (:func:`hbmfric.kernels.arclength.trace`,
+the same step and rules as ``step``, without a return to Python per point).
 
 One step: tangent predictor ``y_p = y + ds t`` (``t`` from
 ``[J; t_prevᵀ] t = [0; 1]``, normalised, direction kept), corrector on the
@@ -282,7 +283,7 @@ class Continuation:
             if outcome == _arclength.STEP_TOO_SMALL:
                 return self._finish(state, MIN_STEP)
             return state
-        self._record(state, y[None, :], tangent[-1:], np.array([outcome]))
+        self._record(state, y[None, :].copy(), tangent[-1:], np.array([outcome]))
         state.y = y
         state.tangent = tangent
         return state
