@@ -73,3 +73,30 @@ def test_beam_time_integration_one_frequency(benchmark):
     )
     assert ref.converged
     benchmark.extra_info["periods"] = ref.periods
+
+
+# The same beam with a rigid Coulomb tip contact (f_s = μ Fn = 7.5 N): the
+# condensed path runs the same located DLFT as the full one (issue 3).
+BEAM_COULOMB = CAL.beam.with_contact(hf.Coulomb(slip_force=1.5 * 5.0))
+
+
+def test_beam_coulomb_branch_condensed_h15(benchmark):
+    """Rigid Coulomb tip, condensed HBM (16 unknowns)."""
+    branch = benchmark(hf.frf, BEAM_COULOMB, 2.0, RANGE, 15)
+    assert branch.info["condensed"]
+    assert branch.stop_reason.startswith("end")
+    _info(benchmark, branch)
+
+
+def test_beam_coulomb_branch_full_h15(benchmark):
+    """The same Coulomb branch by the uncondensed HBM (624 unknowns)."""
+    branch = benchmark.pedantic(
+        hf.frf,
+        args=(BEAM_COULOMB, 2.0, RANGE, 15),
+        kwargs={"condense": False},
+        rounds=1,
+        iterations=1,
+        warmup_rounds=0,
+    )
+    assert not branch.info["condensed"]
+    _info(benchmark, branch)
