@@ -338,3 +338,31 @@ def test_samples_scheme_and_penalty_reach_the_condensed_kernel():
     assert cond.kernel_problem.contact_mass == 0.5
     assert cond.penalty == full.penalty
     assert cond.kernel_problem.aft_scheme == full.kernel_problem[8]
+
+
+@pytest.mark.slow
+def test_beam_branch_condensed_matches_full():
+    """The beam's Coulomb FRF branch (f_s = 0.2 N, 15-110 Hz, H = 5),
+    condensed and full, each traced on its own: both reach the end, every
+    condensed point solves the full HBM and every full point the condensed
+    one, and the resonance peaks agree."""
+    cal = hf.CantileverBeam.calibrate()
+    beam = cal.beam.with_contact(hf.Coulomb(slip_force=0.2))
+    H = 5
+    rng = (HZ * 15.0, HZ * 110.0)
+    cond = hf.frf(beam, 2.0, rng, H)
+    full = hf.frf(beam, 2.0, rng, H, condense=False)
+    assert cond.info["condensed"] and not full.info["condensed"]
+    for b in (cond, full):
+        assert b.stop_reason == "end of frequency range reached"
+    fp = HBMProblem(beam, 2.0, H)
+    cp = CondensedHBMProblem(beam, 2.0, H)
+    c = beam.contact_dof
+    # residuals in N; the penalty (≈ 1e8 N/m) turns 1e-16 m into 1e-8 N
+    for X, w in zip(cond.coefficients, cond.omega, strict=True):
+        assert np.max(np.abs(fp.residual(np.append(X.ravel(), w))[0])) < 1e-7
+    for X, w in zip(full.coefficients, full.omega, strict=True):
+        assert np.max(np.abs(cp.residual(np.append(X[c], w))[0])) < 1e-7
+    peak_c = np.max(cond.amplitude(1))
+    peak_f = np.max(full.amplitude(1))
+    assert abs(peak_c / peak_f - 1.0) < 1e-3
