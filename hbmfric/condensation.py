@@ -41,12 +41,10 @@ def system_modes(system) -> tuple[np.ndarray, np.ndarray]:
 
 def can_condense(system) -> bool:
     """True when condensation pays and applies: several DOFs, a contact and
-    symmetric matrices. A rigid Coulomb contact is solved on the full system:
-    the condensed kernel does not yet have the event-located DLFT scheme that
-    the full residual uses by default."""
+    symmetric matrices (any contact law, a rigid Coulomb contact included:
+    the condensed residual runs the same DLFT scheme as the full one)."""
     return (
         system.contact is not None
-        and system.contact.code != COULOMB
         and int(system.n_dof) >= 2
         and _symmetric(system.matrices())
     )
@@ -170,6 +168,7 @@ class CondensedHBMProblem(HBMProblem):
             np.int64(MODAL if receptance == "modal" else DIRECT),
             np.int64(self.contact_dof),
             *direct_parts,
+            float(mass[self.contact_dof, self.contact_dof]),
         )
         self.n_unknowns = self.n_coef
 
@@ -241,7 +240,10 @@ class CondensedHBMProblem(HBMProblem):
 
     def initial_guesses(self, omega: float) -> list[np.ndarray]:
         """Starting points ``y = [X_c, Ω]`` (stuck and free linearisations,
-        plus the system's static solution at the contact DOF if any)."""
+        plus the system's static solution at the contact DOF if any); for a
+        rigid Coulomb contact first the point of the backtracked Newton
+        presolve, as on the full system
+        (:meth:`~hbmfric.hbm.HBMProblem.initial_guesses`)."""
         static = getattr(self.system, "static_solution", None)
         guesses = []
         for contact in ("stuck", "free"):
@@ -251,6 +253,12 @@ class CondensedHBMProblem(HBMProblem):
                 y[0] += float(np.asarray(static(), dtype=float)[self.contact_dof])
             y[-1] = omega
             guesses.append(y)
+        if self._rigid:
+            for g in list(guesses):
+                y = self._presolve(g)
+                if y is not None:
+                    guesses.insert(0, y)
+                    break
         return guesses
 
     def contact_forces(self, points: np.ndarray) -> np.ndarray:

@@ -424,14 +424,13 @@ def test_direct_receptance_matches_modal_and_full(calibration):
     assert branch.amplitude(1).max() < modal.amplitude(1).max()
 
 
-# Coulomb is not condensed by default (the condensed DLFT lacks the located
-# scheme of the full residual; they differ by ~3e-3), so only Menq here.
+# Rigid Coulomb on the condensed path: tests/test_condensed_coulomb.py (its
+# beam branch stalls in continuation on both paths, so only Menq here).
 @pytest.mark.parametrize("law_name", ["menq"])
 def test_condensed_other_laws_solve_the_full_hbm(calibration, law_name):
-    """Rigid Coulomb (DLFT on the condensed residual) and Menq microslip
-    (located-reversal AFT) through the condensation: the full HBM solved
-    from recovered points stays within 1e-8, and the contact both sticks and
-    slips along the branch."""
+    """Menq microslip (located-reversal AFT) through the condensation: the
+    full HBM solved from recovered points stays within 1e-8, and the contact
+    both sticks and slips along the branch."""
     if law_name == "coulomb":
         law = hf.Coulomb(slip_force=2.0)
     else:

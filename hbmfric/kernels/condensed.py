@@ -34,9 +34,20 @@ Two ways to evaluate ``g`` and ``p`` (``method``):
     :func:`hbmfric.kernels.linalg.solve_inplace`.
 
 The contact force comes from the same AFT kernels as in the full residual
-(:func:`_contact_force`); a rigid Coulomb contact is handled by DLFT
-(:func:`hbmfric.kernels.dlft.dlft_contact`) applied to the condensed linear
-residual, which is exactly what DLFT reads on the contact rows.
+(:func:`_contact_force`). A rigid Coulomb contact is handled by the same DLFT
+scheme as in the full residual (:func:`_coulomb`): located reversals
+(:func:`hbmfric.kernels.dlft.dlft_located`, the default), with the linear
+tail (:func:`hbmfric.kernels.dlft_tail.dlft_tail`) when the law asks for it,
+or the classic one (:func:`hbmfric.kernels.dlft.dlft_contact`) for
+``aft="samples"``. DLFT reads only the contact rows of the linear residual,
+and the condensed residual is their Schur complement: at any point where the
+eliminated rows hold (every condensed point, by construction) the force
+``λ_X = -R_lin`` that the linear dynamics ask of the contact, hence the
+holding force ``h = λ_X + M_cc ü`` of the located scheme, are those of the
+full residual, so both paths have the same solutions. The tail needs the
+receptance at the contact DOF for the harmonics beyond the balance,
+``G(kΩ)`` for ``k <= K``: a modal sum (:func:`_modal_tail_receptance`) or
+the direct solves of :func:`hbmfric.kernels.dlft_tail.contact_receptance`.
 
 The problem travels as a :class:`CondensedProblem` named tuple; the residual
 dispatcher :func:`hbmfric.kernels.residual.residual` recognises its type.
@@ -49,7 +60,8 @@ import numpy as np
 from .._jit import jit
 from .aft import aft_jenkins_events, aft_samples
 from .dahl import aft_dahl
-from .dlft import COULOMB, dlft_contact
+from .dlft import COULOMB, dlft_contact, dlft_located
+from .dlft_tail import contact_receptance, dlft_tail
 from .laws import DAHL, JENKINS, is_masing
 from .linalg import solve_inplace
 from .masing import aft_masing
@@ -83,6 +95,7 @@ CondensedProblem = namedtuple(
         "damping",  # float64 (n_dof, n_dof) (DIRECT)
         "stiffness",  # float64 (n_dof, n_dof) (DIRECT)
         "load",  # float64 (n_dof, n_coef): P per coefficient, N (DIRECT)
+        "contact_mass",  # float64: M_cc, kg (located DLFT of a rigid Coulomb)
     ],
 )
 CondensedProblem.__doc__ = """Flat data of the condensed HBM residual (see the
@@ -224,9 +237,7 @@ def condensed_residual(y, problem, R, J):
     if problem.law_code == COULOMB:
         # DLFT on the condensed linear residual: it is the Schur complement
         # of the full one on the contact rows, which is all DLFT reads
-        return dlft_contact(
-            problem.law_params, 0, y, problem.inverse, problem.forward, R, J
-        )
+        return _coulomb(y, problem, R, J)
     F = np.empty(n)
     dF = np.empty((n, n))
     status = _contact_force(y[:n].copy(), problem, F, dF)
@@ -235,6 +246,117 @@ def condensed_residual(y, problem, R, J):
         for j in range(n):
             J[i, j] += dF[i, j]
     return status
+
+
+@jit
+def _coulomb(y, problem, R, J):
+    """Add a rigid Coulomb contact to the condensed linear residual, by the
+    DLFT scheme the full residual uses
+    (:func:`hbmfric.kernels.hbm.hbm_residual`): located, with the linear
+    tail when ``law_params[4] = K > 0``, classic for ``AFT_SAMPLES``."""
+    params = problem.law_params
+    if problem.aft_scheme != AFT_EVENTS:
+        return dlft_contact(params, 0, y, problem.inverse, problem.forward, R, J)
+    hn = problem.harmonic_numbers
+    m_cc = problem.contact_mass
+    if params[4] > 0.0:
+        n_coef = problem.inverse.shape[1]
+        omega = y[n_coef]
+        q = np.zeros(int(params[4]) + 1, dtype=np.complex128)
+        dq = np.zeros(int(params[4]) + 1, dtype=np.complex128)
+        if problem.method == DIRECT:
+            a2, da2, ok = contact_receptance(
+                problem.mass,
+                problem.damping,
+                problem.stiffness,
+                problem.contact_dof,
+                omega,
+                hn,
+                params[3],
+                q,
+                dq,
+            )
+        else:
+            a2, da2, ok = _modal_tail_receptance(problem, omega, params[3], q, dq)
+        if not ok:
+            return SINGULAR_RECEPTANCE
+        return dlft_tail(
+            params,
+            hn,
+            0,
+            m_cc,
+            q,
+            dq,
+            a2,
+            da2,
+            y,
+            problem.inverse,
+            problem.forward,
+            problem.derivative,
+            R,
+            J,
+        )
+    return dlft_located(
+        params,
+        hn,
+        0,
+        m_cc,
+        y,
+        problem.inverse,
+        problem.forward,
+        problem.derivative,
+        R,
+        J,
+    )
+
+
+@jit
+def _modal_tail_receptance(problem, omega, mu, q, dq):
+    """Tail coefficients of the contact receptance by modal sums: as
+    :func:`hbmfric.kernels.dlft_tail.contact_receptance` (same outputs and
+    conventions: ``q_k = G(kΩ) [k ∉ S] - a₂/k²``, ``a₂ = -μ/Ω²``, ``q[0]``
+    flags odd harmonics only), with ``G(kΩ) = Σ_r φ_cr² / d_r(kΩ)``.
+
+    Returns
+    -------
+    tuple of (float, float, bool)
+        ``a₂``, ``da₂/dΩ`` and False if some ``d_r(kΩ)`` is zero.
+    """
+    n_k = q.size
+    hn = problem.harmonic_numbers
+    kept = np.zeros(n_k, dtype=np.bool_)
+    odd = True
+    for k in hn:
+        if k % 2 == 0:
+            odd = False
+        if k < n_k:
+            kept[k] = True
+    q[0] = 1.0 if odd else 0.0
+    dq[0] = 0.0
+    a2 = -mu / (omega * omega)
+    da2 = 2.0 * mu / (omega * omega * omega)
+    phi = problem.contact_shapes
+    w2 = problem.omega_squared
+    c = problem.modal_damping
+    for k in range(1, n_k):
+        if odd and k % 2 == 0:
+            q[k] = 0.0
+            dq[k] = 0.0
+            continue
+        g = 0.0j
+        dg = 0.0j
+        if not kept[k]:
+            w = k * omega
+            for r in range(phi.size):
+                d = w2[r] - w * w + 1j * w * c[r]
+                if d == 0.0:
+                    return a2, da2, False
+                inv_d = 1.0 / d
+                g += phi[r] * phi[r] * inv_d
+                dg += phi[r] * phi[r] * k * (2.0 * w - 1j * c[r]) * inv_d * inv_d
+        q[k] = g - a2 / (k * k)
+        dq[k] = dg - da2 / (k * k)
+    return a2, da2, True
 
 
 @jit
