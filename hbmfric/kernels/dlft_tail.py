@@ -336,7 +336,7 @@ def _solve_switching(n_e, kinds, signs, theta, slip_force, step_limit,
             theta[j] -= step
             if abs(step) > big:
                 big = abs(step)
-        if big < 1e-14:
+        if big < 1e-12:
             _switching_system(n_e, kinds, signs, theta, slip_force,
                               harmonic_numbers, U, Hc, q, dq, a2, da2, G, A,
                               jumps, djumps, work)  # fmt: skip
@@ -409,7 +409,7 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
         event = first
         if not first:
             if stick:
-                lam = hh[i] + eps * (u[i] - w) + eta * omega * d[i]
+                lam = hh[i]
                 if lam > slip_force or lam < -slip_force:
                     stick = False
                     sign = 1.0 if lam > 0.0 else -1.0
@@ -443,6 +443,12 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
             u_e, v_e, _, h_e, hd_e = _event_values(
                 harmonic_numbers, theta_e, U, Hc, b0, b1, b2
             )
+            if not first and sign * h_e > slip_force:
+                # pushed on in the slip direction where the velocity is
+                # zero: it only touches zero (a truncation artefact), no event
+                event = False
+                armed = False
+        if event and n_e < kinds.size:
             before = sign * slip_force
             kinds[n_e] = STICK if -slip_force <= h_e <= slip_force else REVERSAL
             signs[n_e] = sign
@@ -645,6 +651,7 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
     n_given = 0
     n_e = 0
     settled = False
+    solved = False
     for it in range(MAX_PASSES):
         n_e, _, end_stick = _march(False, slip_force, eps, eta, omega, harmonic_numbers,
                         base, U, Hc, dH, u, d, dc, hh, dhh, inverse,
@@ -670,15 +677,16 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
                 ):
                     same = False
                     break
-        settled = same
+        settled = same and solved
         if same:
             # the topology is settled: the positions are those just solved
             for e in range(n_e):
                 theta[e] = given[e]
             break
-        if not _solve_switching(n_e, kinds, signs, theta, slip_force, h,
-                                harmonic_numbers, U, Hc, q, dq, a2, da2, jumps,
-                                djumps, work):  # fmt: skip
+        solved = _solve_switching(n_e, kinds, signs, theta, slip_force, h,
+                                  harmonic_numbers, U, Hc, q, dq, a2, da2,
+                                  jumps, djumps, work)  # fmt: skip
+        if not solved:
             # keep the interpolated positions; the Jacobian stays consistent
             _, _, end_stick = _march(False, slip_force, eps, eta, omega,
                                      harmonic_numbers, base, U, Hc, dH, u, d,
