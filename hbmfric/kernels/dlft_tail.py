@@ -74,6 +74,15 @@ MAX_NEWTON = 30
 
 
 @jit
+def event_limit(h_max):
+    """Most velocity events per period solved with the tail; beyond, the
+    located scheme is used (a far iterate of Newton, its velocity ringing
+    around zero: the switching system would cost ``O(n_e² K)`` per Newton
+    step for events the truncated series cannot tell apart)."""
+    return max(8, h_max // 2)
+
+
+@jit
 def tail_length(h_max):
     """``K``: harmonics summed exactly in the tail (beyond: closed form)."""
     return max(64, 4 * h_max)
@@ -657,6 +666,8 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
                         base, U, Hc, dH, u, d, dc, hh, dhh, inverse,
                         derivative, n_given, given, kinds, signs, theta,
                         dtheta, force, grad, F, dF, work)  # fmt: skip
+        if n_e > event_limit(harmonic_numbers[-1]):
+            break
         if end_stick and n_e >= 2 and kinds[n_e - 1] == STICK:
             # the start event lies inside the stick phase that the last
             # event begins: start there instead, drop the start event
