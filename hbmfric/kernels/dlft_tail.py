@@ -58,7 +58,13 @@ import numpy as np
 
 from .._jit import jit
 from .aft import GROSS_SLIP, STUCK
-from .dlft import _jump_correction, dlft_located
+from .dlft import (
+    _jump_correction,
+    add_samples,
+    contact_samples,
+    dlft_located,
+    stuck_at_reference,
+)
 from .linalg import solve_inplace
 
 #: status when a dynamic stiffness of the tail is singular (as in
@@ -592,55 +598,14 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
     n = n1 - 1
     omega = y[n]
     h = 2.0 * np.pi / n_time
-    Hc = np.empty(n_coef)
-    dH = np.empty((n_coef, n1))
-    U = np.empty(n_coef)
-    col = 0
-    for k in harmonic_numbers:
-        width = 1 if k == 0 else 2
-        for s in range(width):
-            r = col + s
-            U[r] = y[base + r]
-            kw2 = (k * omega) ** 2
-            Hc[r] = -R[base + r] - m_cc * kw2 * U[r]
-            for c in range(n1):
-                dH[r, c] = -J[base + r, c]
-            dH[r, base + r] -= m_cc * kw2
-            dH[r, n] -= 2.0 * m_cc * k * k * omega * U[r]
-        col += width
-    u = inverse @ U
-    d = derivative @ U
-    hh = inverse @ Hc
-    dhh = inverse @ dH
+    U, Hc, dH, u, d, hh, dhh = contact_samples(
+        harmonic_numbers, base, m_cc, y, R, J, inverse, derivative
+    )
     force = np.zeros(n_time)
     grad = np.zeros((n_time, n1))
     # a contact that holds with w = 0 all period is stuck at the reference
-    holds = True
-    for i in range(n_time):
-        lam = hh[i] + eps * u[i] + eta * omega * d[i]
-        if lam > slip_force or lam < -slip_force:
-            holds = False
-            break
-    if holds:
-        for i in range(n_time):
-            force[i] = hh[i] + eps * u[i] + eta * omega * d[i]
-            for c in range(n1):
-                grad[i, c] = dhh[i, c]
-            for c in range(n_coef):
-                grad[i, base + c] += (
-                    eps * inverse[i, c] + eta * omega * derivative[i, c]
-                )
-            grad[i, n] += eta * d[i]
-        for r in range(n_coef):
-            acc = 0.0
-            for i in range(n_time):
-                acc += forward[r, i] * force[i]
-            R[base + r] += acc
-            for i in range(n_time):
-                wr = forward[r, i]
-                if wr != 0.0:
-                    for c in range(n1):
-                        J[base + r, c] += wr * grad[i, c]
+    if stuck_at_reference(slip_force, eps, eta, omega, base, u, d, hh, dhh,
+                          inverse, forward, derivative, force, grad, R, J):  # fmt: skip
         return STUCK
     work = (np.empty(n_coef), np.empty(n_coef), np.empty(n_coef))
     b0, b1, b2 = work
@@ -785,16 +750,7 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
         _slip_coefficients(harmonic_numbers, n_e, theta, signs, slip_force,
                            dtheta, F, dF)  # fmt: skip
     else:
-        for r in range(n_coef):
-            acc = 0.0
-            for i in range(n_time):
-                acc += forward[r, i] * force[i]
-            F[r] += acc
-            for i in range(n_time):
-                wr = forward[r, i]
-                if wr != 0.0:
-                    for c in range(n1):
-                        dF[r, c] += wr * grad[i, c]
+        add_samples(forward, force, grad, F, dF)
     for r in range(n_coef):
         R[base + r] += F[r]
         for c in range(n1):
