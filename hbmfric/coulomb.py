@@ -57,7 +57,7 @@ class Coulomb(ContactLaw):
         an event-driven integration in the stop regime (F_s/P = 0.3).
         False: the located DLFT on the truncated velocity
         (:func:`hbmfric.kernels.dlft.dlft_located`), first order in ``H``
-        (3e-3 to 1e-2 at H = 31), about 1.3 times faster. Not used with
+        (3e-3 to 1e-2 at H = 31), about twice as fast on a branch. Not used with
         ``aft="samples"`` nor for a singular mass matrix; far from a
         solution (more than ``max(8, H/2)`` velocity events per period)
         the located scheme stands in for the tail.

@@ -41,9 +41,19 @@ contact force follows from the implicit function theorem,
 ``dθ/dy = -(∂G/∂θ)⁻¹ ∂G/∂y``. Which events occur and of which kind (the
 topology) comes from the march of ``dlft_located`` run on the corrected
 velocity samples, repeated until it no longer changes and places every
-event at its solved position. Where that fails (no root of the switching
-conditions where the samples see the events, met at coarse ``H`` far from
-a solution) the located scheme without tail is used for that evaluation.
+event at its solved position (and that solve converged). Where that fails
+(no root of the switching conditions where the samples see the events, met
+at coarse ``H`` far from a solution), and for more than
+:func:`event_limit` events (a far Newton iterate whose velocity rings
+about zero), the located scheme without tail is used for that evaluation.
+
+Two rules keep the topology from flipping near stick phases, where the
+true velocity leaves zero only quadratically and the series rings about
+it: a velocity zero where the holding force pushes on in the slip
+direction (``s h > f_s``) is no event (the velocity only touches zero;
+continuous with a stick event at ``h = s f_s``, whose jump vanishes), and
+a stick phase ends where the holding force ``|h|`` reaches ``f_s`` (the
+penalised force ``h + ε (u - w) + η u̇`` carries the ringing of ``u``).
 
 In pure slip the force is piecewise constant and its Fourier coefficients
 are integrated exactly, so that the retained harmonics of the exact
@@ -51,7 +61,7 @@ periodic solution are a fixed point up to the ``O(1/K²)`` remainder of the
 tail. With stick phases the force is sampled and its DFT corrected for the
 position of each jump, as in ``dlft_located``. In stick phases only the force jumps
 enter the tail (the smooth part of the holding force adds ``O(1/k³)``
-coefficients); the end of a stick phase is found on the samples as before.
+coefficients); the end of a stick phase is found on the samples.
 """
 
 import numpy as np
