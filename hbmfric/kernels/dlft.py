@@ -305,6 +305,23 @@ def contact_samples(harmonic_numbers, base, m_cc, y, R, J, inverse, derivative):
 
 
 @jit
+def stick_sample(i, eps, eta, omega, base, w, dw, u, d, hh, dhh, inverse,
+                 derivative, force, grad):  # fmt: skip
+    """Force of a sticking contact at sample ``i``,
+    ``λ_i = h_i + ε (u_i - w) + η Ω u'_i``, into ``force[i]``, and its
+    gradient over ``y`` into ``grad[i]`` (``dw = dw/dy``)."""
+    n_coef = inverse.shape[1]
+    n1 = grad.shape[1]
+    n = n1 - 1
+    force[i] = hh[i] + eps * (u[i] - w) + eta * omega * d[i]
+    for c in range(n1):
+        grad[i, c] = dhh[i, c] - eps * dw[c]
+    for c in range(n_coef):
+        grad[i, base + c] += eps * inverse[i, c] + eta * omega * derivative[i, c]
+    grad[i, n] += eta * d[i]
+
+
+@jit
 def stuck_at_reference(slip_force, eps, eta, omega, base, u, d, hh, dhh,
                        inverse, forward, derivative, force, grad, R, J):  # fmt: skip
     """If the contact holds with ``w = 0`` all period, add its force
@@ -314,18 +331,14 @@ def stuck_at_reference(slip_force, eps, eta, omega, base, u, d, hh, dhh,
     nothing is added. ``force`` and ``grad`` are work arrays."""
     n_time, n_coef = inverse.shape
     n1 = J.shape[1]
-    n = n1 - 1
     for i in range(n_time):
         lam = hh[i] + eps * u[i] + eta * omega * d[i]
         if lam > slip_force or lam < -slip_force:
             return False
+    dw = np.zeros(n1)
     for i in range(n_time):
-        force[i] = hh[i] + eps * u[i] + eta * omega * d[i]
-        for c in range(n1):
-            grad[i, c] = dhh[i, c]
-        for c in range(n_coef):
-            grad[i, base + c] += eps * inverse[i, c] + eta * omega * derivative[i, c]
-        grad[i, n] += eta * d[i]
+        stick_sample(i, eps, eta, omega, base, 0.0, dw, u, d, hh, dhh, inverse,
+                     derivative, force, grad)  # fmt: skip
     for r in range(n_coef):
         acc = 0.0
         for i in range(n_time):
@@ -512,14 +525,8 @@ def dlft_located(params, harmonic_numbers, base, m_cc, y, inverse, forward,
             first = False
         # sample value
         if stick:
-            force[i] = hh[i] + eps * (u[i] - w) + eta * omega * d[i]
-            for c in range(n1):
-                grad[i, c] = dhh[i, c] - eps * dw[c]
-            for c in range(n_coef):
-                grad[i, base + c] += (
-                    eps * inverse[i, c] + eta * omega * derivative[i, c]
-                )
-            grad[i, n] += eta * d[i]
+            stick_sample(i, eps, eta, omega, base, w, dw, u, d, hh, dhh, inverse,
+                         derivative, force, grad)  # fmt: skip
         else:
             stuck_all = False
             force[i] = sign * slip_force

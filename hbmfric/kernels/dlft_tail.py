@@ -73,6 +73,7 @@ from .dlft import (
     add_samples,
     contact_samples,
     dlft_located,
+    stick_sample,
     stuck_at_reference,
 )
 from .linalg import solve_inplace
@@ -395,7 +396,6 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
     n_time = u.size
     n_coef = U.size
     n1 = dH.shape[1]
-    n = n1 - 1
     h = 2.0 * np.pi / n_time
     # a given position belongs to the event found within this distance
     window = max(3.0 * h, 0.5 * np.pi / harmonic_numbers[-1])
@@ -514,14 +514,8 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
             first = False
         if stick:
             if with_grad:
-                force[i] = hh[i] + eps * (u[i] - w) + eta * omega * d[i]
-                for c in range(n1):
-                    grad[i, c] = dhh[i, c] - eps * dw[c]
-                for c in range(n_coef):
-                    grad[i, base + c] += (
-                        eps * inverse[i, c] + eta * omega * derivative[i, c]
-                    )
-                grad[i, n] += eta * d[i]
+                stick_sample(i, eps, eta, omega, base, w, dw, u, d, hh, dhh,
+                             inverse, derivative, force, grad)  # fmt: skip
         else:
             stuck_all = False
             if with_grad:
