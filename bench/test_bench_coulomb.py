@@ -18,7 +18,10 @@ sys.path.insert(0, str(Path(__file__).parents[1] / "tests"))
 from test_coulomb import den_hartog, is_non_stop  # noqa: E402
 
 C, FS, P = 0.02, 0.3, 1.0
-OSC = hf.Oscillator(1.0, C, 1.0, hf.Coulomb(slip_force=FS))
+#: located DLFT without the tail (``linear_tail=False``)
+OSC = hf.Oscillator(1.0, C, 1.0, hf.Coulomb(slip_force=FS, linear_tail=False))
+#: the default: with the linear tail
+TAIL = OSC.with_contact(hf.Coulomb(slip_force=FS))
 
 
 def _branch_error(branch):
@@ -32,12 +35,15 @@ def _branch_error(branch):
     return max(errors), len(errors)
 
 
-@pytest.mark.parametrize("aft", ["events", "samples"])
+@pytest.mark.parametrize("aft", ["tail", "events", "samples"])
 def test_coulomb_frf_branch_h31(benchmark, aft):
-    """Whole FRF branch 0.3-3 rad/s at H = 31 (stop and non-stop regimes)."""
+    """Whole FRF branch 0.3-3 rad/s at H = 31 (stop and non-stop regimes):
+    with the linear tail (default), located without it, classic."""
+    osc = TAIL if aft == "tail" else OSC
+    aft = "events" if aft == "tail" else aft
     branch = benchmark.pedantic(
         hf.frf,
-        args=(OSC, P, (0.3, 3.0), 31),
+        args=(osc, P, (0.3, 3.0), 31),
         kwargs={"aft": aft},
         rounds=3,
         iterations=1,
@@ -61,9 +67,6 @@ def test_dlft_residual_h31(benchmark, aft):
     benchmark(problem.residual, y)
     benchmark.extra_info["n_time"] = problem.n_time
     assert math.isfinite(float(np.max(np.abs(problem.residual(y)[0]))))
-
-
-TAIL = OSC.with_contact(hf.Coulomb(slip_force=FS, linear_tail=True))
 
 
 @pytest.mark.parametrize("tail", [False, True])

@@ -242,6 +242,135 @@ def _jump_correction(harmonic_numbers, theta_e, theta_i, h, jump, out, dout):
 
 
 @jit
+def holding_force(harmonic_numbers, base, m_cc, y, R, J, U, Hc, dH):
+    """Coefficients of the contact DOF's motion and of its holding force.
+
+    The holding force ``h = λ_X + M_cc ü`` is the force the linear dynamics
+    ask of the contact with the contact DOF's own inertia removed.
+
+    Parameters
+    ----------
+    harmonic_numbers : ndarray of int64
+    base : int
+        Index of the contact DOF's first coefficient in ``y``.
+    m_cc : float
+        Mass of the contact DOF, kg.
+    y : ndarray, shape (n + 1,)
+        Unknowns ``[X, Ω]``.
+    R, J : ndarray, shapes (n,) and (n, n + 1)
+        Linear residual ``Z X - P`` (N) and its Jacobian.
+    U : ndarray, shape (n_coef,)
+        Output: coefficients of ``u``, m.
+    Hc : ndarray, shape (n_coef,)
+        Output: coefficients of ``h``, N.
+    dH : ndarray, shape (n_coef, n + 1)
+        Output: ``dHc/dy``.
+    """
+    n1 = J.shape[1]
+    n = n1 - 1
+    omega = y[n]
+    col = 0
+    for k in harmonic_numbers:
+        width = 1 if k == 0 else 2
+        for q in range(width):
+            r = col + q
+            U[r] = y[base + r]
+            kw2 = (k * omega) ** 2
+            Hc[r] = -R[base + r] - m_cc * kw2 * U[r]
+            for c in range(n1):
+                dH[r, c] = -J[base + r, c]
+            dH[r, base + r] -= m_cc * kw2
+            dH[r, n] -= 2.0 * m_cc * k * k * omega * U[r]
+        col += width
+
+
+@jit
+def contact_samples(harmonic_numbers, base, m_cc, y, R, J, inverse, derivative):
+    """:func:`holding_force` and its samples.
+
+    Returns
+    -------
+    tuple of ndarray
+        ``U, Hc, dH`` (as in :func:`holding_force`), then the samples ``u``
+        (m), ``d = du/dθ`` (m/rad), ``h`` (N), shapes (n_time,), and
+        ``dh/dy``, shape (n_time, n + 1).
+    """
+    n_coef = inverse.shape[1]
+    n1 = J.shape[1]
+    U = np.empty(n_coef)
+    Hc = np.empty(n_coef)
+    dH = np.empty((n_coef, n1))
+    holding_force(harmonic_numbers, base, m_cc, y, R, J, U, Hc, dH)
+    return U, Hc, dH, inverse @ U, derivative @ U, inverse @ Hc, inverse @ dH
+
+
+@jit
+def stick_sample(i, eps, eta, omega, base, w, dw, u, d, hh, dhh, inverse,
+                 derivative, force, grad):  # fmt: skip
+    """Force of a sticking contact at sample ``i``,
+    ``λ_i = h_i + ε (u_i - w) + η Ω u'_i``, into ``force[i]``, and its
+    gradient over ``y`` into ``grad[i]`` (``dw = dw/dy``)."""
+    n_coef = inverse.shape[1]
+    n1 = grad.shape[1]
+    n = n1 - 1
+    force[i] = hh[i] + eps * (u[i] - w) + eta * omega * d[i]
+    for c in range(n1):
+        grad[i, c] = dhh[i, c] - eps * dw[c]
+    for c in range(n_coef):
+        grad[i, base + c] += eps * inverse[i, c] + eta * omega * derivative[i, c]
+    grad[i, n] += eta * d[i]
+
+
+@jit
+def stuck_at_reference(slip_force, eps, eta, omega, base, u, d, hh, dhh,
+                       inverse, forward, derivative, force, grad, R, J):  # fmt: skip
+    """If the contact holds with ``w = 0`` all period, add its force
+    ``λ = h + ε u + η Ω u'`` (samples ``u``, ``d = u'``, ``hh = h``,
+    ``dhh = dh/dy``) to ``R`` and ``J`` and return True (stuck at the
+    reference position, the convention of the other laws); else False and
+    nothing is added. ``force`` and ``grad`` are work arrays."""
+    n_time, n_coef = inverse.shape
+    n1 = J.shape[1]
+    for i in range(n_time):
+        lam = hh[i] + eps * u[i] + eta * omega * d[i]
+        if lam > slip_force or lam < -slip_force:
+            return False
+    dw = np.zeros(n1)
+    for i in range(n_time):
+        stick_sample(i, eps, eta, omega, base, 0.0, dw, u, d, hh, dhh, inverse,
+                     derivative, force, grad)  # fmt: skip
+    for r in range(n_coef):
+        acc = 0.0
+        for i in range(n_time):
+            acc += forward[r, i] * force[i]
+        R[base + r] += acc
+        for i in range(n_time):
+            wr = forward[r, i]
+            if wr != 0.0:
+                for c in range(n1):
+                    J[base + r, c] += wr * grad[i, c]
+    return True
+
+
+@jit
+def add_samples(forward, force, grad, F, dF):
+    """``F += forward @ force`` and ``dF += forward @ grad`` (sampled force
+    and its gradient, shapes (n_time,) and (n_time, n + 1))."""
+    n_coef, n_time = forward.shape
+    n1 = grad.shape[1]
+    for r in range(n_coef):
+        acc = 0.0
+        for i in range(n_time):
+            acc += forward[r, i] * force[i]
+        F[r] += acc
+        for i in range(n_time):
+            wr = forward[r, i]
+            if wr != 0.0:
+                for c in range(n1):
+                    dF[r, c] += wr * grad[i, c]
+
+
+@jit
 def dlft_located(params, harmonic_numbers, base, m_cc, y, inverse, forward,
                  derivative, R, J):  # fmt: skip
     """Rigid Coulomb contact by DLFT with located reversals (default scheme).
@@ -297,27 +426,10 @@ def dlft_located(params, harmonic_numbers, base, m_cc, y, inverse, forward,
     n = n1 - 1
     omega = y[n]
     h = 2.0 * np.pi / n_time
-    # holding-force coefficients and their derivatives
-    Hc = np.empty(n_coef)
-    dH = np.empty((n_coef, n1))
-    U = np.empty(n_coef)
-    col = 0
-    for k in harmonic_numbers:
-        width = 1 if k == 0 else 2
-        for q in range(width):
-            r = col + q
-            U[r] = y[base + r]
-            kw2 = (k * omega) ** 2
-            Hc[r] = -R[base + r] - m_cc * kw2 * U[r]
-            for c in range(n1):
-                dH[r, c] = -J[base + r, c]
-            dH[r, base + r] -= m_cc * kw2
-            dH[r, n] -= 2.0 * m_cc * k * k * omega * U[r]
-        col += width
-    u = inverse @ U
-    d = derivative @ U
-    hh = inverse @ Hc
-    dhh = inverse @ dH  # (n_time, n1)
+    # motion and holding force of the contact DOF, coefficients and samples
+    U, Hc, dH, u, d, hh, dhh = contact_samples(
+        harmonic_numbers, base, m_cc, y, R, J, inverse, derivative
+    )
     force = np.zeros(n_time)
     grad = np.zeros((n_time, n1))
     F = np.zeros(n_coef)
@@ -329,32 +441,8 @@ def dlft_located(params, harmonic_numbers, base, m_cc, y, inverse, forward,
     dhr = np.zeros(n1)
     # a contact that holds with w = 0 all period is stuck at the reference
     # position (the convention of the other laws; it fixes the mean)
-    holds = True
-    for i in range(n_time):
-        lam = hh[i] + eps * u[i] + eta * omega * d[i]
-        if lam > slip_force or lam < -slip_force:
-            holds = False
-            break
-    if holds:
-        for i in range(n_time):
-            force[i] = hh[i] + eps * u[i] + eta * omega * d[i]
-            for c in range(n1):
-                grad[i, c] = dhh[i, c]
-            for c in range(n_coef):
-                grad[i, base + c] += (
-                    eps * inverse[i, c] + eta * omega * derivative[i, c]
-                )
-            grad[i, n] += eta * d[i]
-        for r in range(n_coef):
-            acc = 0.0
-            for i in range(n_time):
-                acc += forward[r, i] * force[i]
-            R[base + r] += acc
-            for i in range(n_time):
-                wr = forward[r, i]
-                if wr != 0.0:
-                    for c in range(n1):
-                        J[base + r, c] += wr * grad[i, c]
+    if stuck_at_reference(slip_force, eps, eta, omega, base, u, d, hh, dhh,
+                          inverse, forward, derivative, force, grad, R, J):  # fmt: skip
         return STUCK
     # start: the reversal next to the largest sample
     i_max = np.argmax(u)
@@ -437,27 +525,12 @@ def dlft_located(params, harmonic_numbers, base, m_cc, y, inverse, forward,
             first = False
         # sample value
         if stick:
-            force[i] = hh[i] + eps * (u[i] - w) + eta * omega * d[i]
-            for c in range(n1):
-                grad[i, c] = dhh[i, c] - eps * dw[c]
-            for c in range(n_coef):
-                grad[i, base + c] += (
-                    eps * inverse[i, c] + eta * omega * derivative[i, c]
-                )
-            grad[i, n] += eta * d[i]
+            stick_sample(i, eps, eta, omega, base, w, dw, u, d, hh, dhh, inverse,
+                         derivative, force, grad)  # fmt: skip
         else:
             stuck_all = False
             force[i] = sign * slip_force
-    for r in range(n_coef):
-        acc = 0.0
-        for i in range(n_time):
-            acc += forward[r, i] * force[i]
-        F[r] += acc
-        for i in range(n_time):
-            wr = forward[r, i]
-            if wr != 0.0:
-                for c in range(n1):
-                    dF[r, c] += wr * grad[i, c]
+    add_samples(forward, force, grad, F, dF)
     for r in range(n_coef):
         R[base + r] += F[r]
         for c in range(n1):

@@ -41,9 +41,19 @@ contact force follows from the implicit function theorem,
 ``dθ/dy = -(∂G/∂θ)⁻¹ ∂G/∂y``. Which events occur and of which kind (the
 topology) comes from the march of ``dlft_located`` run on the corrected
 velocity samples, repeated until it no longer changes and places every
-event at its solved position. Where that fails (no root of the switching
-conditions where the samples see the events, met at coarse ``H`` far from
-a solution) the located scheme without tail is used for that evaluation.
+event at its solved position (and that solve converged). Where that fails
+(no root of the switching conditions where the samples see the events, met
+at coarse ``H`` far from a solution), and for more than
+:func:`event_limit` events (a far Newton iterate whose velocity rings
+about zero), the located scheme without tail is used for that evaluation.
+
+Two rules keep the topology from flipping near stick phases, where the
+true velocity leaves zero only quadratically and the series rings about
+it: a velocity zero where the holding force pushes on in the slip
+direction (``s h > f_s``) is no event (the velocity only touches zero;
+continuous with a stick event at ``h = s f_s``, whose jump vanishes), and
+a stick phase ends where the holding force ``|h|`` reaches ``f_s`` (the
+penalised force ``h + ε (u - w) + η u̇`` carries the ringing of ``u``).
 
 In pure slip the force is piecewise constant and its Fourier coefficients
 are integrated exactly, so that the retained harmonics of the exact
@@ -51,14 +61,21 @@ periodic solution are a fixed point up to the ``O(1/K²)`` remainder of the
 tail. With stick phases the force is sampled and its DFT corrected for the
 position of each jump, as in ``dlft_located``. In stick phases only the force jumps
 enter the tail (the smooth part of the holding force adds ``O(1/k³)``
-coefficients); the end of a stick phase is found on the samples as before.
+coefficients); the end of a stick phase is found on the samples.
 """
 
 import numpy as np
 
 from .._jit import jit
 from .aft import GROSS_SLIP, STUCK
-from .dlft import _jump_correction, dlft_located
+from .dlft import (
+    _jump_correction,
+    add_samples,
+    contact_samples,
+    dlft_located,
+    stick_sample,
+    stuck_at_reference,
+)
 from .linalg import solve_inplace
 
 #: status when a dynamic stiffness of the tail is singular (as in
@@ -71,6 +88,15 @@ STICK = 1
 MAX_PASSES = 8
 #: Newton iterations on the switching conditions
 MAX_NEWTON = 30
+
+
+@jit
+def event_limit(h_max):
+    """Most velocity events per period solved with the tail; beyond, the
+    located scheme is used (a far iterate of Newton, its velocity ringing
+    around zero: the switching system would cost ``O(n_e² K)`` per Newton
+    step for events the truncated series cannot tell apart)."""
+    return max(8, h_max // 2)
 
 
 @jit
@@ -336,7 +362,7 @@ def _solve_switching(n_e, kinds, signs, theta, slip_force, step_limit,
             theta[j] -= step
             if abs(step) > big:
                 big = abs(step)
-        if big < 1e-14:
+        if big < 1e-12:
             _switching_system(n_e, kinds, signs, theta, slip_force,
                               harmonic_numbers, U, Hc, q, dq, a2, da2, G, A,
                               jumps, djumps, work)  # fmt: skip
@@ -370,7 +396,6 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
     n_time = u.size
     n_coef = U.size
     n1 = dH.shape[1]
-    n = n1 - 1
     h = 2.0 * np.pi / n_time
     # a given position belongs to the event found within this distance
     window = max(3.0 * h, 0.5 * np.pi / harmonic_numbers[-1])
@@ -409,7 +434,7 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
         event = first
         if not first:
             if stick:
-                lam = hh[i] + eps * (u[i] - w) + eta * omega * d[i]
+                lam = hh[i]
                 if lam > slip_force or lam < -slip_force:
                     stick = False
                     sign = 1.0 if lam > 0.0 else -1.0
@@ -443,6 +468,12 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
             u_e, v_e, _, h_e, hd_e = _event_values(
                 harmonic_numbers, theta_e, U, Hc, b0, b1, b2
             )
+            if not first and sign * h_e > slip_force:
+                # pushed on in the slip direction where the velocity is
+                # zero: it only touches zero (a truncation artefact), no event
+                event = False
+                armed = False
+        if event and n_e < kinds.size:
             before = sign * slip_force
             kinds[n_e] = STICK if -slip_force <= h_e <= slip_force else REVERSAL
             signs[n_e] = sign
@@ -483,14 +514,8 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
             first = False
         if stick:
             if with_grad:
-                force[i] = hh[i] + eps * (u[i] - w) + eta * omega * d[i]
-                for c in range(n1):
-                    grad[i, c] = dhh[i, c] - eps * dw[c]
-                for c in range(n_coef):
-                    grad[i, base + c] += (
-                        eps * inverse[i, c] + eta * omega * derivative[i, c]
-                    )
-                grad[i, n] += eta * d[i]
+                stick_sample(i, eps, eta, omega, base, w, dw, u, d, hh, dhh,
+                             inverse, derivative, force, grad)  # fmt: skip
         else:
             stuck_all = False
             if with_grad:
@@ -577,55 +602,14 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
     n = n1 - 1
     omega = y[n]
     h = 2.0 * np.pi / n_time
-    Hc = np.empty(n_coef)
-    dH = np.empty((n_coef, n1))
-    U = np.empty(n_coef)
-    col = 0
-    for k in harmonic_numbers:
-        width = 1 if k == 0 else 2
-        for s in range(width):
-            r = col + s
-            U[r] = y[base + r]
-            kw2 = (k * omega) ** 2
-            Hc[r] = -R[base + r] - m_cc * kw2 * U[r]
-            for c in range(n1):
-                dH[r, c] = -J[base + r, c]
-            dH[r, base + r] -= m_cc * kw2
-            dH[r, n] -= 2.0 * m_cc * k * k * omega * U[r]
-        col += width
-    u = inverse @ U
-    d = derivative @ U
-    hh = inverse @ Hc
-    dhh = inverse @ dH
+    U, Hc, dH, u, d, hh, dhh = contact_samples(
+        harmonic_numbers, base, m_cc, y, R, J, inverse, derivative
+    )
     force = np.zeros(n_time)
     grad = np.zeros((n_time, n1))
     # a contact that holds with w = 0 all period is stuck at the reference
-    holds = True
-    for i in range(n_time):
-        lam = hh[i] + eps * u[i] + eta * omega * d[i]
-        if lam > slip_force or lam < -slip_force:
-            holds = False
-            break
-    if holds:
-        for i in range(n_time):
-            force[i] = hh[i] + eps * u[i] + eta * omega * d[i]
-            for c in range(n1):
-                grad[i, c] = dhh[i, c]
-            for c in range(n_coef):
-                grad[i, base + c] += (
-                    eps * inverse[i, c] + eta * omega * derivative[i, c]
-                )
-            grad[i, n] += eta * d[i]
-        for r in range(n_coef):
-            acc = 0.0
-            for i in range(n_time):
-                acc += forward[r, i] * force[i]
-            R[base + r] += acc
-            for i in range(n_time):
-                wr = forward[r, i]
-                if wr != 0.0:
-                    for c in range(n1):
-                        J[base + r, c] += wr * grad[i, c]
+    if stuck_at_reference(slip_force, eps, eta, omega, base, u, d, hh, dhh,
+                          inverse, forward, derivative, force, grad, R, J):  # fmt: skip
         return STUCK
     work = (np.empty(n_coef), np.empty(n_coef), np.empty(n_coef))
     b0, b1, b2 = work
@@ -645,11 +629,14 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
     n_given = 0
     n_e = 0
     settled = False
+    solved = False
     for it in range(MAX_PASSES):
         n_e, _, end_stick = _march(False, slip_force, eps, eta, omega, harmonic_numbers,
                         base, U, Hc, dH, u, d, dc, hh, dhh, inverse,
                         derivative, n_given, given, kinds, signs, theta,
                         dtheta, force, grad, F, dF, work)  # fmt: skip
+        if n_e > event_limit(harmonic_numbers[-1]):
+            break
         if end_stick and n_e >= 2 and kinds[n_e - 1] == STICK:
             # the start event lies inside the stick phase that the last
             # event begins: start there instead, drop the start event
@@ -670,15 +657,16 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
                 ):
                     same = False
                     break
-        settled = same
+        settled = same and solved
         if same:
             # the topology is settled: the positions are those just solved
             for e in range(n_e):
                 theta[e] = given[e]
             break
-        if not _solve_switching(n_e, kinds, signs, theta, slip_force, h,
-                                harmonic_numbers, U, Hc, q, dq, a2, da2, jumps,
-                                djumps, work):  # fmt: skip
+        solved = _solve_switching(n_e, kinds, signs, theta, slip_force, h,
+                                  harmonic_numbers, U, Hc, q, dq, a2, da2,
+                                  jumps, djumps, work)  # fmt: skip
+        if not solved:
             # keep the interpolated positions; the Jacobian stays consistent
             _, _, end_stick = _march(False, slip_force, eps, eta, omega,
                                      harmonic_numbers, base, U, Hc, dH, u, d,
@@ -766,16 +754,7 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
         _slip_coefficients(harmonic_numbers, n_e, theta, signs, slip_force,
                            dtheta, F, dF)  # fmt: skip
     else:
-        for r in range(n_coef):
-            acc = 0.0
-            for i in range(n_time):
-                acc += forward[r, i] * force[i]
-            F[r] += acc
-            for i in range(n_time):
-                wr = forward[r, i]
-                if wr != 0.0:
-                    for c in range(n1):
-                        dF[r, c] += wr * grad[i, c]
+        add_samples(forward, force, grad, F, dF)
     for r in range(n_coef):
         R[base + r] += F[r]
         for c in range(n1):
