@@ -238,28 +238,11 @@ class CondensedHBMProblem(HBMProblem):
         X[:, col + 1] = -x.imag
         return X[0] if np.ndim(omega) == 0 else X
 
-    def initial_guesses(self, omega: float) -> list[np.ndarray]:
-        """Starting points ``y = [X_c, Ω]`` (stuck and free linearisations,
-        plus the system's static solution at the contact DOF if any); for a
-        rigid Coulomb contact first the point of the backtracked Newton
-        presolve, as on the full system
-        (:meth:`~hbmfric.hbm.HBMProblem.initial_guesses`)."""
-        static = getattr(self.system, "static_solution", None)
-        guesses = []
-        for contact in ("stuck", "free"):
-            y = np.empty(self.n_unknowns + 1)
-            y[:-1] = self.linear_response(omega, contact)
-            if static is not None and self.harmonic_numbers[0] == 0:
-                y[0] += float(np.asarray(static(), dtype=float)[self.contact_dof])
-            y[-1] = omega
-            guesses.append(y)
-        if self._rigid:
-            for g in list(guesses):
-                y = self._presolve(g)
-                if y is not None:
-                    guesses.insert(0, y)
-                    break
-        return guesses
+    def _add_static(self, y: np.ndarray, static: np.ndarray) -> None:
+        """Starting points (:meth:`~hbmfric.hbm.HBMProblem.initial_guesses`,
+        rigid-contact presolve included) carry the static solution at the
+        contact DOF only."""
+        y[0] += float(static[self.contact_dof])
 
     def contact_forces(self, points: np.ndarray) -> np.ndarray:
         """Contact-force coefficients (N) at condensed solutions ``points``

@@ -335,7 +335,7 @@ class HBMProblem:
             y = np.empty(self.n_unknowns + 1)
             y[:-1] = self.linear_response(omega, contact)
             if static is not None and self.harmonic_numbers[0] == 0:
-                y[: self.n_unknowns : self.n_coef] += np.asarray(static(), dtype=float)
+                self._add_static(y, np.asarray(static(), dtype=float))
             y[-1] = omega
             guesses.append(y)
         if self._rigid:
@@ -345,6 +345,11 @@ class HBMProblem:
                     guesses.insert(0, y)
                     break
         return guesses
+
+    def _add_static(self, y: np.ndarray, static: np.ndarray) -> None:
+        """Add the static solution ``static`` (shape (n_dof,), m) to the mean
+        coefficients of the guess ``y``."""
+        y[: self.n_unknowns : self.n_coef] += static
 
     def _presolve(
         self, y: np.ndarray, max_iter: int = 300, tol: float = 1e-10
