@@ -11,6 +11,7 @@ import json
 import subprocess
 import sys
 import textwrap
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -275,23 +276,11 @@ def test_condensed_coulomb_kernels_compile_once():
     after the first batch."""
     code = textwrap.dedent(
         """
-        import json
-        import numpy as np
+        import json, sys
         import hbmfric as hf
         from hbmfric.kernels import condensed, dlft, dlft_tail, newton
-
-        class Chain:
-            n_dof = 3
-            contact_dof = 2
-            symmetric = True
-            def __init__(self, contact):
-                self.contact = contact
-            def matrices(self):
-                m = np.diag([1.0, 0.7, 0.5])
-                k = np.array([[3.0, -1, 0], [-1, 2, -1], [0, -1, 1]])
-                return m, 0.01 * k + 0.02 * m, k
-            def load_vector(self, force):
-                return np.array([force, 0.0, 0.3 * force])
+        sys.path.insert(0, TESTS_DIR)
+        from test_condensed_coulomb import Chain
 
         def counts():
             out = {}
@@ -317,7 +306,7 @@ def test_condensed_coulomb_kernels_compile_once():
         runs((0.2, 0.5), 4.0, 9)
         print(json.dumps({"first": first, "second": counts()}))
         """
-    )
+    ).replace("TESTS_DIR", repr(str(Path(__file__).parent)))
     out = subprocess.run(
         [sys.executable, "-c", code], capture_output=True, text=True, check=True
     )
