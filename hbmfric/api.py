@@ -242,35 +242,32 @@ def _frf_auto(
     tolerance = finite_float(
         "harmonic_tolerance", tolerance, low=0.0, low_open=True, high=1.0
     )
-    problems = {}
+    # the levels share the system's data (matrices, modes): one full
+    # build, validating the input before any work
+    base = _problem(system, force, LADDER[START], None, symmetry, aft, condense)
+    problems = {LADDER[START]: base}
 
     def make_problem(h: int) -> HBMProblem:
         if h not in problems:
-            problems[h] = _problem(system, force, h, None, symmetry, aft, condense)
+            problems[h] = base.with_harmonics(h)
         return problems[h]
 
-    make_problem(LADDER[START])  # validates the input before any work
     cont = AdaptiveContinuation(
         make_problem, omega_range, direction, options, amplitude_scale, tolerance
     )
     state, points, levels, elapsed = cont.run()
     top = make_problem(max(levels) if levels else LADDER[0])
+    # the harmonics of a level are a prefix of the top level's, in the same
+    # column layout: each level fills the leading columns of its points
     coefficients = np.zeros((len(points), top.n_dof, top.n_coef))
-    omegas = np.array([float(y[-1]) for y in points])
-    columns = np.cumsum([0] + [1 if k == 0 else 2 for k in top.harmonic_numbers])
-    where = {
-        int(k): int(c) for k, c in zip(top.harmonic_numbers, columns[:-1], strict=True)
-    }
-    for h in sorted(set(levels)):
-        idx = [i for i, lv in enumerate(levels) if lv == h]
-        p = make_problem(h)
-        full = p.full_coefficients(np.array([points[i] for i in idx]))
-        src = 0
-        for k in p.harmonic_numbers:
-            width = 1 if k == 0 else 2
-            dst = where[int(k)]
-            coefficients[idx, :, dst : dst + width] = full[:, :, src : src + width]
-            src += width
+    levels_array = np.array(levels, dtype=np.int64)
+    omegas = np.empty(len(points))
+    for h in np.unique(levels_array):
+        idx = np.flatnonzero(levels_array == h)
+        p = make_problem(int(h))
+        pts = np.array([points[i] for i in idx])
+        omegas[idx] = pts[:, -1]
+        coefficients[idx, :, : p.n_coef] = p.full_coefficients(pts)
     info = _describe(
         system,
         top,
@@ -292,7 +289,7 @@ def _frf_auto(
         omegas,
         coefficients,
         info,
-        point_harmonics=np.array(levels, dtype=np.int64),
+        point_harmonics=levels_array,
     )
 
 

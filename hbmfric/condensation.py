@@ -134,16 +134,29 @@ class CondensedHBMProblem(HBMProblem):
 
         self.receptance_method = receptance
         self.contact_dof = int(system.contact_dof)
-        hn = self.kernel_problem[0]
-        mass, damping, stiffness = self.kernel_problem[1:4]
-        law_code, law_params, aft_code = self.kernel_problem[6:9]
-        inverse, forward, derivative = self.kernel_problem[9:12]
+        self._modal = modal if receptance == "modal" else None
+        self.shapes = None if self._modal is None else np.ascontiguousarray(modal[1])
+        self._condense()
+
+    def with_harmonics(self, harmonics: int) -> CondensedHBMProblem:
+        """As :meth:`HBMProblem.with_harmonics`; the modal data are shared."""
+        new = super().with_harmonics(harmonics)
+        new._condense()
+        return new
+
+    def _condense(self) -> None:
+        """The condensed kernel problem from the full one of the current
+        harmonics."""
+        self.full_kernel_problem = full = self.kernel_problem
+        hn = full[0]
+        mass, damping, stiffness = self._matrices
+        law_code, law_params, aft_code = full[6:9]
+        inverse, forward, derivative = full[9:12]
         load = np.ascontiguousarray(self.load.reshape(self.n_dof, self.n_coef))
-        self._matrices = (mass, damping, stiffness)
         empty = np.zeros((0, 0))
-        if receptance == "modal":
+        modal = self._modal
+        if modal is not None:
             omega, shapes, modal_c = modal
-            self.shapes = np.ascontiguousarray(shapes)
             modal_parts = (
                 np.ascontiguousarray(shapes[self.contact_dof]),
                 np.ascontiguousarray(omega**2),
@@ -152,10 +165,8 @@ class CondensedHBMProblem(HBMProblem):
             )
             direct_parts = (empty, empty, empty, empty)
         else:
-            self.shapes = None
             modal_parts = (np.zeros(0), np.zeros(0), np.zeros(0), empty)
             direct_parts = (mass, damping, stiffness, load)
-        self.full_kernel_problem = self.kernel_problem
         self.kernel_problem = CondensedProblem(
             hn,
             *modal_parts,
@@ -165,7 +176,7 @@ class CondensedHBMProblem(HBMProblem):
             inverse,
             forward,
             derivative,
-            np.int64(MODAL if receptance == "modal" else DIRECT),
+            np.int64(MODAL if modal is not None else DIRECT),
             np.int64(self.contact_dof),
             *direct_parts,
             float(mass[self.contact_dof, self.contact_dof]),

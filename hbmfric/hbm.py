@@ -4,6 +4,8 @@ problem tuple that the kernels see."""
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 
 from ._validate import finite_float, positive_int
@@ -117,20 +119,11 @@ class HBMProblem:
                 "this contact law is not odd"
             )
         self.odd = bool(symmetry)
-        self.harmonic_numbers = select_harmonics(harmonics, self.odd)
-        self.harmonics = int(harmonics)
-        if self.subharmonic > self.harmonics:
-            raise ValueError(
-                f"harmonics must be >= subharmonic = {self.subharmonic} (the "
-                f"forcing is harmonic ν of Ω/ν), got {self.harmonics}"
-            )
         if aft not in AFT_SCHEMES:
             raise ValueError(f"aft must be one of {AFT_SCHEMES}, got {aft!r}")
         law = system.contact
         rigid = law is not None and law.code == COULOMB
         self._rigid = rigid
-        #: Newton iterations spent in the start-point presolve (rigid Coulomb)
-        self.presolve_iterations = 0
         located = law is not None and (
             law.code in (JENKINS, COULOMB) or law.code in MASING
         )
@@ -141,6 +134,54 @@ class HBMProblem:
         if aft == "events" and not located:
             aft = "samples"
         self.aft = aft
+        self.n_dof = int(system.n_dof)
+        mass, damping, stiffness = (
+            np.ascontiguousarray(a, dtype=np.float64) for a in system.matrices()
+        )
+        self._matrices = (mass, damping, stiffness)
+        self._static = static
+        self._amplitude = np.asarray(system.load_vector(self.force), dtype=np.float64)
+        if law is None:
+            self._law = (NO_CONTACT, np.zeros(1))
+        elif rigid:
+            eps = self._penalty(law, stiffness)
+            m_cc = float(mass[system.contact_dof, system.contact_dof])
+            # damping of the penalty oscillator (M_cc, η, ε): critical
+            self._law = (
+                COULOMB,
+                np.array([law.slip_force, eps, 2.0 * np.sqrt(eps * m_cc)]),
+            )
+        else:
+            self._law = (
+                law.code,
+                np.ascontiguousarray(law.params, dtype=np.float64),
+            )
+        self._discretise(harmonics, n_time)
+
+    def with_harmonics(self, harmonics: int) -> HBMProblem:
+        """The same problem (system, force, symmetry, AFT scheme) with
+        highest harmonic ``harmonics`` and its default ``n_time``.
+
+        Shares the system's matrices and everything else that does not
+        depend on the harmonics with ``self`` (the adaptive-harmonics run
+        builds one problem per level this way).
+        """
+        new = copy.copy(self)
+        new._discretise(harmonics, None)
+        return new
+
+    def _discretise(self, harmonics: int, n_time: int | None) -> None:
+        """Harmonics, samples, DFT matrices, load layout and kernel tuple."""
+        system = self.system
+        self.presolve_iterations = 0
+        self.harmonic_numbers = select_harmonics(harmonics, self.odd)
+        self.harmonics = int(harmonics)
+        if self.subharmonic > self.harmonics:
+            raise ValueError(
+                f"harmonics must be >= subharmonic = {self.subharmonic} (the "
+                f"forcing is harmonic ν of Ω/ν), got {self.harmonics}"
+            )
+        aft = self.aft
         if n_time is None:
             n_time = default_n_time(self.harmonic_numbers, aft)
         n_time = positive_int("n_time", n_time, low=1)
@@ -151,34 +192,21 @@ class HBMProblem:
         self.n_time = n_time
         inverse, forward, derivative = fourier_matrices(self.harmonic_numbers, n_time)
         self.n_coef = inverse.shape[1]
-        self.n_dof = int(system.n_dof)
         self.n_unknowns = self.n_dof * self.n_coef
-        mass, damping, stiffness = (
-            np.ascontiguousarray(a, dtype=np.float64) for a in system.matrices()
-        )
+        mass, damping, stiffness = self._matrices
         load = np.zeros((self.n_dof, self.n_coef))
         columns = coefficient_columns(self.harmonic_numbers)
         col1 = columns[self.subharmonic]
-        amplitude = np.asarray(system.load_vector(self.force), dtype=np.float64)
-        load[:, col1] = amplitude * np.cos(self.load_phase)
-        load[:, col1 + 1] = amplitude * np.sin(self.load_phase)
-        if static is not None:
-            load[:, columns[0]] = static
+        load[:, col1] = self._amplitude * np.cos(self.load_phase)
+        load[:, col1 + 1] = self._amplitude * np.sin(self.load_phase)
+        if self._static is not None:
+            load[:, columns[0]] = self._static
         self.load = load.reshape(-1)
-        if law is None:
-            code, params = NO_CONTACT, np.zeros(1)
-        elif rigid:
-            code = COULOMB
-            eps = self._penalty(law, stiffness)
-            m_cc = float(mass[system.contact_dof, system.contact_dof])
-            # damping of the penalty oscillator (M_cc, η, ε): critical
-            mu, n_tail = self._tail(law, mass, aft)
-            params = np.array(
-                [law.slip_force, eps, 2.0 * np.sqrt(eps * m_cc), mu, n_tail]
-            )
+        code, params = self._law
+        if self._rigid:
+            mu, n_tail = self._tail(system.contact, mass, aft)
+            params = np.append(params, [mu, n_tail])
             self._coulomb_params = params
-        else:
-            code, params = law.code, np.ascontiguousarray(law.params, dtype=np.float64)
         self.kernel_problem = (
             self.harmonic_numbers,
             mass,

@@ -233,6 +233,73 @@ def test_compiled_stretches_decide_as_python(monkeypatch, system, force, tol):
     assert len(set(compiled.point_harmonics)) >= 2
 
 
+class _Chain:
+    """Three masses in a chain, contact on the last, Rayleigh damping."""
+
+    n_dof = 3
+    contact_dof = 2
+    symmetric = True
+
+    def __init__(self, contact):
+        self.contact = contact
+
+    def matrices(self):
+        m = np.diag([1.0, 0.7, 0.5])
+        k = np.array([[3.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
+        return m, 0.01 * k + 0.02 * m, k
+
+    def load_vector(self, force):
+        return np.array([force, 0.0, 0.3 * force])
+
+
+@pytest.mark.parametrize(
+    "law, condense, aft",
+    [
+        (hf.Jenkins(stiffness=3.0, slip_force=1.0), False, "auto"),
+        (hf.Menq.from_stiffness(3.0, 1.0, microslip_onset=0.5), False, "auto"),
+        (hf.Coulomb(slip_force=1.0, linear_tail=True), True, "auto"),
+        (hf.Jenkins(stiffness=3.0, slip_force=1.0), True, "samples"),
+        (hf.Jenkins(stiffness=3.0, slip_force=1.0), "direct", "auto"),
+    ],
+)
+def test_level_problem_equals_a_fresh_build(law, condense, aft):
+    """A level problem derived from another level (``with_harmonics``,
+    sharing the system's data) has the residual, Jacobian and kernel data
+    of the problem built from scratch at that ``H`` (full and condensed
+    HBM, the rigid Coulomb tail whose length depends on ``H``)."""
+    if condense is False:
+        system = hf.Oscillator(1.0, 0.02, 1.0, law)
+    else:
+        system = _Chain(law)
+    base = _problem(system, 0.7, 7, None, None, aft, condense)
+    rng = np.random.default_rng(3)
+    for h in (3, 15):
+        derived = base.with_harmonics(h)
+        fresh = _problem(system, 0.7, h, None, None, aft, condense)
+        assert type(derived) is type(fresh)
+        assert (derived.n_time, derived.n_unknowns, derived.aft) == (
+            fresh.n_time,
+            fresh.n_unknowns,
+            fresh.aft,
+        )
+        for a, b in zip(derived.kernel_problem, fresh.kernel_problem, strict=True):
+            np.testing.assert_array_equal(a, b)
+        y = np.append(0.3 * rng.standard_normal(fresh.n_unknowns), 1.1)
+        R1, J1, s1 = derived.residual(y)
+        R2, J2, s2 = fresh.residual(y)
+        np.testing.assert_array_equal(R1, R2)
+        np.testing.assert_array_equal(J1, J2)
+        assert s1 == s2
+        pts = y[None, :]
+        np.testing.assert_array_equal(
+            derived.full_coefficients(pts), fresh.full_coefficients(pts)
+        )
+    # the base is untouched
+    again = _problem(system, 0.7, 7, None, None, aft, condense)
+    for a, b in zip(base.kernel_problem, again.kernel_problem, strict=True):
+        np.testing.assert_array_equal(a, b)
+
+
 def test_top_measure_zero_when_stuck():
     """A stuck Jenkins contact is linear: the higher harmonics vanish."""
     sol = hf.periodic_solution(OSC, 0.1, 0.7, 15)
