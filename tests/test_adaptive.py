@@ -198,10 +198,11 @@ def test_change_estimate_matches_solved_change():
 )
 def test_compiled_stretches_decide_as_python(monkeypatch, system, force, tol):
     """Between decisions the adaptive run stays at its level inside the
-    compiled trace (``kernels.arclength.stays``); with that rule switched
-    off every point goes through ``AdaptiveContinuation._adapt`` in
-    Python. Both must give the same branch bit for bit: same points,
-    levels and counters (the cubic spring exercises the flap cooldown)."""
+    compiled trace (``kernels.arclength.stays``, due calibrations
+    included); with that rule switched off every point goes through
+    ``AdaptiveContinuation._adapt`` in Python. Both must give the same
+    branch bit for bit: same points, levels and counters, calibrations
+    included (the cubic spring exercises the flap cooldown)."""
     if system == "jenkins":
         law = hf.Jenkins(stiffness=3.0, slip_force=1.0)
     else:
@@ -218,6 +219,7 @@ def test_compiled_stretches_decide_as_python(monkeypatch, system, force, tol):
         w = make_watch(self, h, levels)
         w[arclength.W_RECALIBRATE] = -1.0  # never fresh: no stay
         w[arclength.W_LOWEST] = 0.0  # no linear stay either
+        w[arclength.W_CALIBRATE] = 0.0  # calibrations in Python too
         return w
 
     monkeypatch.setattr(adaptive.AdaptiveContinuation, "_watch", python_only)
@@ -225,11 +227,13 @@ def test_compiled_stretches_decide_as_python(monkeypatch, system, force, tol):
     np.testing.assert_array_equal(stepped.point_harmonics, compiled.point_harmonics)
     np.testing.assert_array_equal(stepped.omega, compiled.omega)
     np.testing.assert_array_equal(stepped.coefficients, compiled.coefficients)
+    counters = ("harmonic_calibrations", "harmonic_switches", "harmonic_resolves")
     assert (stepped.n_steps, stepped.n_rejected, stepped.newton_iterations) == (
         compiled.n_steps,
         compiled.n_rejected,
         compiled.newton_iterations,
     )
+    assert [stepped.info[k] for k in counters] == [compiled.info[k] for k in counters]
     assert len(set(compiled.point_harmonics)) >= 2
 
 

@@ -112,6 +112,8 @@ RECALIBRATE = 16
 MARGIN = 1.25
 #: points after a calibration during which decisions use the carried ratio
 MIN_GAP = 4
+#: most points of one compiled stretch (calibrations run inside it)
+TRACE_CAPACITY = 256
 
 
 def truncation_estimate(harmonic_numbers: np.ndarray, X: np.ndarray) -> float:
@@ -245,8 +247,10 @@ class _Level:
             return 0.0 if top == 0.0 else math.inf
         return self.h * top / a1
 
-    def change(self, x: np.ndarray) -> float:
-        """:func:`truncation_change` of a point ``x`` of a lower level."""
+    def work(self) -> tuple:
+        """The calibration arguments of this level (as the next level of
+        another): ``(kernel problem, synthesis, y, R, J, A, dX)`` of
+        :func:`truncation_change`, allocated once."""
         if self._work is None:
             n = self.n
             # the AFT's own synthesis samples, thinned to about 4 H
@@ -256,6 +260,7 @@ class _Level:
             inverse = kp[9]
             every = max(1, inverse.shape[0] // max(64, 4 * self.h))
             self._work = (
+                self.problem.kernel_problem,
                 np.ascontiguousarray(inverse[::every]),
                 np.empty(n + 1),
                 np.empty(n),
@@ -263,11 +268,15 @@ class _Level:
                 np.empty((n, n)),
                 np.empty(n),
             )
-        synthesis, y, R, J, A, dX = self._work
+        return self._work
+
+    def change(self, x: np.ndarray) -> float:
+        """:func:`truncation_change` of a point ``x`` of a lower level."""
+        problem, synthesis, y, R, J, A, dX = self.work()
         return float(
             truncation_change(
                 x,
-                self.problem.kernel_problem,
+                problem,
                 self.n_dof,
                 self.dof,
                 self.first_column,
@@ -334,6 +343,8 @@ class AdaptiveContinuation:
         self.n_resolves = 0
         self.n_calibrations = 0
         self._lowered = (0, 0)  # level left by the last lowering, and where
+        # change computed by a trace for its last point, not yet decided on
+        self._pending_change = math.nan
         self._no_lower_before = 0  # point count before which no lowering
         self._reset()
 
@@ -390,7 +401,10 @@ class AdaptiveContinuation:
             self._factor = TOP_FACTOR
             return TOP_FACTOR * measure
         self.n_calibrations += 1
-        change = self._level(up[0]).change(y)
+        change = self._pending_change
+        if math.isnan(change):
+            change = self._level(up[0]).change(y)
+        self._pending_change = math.nan
         est = max(CHANGE_FACTOR * change, TOP_FLOOR * measure)
         self._factor = est / max(measure, 1e-300)
         return est
@@ -527,9 +541,14 @@ class AdaptiveContinuation:
         w[a.W_AGE] = self._age
         w[a.W_RECALIBRATE] = RECALIBRATE
         w[a.W_RAISE] = RAISE_AT * tol
-        # lowering blocked over the whole stretch: no lower threshold
-        blocked = len(levels) + RECALIBRATE <= self._no_lower_before
-        w[a.W_LOWER] = self._lower_limit(level, blocked)
+        # while lowering is blocked (the k-th point of the stretch is
+        # decided with len(levels) + k points), no lower threshold; the
+        # stretch then ends where the block does
+        blocked = self._no_lower_before - len(levels) - 1
+        self._capacity = (
+            min(blocked, TRACE_CAPACITY) if blocked >= 1 else TRACE_CAPACITY
+        )
+        w[a.W_LOWER] = self._lower_limit(level, blocked >= 1)
         w[a.W_MARGIN] = MARGIN
         w[a.W_MAX_GROWTH] = MAX_GROWTH
         w[a.W_LINEAR] = LINEAR * tol
@@ -539,6 +558,21 @@ class AdaptiveContinuation:
         w[a.W_TOP] = level.top[0] if level.top else -1
         w[a.W_PREV] = level.prev[0] if level.prev else -1
         w[a.W_LOWEST] = float(h == self.ladder[0])
+        up = [lv for lv in self.ladder if lv > h]
+        w[a.W_CALIBRATE] = float(bool(up))
+        w[a.W_CHANGE_FACTOR] = CHANGE_FACTOR
+        w[a.W_TOP_FLOOR] = TOP_FLOOR
+        w[a.W_CALIBRATIONS] = 0.0
+        w[a.W_CHANGE] = math.nan
+        if up:
+            nxt = self._level(up[0])
+            w[a.W_N_DOF] = nxt.n_dof
+            w[a.W_DOF] = nxt.dof
+            w[a.W_FIRST_COLUMN] = nxt.first_column
+            self._calibration = nxt.work()
+        else:
+            w[a.W_N_DOF] = w[a.W_DOF] = w[a.W_FIRST_COLUMN] = 0.0
+            self._calibration = None
         return w
 
     def _lower_limit(self, level: _Level, blocked: bool) -> float:
@@ -597,14 +631,18 @@ class AdaptiveContinuation:
             before = len(state.points)
             cont = self._levels[h].cont
             watch = self._watch(h, levels)
-            state = cont._trace(state, watch, RECALIBRATE)
+            state = cont._trace(state, watch, self._capacity, self._calibration)
             new = len(state.points) - before
             levels.extend([h] * new)
             self._last = float(watch[_arclength.W_LAST])
             self._age = int(watch[_arclength.W_AGE])
+            self._factor = float(watch[_arclength.W_FACTOR])
+            self.n_calibrations += int(watch[_arclength.W_CALIBRATIONS])
+            self._pending_change = float(watch[_arclength.W_CHANGE])
             decide = cont.trace_outcome == _arclength.WATCH_STOP
             if new > int(decide):
                 self._low = 0  # the points that stayed reset the count
             if decide and not state.finished:
                 h = self._adapt(state, h, levels)
+            self._pending_change = math.nan
         return state, state.points, levels, time.perf_counter() - start

@@ -114,6 +114,7 @@ class Continuation:
         )
         self._settings = self._settings_array()
         self._no_watch = np.zeros(_arclength.N_WATCH)
+        self._no_calibration = None  # built on first use
         #: how the last compiled trace ended (``kernels.arclength`` codes)
         self.trace_outcome = 0
 
@@ -293,11 +294,14 @@ class Continuation:
         state: ContinuationState,
         watch: np.ndarray | None = None,
         capacity: int = 256,
+        calibration: tuple | None = None,
     ) -> ContinuationState:
         """Steps until the branch leaves the range, the step collapses,
         ``max_steps`` is spent, ``capacity`` points are accepted or (with a
         ``watch`` array) a point needs an adaptive-harmonics decision, in
-        one compiled call (:func:`hbmfric.kernels.arclength.trace`)."""
+        one compiled call (:func:`hbmfric.kernels.arclength.trace`;
+        ``calibration``: the next level's problem and work arrays of
+        :func:`hbmfric.kernels.arclength.stays`)."""
         budget = self.options.max_steps - (state.n_steps + state.n_rejected)
         if budget <= 0:
             return self._finish(state, MAX_STEPS)
@@ -321,6 +325,7 @@ class Continuation:
             tangents_omega,
             flags,
             *self._work,
+            self._placeholder_calibration() if calibration is None else calibration,
         )
         self.trace_outcome = int(outcome)
         state.n_newton += evaluations
@@ -336,6 +341,14 @@ class Continuation:
         if outcome == _arclength.BUDGET_SPENT:
             return self._finish(state, MAX_STEPS)
         return state
+
+    def _placeholder_calibration(self) -> tuple:
+        """A calibration argument of the right types for a trace without
+        adaptive harmonics (never used)."""
+        if self._no_calibration is None:
+            e1, e2 = np.zeros(1), np.zeros((1, 1))
+            self._no_calibration = (self.problem.kernel_problem, e2, e1, e1, e2, e2, e1)
+        return self._no_calibration
 
     @staticmethod
     def _record(state, points, tangents_omega, flags) -> None:

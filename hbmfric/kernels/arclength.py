@@ -20,6 +20,7 @@ import numpy as np
 
 from .._jit import jit
 from .newton import CONVERGED, _norm_inf, palc_step
+from .truncation import truncation_change
 
 # indices into the settings array
 MIN_STEP = 0
@@ -75,7 +76,20 @@ W_FIRST = 12
 W_TOP = 13
 W_PREV = 14
 W_LOWEST = 15
-N_WATCH = 16
+#: != 0: a due calibration runs inside the trace (there is a next level)
+W_CALIBRATE = 16
+W_CHANGE_FACTOR = 17
+W_TOP_FLOOR = 18
+#: DOFs among the unknowns, measured DOF, column of the first harmonic
+W_N_DOF = 19
+W_DOF = 20
+W_FIRST_COLUMN = 21
+#: out: calibrations that kept the level inside the trace
+W_CALIBRATIONS = 22
+#: out: the change of a calibration after which the level was not kept
+#: (NaN if none; the caller decides on it instead of computing it again)
+W_CHANGE = 23
+N_WATCH = 24
 
 
 @jit
@@ -170,7 +184,7 @@ def top_measure(y, watch):
 
 
 @jit
-def stays(y, watch):
+def stays(y, watch, calibration):
     """Whether the adaptive-harmonics run keeps its level after the point
     ``y`` without a decision in Python: a linear response at the lowest
     level, or the last calibration is fresh, and the free measure times the
@@ -178,7 +192,17 @@ def stays(y, watch):
     raise and the lower threshold by the margin. Staying updates the last
     estimate and the age in ``watch``; otherwise ``watch`` is unchanged
     and the caller decides (:meth:`~hbmfric.continuation.adaptive.
-    AdaptiveContinuation._adapt` repeats the same test first)."""
+    AdaptiveContinuation._adapt` repeats the same test first).
+
+    A due calibration (``watch[W_CALIBRATE] != 0``) runs here:
+    :func:`~hbmfric.kernels.truncation.truncation_change` on the next
+    level's problem and work arrays ``calibration = (problem, synthesis,
+    y, R, J, A, dX)``; the level is kept when the fresh estimate ahead is
+    at most the raise threshold and the estimate not below the lower one
+    (the rule of ``_adapt`` after a calibration, without margin), updating
+    the ratio, the last estimate, the age and the count of calibrations in
+    ``watch``. Otherwise the change is left in ``watch[W_CHANGE]`` for the
+    caller's decision."""
     measure = top_measure(y, watch)
     if measure <= watch[W_LINEAR]:
         # a linear response: stays only at the lowest level, where it is
@@ -188,10 +212,37 @@ def stays(y, watch):
             return True
         return False
     age = watch[W_AGE] + 1.0
+    last = watch[W_LAST]
     if not age < watch[W_RECALIBRATE]:
+        if watch[W_CALIBRATE] == 0.0:
+            return False
+        problem, synthesis, cy, cR, cJ, cA, cdX = calibration
+        change = truncation_change(
+            y,
+            problem,
+            int(watch[W_N_DOF]),
+            int(watch[W_DOF]),
+            int(watch[W_FIRST_COLUMN]),
+            synthesis,
+            cy,
+            cR,
+            cJ,
+            cA,
+            cdX,
+        )
+        est = max(watch[W_CHANGE_FACTOR] * change, watch[W_TOP_FLOOR] * measure)
+        ahead = est
+        if last > 0.0 and est > last:
+            ahead = est * min(est / last, watch[W_MAX_GROWTH])
+        if ahead <= watch[W_RAISE] and est >= watch[W_LOWER]:
+            watch[W_FACTOR] = est / max(measure, 1e-300)
+            watch[W_LAST] = est
+            watch[W_AGE] = 0.0
+            watch[W_CALIBRATIONS] += 1.0
+            return True
+        watch[W_CHANGE] = change
         return False
     stale = watch[W_FACTOR] * measure
-    last = watch[W_LAST]
     ahead = stale
     if last > 0.0 and stale > last:
         ahead = stale * min(stale / last, watch[W_MAX_GROWTH])
@@ -314,6 +365,7 @@ def trace(
     y_pred,
     y_new,
     t_new,
+    calibration,
 ):
     """Repeat :func:`advance` until the branch leaves the range, the step
     falls below its minimum, ``max_attempts`` steps were tried or the
@@ -324,6 +376,9 @@ def trace(
     problem, y, tangent, step, scale, settings, R, J, A, piv, y_pred, y_new, t_new
         As in :func:`advance` (``y``, ``tangent``, ``scale`` updated in
         place).
+    calibration : tuple
+        Next level's problem and work arrays for :func:`stays` (any of the
+        right types when the watch is off).
     max_attempts : int
         Most steps (accepted plus rejected) to try.
     watch : ndarray, shape (N_WATCH,)
@@ -375,5 +430,5 @@ def trace(
         tangents_omega[n_accepted] = tangent[n]
         flags[n_accepted] = outcome
         n_accepted += 1
-        if watch[WATCH_ACTIVE] != 0.0 and not stays(y, watch):
+        if watch[WATCH_ACTIVE] != 0.0 and not stays(y, watch, calibration):
             return WATCH_STOP, n_accepted, n_rejected, evaluations, step
