@@ -26,6 +26,22 @@ AFT_SCHEMES = ("auto", "events", "samples")
 DEFAULT_PENALTY_FACTOR = 1.0
 
 
+#: DFT matrices per (highest harmonic, odd only, n_time), shared by every
+#: problem of that discretisation (the kernels only read them)
+_DFT_CACHE: dict = {}
+
+
+def _fourier_matrices(harmonic_numbers: np.ndarray, odd: bool, n_time: int):
+    """:func:`~hbmfric.kernels.dft.fourier_matrices`, computed once per
+    discretisation."""
+    key = (int(harmonic_numbers[-1]), bool(odd), int(n_time))
+    if key not in _DFT_CACHE:
+        if len(_DFT_CACHE) >= 64:
+            _DFT_CACHE.clear()
+        _DFT_CACHE[key] = fourier_matrices(harmonic_numbers, n_time)
+    return _DFT_CACHE[key]
+
+
 def select_harmonics(harmonics: int, odd: bool) -> np.ndarray:
     """Harmonic numbers ``0 … H`` or, for a symmetric scene, ``1, 3, … ≤ H``."""
     harmonics = positive_int("harmonics", harmonics, low=1)
@@ -190,7 +206,9 @@ class HBMProblem:
                 f"n_time must be > 2 * harmonics = {2 * self.harmonics}, got {n_time}"
             )
         self.n_time = n_time
-        inverse, forward, derivative = fourier_matrices(self.harmonic_numbers, n_time)
+        inverse, forward, derivative = _fourier_matrices(
+            self.harmonic_numbers, self.odd, n_time
+        )
         self.n_coef = inverse.shape[1]
         self.n_unknowns = self.n_dof * self.n_coef
         mass, damping, stiffness = self._matrices

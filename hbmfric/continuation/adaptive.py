@@ -216,6 +216,10 @@ class _Level:
         self.prev = [b + prev for b in base] if k_prev > 1 else []
         self.prev_weight = (k_prev / self.h) ** 4 if k_prev > 1 else 0.0
         self._work = None
+        #: level-only part of the watch array and the next level's
+        #: calibration arguments (:meth:`AdaptiveContinuation._watch`)
+        self.watch = None
+        self.calibration = None
 
     @property
     def cont(self) -> Continuation:
@@ -531,16 +535,16 @@ class AdaptiveContinuation:
         calibration, as the watch array of
         :func:`hbmfric.kernels.arclength.trace` (same thresholds, same
         arithmetic: the compiled stretch keeps the level exactly where
-        :meth:`_adapt` would)."""
+        :meth:`_adapt` would). Sets the stretch's capacity and calibration
+        arguments."""
         a = _arclength
-        level, tol = self._levels[h], self.tolerance
-        w = np.empty(a.N_WATCH)
-        w[a.WATCH_ACTIVE] = 1.0
+        level = self._levels[h]
+        if level.watch is None:
+            self._watch_template(level)
+        w = level.watch.copy()
         w[a.W_FACTOR] = self._factor
         w[a.W_LAST] = self._last
         w[a.W_AGE] = self._age
-        w[a.W_RECALIBRATE] = RECALIBRATE
-        w[a.W_RAISE] = RAISE_AT * tol
         # while lowering is blocked (the k-th point of the stretch is
         # decided with len(levels) + k points), no lower threshold; the
         # stretch then ends where the block does
@@ -549,6 +553,18 @@ class AdaptiveContinuation:
             min(blocked, TRACE_CAPACITY) if blocked >= 1 else TRACE_CAPACITY
         )
         w[a.W_LOWER] = self._lower_limit(level, blocked >= 1)
+        self._calibration = level.calibration
+        return w
+
+    def _watch_template(self, level: _Level) -> None:
+        """The parts of the watch array that depend on the level only, and
+        the next level's calibration arguments (built once per level)."""
+        a = _arclength
+        tol = self.tolerance
+        w = np.empty(a.N_WATCH)
+        w[a.WATCH_ACTIVE] = 1.0
+        w[a.W_RECALIBRATE] = RECALIBRATE
+        w[a.W_RAISE] = RAISE_AT * tol
         w[a.W_MARGIN] = MARGIN
         w[a.W_MAX_GROWTH] = MAX_GROWTH
         w[a.W_LINEAR] = LINEAR * tol
@@ -557,23 +573,22 @@ class AdaptiveContinuation:
         w[a.W_FIRST] = level.first[0]
         w[a.W_TOP] = level.top[0] if level.top else -1
         w[a.W_PREV] = level.prev[0] if level.prev else -1
-        w[a.W_LOWEST] = float(h == self.ladder[0])
-        up = [lv for lv in self.ladder if lv > h]
+        w[a.W_LOWEST] = float(level.h == self.ladder[0])
+        up = [lv for lv in self.ladder if lv > level.h]
         w[a.W_CALIBRATE] = float(bool(up))
         w[a.W_CHANGE_FACTOR] = CHANGE_FACTOR
         w[a.W_TOP_FLOOR] = TOP_FLOOR
         w[a.W_CALIBRATIONS] = 0.0
         w[a.W_CHANGE] = math.nan
+        level.calibration = None
+        w[a.W_N_DOF] = w[a.W_DOF] = w[a.W_FIRST_COLUMN] = 0.0
         if up:
             nxt = self._level(up[0])
             w[a.W_N_DOF] = nxt.n_dof
             w[a.W_DOF] = nxt.dof
             w[a.W_FIRST_COLUMN] = nxt.first_column
-            self._calibration = nxt.work()
-        else:
-            w[a.W_N_DOF] = w[a.W_DOF] = w[a.W_FIRST_COLUMN] = 0.0
-            self._calibration = None
-        return w
+            level.calibration = nxt.work()
+        level.watch = w
 
     def _lower_limit(self, level: _Level, blocked: bool) -> float:
         """Estimate under which a point needs a decision about lowering
