@@ -31,8 +31,11 @@ extrapolated from the last two at the same level). Most points need none:
 between calibrations, a point whose carried estimate is clear of both
 thresholds (or a linear point at the lowest level) keeps the level inside
 the compiled continuation (:func:`hbmfric.kernels.arclength.stays`, the
-same test as the start of :meth:`AdaptiveContinuation._adapt`), so the run
-returns to Python about once in 7-20 points:
+same test as the start of :meth:`AdaptiveContinuation._adapt`); a due
+calibration runs there too and keeps the level when its fresh estimate
+does (the same rule as ``_adapt`` after a calibration), so the run returns
+to Python only for a raise, a lowering or a threshold near (6-9 times on
+a branch of 130-220 points):
 
 * raise when the estimate ahead exceeds ``RAISE_AT`` times the tolerance, to
   the smallest level at which a ``H^-DECAY`` law predicts ``TARGET`` times
@@ -55,9 +58,11 @@ linear guesses Newton needs 52 iterations for a gross-slip first point at
 H = 3 and 19 at H = 7.
 
 Arc length, step size and counters carry over across a change (the scaled
-variables do not depend on ``H``). Each level's problem, work arrays and
-continuation are built once per run, on first use; the compiled kernels take
-the level's arrays, so no level compiles anything. ``bench/README.md``
+variables do not depend on ``H``). Each level's problem (derived from the
+first one: :meth:`hbmfric.hbm.HBMProblem.with_harmonics` shares the
+system's matrices and modes), work arrays and continuation are built once
+per run, on first use; the compiled kernels take the level's arrays, so no
+level compiles anything. ``bench/README.md``
 (section "Adaptive harmonics") has the run time against fixed ``H``.
 """
 
