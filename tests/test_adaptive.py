@@ -315,12 +315,17 @@ def test_top_measure_zero_when_stuck():
 
 def test_auto_compiles_nothing_per_level():
     """Kernels compile once per type signature: a second run that visits
-    other levels (another force and tolerance) adds no signature."""
-    from hbmfric.kernels import aft, hbm, linalg, newton, truncation
+    other levels (another force and tolerance) adds no signature, and the
+    adaptive run's compiled trace (calibrations included) is the fixed-H
+    one."""
+    from hbmfric.kernels import aft, arclength, hbm, linalg, newton, truncation
+
+    hf.frf(OSC, 0.5, (0.5, 3.0), 7)
+    traces = len(arclength.trace.signatures)
 
     def counts():
         out = {}
-        for mod in (aft, hbm, linalg, newton, truncation):
+        for mod in (aft, arclength, hbm, linalg, newton, truncation):
             for name in dir(mod):
                 obj = getattr(mod, name)
                 if hasattr(obj, "signatures"):
@@ -332,6 +337,7 @@ def test_auto_compiles_nothing_per_level():
     second = hf.frf(OSC, 2.0, (0.5, 3.0), "auto", harmonic_tolerance=3e-5)
     assert set(second.point_harmonics) - set(first.point_harmonics)  # new levels
     assert counts() == before
+    assert len(arclength.trace.signatures) == traces
 
 
 def test_auto_save_load(tmp_path, branches):
