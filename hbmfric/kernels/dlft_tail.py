@@ -73,6 +73,7 @@ from .dlft import (
     add_samples,
     contact_samples,
     dlft_located,
+    stick_end,
     stick_sample,
     stuck_at_reference,
 )
@@ -432,11 +433,13 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
         p = (i - 1) % n_time
         theta_i = (i0 + 1 + j) * h
         event = first
+        ended = False
         if not first:
             if stick:
                 lam = hh[i]
                 if lam > slip_force or lam < -slip_force:
                     stick = False
+                    ended = True
                     sign = 1.0 if lam > 0.0 else -1.0
                     armed = sign * dc[i] > 0.0
             else:
@@ -518,7 +521,12 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
                              inverse, derivative, force, grad)  # fmt: skip
         else:
             stuck_all = False
-            if with_grad:
+            if with_grad and ended and n_e > 0:
+                # stick ends inside (θ_p, θ_i]: located, jump corrected
+                stick_end(harmonic_numbers, i, p, theta_i, h, sign * slip_force,
+                          hh, dhh, eps, eta, omega, base, w, dw, u, d, inverse,
+                          derivative, force, grad, F, dF, corr, dcorr)  # fmt: skip
+            elif with_grad:
                 force[i] = sign * slip_force
     return n_e, stuck_all, stick
 
