@@ -428,7 +428,13 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
     armed = True
     first = True
     n_e = 0
-    for j in range(n_time):
+    # without given events the start is a guess: march two laps, keep the
+    # events of the second (the first settles the state at the start)
+    laps = 2 if n_given == 0 else 1
+    for j in range(laps * n_time):
+        if j == n_time:
+            n_e = 0
+            stuck_all = True
         i = (i1 + j) % n_time
         p = (i - 1) % n_time
         theta_i = (i0 + 1 + j) * h
@@ -645,6 +651,19 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
                         dtheta, force, grad, F, dF, work)  # fmt: skip
         if n_e > event_limit(harmonic_numbers[-1]):
             break
+        if n_given == 0 and n_e > 0:
+            # restart at the first event of the settled lap after a forward
+            # slip (the state the march assumes at its start)
+            e0 = 0
+            while e0 < n_e and signs[e0] < 0.0:
+                e0 += 1
+            if e0 < n_e:
+                for e in range(n_e):
+                    k = (e0 + e) % n_e
+                    given[e] = theta[k] % (2.0 * np.pi)
+                    given_kinds[e] = -1
+                n_given = n_e
+                continue
         if end_stick and n_e >= 2 and kinds[n_e - 1] == STICK:
             # the start event lies inside the stick phase that the last
             # event begins: start there instead, drop the start event
