@@ -125,6 +125,7 @@ FREQS = np.array([20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 85.0, 90.0, 100.0])
         (0.5, "classic"),
         (1.0, "classic"),
         (2.0, "classic"),
+        (0.5, "located"),
         (1.0, "located"),
         (2.0, "located"),
         pytest.param(
@@ -134,13 +135,6 @@ FREQS = np.array([20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 85.0, 90.0, 100.0])
                 strict=True,
                 reason="stalls near 62 Hz: a micro-slip after a stick end whose "
                 "velocity grazes zero (open, see bench/README.md)",
-            ),
-        ),
-        pytest.param(
-            0.5,
-            "located",
-            marks=pytest.mark.xfail(
-                strict=True, reason="stalls near 39 Hz (open, see bench/README.md)"
             ),
         ),
     ],

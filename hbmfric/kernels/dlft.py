@@ -577,7 +577,17 @@ def dlft_located(params, harmonic_numbers, base, m_cc, y, inverse, forward,
         if stick:
             stick_sample(i, eps, eta, omega, base, w, dw, u, d, hh, dhh, inverse,
                          derivative, force, grad)  # fmt: skip
-        else:
+            lam = force[i]
+            if event and (lam > slip_force or lam < -slip_force):
+                # the stick phase begun in this interval is over by its end
+                # (as at later samples): where the holding force at the
+                # event reaches -s f_s the stick tends to the reversal
+                stick = False
+                sign = 1.0 if lam > 0.0 else -1.0
+                armed = sign * d[i] > 0.0
+                for c in range(n1):
+                    grad[i, c] = 0.0
+        if not stick:
             stuck_all = False
             force[i] = sign * slip_force
     add_samples(forward, force, grad, F, dF)
