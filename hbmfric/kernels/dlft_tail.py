@@ -53,7 +53,16 @@ it: a velocity zero where the holding force pushes on in the slip
 direction (``s h > f_s``) is no event (the velocity only touches zero;
 continuous with a stick event at ``h = s f_s``, whose jump vanishes), and
 a stick phase ends where the holding force ``|h|`` reaches ``f_s`` (the
-penalised force ``h + ε (u - w) + η u̇`` carries the ringing of ``u``).
+penalised force ``h + ε (u - w) + η u̇`` carries the ringing of ``u``),
+located on the interpolant of ``h`` between samples with the DFT corrected
+for the jump's position (:func:`~hbmfric.kernels.dlft.stick_end`), so that
+the residual stays continuous when the end crosses a sample.
+
+The first march (no events known yet) starts from a guess, the velocity
+reversal next to the largest sample of ``u`` after a forward slip; where
+that point lies inside a stick phase the guess is wrong, so it marches two
+laps and the next pass starts at the first forward-slip event of the
+second lap.
 
 In pure slip the force is piecewise constant and its Fourier coefficients
 are integrated exactly, so that the retained harmonics of the exact
