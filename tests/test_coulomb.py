@@ -621,7 +621,9 @@ def test_frf_branch_through_stop_and_slip_regimes():
     assert branch.stop_reason == "end of frequency range reached"
     assert branch.omega[0] == pytest.approx(0.3) and branch.omega[-1] == 3.0
     stop = [w for w in branch.omega if not is_non_stop(c, fs, 1.0, w)]
-    assert len(stop) > 20 and max(stop) > 0.48  # through the stop regime
+    # through the stop regime (the count depends on the step sizes: 19 points
+    # since the located stick end, more than 20 before)
+    assert len(stop) > 15 and max(stop) > 0.48
     peaks = branch.amplitude()
     checked = 0
     for w, a in zip(branch.omega[::10], peaks[::10], strict=True):

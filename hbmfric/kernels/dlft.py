@@ -322,6 +322,56 @@ def stick_sample(i, eps, eta, omega, base, w, dw, u, d, hh, dhh, inverse,
 
 
 @jit
+def stick_end(harmonic_numbers, i, p, theta_i, h, target, hh, dhh, eps, eta,
+              omega, base, w, dw, u, d, inverse, derivative, force, grad, F,
+              dF, corr, dcorr):  # fmt: skip
+    """End of a stick phase inside the sample interval ``(θ_p, θ_i]``.
+
+    The stick phase holds at sample ``p`` (``force[p]``, ``grad[p]`` hold
+    its penalised force ``λ_p``) and the holding force ``h`` has passed
+    ``target = ±f_s`` at sample ``i``. The end ``θ_end = θ_i - h + β h`` is
+    the crossing of the linear interpolant of ``h`` (``β`` clipped to
+    [0, 1]); there the force jumps from the interpolated stick force
+    ``λ(θ_end)`` to ``target``. Writes ``force[i] = target`` (zero
+    gradient) and adds the DFT correction for the jump's position to ``F``
+    and ``dF`` (:func:`_jump_correction`), so that the Fourier coefficients
+    stay continuous when the end crosses a sample (a per-sample end jumps
+    by ``h (λ_i - target) / π`` there). ``corr``, ``dcorr`` are work arrays
+    of shape (n_coef,).
+    """
+    n1 = grad.shape[1]
+    n_coef = corr.size
+    # the stick force the phase would have at i
+    stick_sample(i, eps, eta, omega, base, w, dw, u, d, hh, dhh, inverse,
+                 derivative, force, grad)  # fmt: skip
+    den = hh[i] - hh[p]
+    beta = (target - hh[p]) / den if den != 0.0 else 1.0
+    clipped = beta <= 0.0 or beta >= 1.0
+    beta = min(max(beta, 0.0), 1.0)
+    lam_p = force[p]
+    lam_i = force[i]
+    jump = target - (lam_p + beta * (lam_i - lam_p))
+    for r in range(n_coef):
+        corr[r] = 0.0
+        dcorr[r] = 0.0
+    theta_e = theta_i - h + beta * h
+    _jump_correction(harmonic_numbers, theta_e, theta_i, h, 1.0, corr, dcorr)
+    for c in range(n1):
+        dbeta = 0.0
+        if not clipped:
+            dbeta = -(dhh[p, c] + beta * (dhh[i, c] - dhh[p, c])) / den
+        djump = -(
+            grad[p, c] + beta * (grad[i, c] - grad[p, c]) + (lam_i - lam_p) * dbeta
+        )
+        for r in range(n_coef):
+            dF[r, c] += corr[r] * djump + jump * dcorr[r] * h * dbeta
+        grad[i, c] = 0.0
+    for r in range(n_coef):
+        F[r] += jump * corr[r]
+    force[i] = target
+
+
+@jit
 def stuck_at_reference(slip_force, eps, eta, omega, base, u, d, hh, dhh,
                        inverse, forward, derivative, force, grad, R, J):  # fmt: skip
     """If the contact holds with ``w = 0`` all period, add its force
@@ -527,7 +577,17 @@ def dlft_located(params, harmonic_numbers, base, m_cc, y, inverse, forward,
         if stick:
             stick_sample(i, eps, eta, omega, base, w, dw, u, d, hh, dhh, inverse,
                          derivative, force, grad)  # fmt: skip
-        else:
+            lam = force[i]
+            if event and (lam > slip_force or lam < -slip_force):
+                # the stick phase begun in this interval is over by its end
+                # (as at later samples): where the holding force at the
+                # event reaches -s f_s the stick tends to the reversal
+                stick = False
+                sign = 1.0 if lam > 0.0 else -1.0
+                armed = sign * d[i] > 0.0
+                for c in range(n1):
+                    grad[i, c] = 0.0
+        if not stick:
             stuck_all = False
             force[i] = sign * slip_force
     add_samples(forward, force, grad, F, dF)

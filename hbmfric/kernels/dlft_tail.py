@@ -53,7 +53,16 @@ it: a velocity zero where the holding force pushes on in the slip
 direction (``s h > f_s``) is no event (the velocity only touches zero;
 continuous with a stick event at ``h = s f_s``, whose jump vanishes), and
 a stick phase ends where the holding force ``|h|`` reaches ``f_s`` (the
-penalised force ``h + ε (u - w) + η u̇`` carries the ringing of ``u``).
+penalised force ``h + ε (u - w) + η u̇`` carries the ringing of ``u``),
+located on the interpolant of ``h`` between samples with the DFT corrected
+for the jump's position (:func:`~hbmfric.kernels.dlft.stick_end`), so that
+the residual stays continuous when the end crosses a sample.
+
+The first march (no events known yet) starts from a guess, the velocity
+reversal next to the largest sample of ``u`` after a forward slip; where
+that point lies inside a stick phase the guess is wrong, so it marches two
+laps and the next pass starts at the first forward-slip event of the
+second lap.
 
 In pure slip the force is piecewise constant and its Fourier coefficients
 are integrated exactly, so that the retained harmonics of the exact
@@ -73,6 +82,7 @@ from .dlft import (
     add_samples,
     contact_samples,
     dlft_located,
+    stick_end,
     stick_sample,
     stuck_at_reference,
 )
@@ -427,16 +437,24 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
     armed = True
     first = True
     n_e = 0
-    for j in range(n_time):
+    # without given events the start is a guess: march two laps, keep the
+    # events of the second (the first settles the state at the start)
+    laps = 2 if n_given == 0 else 1
+    for j in range(laps * n_time):
+        if j == n_time:
+            n_e = 0
+            stuck_all = True
         i = (i1 + j) % n_time
         p = (i - 1) % n_time
         theta_i = (i0 + 1 + j) * h
         event = first
+        ended = False
         if not first:
             if stick:
                 lam = hh[i]
                 if lam > slip_force or lam < -slip_force:
                     stick = False
+                    ended = True
                     sign = 1.0 if lam > 0.0 else -1.0
                     armed = sign * dc[i] > 0.0
             else:
@@ -518,7 +536,12 @@ def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
                              inverse, derivative, force, grad)  # fmt: skip
         else:
             stuck_all = False
-            if with_grad:
+            if with_grad and ended and n_e > 0:
+                # stick ends inside (θ_p, θ_i]: located, jump corrected
+                stick_end(harmonic_numbers, i, p, theta_i, h, sign * slip_force,
+                          hh, dhh, eps, eta, omega, base, w, dw, u, d, inverse,
+                          derivative, force, grad, F, dF, corr, dcorr)  # fmt: skip
+            elif with_grad:
                 force[i] = sign * slip_force
     return n_e, stuck_all, stick
 
@@ -637,6 +660,19 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
                         dtheta, force, grad, F, dF, work)  # fmt: skip
         if n_e > event_limit(harmonic_numbers[-1]):
             break
+        if n_given == 0 and n_e > 0:
+            # restart at the first event of the settled lap after a forward
+            # slip (the state the march assumes at its start)
+            e0 = 0
+            while e0 < n_e and signs[e0] < 0.0:
+                e0 += 1
+            if e0 < n_e:
+                for e in range(n_e):
+                    k = (e0 + e) % n_e
+                    given[e] = theta[k] % (2.0 * np.pi)
+                    given_kinds[e] = -1
+                n_given = n_e
+                continue
         if end_stick and n_e >= 2 and kinds[n_e - 1] == STICK:
             # the start event lies inside the stick phase that the last
             # event begins: start there instead, drop the start event
