@@ -351,12 +351,12 @@ def _switching_system(n_e, kinds, signs, theta, slip_force, harmonic_numbers,
 
 
 @jit
-def _solve_switching(n_e, kinds, signs, theta, slip_force, step_limit,
-                     harmonic_numbers, U, Hc, q, dq, a2, da2, jumps, djumps,
-                     work):  # fmt: skip
-    """Newton on the switching conditions; False if it does not converge."""
-    G = np.empty(n_e)
-    A = np.empty((n_e, n_e))
+def _newton_switching(n_e, kinds, signs, theta, slip_force, step_limit,
+                      harmonic_numbers, U, Hc, q, dq, a2, da2, jumps, djumps,
+                      work, G, A):  # fmt: skip
+    """Newton iterations on the switching conditions from ``theta``; on
+    convergence ``G`` and ``A`` hold the conditions and ``∂G/∂θ`` at the
+    root. False if it does not converge."""
     for _ in range(MAX_NEWTON):
         _switching_system(n_e, kinds, signs, theta, slip_force, harmonic_numbers,
                           U, Hc, q, dq, a2, da2, G, A, jumps, djumps, work)  # fmt: skip
@@ -378,6 +378,56 @@ def _solve_switching(n_e, kinds, signs, theta, slip_force, step_limit,
                               jumps, djumps, work)  # fmt: skip
             return True
     return False
+
+
+@jit
+def _solve_switching(n_e, kinds, signs, theta, slip_force, step_limit,
+                     harmonic_numbers, U, Hc, q, dq, a2, da2, jumps, djumps,
+                     work):  # fmt: skip
+    """Newton on the switching conditions; False if it does not converge.
+
+    A velocity event ends slip in direction ``s``: its condition crosses
+    zero downwards in ``s G`` (``s ∂G_j/∂θ_j < 0``). Newton from the
+    interpolated position may land on the upward zero that closes a dip of
+    the velocity below zero (the series ringing after a stick end); which
+    of the two it reaches flips with the unknowns, and with it the length
+    of the stick phase that follows, so the residual jumps. Such an event
+    is moved back, in quarter samples over at most the window of
+    :func:`_march`, to where ``s G_j > 0`` (still slipping), and Newton is
+    run again from there: the root is the first zero of the dip, which
+    moves continuously with the unknowns.
+    """
+    G = np.empty(n_e)
+    A = np.empty((n_e, n_e))
+    if not _newton_switching(n_e, kinds, signs, theta, slip_force, step_limit,
+                             harmonic_numbers, U, Hc, q, dq, a2, da2, jumps,
+                             djumps, work, G, A):  # fmt: skip
+        return False
+    for _ in range(2):
+        moved = False
+        for j in range(n_e):
+            if signs[j] * A[j, j] <= 0.0:
+                continue
+            # upward zero: back to where the slip still goes on
+            start = theta[j]
+            for m in range(1, 13):
+                theta[j] = start - 0.25 * m * step_limit
+                _switching_system(n_e, kinds, signs, theta, slip_force,
+                                  harmonic_numbers, U, Hc, q, dq, a2, da2, G,
+                                  A, jumps, djumps, work)  # fmt: skip
+                if signs[j] * G[j] > 0.0:
+                    moved = True
+                    break
+            if not moved:
+                theta[j] = start
+            break
+        if not moved:
+            return True
+        if not _newton_switching(n_e, kinds, signs, theta, slip_force,
+                                 step_limit, harmonic_numbers, U, Hc, q, dq,
+                                 a2, da2, jumps, djumps, work, G, A):  # fmt: skip
+            return False
+    return True
 
 
 @jit
