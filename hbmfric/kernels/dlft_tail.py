@@ -56,7 +56,15 @@ a stick phase ends where the holding force ``|h|`` reaches ``f_s`` (the
 penalised force ``h + ε (u - w) + η u̇`` carries the ringing of ``u``),
 located on the interpolant of ``h`` between samples with the DFT corrected
 for the jump's position (:func:`~hbmfric.kernels.dlft.stick_end`), so that
-the residual stays continuous when the end crosses a sample.
+the residual stays continuous when the end crosses a sample. Two more
+keep the event positions continuous: Newton keeps each event on a
+downward zero of ``s G_j`` (after a short slip that follows a stick end
+the corrected velocity can dip below zero and come back; Newton from the
+interpolated position reached either zero of the dip, and the stick
+phase after it changed length, see :func:`_solve_switching`); and a
+touch (``s h > f_s``) on the uncorrected velocity of the first marches
+is kept as a stick event for the solve to place, and dropped only if it
+is still a touch on the corrected velocity.
 
 The first march (no events known yet) starts from a guess, the velocity
 reversal next to the largest sample of ``u`` after a forward slip; where
