@@ -56,15 +56,12 @@ a stick phase ends where the holding force ``|h|`` reaches ``f_s`` (the
 penalised force ``h + ε (u - w) + η u̇`` carries the ringing of ``u``),
 located on the interpolant of ``h`` between samples with the DFT corrected
 for the jump's position (:func:`~hbmfric.kernels.dlft.stick_end`), so that
-the residual stays continuous when the end crosses a sample. Two more
-keep the event positions continuous: Newton keeps each event on a
-downward zero of ``s G_j`` (after a short slip that follows a stick end
-the corrected velocity can dip below zero and come back; Newton from the
-interpolated position reached either zero of the dip, and the stick
-phase after it changed length, see :func:`_solve_switching`); and a
-touch (``s h > f_s``) on the uncorrected velocity of the first marches
-is kept as a stick event for the solve to place, and dropped only if it
-is still a touch on the corrected velocity.
+the residual stays continuous when the end crosses a sample. Newton
+keeps each event on a downward zero of ``s G_j``: after a short slip
+that follows a stick end the corrected velocity can dip below zero and
+come back, Newton from the interpolated position reached either zero of
+the dip, and the stick phase after it changed length
+(:func:`_solve_switching`).
 
 The first march (no events known yet) starts from a guess, the velocity
 reversal next to the largest sample of ``u`` after a forward slip; where
@@ -439,7 +436,7 @@ def _solve_switching(n_e, kinds, signs, theta, slip_force, step_limit,
 
 
 @jit
-def _march(with_grad, corrected, slip_force, eps, eta, omega, harmonic_numbers, base,
+def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
            U, Hc, dH, u, d, dc, hh, dhh, inverse, derivative, n_given, given,
            kinds, signs, theta, dtheta, force, grad, F, dF, work):  # fmt: skip
     """The march of :func:`~hbmfric.kernels.dlft.dlft_located` on the
@@ -449,10 +446,7 @@ def _march(with_grad, corrected, slip_force, eps, eta, omega, harmonic_numbers, 
     period of the highest harmonic) of the current sample is taken in the
     sample interval that holds it; otherwise an event is where ``dc``
     changes sign, at the zero of its linear interpolant. Records the events' kinds, slip
-    directions before them and positions. A velocity zero where the
-    holding force pushes on (``s h > f_s``) is no event when ``dc`` is
-    ``corrected`` by the tail of solved events; before, it is taken as a
-    stick event (of small jump) for the solve to place. With ``with_grad`` also
+    directions before them and positions. With ``with_grad`` also
     accumulates the sampled force and its gradient (``force``, ``grad``) and
     the jump corrections (``F``, ``dF``), with ``dtheta`` the derivatives
     of the (given) positions.
@@ -509,7 +503,6 @@ def _march(with_grad, corrected, slip_force, eps, eta, omega, harmonic_numbers, 
         p = (i - 1) % n_time
         theta_i = (i0 + 1 + j) * h
         event = first
-        touch = False
         ended = False
         if not first:
             if stick:
@@ -548,8 +541,7 @@ def _march(with_grad, corrected, slip_force, eps, eta, omega, harmonic_numbers, 
             u_e, v_e, _, h_e, hd_e = _event_values(
                 harmonic_numbers, theta_e, U, Hc, b0, b1, b2
             )
-            touch = not first and sign * h_e > slip_force
-            if touch and corrected:
+            if not first and sign * h_e > slip_force:
                 # pushed on in the slip direction where the velocity is
                 # zero: it only touches zero (a truncation artefact), no event
                 event = False
@@ -557,13 +549,6 @@ def _march(with_grad, corrected, slip_force, eps, eta, omega, harmonic_numbers, 
         if event and n_e < kinds.size:
             before = sign * slip_force
             kinds[n_e] = STICK if -slip_force <= h_e <= slip_force else REVERSAL
-            if touch:
-                # march before any solve (no tail yet): a touch is kept as a stick
-                # event of small jump; the solve moves it, and the next
-                # march drops it if it still only touches there (deciding
-                # on the uncorrected velocity flips the topology at
-                # s h = f_s, though the solved position is elsewhere)
-                kinds[n_e] = STICK
             signs[n_e] = sign
             theta[n_e] = theta_e
             if kinds[n_e] == STICK:
@@ -723,10 +708,9 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
     n_e = 0
     settled = False
     solved = False
-    tailed = False
     for it in range(MAX_PASSES):
-        n_e, _, end_stick = _march(False, tailed, slip_force, eps, eta, omega,
-                        harmonic_numbers, base, U, Hc, dH, u, d, dc, hh, dhh, inverse,
+        n_e, _, end_stick = _march(False, slip_force, eps, eta, omega, harmonic_numbers,
+                        base, U, Hc, dH, u, d, dc, hh, dhh, inverse,
                         derivative, n_given, given, kinds, signs, theta,
                         dtheta, force, grad, F, dF, work)  # fmt: skip
         if n_e > event_limit(harmonic_numbers[-1]):
@@ -775,7 +759,7 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
                                   jumps, djumps, work)  # fmt: skip
         if not solved:
             # keep the interpolated positions; the Jacobian stays consistent
-            _, _, end_stick = _march(False, tailed, slip_force, eps, eta, omega,
+            _, _, end_stick = _march(False, slip_force, eps, eta, omega,
                                      harmonic_numbers, base, U, Hc, dH, u, d,
                                      dc, hh, dhh, inverse, derivative, 0,
                                      given, kinds, signs, theta, dtheta,
@@ -790,7 +774,6 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
             given_signs[e] = signs[e]
         n_given = n_e
         _tail_samples(n_e, theta, jumps, q, a2, dc)
-        tailed = True
         for i in range(n_time):
             dc[i] += d[i]
     if not settled:
@@ -841,7 +824,7 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
             dtheta[e, c] = acc
     for e in range(n_e):
         given[e] = theta[e]
-    n_final, stuck_all, _ = _march(True, True, slip_force, eps, eta, omega,
+    n_final, stuck_all, _ = _march(True, slip_force, eps, eta, omega,
                                 harmonic_numbers, base, U, Hc, dH, u, d, dc,
                                 hh, dhh, inverse, derivative, n_e, given,
                                 kinds, signs, theta, dtheta, force, grad, F,
