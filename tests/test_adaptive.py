@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from test_condensed_coulomb import Chain
 
 import hbmfric as hf
 from hbmfric.api import _problem
@@ -237,25 +238,6 @@ def test_compiled_stretches_decide_as_python(monkeypatch, system, force, tol):
     assert len(set(compiled.point_harmonics)) >= 2
 
 
-class _Chain:
-    """Three masses in a chain, contact on the last, Rayleigh damping."""
-
-    n_dof = 3
-    contact_dof = 2
-    symmetric = True
-
-    def __init__(self, contact):
-        self.contact = contact
-
-    def matrices(self):
-        m = np.diag([1.0, 0.7, 0.5])
-        k = np.array([[3.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
-        return m, 0.01 * k + 0.02 * m, k
-
-    def load_vector(self, force):
-        return np.array([force, 0.0, 0.3 * force])
-
-
 @pytest.mark.parametrize(
     "law, condense, aft",
     [
@@ -274,7 +256,7 @@ def test_level_problem_equals_a_fresh_build(law, condense, aft):
     if condense is False:
         system = hf.Oscillator(1.0, 0.02, 1.0, law)
     else:
-        system = _Chain(law)
+        system = Chain(law)
     base = _problem(system, 0.7, 7, None, None, aft, condense)
     rng = np.random.default_rng(3)
     for h in (3, 15):
