@@ -32,19 +32,27 @@ def test_sdof_branch_h15(benchmark):
     _info(benchmark, branch)
 
 
-def test_beam_branch_condensed_h15(benchmark):
+# The same beam with a rigid Coulomb tip contact, f_s = 0.2 N (slipping over
+# the range): the condensed path runs the same DLFT as the full one (issue 3).
+BEAM_COULOMB = CAL.beam.with_contact(hf.Coulomb(slip_force=0.2))
+TIPS = pytest.mark.parametrize("beam", [BEAM, BEAM_COULOMB], ids=["jenkins", "coulomb"])
+
+
+@TIPS
+def test_beam_branch_condensed_h15(benchmark, beam):
     """Condensed HBM (16 unknowns), every DOF recovered at the end."""
-    branch = benchmark(hf.frf, BEAM, 2.0, RANGE, 15)
+    branch = benchmark(hf.frf, beam, 2.0, RANGE, 15)
     assert branch.info["condensed"]
     assert branch.stop_reason.startswith("end")
     _info(benchmark, branch)
 
 
-def test_beam_branch_full_h15(benchmark):
+@TIPS
+def test_beam_branch_full_h15(benchmark, beam):
     """The same branch by the uncondensed HBM (39 × 16 = 624 unknowns)."""
     branch = benchmark.pedantic(
         hf.frf,
-        args=(BEAM, 2.0, RANGE, 15),
+        args=(beam, 2.0, RANGE, 15),
         kwargs={"condense": False},
         rounds=1,
         iterations=1,
@@ -73,35 +81,6 @@ def test_beam_time_integration_one_frequency(benchmark):
     )
     assert ref.converged
     benchmark.extra_info["periods"] = ref.periods
-
-
-# The same beam with a rigid Coulomb tip contact, f_s = 0.2 N (slipping over
-# the range; with f_s = 2 N the contact sticks up to 78 Hz and both paths
-# stall in continuation near 80 Hz): the condensed path runs the same located
-# DLFT as the full one (issue 3).
-BEAM_COULOMB = CAL.beam.with_contact(hf.Coulomb(slip_force=0.2))
-
-
-def test_beam_coulomb_branch_condensed_h15(benchmark):
-    """Rigid Coulomb tip, condensed HBM (16 unknowns)."""
-    branch = benchmark(hf.frf, BEAM_COULOMB, 2.0, RANGE, 15)
-    assert branch.info["condensed"]
-    assert branch.stop_reason.startswith("end")
-    _info(benchmark, branch)
-
-
-def test_beam_coulomb_branch_full_h15(benchmark):
-    """The same Coulomb branch by the uncondensed HBM (624 unknowns)."""
-    branch = benchmark.pedantic(
-        hf.frf,
-        args=(BEAM_COULOMB, 2.0, RANGE, 15),
-        kwargs={"condense": False},
-        rounds=1,
-        iterations=1,
-        warmup_rounds=0,
-    )
-    assert not branch.info["condensed"]
-    _info(benchmark, branch)
 
 
 @pytest.mark.parametrize("condense", [True, False])
