@@ -12,6 +12,14 @@ from .api import frf, periodic_solution
 from .continuation import ContinuationOptions
 from .coulomb import Coulomb
 from .dahl import ModifiedDahl
+from .errors import (
+    AccuracyWarning,
+    CacheWarning,
+    ConvergenceError,
+    ConvergenceWarning,
+    CoverageWarning,
+    HbmfricWarning,
+)
 from .laws import (
     ContactLaw,
     Cubic,
@@ -27,6 +35,12 @@ from .systems import BeamCalibration, BeltTensioner, CantileverBeam, Oscillator
 __version__ = "0.1.0"
 
 __all__ = [
+    "AccuracyWarning",
+    "CacheWarning",
+    "ConvergenceError",
+    "ConvergenceWarning",
+    "CoverageWarning",
+    "HbmfricWarning",
     "BeamCalibration",
     "BeltTensioner",
     "Branch",

@@ -1,0 +1,47 @@
+"""Warning and exception classes of hbmfric.
+
+A public call either returns a right answer or says loudly that it could
+not: by one of these warnings (which a user can turn into errors with
+``warnings.simplefilter("error", hf.HbmfricWarning)``) or by an exception.
+A flag on a result (``converged``, ``stop_reason``, ``coverage``) is never
+the only signal.
+"""
+
+from __future__ import annotations
+
+
+class HbmfricWarning(UserWarning):
+    """Base class of every warning hbmfric issues."""
+
+
+class ConvergenceWarning(HbmfricWarning):
+    """A solve did not meet its tolerances; the result is not a solution."""
+
+
+class CoverageWarning(HbmfricWarning):
+    """A branch covers only part of the requested frequency range."""
+
+
+class AccuracyWarning(HbmfricWarning):
+    """A result is a solution, but its estimated error exceeds the tolerance
+    asked for (truncation in harmonics, curve between points, sampling)."""
+
+
+class CacheWarning(HbmfricWarning):
+    """The Numba cache cannot be used (no writable location); kernels are
+    compiled in every process."""
+
+
+class ConvergenceError(RuntimeError):
+    """Raised instead of :class:`ConvergenceWarning` where the user asked
+    for an exception (``on_failure="raise"``)."""
+
+
+__all__ = [
+    "AccuracyWarning",
+    "CacheWarning",
+    "ConvergenceError",
+    "ConvergenceWarning",
+    "CoverageWarning",
+    "HbmfricWarning",
+]
