@@ -115,6 +115,11 @@ class Branch:
         when the whole branch used ``harmonic_numbers``.
     dof_names : dict
         Named DOFs of the system (e.g. ``"tip"``, ``"force"``) → index.
+    truncation_error : ndarray, shape (n_points,), optional
+        Estimated relative truncation error of each point: of the
+        first-harmonic amplitude and of half the peak-to-peak value at the
+        contact DOF (:mod:`hbmfric.continuation.accuracy`); 0 at a linear
+        (stuck) point. None for branches saved before it existed.
     """
 
     omega: np.ndarray
@@ -130,6 +135,7 @@ class Branch:
     info: dict = field(default_factory=dict)
     point_harmonics: np.ndarray | None = None
     dof_names: dict = field(default_factory=dict)
+    truncation_error: np.ndarray | None = None
 
     def __len__(self) -> int:
         return self.omega.size
@@ -213,6 +219,8 @@ class Branch:
         }
         if self.point_harmonics is not None:
             arrays["point_harmonics"] = self.point_harmonics
+        if self.truncation_error is not None:
+            arrays["truncation_error"] = self.truncation_error
         np.savez(path, **arrays)
         return path if path.suffix == ".npz" else path.with_suffix(path.suffix + ".npz")
 
@@ -257,6 +265,11 @@ class Branch:
                         if "point_harmonics" in data.files
                         else None
                     ),
+                    truncation_error=(
+                        np.asarray(data["truncation_error"], dtype=np.float64).copy()
+                        if "truncation_error" in data.files
+                        else None
+                    ),
                 )
         except (
             AttributeError,
@@ -278,6 +291,10 @@ class Branch:
             or branch.coefficients.shape[0] != n
             or not np.all(np.isfinite(branch.omega))
             or not np.all(np.isfinite(branch.coefficients))
+            or (
+                branch.truncation_error is not None
+                and branch.truncation_error.shape != (n,)
+            )
         ):
             raise ValueError(
                 f"path {str(path)!r}: inconsistent or non-finite branch arrays"
