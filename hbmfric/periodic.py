@@ -121,8 +121,11 @@ def periodic_solution(
         them, the continuation fallback returns the one reached from below.
         ``"below"`` (``"above"``): skip Newton and the load ramp and
         return the solution on the branch traced from far below (above) the
-        target, at its first crossing of Ω: the lower (upper) branch of a
-        fold region. Not with ``initial_guess``.
+        target, at its first crossing of Ω. In the fold region of a
+        resonance bent to higher frequencies (hardening) that is the
+        large-amplitude (small-amplitude) solution, of one bent to lower
+        frequencies (softening) the small-amplitude (large-amplitude) one.
+        Not with ``initial_guess`` (which selects a solution by itself).
     harmonic_tolerance : float, default 1e-4
         Target relative change between ladder levels with
         ``harmonics="auto"``.
@@ -193,7 +196,7 @@ def periodic_solution(
         )
     converged = y is not None
     if not converged:
-        y = solver.best
+        y = solver.fallback()
         message = (
             f"periodic_solution did not converge at omega = {omega:.6g} rad/s, "
             f"force = {force:.6g} N: smallest max|R| = {solver.best_residual:.3e} N "
@@ -252,9 +255,25 @@ class _FixedOmega:
         self.budget = max(8 * options.max_newton, 100)
         self.iterations = 0
         self.tried: list[str] = []
-        n = problem.n_unknowns
-        self.best = np.concatenate((problem.initial_guesses(omega)[0][:n], [omega]))
+        self._linear = None
+        self.best = None
         self.best_residual = np.inf
+
+    def linear(self) -> list[np.ndarray]:
+        """The linearised starts (flat X), computed once: for a rigid
+        Coulomb contact they include a presolve of up to hundreds of
+        iterations."""
+        if self._linear is None:
+            n = self.problem.n_unknowns
+            self._linear = [g[:n] for g in self.problem.initial_guesses(self.omega)]
+        return self._linear
+
+    def fallback(self) -> np.ndarray:
+        """The finite iterate with the smallest residual, else the stuck
+        linearisation: what a failed solve returns."""
+        if self.best is not None:
+            return self.best
+        return np.append(self.linear()[0], self.omega)
 
     def accept(self, y: np.ndarray, status: int) -> bool:
         """Whether ``y`` is a solution; a failed finite iterate is kept if it
@@ -283,11 +302,9 @@ class _FixedOmega:
 
     def solve(self, guess, branch_side):
         """``(y, method)``, ``y = [X, Ω]`` or None when nothing converged."""
-        n = self.problem.n_unknowns
         if branch_side is None:
             self.tried.append("Newton")
-            starts = [] if guess is None else [guess]
-            starts += [g[:n] for g in self.problem.initial_guesses(self.omega)]
+            starts = ([] if guess is None else [guess]) + self.linear()
             for g in starts:
                 y = self.newton(g)
                 if y is not None:

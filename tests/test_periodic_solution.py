@@ -175,6 +175,23 @@ def test_branch_side(side):
     assert sol.amplitude(harmonic=1) == pytest.approx(ref, rel=1e-6)
 
 
+def test_branch_side_in_fold_region():
+    """Hardening Duffing at Ω = 1.25, inside its fold region: from below the
+    branch reaches Ω first on its upper (resonant) part, from above on its
+    lower part; both agree with time integration from their own states."""
+    osc = hf.Oscillator(mass=1.0, damping=0.05, stiffness=1.0, contact=hf.Cubic(0.1))
+    omega = 1.25
+    upper = hf.validation.steady_state(osc, 0.2, omega, initial_state=(3.5, 0.0))
+    lower = hf.validation.steady_state(osc, 0.2, omega, initial_state=(0.0, 0.0))
+    assert upper.amplitude(harmonic=1) > 2 * lower.amplitude(harmonic=1)
+    for side, ref in (("below", upper), ("above", lower)):
+        sol = hf.periodic_solution(osc, 0.2, omega, harmonics=9, branch_side=side)
+        assert sol.converged and sol.method == f"continuation from {side}"
+        assert sol.amplitude(harmonic=1) == pytest.approx(
+            ref.amplitude(harmonic=1), rel=1e-4
+        )
+
+
 def _impossible():
     # a residual below 1e-30 F is below round-off: nothing can converge
     return hf.ContinuationOptions(tol_residual=1e-30, max_steps=50)
