@@ -134,13 +134,49 @@ def run_case(name, ratio, force, n_omega):
     return row, methods, t_branch, t_points, worst, branch.stop_reason
 
 
+def auto_accuracy(n_omega=30):
+    """``harmonics="auto"`` against ``H = 63``: worst relative error of the
+    first-harmonic amplitude and of half the peak-to-peak value, per case."""
+    print("| law | kt/k | F | worst error / tolerance | levels chosen | warnings |")
+    print("|---|---|---|---|---|---|")
+    cases = [("jenkins", 3.0), ("jenkins", 30.0), ("menq", 30.0), ("iwan", 30.0)]
+    for name, ratio in cases:
+        osc = hf.Oscillator(
+            mass=1.0, damping=0.02, stiffness=1.0, contact=law(name, ratio)
+        )
+        for force in (0.05, 0.5, 2.0):
+            worst, levels, n_warn = 0.0, Counter(), 0
+            for om in np.linspace(0.6, 1.25 * np.sqrt(1.0 + ratio), n_omega):
+                with warnings.catch_warnings(record=True) as caught:
+                    warnings.simplefilter("always")
+                    a = hf.periodic_solution(osc, force, float(om), harmonics="auto")
+                n_warn += len(caught)
+                f = hf.periodic_solution(
+                    osc, force, float(om), harmonics=63, initial_guess=a
+                )
+                for k in (1, None):
+                    worst = max(worst, abs(a.amplitude(k) / f.amplitude(k) - 1))
+                levels[int(a.harmonic_numbers[-1])] += 1
+            lv = ", ".join(f"{h}: {levels[h]}" for h in sorted(levels))
+            print(
+                f"| {name} | {ratio:g} | {force:g} | {worst / 1e-4:.2f} | {lv} "
+                f"| {n_warn} |",
+                flush=True,
+            )
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--laws", nargs="+", default=["jenkins", "menq", "iwan"])
     p.add_argument("--ratios", nargs="+", type=float, default=[0.3, 3.0, 30.0])
     p.add_argument("--n-force", type=int, default=20)
     p.add_argument("--n-omega", type=int, default=151)
+    p.add_argument(
+        "--auto", action="store_true", help='harmonics="auto" against H = 63 instead'
+    )
     args = p.parse_args(argv)
+    if args.auto:
+        return auto_accuracy()
     forces = np.geomspace(1e-3, 10.0, args.n_force)
     start = time.perf_counter()
     print(
