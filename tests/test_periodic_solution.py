@@ -280,3 +280,15 @@ def test_map_kt30_no_silent_wrong_answer():
     total = main(["--ratios", "30", "--n-force", "5", "--n-omega", "40"])
     assert total["points"] == 3 * 5 * 40
     assert total["silent wrong"] == 0 and total["warned"] == 0
+
+
+def test_readme_example_checks_convergence():
+    """The README's one-frequency example looks at ``converged`` instead of
+    printing an amplitude that may not be a solution."""
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).parents[1] / "README.md").read_text()
+    code = re.findall(r"```python\n(.*?)```", text, re.S)[0]
+    call = code.index("hf.periodic_solution(")
+    assert "sol.converged" in code[call : code.index("sol.amplitude", call)]
