@@ -132,8 +132,9 @@ def periodic_solution(
         frequencies (softening) the small-amplitude (large-amplitude) one.
         Not with ``initial_guess`` (which selects a solution by itself).
     harmonic_tolerance : float, default 1e-4
-        Target relative change between ladder levels with
-        ``harmonics="auto"``.
+        With ``harmonics="auto"``: target relative truncation error of the
+        first-harmonic amplitude and of half the peak-to-peak value at the
+        contact DOF (in ``(0, 1]``).
     on_failure : {"warn", "raise"}
         When no start converges: issue a
         :class:`~hbmfric.ConvergenceWarning` and return the iterate with the
@@ -202,25 +203,26 @@ def periodic_solution(
     converged = y is not None
     if not converged:
         y = solver.fallback()
+    R, _, state = problem.residual(y)
+    residual = float(np.max(np.abs(R)))
+    if not converged:
         message = (
             f"periodic_solution did not converge at omega = {omega:.6g} rad/s, "
-            f"force = {force:.6g} N: smallest max|R| = {solver.best_residual:.3e} N "
-            f"(tolerance {solver.tolerance:.3e} N) after "
-            f"{', '.join(solver.tried)}; the returned coefficients are not a "
-            "solution"
+            f"force = {force:.6g} N: max|R| = {residual:.3e} N (tolerance "
+            f"{solver.tolerance:.3e} N) after {', '.join(solver.tried)}; the "
+            "returned coefficients are not a solution"
         )
         if on_failure == "raise":
             raise ConvergenceError(message)
         warnings.warn(message, ConvergenceWarning, stacklevel=2)
         method = FAILED
-    R, _, state = problem.residual(y)
     return _solution(
         system,
         problem,
         y,
         converged,
         solver.iterations,
-        float(np.max(np.abs(R))),
+        residual,
         start,
         method,
         STATE_NAMES.get(state, str(state)),
