@@ -299,11 +299,10 @@ class _FixedOmega:
             self.best, self.best_residual = y.copy(), res
         return False
 
-    def newton(self, guess: np.ndarray, omega: float | None = None):
-        """Newton at fixed Ω from ``guess`` (flat X); the solution or None."""
-        y, status, it = self.cont.solve_at(
-            self.omega if omega is None else omega, guess, self.budget
-        )
+    def newton(self, guess: np.ndarray) -> np.ndarray | None:
+        """Newton at the target Ω from ``guess`` (flat X); the solution
+        ``[X, Ω]`` or None."""
+        y, status, it = self.cont.solve_at(self.omega, guess, self.budget)
         self.iterations += it
         return y if self.accept(y, status) else None
 
