@@ -1,10 +1,9 @@
 """Public entry points: ``frf`` (a continuation run) and ``periodic_solution``
-(Newton at one frequency)."""
+(one frequency, :mod:`hbmfric.periodic`, re-exported here)."""
 
 from __future__ import annotations
 
 import dataclasses
-import time
 import warnings
 
 import numpy as np
@@ -15,9 +14,8 @@ from .continuation.accuracy import truncation_errors
 from .continuation.adaptive import LADDER, START
 from .errors import AccuracyWarning
 from .hbm import HBMProblem
-from .kernels import newton as _newton
-from .kernels.aft import STATE_NAMES
-from .results import Branch, PeriodicSolution
+from .periodic import periodic_solution as periodic_solution  # re-export
+from .results import Branch
 
 
 def _omega_range(omega) -> tuple[float, float]:
@@ -345,98 +343,3 @@ def _frf_auto(
     )
     _warn_truncation(branch, tolerance)
     return branch
-
-
-def periodic_solution(
-    system,
-    force: float,
-    omega: float,
-    harmonics: int = 15,
-    *,
-    n_time: int | None = None,
-    symmetry: bool | None = None,
-    aft: str = "auto",
-    initial_guess=None,
-    options: ContinuationOptions | None = None,
-    condense: bool | None = None,
-) -> PeriodicSolution:
-    """Periodic steady state at one frequency by Newton's method.
-
-    Parameters
-    ----------
-    system, force, harmonics, n_time, symmetry, aft
-        As in :func:`frf`.
-    omega : float
-        Forcing pulsation, rad/s (> 0).
-    initial_guess : PeriodicSolution or ndarray, optional
-        Start for Newton (selects the branch where several coexist); an
-        array holds the coefficients of all DOFs in the layout of this
-        discretisation. Default: tries the stuck and the free linearisations.
-    options : ContinuationOptions, optional
-        Newton tolerances and iteration limit.
-    condense : bool, optional
-        As in :func:`frf`; an array ``initial_guess`` then holds the
-        contact-DOF coefficients only.
-
-    Returns
-    -------
-    PeriodicSolution
-        ``converged`` tells whether Newton met the tolerances.
-    """
-    omega = finite_float("omega", omega, low=0.0, low_open=True)
-    options = options or ContinuationOptions()
-    start = time.perf_counter()
-    problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
-    cont = Continuation(problem, (0.5 * omega, 1.5 * omega), 1, options, None)
-    n = problem.n_unknowns
-    guesses = []
-    if initial_guess is not None:
-        guesses.append(_guess_vector(initial_guess, problem))
-    guesses += [g[:n] for g in problem.initial_guesses(omega)]
-    best = None
-    total_it = 0
-    for g in guesses:
-        y, status, it = cont.solve_at(omega, g)
-        total_it += it
-        if status == _newton.CONVERGED:
-            best = y
-            break
-    converged = best is not None
-    if best is None:
-        best = y if np.all(np.isfinite(y)) else np.concatenate((guesses[-1], [omega]))
-    R, _, state = problem.residual(best)
-    return PeriodicSolution(
-        omega=omega,
-        force=problem.force,
-        harmonic_numbers=problem.harmonic_numbers.copy(),
-        coefficients=problem.full_coefficients(best)[0],
-        converged=converged,
-        newton_iterations=total_it,
-        residual_norm=float(np.max(np.abs(R))),
-        elapsed=time.perf_counter() - start,
-        contact_state=STATE_NAMES.get(state, str(state)),
-        dof_names=dict(getattr(system, "dof_names", {})),
-    )
-
-
-def _guess_vector(guess, problem: HBMProblem) -> np.ndarray:
-    """Coefficients of a guess re-laid onto this problem's harmonics."""
-    if isinstance(guess, PeriodicSolution):
-        X = np.zeros((problem.n_dof, problem.n_coef))
-        src = {int(k): i for i, k in enumerate(guess.harmonic_numbers)}
-        src_col = np.cumsum([0] + [1 if k == 0 else 2 for k in guess.harmonic_numbers])
-        col = 0
-        for k in problem.harmonic_numbers:
-            width = 1 if k == 0 else 2
-            if int(k) in src:
-                c = src_col[src[int(k)]]
-                X[:, col : col + width] = guess.coefficients[:, c : c + width]
-            col += width
-        return problem.unknowns_from_full(X)
-    g = np.ascontiguousarray(guess, dtype=np.float64).reshape(-1)
-    if g.size != problem.n_unknowns or not np.all(np.isfinite(g)):
-        raise ValueError(
-            f"initial_guess must hold {problem.n_unknowns} finite coefficients, "
-            f"got {g.size}"
-        )
-    return g

@@ -51,6 +51,11 @@ class PeriodicSolution:
     contact_state : str
     dof_names : dict
         Named DOFs of the system (e.g. ``"tip"``, ``"force"``) → index.
+    method : str
+        How :func:`~hbmfric.periodic_solution` obtained it: ``"newton"``,
+        ``"load ramp"``, ``"continuation from below"``, ``"continuation
+        from above"``, ``"zero force"`` or ``"failed"`` (not converged);
+        ``"branch point"`` for :meth:`Branch.point`.
     """
 
     omega: float
@@ -63,6 +68,7 @@ class PeriodicSolution:
     elapsed: float = 0.0
     contact_state: str = ""
     dof_names: dict = field(default_factory=dict)
+    method: str = ""
 
     def amplitude(self, harmonic: int | None = None, dof=None) -> float:
         """Amplitude of ``x_dof``: of one harmonic (``sqrt(Xc² + Xs²)``), or
@@ -176,6 +182,7 @@ class Branch:
             newton_iterations=0,
             residual_norm=float("nan"),
             dof_names=dict(self.dof_names),
+            method="branch point",
         )
 
     def plot(self, ax=None, harmonic: int | None = None, dof=None, **kwargs):
