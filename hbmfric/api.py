@@ -15,6 +15,7 @@ from .hbm import HBMProblem
 from .kernels import newton as _newton
 from .kernels.aft import STATE_NAMES
 from .results import Branch, PeriodicSolution
+from .systems.protocol import check_system
 
 
 def _omega_range(omega) -> tuple[float, float]:
@@ -34,10 +35,23 @@ def _omega_range(omega) -> tuple[float, float]:
     return lo, hi
 
 
+def _options(options) -> ContinuationOptions:
+    """``options`` checked, or the defaults for None."""
+    if options is None:
+        return ContinuationOptions()
+    if not isinstance(options, ContinuationOptions):
+        raise TypeError(
+            f"options must be a ContinuationOptions or None, got "
+            f"{type(options).__name__} {options!r}"
+        )
+    return options
+
+
 def _problem(system, force, harmonics, n_time, symmetry, aft, condense):
     """The HBM discretisation: condensed onto the contact DOF or full."""
     from .condensation import CondensedHBMProblem, can_condense
 
+    check_system(system)  # before anything reads the system
     if condense is None:
         condense = can_condense(system)
     if isinstance(condense, str) and condense in ("modal", "direct"):
@@ -145,14 +159,11 @@ def frf(
         Points in path order; ``stop_reason`` says why the run ended. A run
         that cannot go on returns the points so far, never NaN points.
     """
+    check_system(system)
     lo, hi = _omega_range(omega)
     if sweep not in ("up", "down"):
         raise ValueError(f"sweep must be 'up' or 'down', got {sweep!r}")
-    if not isinstance(options, ContinuationOptions | None):
-        raise TypeError(
-            f"options must be a ContinuationOptions, got {type(options).__name__}"
-        )
-    options = options or ContinuationOptions()
+    options = _options(options)
     if option_overrides:
         unknown = set(option_overrides) - {
             f.name for f in dataclasses.fields(ContinuationOptions)
@@ -329,8 +340,9 @@ def periodic_solution(
     PeriodicSolution
         ``converged`` tells whether Newton met the tolerances.
     """
+    check_system(system)
     omega = finite_float("omega", omega, low=0.0, low_open=True)
-    options = options or ContinuationOptions()
+    options = _options(options)
     start = time.perf_counter()
     problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
     cont = Continuation(problem, (0.5 * omega, 1.5 * omega), 1, options, None)
@@ -368,6 +380,13 @@ def periodic_solution(
 def _guess_vector(guess, problem: HBMProblem) -> np.ndarray:
     """Coefficients of a guess re-laid onto this problem's harmonics."""
     if isinstance(guess, PeriodicSolution):
+        n_dof = guess.coefficients.shape[0]
+        if n_dof != problem.n_dof:
+            raise ValueError(
+                f"initial_guess is a PeriodicSolution of a system with {n_dof} "
+                f"DOFs; this system has {problem.n_dof}: give a solution of the "
+                "same system (or of one with the same DOF layout)"
+            )
         X = np.zeros((problem.n_dof, problem.n_coef))
         src = {int(k): i for i, k in enumerate(guess.harmonic_numbers)}
         src_col = np.cumsum([0] + [1 if k == 0 else 2 for k in guess.harmonic_numbers])

@@ -337,7 +337,7 @@ def test_bad_input(jenkins, kwargs, match):
 
 
 def test_bad_system():
-    with pytest.raises(ValueError, match="system"):
+    with pytest.raises(TypeError, match="system"):
         steady_state(object(), 0.5, 1.2)
 
     @dataclass(frozen=True)

@@ -20,6 +20,7 @@ from .._validate import dof_index, finite_float, positive_int
 from ..kernels.dlft import COULOMB
 from ..kernels.laws import law_init, state_size
 from ..signals import harmonic_amplitude, sampled_peak_to_peak
+from ..systems.protocol import check_load, check_system
 from .integrator import (
     MESSAGES,
     NO_CONTACT,
@@ -203,9 +204,9 @@ def steady_state(
     Parameters
     ----------
     system : Oscillator or compatible
-        Any object with ``n_dof``, ``contact_dof``, ``contact`` (a contact
-        law or None), ``matrices() -> (M, C, K)`` each of shape
-        (n_dof, n_dof), and ``load_vector(force) -> p`` of shape (n_dof,).
+        A built-in system or any object following the system protocol
+        (:mod:`hbmfric.systems.protocol`: ``n_dof``, ``contact_dof``,
+        ``contact``, ``matrices() -> (M, C, K)``, ``load_vector(force)``).
     force : float
         Forcing amplitude, N.
     omega : float
@@ -351,29 +352,10 @@ class _Problem:
 
     @classmethod
     def build(cls, system, force) -> _Problem:
-        try:
-            n_dof = int(system.n_dof)
-            contact_dof = system.contact_dof
-            law = system.contact
-            matrices = system.matrices()
-        except AttributeError:
-            raise ValueError(
-                "system must be an hbmfric system (such as hf.Oscillator) with "
-                "n_dof, contact_dof, contact, matrices() and load_vector(force), "
-                f"got {type(system).__name__}"
-            ) from None
+        data = check_system(system)
         force = finite_float("force", force)
-        contact_dof = dof_index(contact_dof, n_dof)
-        mass, damping, stiffness = (
-            _square("system." + name, m, n_dof)
-            for name, m in zip(("mass", "damping", "stiffness"), matrices, strict=True)
-        )
-        load = np.ascontiguousarray(system.load_vector(force), dtype=np.float64)
-        if load.shape != (n_dof,) or not np.all(np.isfinite(load)):
-            raise ValueError(
-                f"system.load_vector(force) must be finite with shape ({n_dof},), "
-                f"got shape {load.shape}"
-            )
+        law = data.contact
+        load = check_load(system, force, data.n_dof)
         if law is None:
             code, params, k_stuck = NO_CONTACT, np.zeros(1), 0.0
         elif law.code == COULOMB:
@@ -389,26 +371,17 @@ class _Problem:
             if params.ndim != 1 or not np.all(np.isfinite(params)):
                 raise ValueError("system.contact.params must be a finite 1-d array")
             k_stuck = float(law.stuck_stiffness)
-        static = getattr(system, "static_load", None)
-        if static is not None:
-            static = np.ascontiguousarray(static(), dtype=np.float64)
-            if static.shape != (n_dof,) or not np.all(np.isfinite(static)):
-                raise ValueError(
-                    f"system.static_load() must be finite with shape ({n_dof},), "
-                    f"got shape {static.shape}"
-                )
-        phase = finite_float("system.load_phase", getattr(system, "load_phase", 0.0))
         return cls(
-            mass,
-            damping,
-            stiffness,
+            data.mass,
+            data.damping,
+            data.stiffness,
             load,
-            contact_dof,
+            data.contact_dof,
             code,
             params,
             k_stuck,
-            static,
-            phase,
+            data.static_load,
+            data.load_phase,
         )
 
     @property
@@ -590,15 +563,6 @@ class _Problem:
     def _failed(self, status, periods, iterations, steps) -> _Run:
         nan = np.full((self.n_dof, steps), np.nan)
         return _Run(status, periods, iterations, False, math.nan, nan, nan[0].copy())
-
-
-def _square(name: str, value, n: int) -> np.ndarray:
-    a = np.ascontiguousarray(value, dtype=np.float64)
-    if a.shape != (n, n):
-        raise ValueError(f"{name} must have shape ({n}, {n}), got {a.shape}")
-    if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must contain only finite values")
-    return a
 
 
 def _period_changes(starts: np.ndarray, peaks: np.ndarray, n: int) -> np.ndarray:
