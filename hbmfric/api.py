@@ -35,18 +35,6 @@ def _omega_range(omega) -> tuple[float, float]:
     return lo, hi
 
 
-def _options(options) -> ContinuationOptions:
-    """``options`` checked, or the defaults for None."""
-    if options is None:
-        return ContinuationOptions()
-    if not isinstance(options, ContinuationOptions):
-        raise TypeError(
-            f"options must be a ContinuationOptions or None, got "
-            f"{type(options).__name__} {options!r}"
-        )
-    return options
-
-
 def _problem(system, force, harmonics, n_time, symmetry, aft, condense):
     """The HBM discretisation: condensed onto the contact DOF or full."""
     from .condensation import CondensedHBMProblem, can_condense
@@ -159,11 +147,14 @@ def frf(
         Points in path order; ``stop_reason`` says why the run ended. A run
         that cannot go on returns the points so far, never NaN points.
     """
-    check_system(system)
     lo, hi = _omega_range(omega)
     if sweep not in ("up", "down"):
         raise ValueError(f"sweep must be 'up' or 'down', got {sweep!r}")
-    options = _options(options)
+    if not isinstance(options, ContinuationOptions | None):
+        raise TypeError(
+            f"options must be a ContinuationOptions, got {type(options).__name__}"
+        )
+    options = options or ContinuationOptions()
     if option_overrides:
         unknown = set(option_overrides) - {
             f.name for f in dataclasses.fields(ContinuationOptions)
@@ -340,9 +331,8 @@ def periodic_solution(
     PeriodicSolution
         ``converged`` tells whether Newton met the tolerances.
     """
-    check_system(system)
     omega = finite_float("omega", omega, low=0.0, low_open=True)
-    options = _options(options)
+    options = options or ContinuationOptions()
     start = time.perf_counter()
     problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
     cont = Continuation(problem, (0.5 * omega, 1.5 * omega), 1, options, None)

@@ -16,9 +16,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .._validate import dof_index, finite_float, positive_int
+from .._validate import finite_float, positive_int
 from ..kernels.dlft import COULOMB
 from ..kernels.laws import law_init, state_size
+from ..results import _resolve_dof
 from ..signals import harmonic_amplitude, sampled_peak_to_peak
 from ..systems.protocol import check_load, check_system
 from .integrator import (
@@ -90,6 +91,9 @@ class SteadyState:
         Kernel status code (0 = ok).
     message : str
         Why the integration stopped.
+    dof_names : dict
+        Named DOFs of the system (e.g. ``"tip"``, ``"contact"``) → index, as
+        on :class:`~hbmfric.PeriodicSolution` and :class:`~hbmfric.Branch`.
     """
 
     omega: float
@@ -109,6 +113,7 @@ class SteadyState:
     elapsed: float
     status: int
     message: str
+    dof_names: dict = field(default_factory=dict)
 
     @property
     def n_dof(self) -> int:
@@ -120,7 +125,7 @@ class SteadyState:
         """Forcing period ``2π/Ω``, s."""
         return 2.0 * np.pi / self.omega
 
-    def amplitude(self, harmonic: int | None = None, dof: int = 0) -> float:
+    def amplitude(self, harmonic: int | None = None, dof=None) -> float:
         """Amplitude of the displacement of ``dof``, m.
 
         Parameters
@@ -130,19 +135,21 @@ class SteadyState:
             half the peak-to-peak value of ``x(t)`` over the last period,
             from the step samples (each extreme refined by the parabola
             through its sample and the two neighbours).
-        dof : int
-            DOF index.
+        dof : int, str or None
+            DOF index, a name of ``dof_names`` (``"tip"``, ``"force"`` on the
+            beam) or None: the DOF named ``"contact"`` (the contact DOF of
+            the built-in systems), else 0 -- the same default as
+            :meth:`PeriodicSolution.amplitude`, so that
+            ``sol.amplitude(1)`` and ``ref.amplitude(1)`` compare one DOF.
         """
-        d = dof_index(dof, self.n_dof)
+        d = _resolve_dof(dof, self.dof_names, self.n_dof)
         if harmonic is None:
             return 0.5 * sampled_peak_to_peak(self.samples[d])
         return float(
             harmonic_amplitude(self.harmonic_numbers, self.coefficients[d], harmonic)
         )
 
-    def time_response(
-        self, n: int = 256, dof: int = 0
-    ) -> tuple[np.ndarray, np.ndarray]:
+    def time_response(self, n: int = 256, dof=None) -> tuple[np.ndarray, np.ndarray]:
         """Displacement over one period at ``n`` equidistant instants.
 
         Evaluated from the trigonometric interpolant of the step samples
@@ -153,8 +160,8 @@ class SteadyState:
         ----------
         n : int
             Number of instants (>= 2).
-        dof : int
-            DOF index.
+        dof : int, str or None
+            As in :meth:`amplitude`.
 
         Returns
         -------
@@ -164,7 +171,7 @@ class SteadyState:
             Displacement, m.
         """
         n = positive_int("n", n, low=2)
-        samples = self.samples[dof_index(dof, self.n_dof)]
+        samples = self.samples[_resolve_dof(dof, self.dof_names, self.n_dof)]
         t = self.period * np.arange(n) / n
         return t, _resample(samples, n)
 
@@ -309,6 +316,7 @@ def steady_state(
         elapsed=time.perf_counter() - start,
         status=run.status,
         message=_message(run, tol),
+        dof_names=dict(getattr(system, "dof_names", {})),
     )
 
 
