@@ -1,5 +1,7 @@
-"""Input checks for the public edge: clear ``ValueError`` messages that name
-the parameter and the allowed range. Kernels trust their input."""
+"""Input checks for the public edge: clear messages that name the parameter,
+``TypeError`` for a wrong type (a string or a bool where a number belongs),
+``ValueError`` for a wrong value with the allowed range. Kernels trust their
+input."""
 
 import math
 import numbers

@@ -310,7 +310,6 @@ def test_kernels_compile_once(jenkins):
         ({"omega": -1.0}, "omega"),
         ({"omega": np.nan}, "omega"),
         ({"omega": np.inf}, "omega"),
-        ({"omega": "fast"}, "omega"),
         ({"force": np.inf}, "force"),
         ({"force": np.nan}, "force"),
         ({"steps_per_period": 8}, "steps_per_period"),
@@ -334,6 +333,11 @@ def test_bad_input(jenkins, kwargs, match):
     args = {"force": 0.5, "omega": 1.2} | kwargs
     with pytest.raises(ValueError, match=match):
         steady_state(jenkins, **args)
+
+
+def test_non_numbers_are_type_errors(jenkins):
+    with pytest.raises(TypeError, match="omega"):
+        steady_state(jenkins, 0.5, "fast")
 
 
 def test_bad_system():
