@@ -10,8 +10,11 @@
 ``matrices()`` -> (M, C, K)
     Mass (kg), viscous damping (N s/m) and stiffness (N/m) matrices of the
     structure without the contact, each of shape (n, n), finite. ``M`` must
-    be symmetric positive definite (every DOF carries mass), ``K``
-    symmetric; ``C`` may be any real matrix.
+    be symmetric positive definite (every DOF carries mass). ``C`` and ``K``
+    may be non-symmetric (gyroscopic or circulatory terms): the full HBM
+    solves such systems; the condensation onto the contact DOF, the
+    default for several DOFs, needs all three symmetric and is skipped
+    otherwise.
 ``load_vector(force)`` -> p
     Amplitude per DOF of the forcing ``p cos Ωt`` for the forcing amplitude
     ``force`` (N), shape (n,), finite.
@@ -145,8 +148,8 @@ def check_system(system) -> SystemData:
         contact law.
     ValueError
         If a matrix or vector has the wrong shape or non-finite entries,
-        ``M`` is not symmetric positive definite, ``K`` is not symmetric,
-        or ``contact_dof`` is out of range; the message names the field.
+        ``M`` is not symmetric positive definite, or ``contact_dof`` is out
+        of range; the message names the field.
     """
     missing = [a for a in REQUIRED if not hasattr(system, a)]
     if missing:
@@ -181,7 +184,6 @@ def check_system(system) -> SystemData:
     damping = _matrix("system.damping (C of system.matrices())", d, n)
     stiffness = _matrix("system.stiffness (K of system.matrices())", k, n)
     _check_symmetric("system.mass (M of system.matrices())", mass)
-    _check_symmetric("system.stiffness (K of system.matrices())", stiffness)
     try:
         np.linalg.cholesky(mass)
     except np.linalg.LinAlgError:
