@@ -16,6 +16,7 @@ from .errors import AccuracyWarning
 from .hbm import HBMProblem
 from .periodic import periodic_solution as periodic_solution  # re-export
 from .results import Branch
+from .systems.protocol import check_system
 
 
 def _omega_range(omega) -> tuple[float, float]:
@@ -39,6 +40,7 @@ def _problem(system, force, harmonics, n_time, symmetry, aft, condense):
     """The HBM discretisation: condensed onto the contact DOF or full."""
     from .condensation import CondensedHBMProblem, can_condense
 
+    check_system(system)  # before anything reads the system
     if condense is None:
         condense = can_condense(system)
     if isinstance(condense, str) and condense in ("modal", "direct"):

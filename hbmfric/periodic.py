@@ -419,6 +419,13 @@ def _climb(system, problem, omega, options, y, solver, tolerance):
 def _guess_vector(guess, problem: HBMProblem) -> np.ndarray:
     """Coefficients of a guess re-laid onto this problem's harmonics."""
     if isinstance(guess, PeriodicSolution):
+        n_dof = guess.coefficients.shape[0]
+        if n_dof != problem.n_dof:
+            raise ValueError(
+                f"initial_guess is a PeriodicSolution of a system with {n_dof} "
+                f"DOFs; this system has {problem.n_dof}: give a solution of the "
+                "same system (or of one with the same DOF layout)"
+            )
         X = np.zeros((problem.n_dof, problem.n_coef))
         src = {int(k): i for i, k in enumerate(guess.harmonic_numbers)}
         src_col = np.cumsum([0] + [1 if k == 0 else 2 for k in guess.harmonic_numbers])
