@@ -133,9 +133,9 @@ def test_load_ramp_rescues_stiff_contact():
     """Neither linearisation starts Newton at the stiff point; the load ramp
     does, and the result is the branch's solution."""
     force, omega = STIFF_POINT
-    sol = hf.periodic_solution(JENKINS1000, force, omega)
+    sol = hf.periodic_solution(JENKINS1000, force, omega, 15)
     assert sol.converged and sol.method == "load ramp"
-    branch = hf.frf(JENKINS1000, force, (30.0, 33.0))
+    branch = hf.frf(JENKINS1000, force, (30.0, 33.0), 15)
     (ref,) = _branch_amplitudes(JENKINS1000, force, branch, omega)
     assert sol.amplitude(harmonic=1) == pytest.approx(ref, rel=1e-6)
 
@@ -150,16 +150,16 @@ def test_continuation_fallback(monkeypatch):
         return y, 1, 0
 
     monkeypatch.setattr(Continuation, "_load_ramp", no_ramp)
-    branch = hf.frf(JENKINS1000, force, (30.0, 33.0), max_steps=20000)
+    branch = hf.frf(JENKINS1000, force, (30.0, 33.0), 15, max_steps=20000)
     (ref,) = _branch_amplitudes(JENKINS1000, force, branch, omega)
-    sol = hf.periodic_solution(JENKINS1000, force, omega)
+    sol = hf.periodic_solution(JENKINS1000, force, omega, 15)
     assert sol.converged and sol.method == "continuation from below"
     assert sol.amplitude(harmonic=1) == pytest.approx(ref, rel=1e-6)
 
     import hbmfric.periodic as periodic
 
     monkeypatch.setattr(periodic, "BELOW_STARTS", ())
-    sol = hf.periodic_solution(JENKINS1000, force, omega)
+    sol = hf.periodic_solution(JENKINS1000, force, omega, 15)
     assert sol.converged and sol.method == "continuation from above"
     assert sol.amplitude(harmonic=1) == pytest.approx(ref, rel=1e-6)
 
@@ -168,9 +168,9 @@ def test_continuation_fallback(monkeypatch):
 def test_branch_side(side):
     """``branch_side`` traces from that side; on a single-valued branch both
     give the branch's solution."""
-    branch = hf.frf(JENKINS30, 1.0743, (0.6, 2.5))
+    branch = hf.frf(JENKINS30, 1.0743, (0.6, 2.5), 15)
     (ref,) = _branch_amplitudes(JENKINS30, 1.0743, branch, 1.0758)
-    sol = hf.periodic_solution(JENKINS30, 1.0743, 1.0758, branch_side=side)
+    sol = hf.periodic_solution(JENKINS30, 1.0743, 1.0758, 15, branch_side=side)
     assert sol.converged and sol.method == f"continuation from {side}"
     assert sol.amplitude(harmonic=1) == pytest.approx(ref, rel=1e-6)
 
@@ -199,7 +199,7 @@ def _impossible():
 
 def test_failure_warns_with_omega_force_residual():
     with pytest.warns(hf.ConvergenceWarning) as record:
-        sol = hf.periodic_solution(JENKINS3, 0.5, 1.6925, options=_impossible())
+        sol = hf.periodic_solution(JENKINS3, 0.5, 1.6925, 15, options=_impossible())
     message = str(record[0].message)
     assert "omega = 1.6925" in message and "force = 0.5" in message
     assert f"{sol.residual_norm:.3e}" in message
@@ -260,8 +260,8 @@ def test_initial_guess_is_used_and_reexport():
     import hbmfric.api
 
     assert hbmfric.api.periodic_solution is hf.periodic_solution
-    first = hf.periodic_solution(JENKINS3, 0.5, 1.6925)
-    again = hf.periodic_solution(JENKINS3, 0.5, 1.6925, initial_guess=first)
+    first = hf.periodic_solution(JENKINS3, 0.5, 1.6925, 15)
+    again = hf.periodic_solution(JENKINS3, 0.5, 1.6925, 15, initial_guess=first)
     assert again.converged and again.method == "newton"
     assert again.newton_iterations <= 2
     np.testing.assert_allclose(again.coefficients, first.coefficients, atol=1e-12)
