@@ -30,7 +30,7 @@ import numpy as np
 from .adaptive import CHANGE_FACTOR, LADDER, LINEAR, TOP_FLOOR, _Level
 
 #: calibrate the free measure at every this many non-linear points
-EVERY = 8
+EVERY = 16
 #: ... and at this many points of largest free measure
 N_WORST = 3
 
@@ -43,6 +43,23 @@ def next_level(harmonics: int) -> int:
             return h
     h = int(np.ceil(1.4 * harmonics))
     return h + 1 if h % 2 == 0 else h
+
+
+def _free_measure(level: _Level, points: np.ndarray) -> np.ndarray:
+    """:meth:`_Level.measure` of every point at once, shape (n_points,)."""
+
+    def largest(columns: list[int]) -> np.ndarray:
+        if not columns:
+            return np.zeros(points.shape[0])
+        cols = np.array(columns)
+        return np.hypot(points[:, cols], points[:, cols + 1]).max(axis=1)
+
+    a1 = largest(level.first)
+    top = np.maximum(largest(level.top), level.prev_weight * largest(level.prev))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        measure = level.h * top / a1
+    measure[a1 == 0.0] = np.where(top[a1 == 0.0] == 0.0, 0.0, np.inf)
+    return measure
 
 
 def truncation_errors(problem, points: np.ndarray) -> np.ndarray:
@@ -72,23 +89,28 @@ def truncation_errors(problem, points: np.ndarray) -> np.ndarray:
     if not level.top:
         errors[:] = np.inf
         return errors
-    measure = np.array([level.measure(y) for y in points])
+    measure = _free_measure(level, points)
     nonlinear = np.flatnonzero(measure > LINEAR * 1e-4)
     if nonlinear.size == 0:
         return errors
-    larger = _Level(problem.with_harmonics(next_level(level.h)), None)
-    chosen = set(nonlinear[::EVERY].tolist())
-    chosen.add(int(nonlinear[-1]))
-    order = nonlinear[np.argsort(measure[nonlinear])[::-1]]
-    chosen.update(int(i) for i in order[:N_WORST])
-    calibrated = np.array(sorted(chosen), dtype=np.int64)
+    # the next level (its problem and work arrays) is built once per problem
+    larger = getattr(problem, "_accuracy_level", None)
+    if larger is None:
+        larger = _Level(problem.with_harmonics(next_level(level.h)), None)
+        problem._accuracy_level = larger
+    chosen = np.zeros(n_points, dtype=bool)
+    chosen[nonlinear[::EVERY]] = True
+    chosen[nonlinear[-1]] = True
+    worst = nonlinear[np.argsort(measure[nonlinear])[-N_WORST:]]
+    chosen[worst] = True
+    calibrated = np.flatnonzero(chosen)
     ratio = np.empty(calibrated.size)
     for q, i in enumerate(calibrated):
         change = larger.change(points[i])
         estimate = max(CHANGE_FACTOR * change, TOP_FLOOR * measure[i])
         errors[i] = estimate
         ratio[q] = estimate / measure[i]
-    others = np.setdiff1d(nonlinear, calibrated)
+    others = nonlinear[~chosen[nonlinear]]
     if others.size:
         right = np.searchsorted(calibrated, others)
         left = np.clip(right - 1, 0, calibrated.size - 1)
