@@ -20,6 +20,7 @@ from .smoothing import (
     noise_level,
     peak,
     smooth_grid,
+    smoothed_noise,
 )
 
 MODELS = ("macroslip", "microslip", "undecided")
@@ -37,6 +38,17 @@ NOISE_SPREAD_FACTOR = 2.5
 #: peak's ratio (closer to it, a Masing curve slips enough to soften and
 #: rise a little above the stuck envelope)
 MOSTLY_STUCK_FRACTION = 0.4
+#: a test decides only when its indicator lies at least this many noise units
+#: (standard deviations of the indicator's noise) beyond its threshold
+MARGIN_Z = 3.0
+#: the stuck reference's peak must rise this many noise units above its
+#: lowest point below the peak (pure noise wanders about 5 units)
+RESONANCE_Z = 10.0
+#: smallest noise unit of a smoothed log amplitude (interpolation and
+#: round-off error of clean curves)
+NOISE_UNIT_FLOOR = 1e-3
+#: largest common grid (the smoother holds n_grid x window values per curve)
+N_GRID_MAX = 20_000
 
 
 @dataclass(frozen=True, eq=False)
@@ -215,6 +227,17 @@ def _envelope_shift(grid, curve, ref, pk, w_ref) -> float | None:
     return best
 
 
+def _spread_noise(grid, smoothed, sd, ia, ib, corr) -> float:
+    """Standard deviation of the RMS log difference of curves ``ia`` and
+    ``ib`` due to their noise: the RMS noise of the difference over the
+    ``n`` independent stretches (length ``corr``) of the common band, divided
+    by ``sqrt(2 n)`` (RMS of ``n`` Gaussian values)."""
+    ok = np.isfinite(smoothed[ia]) & np.isfinite(smoothed[ib])
+    u = math.sqrt(np.mean(sd[ia][ok] ** 2 + sd[ib][ok] ** 2))
+    band = np.count_nonzero(ok) * (grid[1] - grid[0])
+    return u / math.sqrt(2.0 * max(band / corr, 1.0))
+
+
 def _rms(a: np.ndarray, b: np.ndarray, min_points: int) -> float | None:
     ok = np.isfinite(a) & np.isfinite(b)
     if np.count_nonzero(ok) < min_points:
@@ -348,6 +371,12 @@ def choose_contact_model(
     if smoothing is not None:
         smoothing = finite_float("smoothing", smoothing, low=0.0, high=0.2)
     n_grid = positive_int("n_grid", n_grid, low=50)
+    if n_grid > N_GRID_MAX:
+        raise ValueError(
+            f"n_grid must be an integer in [50, {N_GRID_MAX}], got {n_grid} (the "
+            "smoother holds n_grid x window values per curve; 600 resolves "
+            "resonances of 0.5 % damping over a band of twice their frequency)"
+        )
 
     ind: dict = {
         "n_records": len(recs),
@@ -360,8 +389,12 @@ def choose_contact_model(
         "envelope_excess": None,
         "envelope_excess_threshold": excess_threshold,
         "stuck_tolerance": stuck_tolerance,
+        "margin_z": MARGIN_Z,
+        "margin": {},
+        "undecided_reason": None,
     }
     if not recs:
+        ind["undecided_reason"] = "data"
         return CriterionResult(
             "undecided", False, ind, "No FRF was given.", np.zeros(0), recs
         )
@@ -372,13 +405,19 @@ def choose_contact_model(
     raw = [interp_log(r.omega, np.log(r.normalised), grid) for r in recs]
     noise = [noise_level(r.omega, np.log(r.normalised)) for r in recs]
     ind["noise"] = float(np.median(noise))
+    spacing = float(np.median([np.median(np.diff(r.omega)) for r in recs]))
     if smoothing is None:
-        spacing = float(np.median([np.median(np.diff(r.omega)) for r in recs]))
         width = _auto_width(ind["noise"], spacing, hi - lo)
     else:
         width = smoothing * (hi - lo)
     ind["smoothing_half_width"] = width
     smoothed = [smooth_grid(grid, y, width) for y in raw]
+    # noise left on each smoothed curve, pointwise (log amplitude)
+    sd = [
+        np.hypot(smoothed_noise(r.omega, grid, width, nz), NOISE_UNIT_FLOOR)
+        for r, nz in zip(recs, noise, strict=True)
+    ]
+    ind["noise_smoothed"] = float(np.nanmedian(np.concatenate(sd)))
     ratios = np.array([r.ratio for r in recs])
     loads = np.array([r.normal_load for r in recs])
     groups = _groups(ratios, ratio_rtol)
@@ -399,6 +438,9 @@ def choose_contact_model(
     text: list[str] = []
 
     # -- step 1: ratio invariance ------------------------------------------
+    # correlation length of the smoothed noise: the smoothing window, or the
+    # sample spacing when that is wider
+    corr = max(2.0 * width, spacing)
     min_overlap = max(10, n_grid // 10)
     worst = None
     for g, gr in zip(groups, group_ratio, strict=True):
@@ -413,12 +455,14 @@ def choose_contact_model(
                 if s is None:
                     continue
                 ind["n_pairs"] += 1
-                best = s if best is None else max(best, s)
+                if best is None or s > best[0]:
+                    best = (s, _spread_noise(grid, smoothed, sd, ia, ib, corr))
         if best is not None:
-            ind["ratio_spread_by_ratio"][gr] = best
-            if worst is None or best > worst[0]:
-                worst = (best, gr)
+            ind["ratio_spread_by_ratio"][gr] = best[0]
+            if worst is None or best[0] > worst[0]:
+                worst = (best[0], gr, best[1])
     roughness = False
+    unclear: list[str] = []
     if worst is None:
         missing.append(
             "no two curves share a value of Fex/Fn at different normal loads, so "
@@ -433,19 +477,33 @@ def choose_contact_model(
         threshold = max(spread_threshold, NOISE_SPREAD_FACTOR * ind["noise"])
         ind["ratio_spread_threshold"] = threshold
         roughness = worst[0] > threshold
+        margin = (worst[0] - threshold) / worst[2]
+        ind["margin"]["ratio_spread"] = margin
+        ind["ratio_spread_noise"] = worst[2]
         text.append(
             f"Step 1: {ind['n_pairs']} pair(s) of curves at equal Fex/Fn and "
             f"different normal loads were compared after division by Fex; the "
             f"largest RMS log difference is {worst[0]:.3g} (at Fex/Fn = "
             f"{worst[1]:.3g}; threshold {threshold:.3g}, data noise "
-            f"{ind['noise']:.2g}), so the FRFs "
-            + (
+            f"{ind['noise']:.2g}, noise of the difference {worst[2]:.2g}: "
+            f"margin {margin:+.3g} noise units), so the FRFs "
+        )
+        if abs(margin) < MARGIN_Z:
+            text[-1] += (
+                "may or may not depend on Fex/Fn alone: the spread is within "
+                f"{MARGIN_Z:g} noise units of its threshold."
+            )
+            unclear.append(
+                "step 1 cannot tell whether roughness matters (ratio spread "
+                f"{margin:+.2g} noise units from its threshold)"
+            )
+        else:
+            text[-1] += (
                 "are not a function of Fex/Fn alone: roughness effects matter, "
                 "and step 2 uses the highest normal load of each ratio."
                 if roughness
                 else "depend on Fex/Fn only: no roughness effects."
             )
-        )
     ind["roughness"] = roughness
 
     # -- step 2 (3 with roughness): one curve per ratio --------------------
@@ -453,15 +511,20 @@ def choose_contact_model(
     for g, gr in zip(groups, group_ratio, strict=True):
         if roughness:
             i = max(g, key=lambda j: loads[j])
-            c = smoothed[i]
+            c, c_sd = smoothed[i], sd[i]
             name = f"Fex/Fn = {gr:.3g} (Fn = {loads[i]:.3g})"
         else:
             stack = np.array([smoothed[j] for j in g])
+            var = np.array([sd[j] ** 2 for j in g])
             with np.errstate(invalid="ignore"):
                 counts = np.sum(np.isfinite(stack), axis=0)
                 c = np.where(counts > 0, np.nansum(stack, axis=0) / counts, np.nan)
+                # mean of independent curves: noise / sqrt(count)
+                c_sd = np.where(
+                    counts > 0, np.sqrt(np.nansum(var, axis=0)) / counts, np.nan
+                )
             name = f"Fex/Fn = {gr:.3g}"
-        curves.append({"ratio": gr, "curve": c, "name": name})
+        curves.append({"ratio": gr, "curve": c, "sd": c_sd, "name": name})
     for c in curves:
         c["peak"] = peak(grid, c["curve"])
 
@@ -469,10 +532,14 @@ def choose_contact_model(
         ref = smooth_grid(
             grid, interp_log(stuck.omega, np.log(stuck.normalised), grid), width
         )
+        stuck_noise = noise_level(stuck.omega, np.log(stuck.normalised))
+        ref_sd = np.hypot(
+            smoothed_noise(stuck.omega, grid, width, stuck_noise), NOISE_UNIT_FLOOR
+        )
         ref_name = f"the given stuck FRF ({stuck.name})"
         candidates = curves
     else:
-        ref = curves[0]["curve"]
+        ref, ref_sd = curves[0]["curve"], curves[0]["sd"]
         ref_name = f"the lowest-ratio curve ({curves[0]['name']})"
         candidates = curves[1:]
     evidence["reference"] = ref
@@ -490,8 +557,25 @@ def choose_contact_model(
         )
     ind["stuck_frequency"] = w_ref
     ind["stuck_reference"] = ref_name
+    if w_ref is not None:
+        # a resonance must stand out of the noise: the peak's rise above the
+        # lowest point below it, in noise units at the peak
+        k = int(np.nanargmax(ref))
+        rise = float(ref[k] - np.nanmin(ref[: k + 1]))
+        rise_margin = rise / float(ref_sd[k])
+        ind["stuck_rise"] = rise
+        ind["margin"]["stuck_rise"] = rise_margin
+        if rise_margin < RESONANCE_Z:
+            unclear.append(
+                f"the stuck reference's peak rises {rise:.3g} (log amplitude) "
+                f"above its lowest point below it, {rise_margin:.3g} noise units: "
+                f"no resonance stands out of the noise (at least {RESONANCE_Z:g} "
+                "needed)"
+            )
 
     mostly: list[dict] = []
+    ind["margin"]["mostly_stuck"] = {}
+    ambiguous: list[float] = []
     if len(curves) < 2 and stuck is None:
         missing.append(
             "a single value of Fex/Fn: step 2 needs a stuck reference and at "
@@ -508,12 +592,28 @@ def choose_contact_model(
             ok = np.isfinite(c["curve"]) & np.isfinite(ref)
             if np.count_nonzero(ok) < min_overlap:
                 continue
-            dev = float(np.max(np.abs(c["curve"][ok] - ref[ok])))
-            if dev <= stuck_tolerance:
+            # largest distance beyond the tolerance, in noise units
+            dev = np.abs(c["curve"][ok] - ref[ok])
+            unit = np.hypot(c["sd"][ok], ref_sd[ok])
+            m = float(np.max((dev - stuck_tolerance) / unit))
+            ind["margin"]["mostly_stuck"][c["ratio"]] = m
+            if m <= -MARGIN_Z:
                 continue  # linear: as stuck as the reference
+            if m < MARGIN_Z:
+                ambiguous.append(c["ratio"])  # stuck or not: inside the noise
+                continue
             mostly.append(c)
     ind["mostly_stuck_ratios"] = [c["ratio"] for c in mostly]
-    if not mostly and not missing:
+    ind["unclear_stuck_ratios"] = ambiguous
+    if not mostly and ambiguous and not missing:
+        unclear.append(
+            "the curves at Fex/Fn = "
+            + ", ".join(f"{r:.3g}" for r in ambiguous)
+            + " differ from the stuck reference by about the stuck tolerance "
+            f"({stuck_tolerance:g}), within {MARGIN_Z:g} noise units: mostly stuck "
+            "or stuck cannot be told"
+        )
+    if not mostly and not missing and not unclear:
         missing.append(
             "no mostly stuck curve: none lies between the stuck reference and "
             "0.4 times the ratio of the flattest peak (add values of Fex/Fn "
@@ -525,7 +625,10 @@ def choose_contact_model(
     ind["peak_shift"] = {}
     ind["envelope_excess_by_ratio"] = {}
     ind["envelope_shift"] = {}
+    # per side: largest excess (value, frequency, ratio, its noise) and largest
+    # margin (excess - threshold) / noise (value, frequency, ratio)
     worst = {"below": None, "above": None}
+    best_margin = {"below": None, "above": None}
     evidence["mostly_stuck"] = []
     for c in mostly if w_ref is not None else []:
         y = c["curve"]
@@ -533,6 +636,13 @@ def choose_contact_model(
         top = c["peak"][1]
         excess = np.full(grid.shape, -np.inf)
         excess[ok] = (np.exp(y[ok]) - np.exp(ref[ok])) / math.exp(top)
+        # noise of the excess (first order in the log-amplitude noise)
+        unit = np.full(grid.shape, np.inf)
+        unit[ok] = np.hypot(
+            np.exp(y[ok]) * c["sd"][ok], np.exp(ref[ok]) * ref_sd[ok]
+        ) / math.exp(top)
+        ratio_m = np.full(grid.shape, -np.inf)
+        ratio_m[ok] = (excess[ok] - excess_threshold) / unit[ok]
         for side, mask in (("below", grid < w_ref), ("above", grid >= w_ref)):
             if not np.any(mask & ok):
                 continue
@@ -541,7 +651,11 @@ def choose_contact_model(
             if side == "below":
                 ind["envelope_excess_by_ratio"][c["ratio"]] = e
             if worst[side] is None or e > worst[side][0]:
-                worst[side] = (e, float(grid[k]), c["ratio"])
+                worst[side] = (e, float(grid[k]), c["ratio"], float(unit[k]))
+            k = int(np.argmax(np.where(mask & ok, ratio_m, -np.inf)))
+            m = float(ratio_m[k])
+            if best_margin[side] is None or m > best_margin[side][0]:
+                best_margin[side] = (m, float(grid[k]), c["ratio"])
         ind["peak_shift"][c["ratio"]] = (c["peak"][0] - w_ref) / w_ref
         ind["envelope_shift"][c["ratio"]] = _envelope_shift(
             grid, y, ref, c["peak"], w_ref
@@ -550,12 +664,19 @@ def choose_contact_model(
 
     model = "undecided"
     if worst["below"] is not None:
-        e, w_e, r_e = worst["below"]
+        e, w_e, r_e, u_e = worst["below"]
+        m_below, w_m, r_m = best_margin["below"]
         ind["envelope_excess"] = e
         ind["envelope_excess_frequency"] = w_e
+        ind["envelope_excess_noise"] = u_e
+        ind["margin"]["envelope_excess"] = m_below
+        ind["envelope_margin_frequency"] = w_m
+        m_above = -math.inf
         if worst["above"] is not None:
             ind["envelope_excess_above"] = worst["above"][0]
             ind["envelope_excess_above_frequency"] = worst["above"][1]
+            m_above = best_margin["above"][0]
+            ind["margin"]["envelope_excess_above"] = m_above
         shifts = ", ".join(
             f"{100 * s:+.2f} % at Fex/Fn = {r:.3g}"
             for r, s in ind["peak_shift"].items()
@@ -570,34 +691,52 @@ def choose_contact_model(
             + f"; their peaks move by {shifts} from the stuck resonance. Below "
             f"the stuck resonance, the largest rise above the stuck envelope is "
             f"{100 * e:.2f} % of the curve's peak (Fex/Fn = {r_e:.3g}, at "
-            f"{w_e:.4g}; threshold {100 * excess_threshold:.3g} %)"
+            f"{w_e:.4g}; noise {100 * u_e:.2g} %; threshold "
+            f"{100 * excess_threshold:.3g} %); measured in noise units, the "
+            f"excess comes closest to or goes furthest past the threshold at "
+            f"{w_m:.4g} (Fex/Fn = {r_m:.3g}), margin {m_below:+.3g} (a verdict "
+            f"needs {MARGIN_Z:g} either way)"
         )
         above = ind.get("envelope_excess_above", -np.inf)
-        if e > excess_threshold:
+        if m_below >= MARGIN_Z:
             model = "microslip"
             text[-1] += (
                 ": the mostly stuck peaks leave the stuck envelope towards lower "
                 "frequency, the signature of partial slip in a stuck contact "
                 "(microslip)."
             )
-        elif above > excess_threshold:
+        elif m_above >= MARGIN_Z:
             text[-1] += (
                 f", but above it the curves rise {100 * above:.2f} % over the "
-                "envelope, which is not a friction softening signature: the "
-                "data do not fit either model."
+                f"envelope (margin {m_above:+.3g} noise units), which is not a "
+                "friction softening signature: the data do not fit either model."
             )
             missing.append(
                 "the curves leave the stuck envelope on the high-frequency side"
             )
-        else:
+        elif m_below <= -MARGIN_Z and m_above <= -MARGIN_Z:
             model = "macroslip"
             text[-1] += (
                 ": the mostly stuck curves stay inside the fully stuck envelope, "
                 "as a macroslip (Masing) contact does."
             )
+        else:
+            text[-1] += "."
+            side = "below" if m_below > -MARGIN_Z else "above"
+            m_side = m_below if side == "below" else m_above
+            unclear.append(
+                f"{side} the stuck resonance the envelope excess lies "
+                f"{m_side:+.2g} noise units from its threshold: the data cannot "
+                "tell whether the mostly stuck peaks leave the stuck envelope"
+            )
     if missing:
         model = "undecided"
+        ind["undecided_reason"] = "data"
         text.append("Undecided: " + "; ".join(missing) + ".")
+    elif unclear:
+        model = "undecided"
+        ind["undecided_reason"] = "noise"
+        text.append("Undecided within the noise: " + "; ".join(unclear) + ".")
     else:
         text.append(f"Verdict: {model} {'with' if roughness else 'without'} roughness.")
     ind["n_grid"] = n_grid
