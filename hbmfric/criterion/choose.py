@@ -48,7 +48,7 @@ RESONANCE_Z = 10.0
 #: round-off error of clean curves)
 NOISE_UNIT_FLOOR = 1e-3
 #: largest common grid (the smoother holds n_grid x window values per curve)
-N_GRID_MAX = 20_000
+N_GRID_MAX = 5_000
 
 
 @dataclass(frozen=True, eq=False)
@@ -559,10 +559,11 @@ def choose_contact_model(
     ind["stuck_reference"] = ref_name
     if w_ref is not None:
         # a resonance must stand out of the noise: the peak's rise above the
-        # lowest point below it, in noise units at the peak
+        # lowest point below it, in noise units of that difference
         k = int(np.nanargmax(ref))
-        rise = float(ref[k] - np.nanmin(ref[: k + 1]))
-        rise_margin = rise / float(ref_sd[k])
+        k_low = int(np.nanargmin(ref[: k + 1]))
+        rise = float(ref[k] - ref[k_low])
+        rise_margin = rise / float(np.hypot(ref_sd[k], ref_sd[k_low]))
         ind["stuck_rise"] = rise
         ind["margin"]["stuck_rise"] = rise_margin
         if rise_margin < RESONANCE_Z:

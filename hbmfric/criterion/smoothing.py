@@ -6,6 +6,7 @@ flank crossings."""
 from __future__ import annotations
 
 import numpy as np
+from scipy import sparse
 
 
 def peak(grid: np.ndarray, log_amp: np.ndarray) -> tuple[float, float, bool]:
@@ -111,7 +112,12 @@ def _local_weights(
     pad[hp:-hp] = finite
     ok = np.lib.stride_tricks.sliding_window_view(pad, 2 * hp + 1)  # (n, 2hp+1)
     x = np.arange(-hp, hp + 1) * dx / h
-    w = np.where(ok, (1.0 - np.abs(x) ** 3) ** 3, 0.0)
+    tricube = (1.0 - np.abs(x) ** 3) ** 3
+    # windows wholly on the curve share one kernel; only those that reach
+    # past an end of it (or a gap) need their own
+    full = ok.all(axis=1)
+    rows = np.r_[np.nonzero(~full)[0], np.nonzero(full)[0][:1]]
+    w = np.where(ok[rows], tricube, 0.0)
     s = [w.sum(axis=1)] + [w @ x**p for p in range(1, 5)]
     A = np.stack(
         [
@@ -126,7 +132,12 @@ def _local_weights(
     # the kernel is w (r0 + r1 x + r2 x^2) with r = A^-1 e1
     r = np.linalg.solve(A, np.broadcast_to(np.eye(3)[:, :1], A.shape[:-1] + (1,)))
     r = r[..., 0]
-    weights = w * (r[:, :1] + r[:, 1:2] * x + r[:, 2:3] * x**2)
+    kernels = w * (r[:, :1] + r[:, 1:2] * x + r[:, 2:3] * x**2)
+    weights = np.empty(ok.shape)
+    n_partial = np.count_nonzero(~full)
+    weights[~full] = kernels[:n_partial]
+    if n_partial < rows.size:
+        weights[full] = kernels[n_partial]
     return weights, hp
 
 
@@ -195,17 +206,25 @@ def smoothed_noise(
     if np.count_nonzero(inside) < 3:
         return out
     weights, hp = _local_weights(grid, inside, half_width)
+    # smoothed = L @ (Phi @ samples): L the banded smoother, Phi the
+    # interpolation (two weights a row); the variance is sigma^2 times the
+    # squared row norms of their product
     k = np.nonzero(inside)[0]
-    # grid index of each window position; positions off the curve weigh 0
-    cols = np.clip(k[:, None] + np.arange(-hp, hp + 1)[None, :], 0, grid.size - 1)
+    cols = k[:, None] + np.arange(-hp, hp + 1)[None, :]
     lk = weights[k]
-    # sample weights: (1 - t) on sample j, t on sample j + 1 of each position
-    keys = np.concatenate(
-        [(k[:, None] * n + j[cols]).ravel(), (k[:, None] * n + j[cols] + 1).ravel()]
+    keep = lk != 0.0  # zero off the curve, so cols stay in range
+    rows = np.broadcast_to(k[:, None], cols.shape)
+    smoother = sparse.csr_matrix(
+        (lk[keep], (rows[keep], cols[keep])), shape=(grid.size, grid.size)
     )
-    vals = np.concatenate([(lk * (1.0 - t[cols])).ravel(), (lk * t[cols]).ravel()])
-    uniq, inv = np.unique(keys, return_inverse=True)
-    per_sample = np.bincount(inv, weights=vals, minlength=uniq.size)
-    var = np.bincount(uniq // n, weights=per_sample**2, minlength=grid.size)
+    phi = sparse.csr_matrix(
+        (
+            np.concatenate([1.0 - t[k], t[k]]),
+            (np.concatenate([k, k]), np.concatenate([j[k], j[k] + 1])),
+        ),
+        shape=(grid.size, n),
+    )
+    c = smoother @ phi
+    var = np.asarray(c.multiply(c).sum(axis=1)).ravel()
     out[inside] = sigma * np.sqrt(var[inside])
     return out
