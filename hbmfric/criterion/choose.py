@@ -58,12 +58,20 @@ class CriterionResult:
     Attributes
     ----------
     model : {"macroslip", "microslip", "undecided"}
+        "macroslip" or "microslip" only when every test on the way lies at
+        least ``MARGIN_Z`` (3) noise units clear of its threshold;
+        "undecided" when the family lacks something a step needs
+        (``indicators["undecided_reason"] == "data"``) or when an
+        indicator sits within the noise of its threshold (``"noise"``).
     roughness : bool
         True when FRFs at equal ``Fex/Fn`` differ (step 1); False when they
         coincide or when no pair could be compared (then ``model`` is
         "undecided" and ``indicators["roughness_assessed"]`` is False).
+        Meaningful only when ``model`` is not "undecided" (or when
+        ``indicators["margin"]["ratio_spread"]`` is beyond ±3).
     indicators : dict
-        Every number the decision used, with its threshold (see
+        Every number the decision used, with its threshold and its margin
+        in noise units (``indicators["margin"]``; see
         :func:`choose_contact_model`).
     explanation : str
         A paragraph saying what was compared, what was found and why.
@@ -291,11 +299,43 @@ def choose_contact_model(
        all stay inside, **macroslip** (unless they rise above the envelope
        on the high-frequency side, which fits neither model).
 
-    A family that cannot answer a step gets ``"undecided"`` and an
-    explanation of what is missing (no records, a single ratio, no two normal
-    loads at the same ratio, no mostly stuck curve, a stuck resonance outside
-    the measured band, curves leaving the envelope above the stuck
-    resonance).
+    **Noise and margins.** The noise of each record is estimated (robust
+    scatter of each sample about the line through its neighbours, in log
+    amplitude) and carried, exactly, through the interpolation and the
+    smoothing: every point of every smoothed curve has its own noise
+    (standard deviation, at least 0.1 %). Each test is then read as a
+    *margin*: how far its indicator lies from its threshold in units of the
+    indicator's own noise (positive: past the threshold). A test decides only
+    when its margin is at least ``MARGIN_Z`` = 3 either way:
+
+    * step 1: (spread − threshold) / noise of the spread (the RMS noise of
+      the difference divided by √(2 n), n the number of independent
+      stretches of the band, each a smoothing window or a sample spacing
+      long);
+    * the stuck reference's peak must rise at least ``RESONANCE_Z`` = 10
+      noise units above its lowest point below the peak (a resonance at
+      all; pure noise reaches about 5);
+    * a curve is mostly stuck when somewhere its distance from the
+      reference exceeds ``stuck_tolerance`` by 3 noise units, stuck when it
+      stays 3 units inside everywhere (in between it is left out);
+    * step 2: the largest of (excess − ``excess_threshold``) / noise of the
+      excess over the band below the stuck resonance: ≥ 3 → **microslip**;
+      ≤ −3 (and the same above the stuck resonance) → **macroslip**.
+
+    The verdicts are therefore
+
+    ``"macroslip"`` / ``"microslip"`` (with or without roughness)
+        Every test on the way is clear of its threshold by 3 noise units.
+    ``"undecided"``, ``indicators["undecided_reason"] == "data"``
+        The family cannot answer a step, and the explanation says what is
+        missing (no records, a single ratio, no two normal loads at the same
+        ratio, no mostly stuck curve, a stuck resonance outside the measured
+        band, curves leaving the envelope above the stuck resonance).
+    ``"undecided"``, ``indicators["undecided_reason"] == "noise"``
+        The data cannot tell: some margin is inside ±3 noise units (or the
+        stuck resonance does not stand out of the noise); the explanation
+        names the test and its margin. More points per curve, repeated
+        measurements or a lower noise turn it into a verdict.
 
     Parameters
     ----------
@@ -325,7 +365,8 @@ def choose_contact_model(
         is below 0.2 %, otherwise a window holding about
         ``(noise / 0.005)**2`` samples (at most 5 % of the band).
     n_grid : int, default 600
-        Points of the common frequency grid.
+        Points of the common frequency grid, 50 to ``N_GRID_MAX`` = 5000
+        (the smoother holds ``n_grid`` × window values per curve).
 
     Returns
     -------
@@ -342,8 +383,24 @@ def choose_contact_model(
         rising flank lies left of the reference's, over levels from 50 to
         97 % of its peak, fraction of the stuck resonance; about 0 or
         negative = inside), ``noise`` (robust estimate of the data's noise
-        in log amplitude, median over records), ``smoothing_half_width``,
+        in log amplitude, median over records), ``noise_smoothed`` (median
+        noise left on the smoothed curves), ``smoothing_half_width``,
         ``n_records``, ``n_grid`` and ``elapsed`` (wall time, s).
+        ``margin`` holds the margins in noise units: ``ratio_spread``,
+        ``stuck_rise``, ``mostly_stuck`` (by ratio), ``envelope_excess``
+        and ``envelope_excess_above``; ``margin_z`` the margin a verdict
+        needs (3), ``ratio_spread_noise`` and ``envelope_excess_noise`` the
+        noise units of step 1 and of the largest excess, ``stuck_rise`` the
+        reference's rise (log amplitude), ``unclear_stuck_ratios`` the
+        curves left out as neither stuck nor mostly stuck, and
+        ``undecided_reason`` None, "data" or "noise".
+
+    Raises
+    ------
+    ValueError
+        A record that is not an :class:`FRFRecord`, an option out of its
+        range (the message names it and the range), ``n_grid`` outside
+        [50, 5000].
     """
     start = time.perf_counter()
     recs = tuple(records)
