@@ -191,7 +191,11 @@ class CriterionResult:
             if w_ref is not None:
                 ax2.axvline(w_ref, color="k", ls=":", lw=1)
             ax2.legend(fontsize=7)
-        ax2.set_title(f"step 2: mostly stuck peaks → {self.verdict}")
+        margin = self.indicators.get("margin", {}).get("envelope_excess")
+        ax2.set_title(
+            f"step 2 → {self.verdict}"
+            + (f" (margin {margin:+.2g} σ)" if margin is not None else "")
+        )
         ax2.set_xlabel("frequency")
         fig.tight_layout()
         return fig
