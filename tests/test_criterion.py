@@ -344,7 +344,10 @@ def check_margins(res):
     on the side of the verdict; an undecided one says why."""
     m = res.indicators["margin"]
     if res.model == "microslip":
-        assert m["envelope_excess"] >= MARGIN_Z
+        # a claim that some point leaves the envelope needs more than
+        # MARGIN_Z: the margin grows with the stretches searched
+        assert res.indicators["margin_z_leave"] > MARGIN_Z
+        assert m["envelope_excess"] >= res.indicators["margin_z_leave"]
     elif res.model == "macroslip":
         assert m["envelope_excess"] <= -MARGIN_Z
         assert m.get("envelope_excess_above", -math.inf) <= -MARGIN_Z
@@ -378,7 +381,7 @@ def test_noisy_masing_never_reads_microslip(families, noise, n_seeds):
     (150 random frequencies per curve): macroslip or undecided, never
     microslip (before the noise margins: 1 and 18 of 40 read microslip).
     Measured with 20 seeds, without / with roughness: 10 %: 2 / 0 macroslip,
-    18 / 20 undecided; 20 %: 20 / 20 undecided."""
+    18 / 20 undecided; 20 %: 20 / 20 undecided (5 %: 19 / 6 macroslip)."""
     for rough in (False, True):
         fam = families("paper", "macroslip", rough)
         for seed in range(n_seeds):
@@ -394,9 +397,9 @@ def test_noisy_masing_never_reads_microslip(families, noise, n_seeds):
 @pytest.mark.parametrize("n_seeds", [5, pytest.param(20, marks=pytest.mark.slow)])
 @pytest.mark.parametrize("noise", [0.1, 0.2])
 def test_noisy_microslip_never_reads_macroslip(families, noise, n_seeds):
-    """Measured with 20 seeds, without / with roughness: 10 %: 5 / 1
-    microslip, the rest undecided; 20 %: 1 / 0 microslip, the rest
-    undecided (before the noise margins: 3 of 80 read macroslip)."""
+    """Measured with 20 seeds, without / with roughness: 10 %: 3 / 1
+    microslip, the rest undecided; 20 %: all undecided (5 %: 15 / 8
+    microslip; before the noise margins: 3 of 80 read macroslip)."""
     for rough in (False, True):
         fam = families("paper", "microslip", rough)
         for seed in range(n_seeds):
@@ -404,6 +407,22 @@ def test_noisy_microslip_never_reads_macroslip(families, noise, n_seeds):
             assert res.model in ("microslip", "undecided"), res.explanation
             if res.model == "microslip":
                 assert res.roughness == rough, res.explanation
+
+
+@pytest.mark.parametrize(
+    "seeds", [(0,), pytest.param(tuple(range(60)), marks=pytest.mark.slow)]
+)
+def test_noisy_beam_like_family_never_reads_microslip(seeds):
+    """A sparse, 20 % noisy macroslip family (about 1.4 samples per Hz
+    around a 3.5 Hz wide stuck peak): in seed 0 the single stuck record dips
+    (log(1 + 0.2 N) has a heavy lower tail) and the excess passes its
+    threshold by 3.3 noise units at one point of ~20 searched; with the
+    margin raised for the number of stretches searched it is undecided.
+    Measured over 60 seeds: 60 undecided (at 2 %: 60 macroslip)."""
+    fam = beam_like_family()
+    for seed in seeds:
+        res = check_margins(choose_contact_model(perturb(fam, seed, 0.2)))
+        assert res.model in ("macroslip", "undecided"), res.explanation
 
 
 def test_clean_families_decide_with_wide_margins(families):

@@ -9,6 +9,7 @@ import time
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
+from statistics import NormalDist
 
 import numpy as np
 
@@ -44,6 +45,8 @@ MARGIN_Z = 3.0
 #: the stuck reference's peak must rise this many noise units above its
 #: lowest point below the peak (pure noise wanders about 5 units)
 RESONANCE_Z = 10.0
+#: one-sided probability of a Gaussian beyond MARGIN_Z
+MARGIN_TAIL = NormalDist().cdf(-MARGIN_Z)
 #: smallest noise unit of a smoothed log amplitude (interpolation and
 #: round-off error of clean curves)
 NOISE_UNIT_FLOOR = 1e-3
@@ -691,6 +694,9 @@ def choose_contact_model(
     # margin (excess - threshold) / noise (value, frequency, ratio)
     worst = {"below": None, "above": None}
     best_margin = {"below": None, "above": None}
+    # a curve "leaves the envelope" if any point does: the margin that claim
+    # needs grows with the number of independent stretches searched
+    stretches = {"below": 0.0, "above": 0.0}
     evidence["mostly_stuck"] = []
     for c in mostly if w_ref is not None else []:
         y = c["curve"]
@@ -703,6 +709,9 @@ def choose_contact_model(
         unit[ok] = np.hypot(
             np.exp(y[ok]) * c["sd"][ok], np.exp(ref[ok]) * ref_sd[ok]
         ) / math.exp(top)
+        for side, mask in (("below", grid < w_ref), ("above", grid >= w_ref)):
+            span = np.count_nonzero(mask & ok) * (grid[1] - grid[0])
+            stretches[side] += max(span / corr, 1.0)
         ratio_m = np.full(grid.shape, -np.inf)
         ratio_m[ok] = (excess[ok] - excess_threshold) / unit[ok]
         for side, mask in (("below", grid < w_ref), ("above", grid >= w_ref)):
@@ -734,6 +743,12 @@ def choose_contact_model(
         ind["margin"]["envelope_excess"] = m_below
         ind["envelope_margin_frequency"] = w_m
         m_above = -math.inf
+        # margin needed to say that a curve leaves the envelope somewhere
+        z_leave = {
+            side: max(MARGIN_Z, -NormalDist().inv_cdf(MARGIN_TAIL / max(n, 1.0)))
+            for side, n in stretches.items()
+        }
+        ind["margin_z_leave"] = z_leave["below"]
         if worst["above"] is not None:
             ind["envelope_excess_above"] = worst["above"][0]
             ind["envelope_excess_above_frequency"] = worst["above"][1]
@@ -756,18 +771,21 @@ def choose_contact_model(
             f"{w_e:.4g}; noise {100 * u_e:.2g} %; threshold "
             f"{100 * excess_threshold:.3g} %); measured in noise units, the "
             f"excess comes closest to or goes furthest past the threshold at "
-            f"{w_m:.4g} (Fex/Fn = {r_m:.3g}), margin {m_below:+.3g} (a verdict "
-            f"needs {MARGIN_Z:g} either way)"
+            f"{w_m:.4g} (Fex/Fn = {r_m:.3g}), margin {m_below:+.3g} (inside by "
+            f"{MARGIN_Z:g} everywhere says macroslip; past by {z_leave['below']:.2g} "
+            f"somewhere, {MARGIN_Z:g} raised for the "
+            f"{stretches['below']:.0f} independent stretches searched, says "
+            "microslip)"
         )
         above = ind.get("envelope_excess_above", -np.inf)
-        if m_below >= MARGIN_Z:
+        if m_below >= z_leave["below"]:
             model = "microslip"
             text[-1] += (
                 ": the mostly stuck peaks leave the stuck envelope towards lower "
                 "frequency, the signature of partial slip in a stuck contact "
                 "(microslip)."
             )
-        elif m_above >= MARGIN_Z:
+        elif m_above >= z_leave["above"]:
             text[-1] += (
                 f", but above it the curves rise {100 * above:.2f} % over the "
                 f"envelope (margin {m_above:+.3g} noise units), which is not a "
