@@ -332,7 +332,7 @@ def choose_contact_model(
       n independent stretches (smoothing windows) of the band, so the
       margin it needs, ``indicators["margin_z_leave"]``, is raised until
       the chance that Gaussian noise alone reaches it somewhere equals the
-      chance of one point passing 3 (about 3.7 for 20 stretches).
+      chance of one point passing 3 (3.6 for 10 stretches, 3.8 for 20).
 
     The noise model is Gaussian in log amplitude. Noise far from that (30 %
     multiplicative noise, whose logarithm has a heavy lower tail) can still
