@@ -30,9 +30,9 @@ import numpy as np
 from .adaptive import CHANGE_FACTOR, LADDER, LINEAR, TOP_FLOOR, _Level
 
 #: calibrate the free measure at every this many non-linear points
-EVERY = 16
+EVERY = 32
 #: ... and at this many points of largest free measure
-N_WORST = 3
+N_WORST = 2
 
 
 def next_level(harmonics: int) -> int:
