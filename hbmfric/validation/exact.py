@@ -1,0 +1,774 @@
+"""Exact, event-driven periodic references for a linear structure with one
+Jenkins contact (elastic–perfectly-plastic spring, Masing macroslip).
+
+The system is ``M ẍ + C ẋ + K x + e_c f_c = p cos Ωt`` (``p`` the load
+vector, ``e_c`` the contact DOF). The Jenkins force is ``f_c = k_t (x_c -
+w)`` while stuck (slider ``w`` fixed, ``|f_c| < f_s``) and ``f_c = ±f_s``
+while slipping (the slider follows ``x_c``). Between events the motion is a
+linear ODE with harmonic forcing, solved here in closed form:
+
+* the state is ``y = (q, p, φ)``: modal coordinates of the structure
+  without contact (``x = Φ q``, all modes, ``Φ`` mass-normalised), modal
+  velocities scaled by the natural pulsations (``q̇ = diag(ω) p``) and the
+  spring deflection ``φ = f_c / k_t``; ``φ̇ = ẋ_c`` while stuck, ``φ̇ = 0``
+  while slipping, so one linear system per phase (``A_stick``,
+  ``A_slip``) covers both slip directions;
+* in a phase, ``y(t) = Re(P e^{iΩt}) + Re(V e^{Λ(t - t_a)} c)``: the
+  harmonic particular solution plus the homogeneous one through the
+  eigen-decomposition of the phase matrix, evaluated at any instant in
+  ``O(n)`` operations;
+* events: stick → slip when ``|φ|`` reaches ``δ = f_s / k_t``; slip → stick
+  when ``ẋ_c`` turns against the slip direction. Each is bracketed on a fine
+  sub-grid of the phase (sign changes, and extremes of the event function
+  for near-grazing dips) and located by Brent's method to rounding;
+* the periodic steady state is found by shooting from an instant ``t_0``
+  in the middle of a stick phase, where the period map is smooth in all
+  of ``y``: Newton on ``y(t_0 + T) - y(t_0) = 0`` with the exact monodromy
+  (product of the phase propagators, the saltation matrix at stick → slip
+  zeroing the ``φ`` component, the identity at slip → stick), started from
+  an HBM solution or a neighbouring reference.
+
+A response that never slips is the linear stuck one (slider centred); a
+zero slip force gives the linear response without contact. Harmonics are
+integrated exactly phase by phase; half the peak-to-peak value is found by
+Brent's method on the velocity.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.linalg
+from scipy.optimize import brentq
+
+from .._validate import finite_float, positive_int
+from ..errors import ConvergenceError, ConvergenceWarning
+
+__all__ = ["ExactSolution", "exact_branch", "exact_periodic_solution"]
+
+STICK, SLIP = 0, 1
+#: sub-grid of a phase for bracketing events and extremes, points per period
+_SCAN = 1024
+
+
+# ----------------------------------------------------------------------------
+# the linear model in modal coordinates
+# ----------------------------------------------------------------------------
+class _Model:
+    """Phase matrices, eigen-decompositions and particular solutions of one
+    system at one forcing (``force``, ``omega``)."""
+
+    def __init__(self, system, force: float, omega: float):
+        M, C, K = (np.asarray(a, dtype=float) for a in system.matrices())
+        n = M.shape[0]
+        law = system.contact
+        self.kt = float(law.stiffness)
+        self.fs = float(law.slip_force)
+        self.delta = self.fs / self.kt
+        self.omega = omega
+        self.period = 2.0 * math.pi / omega
+        w2, phi = scipy.linalg.eigh(K, M)
+        if np.min(w2) <= 0.0:
+            raise ValueError(
+                "the exact reference needs a positive definite stiffness matrix "
+                "(a structure held without the contact)"
+            )
+        wn = np.sqrt(w2)
+        self.n = n
+        self.size = 2 * n + 1
+        self.shapes = phi
+        self.wn = wn
+        cm = phi.T @ C @ phi
+        ac = phi[system.contact_dof]  # x_c = ac . q
+        pf = phi.T @ np.asarray(system.load_vector(force), dtype=float)
+        # y = (q, p, φ): q' = W p, p' = -W q - W⁻¹ Cm W p - W⁻¹ ac kt φ + W⁻¹ pf cos
+        A = np.zeros((self.size, self.size))
+        A[:n, n : 2 * n] = np.diag(wn)
+        A[n : 2 * n, :n] = -np.diag(wn)
+        A[n : 2 * n, n : 2 * n] = (cm * wn[None, :]) / wn[:, None]
+        A[n : 2 * n, n : 2 * n] *= -1.0
+        A[n : 2 * n, 2 * n] = -self.kt * ac / wn
+        slip = A.copy()
+        A[2 * n, n : 2 * n] = ac * wn  # φ' = v_c while stuck
+        g = np.zeros(self.size)
+        g[n : 2 * n] = pf / wn
+        self.row_xc = np.zeros(self.size)
+        self.row_xc[:n] = ac
+        self.row_vc = np.zeros(self.size)
+        self.row_vc[n : 2 * n] = ac * wn
+        self.row_phi = np.zeros(self.size)
+        self.row_phi[2 * n] = 1.0
+        self.phases = [_Phase(A, g, omega), _Phase(slip, g, omega)]
+
+    def dof_rows(self, dof: int) -> tuple[np.ndarray, np.ndarray]:
+        """Rows giving ``x_dof`` and ``ẋ_dof`` from the state."""
+        rx = np.zeros(self.size)
+        rv = np.zeros(self.size)
+        rx[: self.n] = self.shapes[dof]
+        rv[self.n : 2 * self.n] = self.shapes[dof] * self.wn
+        return rx, rv
+
+    def state(self, x: np.ndarray, v: np.ndarray, fc: float) -> np.ndarray:
+        """State ``y`` from physical displacements, velocities and force."""
+        # Φ⁻¹ = Φᵀ M is avoided: solve with Φ (square, well conditioned)
+        q = np.linalg.solve(self.shapes, x)
+        qd = np.linalg.solve(self.shapes, v)
+        return np.concatenate((q, qd / self.wn, [fc / self.kt]))
+
+
+class _Phase:
+    """``ẏ = A y + g cos Ωt``: eigen-decomposition and particular solution."""
+
+    def __init__(self, A: np.ndarray, g: np.ndarray, omega: float):
+        self.A = A
+        lam, V = scipy.linalg.eig(A)
+        self.lam = lam
+        self.V = V
+        self.Vinv = np.linalg.inv(V)
+        self.omega = omega
+        # particular solution Re(P e^{iΩt})
+        self.P = np.linalg.solve(1j * omega * np.eye(A.shape[0]) - A, g.astype(complex))
+
+    def particular(self, t) -> np.ndarray:
+        """``Re(P e^{iΩt})``, shape (size,) or (size, n_t)."""
+        e = np.exp(1j * self.omega * np.asarray(t, dtype=float))
+        return np.real(np.multiply.outer(self.P, e))
+
+    def coefficients(self, ta: float, ya: np.ndarray) -> np.ndarray:
+        """Modal amplitudes ``c`` of the homogeneous part from ``y(t_a)``."""
+        return self.Vinv @ (ya - self.particular(ta))
+
+    def evaluate(self, row: np.ndarray, ta: float, c: np.ndarray, t) -> np.ndarray:
+        """``row · y(t)`` and its time derivative at the instants ``t``."""
+        t = np.asarray(t, dtype=float)
+        rv = row @ self.V
+        e = np.exp(np.multiply.outer(t - ta, self.lam))  # (n_t, size)
+        hom = e @ (rv * c)
+        dhom = e @ (rv * c * self.lam)
+        ep = np.exp(1j * self.omega * t)
+        rp = row @ self.P
+        return np.real(hom + rp * ep), np.real(dhom + 1j * self.omega * rp * ep)
+
+    def propagate(self, ta: float, c: np.ndarray, t: float) -> np.ndarray:
+        """The full state at the instant ``t``."""
+        hom = self.V @ (np.exp(self.lam * (t - ta)) * c)
+        return np.real(hom) + self.particular(t)
+
+    def transition(self, tau: float) -> np.ndarray:
+        """``exp(A τ)``, real, shape (size, size)."""
+        return np.real((self.V * np.exp(self.lam * tau)) @ self.Vinv)
+
+
+# ----------------------------------------------------------------------------
+# event location
+# ----------------------------------------------------------------------------
+def _root(f, a: float, b: float) -> float:
+    """Zero of ``f`` in ``[a, b]`` by Brent's method to rounding; when
+    rounding has made the end values agree in sign (a zero at an end), the
+    end nearer to zero."""
+    fa, fb = f(a), f(b)
+    if fa == 0.0 or fb == 0.0 or (fa > 0.0) == (fb > 0.0):
+        return a if abs(fa) <= abs(fb) else b
+    return brentq(f, a, b, xtol=1e-16 * max(abs(a), abs(b)), rtol=1e-15)
+
+
+def _first_down_crossing(func, ta: float, tb: float, n_grid: int):
+    """First instant in ``(t_a, t_b]`` where ``h`` goes from > 0 to <= 0.
+
+    ``func(t) -> (h, h')`` vectorised. Sign changes on a grid are located by
+    Brent's method; a positive grid value next to a dip (``h'`` changing
+    sign from - to +) is checked at the dip's bottom, so that a crossing
+    between two grid points is not missed. Returns None if there is none.
+    """
+    t = np.linspace(ta, tb, max(n_grid, 3))
+    h, dh = func(t)
+
+    def f(s):
+        return float(func(np.array([s]))[0][0])
+
+    def df(s):
+        return float(func(np.array([s]))[1][0])
+
+    for i in range(t.size - 1):
+        if h[i] > 0.0 and h[i + 1] <= 0.0:
+            if h[i + 1] == 0.0:
+                return t[i + 1]
+            return _root(f, t[i], t[i + 1])
+        if h[i] > 0.0 and h[i + 1] > 0.0 and dh[i] < 0.0 and dh[i + 1] > 0.0:
+            tm = _root(df, t[i], t[i + 1])
+            if f(tm) <= 0.0:
+                return _root(f, t[i], tm)
+    return None
+
+
+@dataclass
+class _Segment:
+    """One phase piece of the trajectory: ``[t_a, t_b]``, mode, amplitudes."""
+
+    ta: float
+    tb: float
+    mode: int
+    c: np.ndarray
+    ending: str  # "slip", "stick" or "end"
+
+
+def _simulate(model: _Model, t0: float, y0: np.ndarray, jacobian: bool = False):
+    """One period from ``(t_0, y_0)``: segments, end state, monodromy."""
+    T = model.period
+    t_end = t0 + T
+    delta = model.delta
+    size = model.size
+    phi_index = size - 1
+    t, y = t0, y0.copy()
+    if abs(y[phi_index]) < delta:
+        mode = STICK
+    else:
+        y[phi_index] = math.copysign(delta, y[phi_index])
+        mode = SLIP if y[phi_index] * (model.row_vc @ y) > 0.0 else STICK
+    segments = []
+    J = np.eye(size) if jacobian else None
+    guard = 0
+    while t < t_end:
+        guard += 1
+        if guard > 10000:
+            raise RuntimeError("too many events in one period")
+        phase = model.phases[mode]
+        c = phase.coefficients(t, y)
+        n_grid = int(math.ceil(_SCAN * (t_end - t) / T)) + 2
+        if mode == STICK:
+
+            def h(s, phase=phase, c=c, ta=t):
+                f, df = phase.evaluate(model.row_phi, ta, c, s)
+                # distance to the nearer slip limit, > 0 inside
+                return delta - np.abs(f), -np.sign(f) * df
+
+        else:
+            sign = 1.0 if y[phi_index] > 0.0 else -1.0
+
+            def h(s, phase=phase, c=c, ta=t, sign=sign):
+                f, df = phase.evaluate(model.row_vc, ta, c, s)
+                return sign * f, sign * df
+
+        te = _first_down_crossing(h, t, t_end, n_grid)
+        tb = t_end if te is None else te
+        yb = phase.propagate(t, c, tb)
+        if jacobian:
+            J = phase.transition(tb - t) @ J
+        if te is None:
+            segments.append(_Segment(t, tb, mode, c, "end"))
+        elif mode == STICK:
+            yb[phi_index] = math.copysign(delta, yb[phi_index])
+            if jacobian:
+                J[phi_index, :] = 0.0  # saltation: slip locks φ
+            segments.append(_Segment(t, tb, mode, c, "slip"))
+            mode = SLIP
+        else:
+            segments.append(_Segment(t, tb, mode, c, "stick"))
+            mode = STICK
+        t, y = tb, yb
+    return segments, y, J
+
+
+def _stick_middle(segments) -> float | None:
+    """Middle instant of the longest stick phase (joining the pieces cut at
+    the ends of the period), or None without stick."""
+    if not segments:
+        return None
+    T = segments[-1].tb - segments[0].ta
+    best, t_mid = 0.0, None
+    pieces = [(s.ta, s.tb) for s in segments if s.mode == STICK]
+    if not pieces:
+        return None
+    # join the last piece with the first when the period starts and ends stuck
+    if len(pieces) > 1 and segments[0].mode == STICK and segments[-1].mode == STICK:
+        first = pieces.pop(0)
+        last = pieces.pop()
+        pieces.append((last[0], first[1] + T))
+    for a, b in pieces:
+        if b - a > best:
+            best, t_mid = b - a, 0.5 * (a + b)
+    return t_mid
+
+
+# ----------------------------------------------------------------------------
+# result
+# ----------------------------------------------------------------------------
+@dataclass
+class ExactSolution:
+    """Exact periodic steady state of a linear structure with one Jenkins
+    contact.
+
+    Attributes
+    ----------
+    omega : float
+        Forcing pulsation Ω, rad/s.
+    force : float
+        Forcing amplitude, N.
+    kind : str
+        ``"stick-slip"``, ``"stuck"`` (linear, never slips; slider centred)
+        or ``"free"`` (zero slip force: linear without contact).
+    residual : float
+        Period-map residual ``max|y(t_0 + T) - y(t_0)|`` relative to the
+        state's size (``"stick-slip"``; 0 for the linear kinds).
+    newton_iterations : int
+    events : int
+        Stick ↔ slip transitions per period.
+    stick_fraction : float
+        Fraction of the period spent stuck.
+    elapsed : float
+        Wall time, s.
+    dof_names : dict
+        Named DOFs of the system → index.
+    """
+
+    omega: float
+    force: float
+    kind: str
+    residual: float
+    newton_iterations: int
+    events: int
+    stick_fraction: float
+    elapsed: float
+    dof_names: dict = field(default_factory=dict)
+    _model: _Model | None = field(default=None, repr=False)
+    _segments: list = field(default_factory=list, repr=False)
+    _linear: tuple | None = field(default=None, repr=False)
+    _contact_dof: int = field(default=0, repr=False)
+    _t0: float = field(default=0.0, repr=False)
+
+    @property
+    def period(self) -> float:
+        """``T = 2π/Ω``, s."""
+        return 2.0 * math.pi / self.omega
+
+    def _dof(self, dof) -> int:
+        if dof is None:
+            return self._contact_dof
+        if isinstance(dof, str):
+            if dof not in self.dof_names:
+                raise ValueError(f"unknown DOF name {dof!r}; known: {self.dof_names}")
+            return int(self.dof_names[dof])
+        return int(dof)
+
+    # -- evaluation -----------------------------------------------------------
+    def _pieces(self, dof: int):
+        """Per piece: (t_a, t_b, f) with ``f(t) -> (x, ẋ)`` vectorised."""
+        if self._linear is not None:
+            X = self._linear[0][dof]
+            w = self.omega
+
+            def f(t):
+                e = np.exp(1j * w * np.asarray(t, dtype=float))
+                return np.real(X * e), np.real(1j * w * X * e)
+
+            return [(0.0, self.period, f)]
+        model = self._model
+        rx, rv = model.dof_rows(dof)
+        out = []
+        for s in self._segments:
+            phase = model.phases[s.mode]
+
+            def f(t, phase=phase, s=s):
+                x, _ = phase.evaluate(rx, s.ta, s.c, t)
+                v, _ = phase.evaluate(rv, s.ta, s.c, t)
+                return x, v
+
+            out.append((s.ta, s.tb, f))
+        return out
+
+    def time_response(self, n: int = 256, dof=None) -> tuple[np.ndarray, np.ndarray]:
+        """``(t, x)`` at ``n`` equidistant instants ``t_k = k T / n`` of one
+        period (s, m), ``t = 0`` a zero of the forcing phase."""
+        n = positive_int("n", n, low=2)
+        j = self._dof(dof)
+        t = self.period * np.arange(n) / n
+        x = np.empty(n)
+        pieces = self._pieces(j)
+        T = self.period
+        t0 = pieces[0][0]
+        tt = t0 + np.mod(t - t0, T)
+        for i, (a, b, f) in enumerate(pieces):
+            sel = (tt >= a) & ((tt < b) if i < len(pieces) - 1 else (tt <= b + 1e-300))
+            if np.any(sel):
+                x[sel] = f(tt[sel])[0]
+        return t, x
+
+    def fourier(self, harmonic: int, dof=None) -> complex:
+        """Complex Fourier coefficient ``X_k`` with ``x ≈ Σ Re(X_k e^{ikΩt})``
+        (``X_0`` the mean), m; ``Xc_k = Re X_k``, ``Xs_k = -Im X_k``."""
+        k = int(harmonic)
+        if k < 0:
+            raise ValueError(f"harmonic must be >= 0, got {harmonic}")
+        j = self._dof(dof)
+        T = self.period
+        nu = k * self.omega
+        if self._linear is not None:
+            return complex(self._linear[0][j]) if k == 1 else 0.0j
+        model = self._model
+        rx, _ = model.dof_rows(j)
+        total = 0.0j
+        for s in self._segments:
+            phase = model.phases[s.mode]
+            tau = s.tb - s.ta
+            # homogeneous: Re(Σ r_m c_m e^{λ_m (t - t_a)})
+            a = (rx @ phase.V) * s.c
+            total += (
+                0.5
+                * np.exp(-1j * nu * s.ta)
+                * (
+                    np.sum(a * _expint(phase.lam - 1j * nu, tau))
+                    + np.sum(np.conj(a) * _expint(np.conj(phase.lam) - 1j * nu, tau))
+                )
+            )
+            # particular: Re(r P e^{iΩt})
+            rp = rx @ phase.P
+            w = self.omega
+            total += 0.5 * (
+                rp * np.exp(1j * (w - nu) * s.ta) * _expint(1j * (w - nu), tau)
+                + np.conj(rp)
+                * np.exp(-1j * (w + nu) * s.ta)
+                * _expint(-1j * (w + nu), tau)
+            )
+        return complex(total / T * (1.0 if k == 0 else 2.0))
+
+    def amplitude(self, harmonic: int | None = None, dof=None) -> float:
+        """``|X_k|`` of one harmonic ``k``, or by default (
+        ``harmonic=None``) half the peak-to-peak of ``x(t)``, m. ``dof``:
+        index, name or None (the contact DOF)."""
+        if harmonic is not None:
+            return abs(self.fourier(harmonic, dof))
+        j = self._dof(dof)
+        hi, lo = -np.inf, np.inf
+        for a, b, f in self._pieces(j):
+            n_grid = max(int(math.ceil(4 * _SCAN * (b - a) / self.period)), 8)
+            t = np.linspace(a, b, n_grid)
+            x, v = f(t)
+            hi, lo = max(hi, x.max()), min(lo, x.min())
+            for i in range(t.size - 1):
+                if v[i] * v[i + 1] < 0.0:
+                    tm = _root(
+                        lambda s, f=f: float(f(np.array([s]))[1][0]), t[i], t[i + 1]
+                    )
+                    xm = float(f(np.array([tm]))[0][0])
+                    hi, lo = max(hi, xm), min(lo, xm)
+        return 0.5 * (hi - lo)
+
+    def contact_force(self, n: int = 256) -> tuple[np.ndarray, np.ndarray]:
+        """``(t, f_c)`` at ``n`` equidistant instants of one period (s, N)."""
+        n = positive_int("n", n, low=2)
+        t = self.period * np.arange(n) / n
+        if self._linear is not None:
+            fc = self._linear[1]
+            return t, np.real(fc * np.exp(1j * self.omega * t))
+        model = self._model
+        T = self.period
+        t0 = self._segments[0].ta
+        tt = t0 + np.mod(t - t0, T)
+        out = np.empty(n)
+        for i, s in enumerate(self._segments):
+            last = i == len(self._segments) - 1
+            sel = (tt >= s.ta) & ((tt < s.tb) if not last else (tt <= s.tb))
+            if np.any(sel):
+                phase = model.phases[s.mode]
+                out[sel] = phase.evaluate(model.row_phi, s.ta, s.c, tt[sel])[0]
+        return t, model.kt * out
+
+    def friction_dissipation(self) -> float:
+        """Energy dissipated by the slider per period, ``f_s Σ |Δx_c|`` over
+        the slip phases, J."""
+        if self._linear is not None:
+            return 0.0
+        model = self._model
+        total = 0.0
+        for s in self._segments:
+            if s.mode == SLIP:
+                phase = model.phases[s.mode]
+                xa = phase.evaluate(model.row_xc, s.ta, s.c, np.array([s.ta, s.tb]))[0]
+                total += abs(xa[1] - xa[0])
+        return model.fs * total
+
+
+def _expint(z: np.ndarray, tau: float) -> np.ndarray:
+    """``∫_0^τ e^{z s} ds = (e^{zτ} - 1)/z``, accurate for small ``|z τ|``."""
+    z = np.asarray(z, dtype=complex)
+    zt = z * tau
+    out = np.empty_like(zt)
+    small = np.abs(zt) < 1e-3
+    big = ~small
+    out[big] = (np.exp(zt[big]) - 1.0) / z[big]
+    s = zt[small]
+    series = 1.0 + s / 4.0 * (1.0 + s / 5.0)
+    out[small] = tau * (1.0 + s / 2.0 * (1.0 + s / 3.0 * series))
+    return out
+
+
+# ----------------------------------------------------------------------------
+# solvers
+# ----------------------------------------------------------------------------
+def _check_system(system):
+    from ..laws import Jenkins
+
+    if not isinstance(getattr(system, "contact", None), Jenkins):
+        raise ValueError(
+            "the exact reference needs a system with one hf.Jenkins contact, got "
+            f"{type(getattr(system, 'contact', None)).__name__}"
+        )
+
+
+def _linear_response(system, force, omega, extra_stiffness):
+    M, C, K = (np.asarray(a, dtype=float) for a in system.matrices())
+    K = K.copy()
+    K[system.contact_dof, system.contact_dof] += extra_stiffness
+    p = np.asarray(system.load_vector(force), dtype=float)
+    X = np.linalg.solve(K - omega**2 * M + 1j * omega * C, p.astype(complex))
+    return X
+
+
+def _guess_from_signal(model: _Model, system, t_samples, x, v):
+    """Start of the shooting from sampled displacements/velocities of all
+    DOFs over one period (``x, v`` shape (n_dof, n_t)): the Jenkins force by
+    running the law twice over the contact displacement, then the middle of
+    the longest stick stretch."""
+    xc = x[system.contact_dof]
+    kt, fs = model.kt, model.fs
+    n_t = xc.size
+    fc = np.empty(n_t)
+    w = 0.0
+    stuck = np.zeros(n_t, dtype=bool)
+    for rep in range(2):
+        for i in range(n_t):
+            trial = kt * (xc[i] - w)
+            if trial > fs:
+                w = xc[i] - fs / kt
+                trial = fs
+            elif trial < -fs:
+                w = xc[i] + fs / kt
+                trial = -fs
+            elif rep == 1:
+                stuck[i] = True
+            fc[i] = trial
+    if not np.any(stuck):
+        i0 = 0
+    else:
+        # longest circular run of stuck samples
+        best, i0 = -1, 0
+        start = int(np.argmin(stuck)) if not np.all(stuck) else 0
+        run = 0
+        for j in range(n_t + 1):
+            i = (start + j) % n_t
+            if j < n_t and stuck[i]:
+                run += 1
+            else:
+                if run > best:
+                    best, i0 = run, (start + j - run // 2 - 1) % n_t
+                run = 0
+    t0 = float(t_samples[i0])
+    y0 = model.state(x[:, i0], v[:, i0], fc[i0])
+    return t0, y0
+
+
+def exact_periodic_solution(
+    system,
+    force: float,
+    omega: float,
+    *,
+    initial_guess=None,
+    tol: float = 1e-12,
+    max_iterations: int = 30,
+    on_failure: str = "warn",
+) -> ExactSolution:
+    """Exact periodic steady state under ``force cos(Ω t)``.
+
+    Parameters
+    ----------
+    system : Oscillator, CantileverBeam or compatible
+        Linear structure (``matrices() -> (M, C, K)``, ``load_vector``,
+        ``contact_dof``) with an :class:`hbmfric.Jenkins` contact; ``K``
+        positive definite.
+    force : float
+        Forcing amplitude, N.
+    omega : float
+        Forcing pulsation Ω, rad/s, > 0.
+    initial_guess : PeriodicSolution, ExactSolution, Branch point or None
+        Start of the shooting: an HBM solution (``coefficients`` of every
+        DOF, shape (n_dof, n_coef), with ``harmonic_numbers``) or an exact
+        solution at a nearby frequency (its state at the same forcing
+        phase). Default: ``hf.periodic_solution`` at ``harmonics=15``.
+    tol : float
+        Newton tolerance on the period-map residual, relative to the size
+        of the state.
+    max_iterations : int
+        Newton iterations at most.
+    on_failure : {"warn", "raise"}
+        What to do when Newton does not meet ``tol``:
+        :class:`~hbmfric.ConvergenceWarning` or
+        :class:`~hbmfric.ConvergenceError`.
+
+    Returns
+    -------
+    ExactSolution
+    """
+    start = time.perf_counter()
+    _check_system(system)
+    force = finite_float("force", force)
+    omega = finite_float("omega", omega, low=0.0, low_open=True)
+    tol = finite_float("tol", tol, low=0.0, low_open=True)
+    max_iterations = positive_int("max_iterations", max_iterations, low=1)
+    if on_failure not in ("warn", "raise"):
+        raise ValueError(f"on_failure must be 'warn' or 'raise', got {on_failure!r}")
+    law = system.contact
+    names = dict(getattr(system, "dof_names", {}))
+    common = {
+        "omega": omega,
+        "force": force,
+        "dof_names": names,
+        "_contact_dof": int(system.contact_dof),
+    }
+    if law.slip_force == 0.0:
+        X = _linear_response(system, force, omega, 0.0)
+        return ExactSolution(
+            kind="free", residual=0.0, newton_iterations=0, events=0,
+            stick_fraction=0.0, elapsed=time.perf_counter() - start,
+            _linear=(X, 0.0j), **common,
+        )  # fmt: skip
+    X = _linear_response(system, force, omega, law.stiffness)
+    fc = law.stiffness * X[system.contact_dof]
+    if abs(fc) <= law.slip_force:
+        return ExactSolution(
+            kind="stuck", residual=0.0, newton_iterations=0, events=0,
+            stick_fraction=1.0, elapsed=time.perf_counter() - start,
+            _linear=(X, fc), **common,
+        )  # fmt: skip
+    model = _Model(system, force, omega)
+    t0, y0 = _initial_state(model, system, force, omega, initial_guess)
+    scale_floor = model.delta
+    it = 0
+    residual = np.inf
+    for it in range(1, max_iterations + 1):
+        segments, y1, J = _simulate(model, t0, y0, jacobian=True)
+        r = y1 - y0
+        scale = max(np.max(np.abs(y0)), scale_floor)
+        residual = float(np.max(np.abs(r)) / scale)
+        if residual <= tol:
+            break
+        dy = np.linalg.solve(J - np.eye(model.size), -r)
+        y0 = y0 + dy
+        if it <= 3 or not abs(y0[-1]) < 0.9 * model.delta:
+            # re-centre t_0 in the middle of the longest stick phase
+            segments, _, _ = _simulate(model, t0, y0)
+            tm = _stick_middle(segments)
+            if tm is not None:
+                seg = next(s for s in segments if s.ta <= _wrap(tm, segments) <= s.tb)
+                tw = _wrap(tm, segments)
+                y0 = model.phases[seg.mode].propagate(seg.ta, seg.c, tw)
+                t0 = math.fmod(tw, model.period)
+    segments, y1, _ = _simulate(model, t0, y0)
+    residual = float(np.max(np.abs(y1 - y0)) / max(np.max(np.abs(y0)), scale_floor))
+    if not residual <= tol:
+        msg = (
+            f"exact reference at omega={omega:.9g} rad/s: period-map residual "
+            f"{residual:.3g} > tol={tol:.3g} after {it} Newton iterations"
+        )
+        if on_failure == "raise":
+            raise ConvergenceError(msg)
+        import warnings
+
+        warnings.warn(msg, ConvergenceWarning, stacklevel=2)
+    stuck_time = sum(s.tb - s.ta for s in segments if s.mode == STICK)
+    n_events = sum(1 for s in segments if s.ending in ("slip", "stick"))
+    return ExactSolution(
+        kind="stick-slip",
+        residual=residual,
+        newton_iterations=it,
+        events=n_events,
+        stick_fraction=stuck_time / model.period,
+        elapsed=time.perf_counter() - start,
+        _model=model,
+        _segments=segments,
+        _t0=t0,
+        **common,
+    )
+
+
+def _wrap(t: float, segments) -> float:
+    """``t`` moved by whole periods into the span of ``segments``."""
+    a = segments[0].ta
+    T = segments[-1].tb - a
+    return a + math.fmod(t - a, T) if t - a >= 0 else a + T + math.fmod(t - a, T)
+
+
+def _initial_state(model, system, force, omega, guess):
+    n_t = 2048
+    if guess is None:
+        from ..api import periodic_solution
+
+        guess = periodic_solution(system, force, omega)
+    if isinstance(guess, ExactSolution):
+        if guess._linear is None:
+            # same forcing phase: the state at θ_0 = Ω_old t_0
+            theta0 = guess.omega * guess._t0
+            old = guess._model
+            seg = next(s for s in guess._segments if s.ta <= guess._t0 <= s.tb)
+            y = old.phases[seg.mode].propagate(seg.ta, seg.c, guess._t0)
+            # the modal basis is the same (same system); rescale velocities
+            y = y.copy()
+            y[model.n : 2 * model.n] *= omega / guess.omega
+            return theta0 / omega, y
+        theta = 2.0 * math.pi * np.arange(n_t) / n_t
+        X = guess._linear[0]
+        x = np.real(np.multiply.outer(X, np.exp(1j * theta)))
+        v = np.real(np.multiply.outer(1j * omega * X, np.exp(1j * theta)))
+        return _guess_from_signal(model, system, theta / omega, x, v)
+    from ..signals import synthesis_matrix
+
+    h = np.asarray(guess.harmonic_numbers)
+    coef = np.asarray(guess.coefficients, dtype=float)
+    theta = 2.0 * math.pi * np.arange(n_t) / n_t
+    S = synthesis_matrix(h, theta)
+    # derivative of the basis: d/dθ (cos kθ, sin kθ) = k (-sin kθ, cos kθ)
+    dS = np.zeros_like(S)
+    col = 0
+    for k in h:
+        if k == 0:
+            col += 1
+            continue
+        dS[:, col] = -k * np.sin(k * theta)
+        dS[:, col + 1] = k * np.cos(k * theta)
+        col += 2
+    x = coef @ S.T
+    v = omega * (coef @ dS.T)
+    return _guess_from_signal(model, system, theta / omega, x, v)
+
+
+def exact_branch(
+    system,
+    force: float,
+    omegas,
+    *,
+    initial_guess=None,
+    tol: float = 1e-12,
+    on_failure: str = "warn",
+) -> list[ExactSolution]:
+    """Exact references at the pulsations ``omegas`` (rad/s), in the order
+    given, each Newton started from the previous stick–slip solution (the
+    first, and any after a linear one, from ``initial_guess`` or HBM).
+
+    Returns
+    -------
+    list of ExactSolution, one per pulsation.
+    """
+    omegas = np.asarray(omegas, dtype=float).ravel()
+    if omegas.size == 0 or not np.all(np.isfinite(omegas)) or np.any(omegas <= 0):
+        raise ValueError("omegas must be a non-empty sequence of positive floats")
+    out = []
+    previous = initial_guess
+    for w in omegas:
+        sol = exact_periodic_solution(
+            system, force, w, initial_guess=previous, tol=tol, on_failure=on_failure
+        )
+        out.append(sol)
+        previous = sol if sol.kind == "stick-slip" else None
+    return out
