@@ -456,6 +456,56 @@ class ExactSolution:
                     hi, lo = max(hi, xm), min(lo, xm)
         return 0.5 * (hi - lo)
 
+    @property
+    def event_times(self) -> np.ndarray:
+        """Instants of the stick ↔ slip transitions within one period, s,
+        increasing, in ``[t_0, t_0 + T)`` (``t_0`` the shooting instant,
+        inside a stick phase); empty for the linear kinds."""
+        return np.array([s.tb for s in self._segments if s.ending != "end"])
+
+    def states(self, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Displacements, velocities and contact force at the instants ``t``.
+
+        Parameters
+        ----------
+        t : array_like, shape (n_t,)
+            Instants, s (any; taken modulo the period).
+
+        Returns
+        -------
+        x, v : ndarray, shape (n_dof, n_t)
+            m and m/s.
+        fc : ndarray, shape (n_t,)
+            Contact force, N.
+        """
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        w = self.omega
+        if self._linear is not None:
+            X, fc = self._linear
+            e = np.exp(1j * w * t)
+            return (
+                np.real(np.multiply.outer(X, e)),
+                np.real(np.multiply.outer(1j * w * X, e)),
+                np.real(fc * e),
+            )
+        model = self._model
+        T = self.period
+        t0 = self._segments[0].ta
+        tt = t0 + np.mod(t - t0, T)
+        y = np.empty((model.size, t.size))
+        for i, s in enumerate(self._segments):
+            last = i == len(self._segments) - 1
+            sel = (tt >= s.ta) & ((tt < s.tb) if not last else (tt <= s.tb + T))
+            if np.any(sel):
+                phase = model.phases[s.mode]
+                e = np.exp(np.multiply.outer(phase.lam, tt[sel] - s.ta))
+                y[:, sel] = np.real(phase.V @ (e * s.c[:, None]))
+                y[:, sel] += phase.particular(tt[sel])
+        n = model.n
+        x = model.shapes @ y[:n]
+        v = model.shapes @ (y[n : 2 * n] * model.wn[:, None])
+        return x, v, model.kt * y[2 * n]
+
     def contact_force(self, n: int = 256) -> tuple[np.ndarray, np.ndarray]:
         """``(t, f_c)`` at ``n`` equidistant instants of one period (s, N)."""
         n = positive_int("n", n, low=2)
