@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -129,6 +130,7 @@ class _Phase:
         self.V = V
         self.Vinv = np.linalg.inv(V)
         self.omega = omega
+        self._rows = {}
         # particular solution Re(P e^{iΩt})
         self.P = np.linalg.solve(1j * omega * np.eye(A.shape[0]) - A, g.astype(complex))
 
@@ -141,15 +143,23 @@ class _Phase:
         """Modal amplitudes ``c`` of the homogeneous part from ``y(t_a)``."""
         return self.Vinv @ (ya - self.particular(ta))
 
+    def _projected(self, row: np.ndarray) -> tuple[np.ndarray, complex]:
+        """``row V`` and ``row P``, cached per row."""
+        key = row.tobytes()
+        hit = self._rows.get(key)
+        if hit is None:
+            hit = self._rows[key] = (row @ self.V, complex(row @ self.P))
+        return hit
+
     def evaluate(self, row: np.ndarray, ta: float, c: np.ndarray, t) -> np.ndarray:
         """``row · y(t)`` and its time derivative at the instants ``t``."""
         t = np.asarray(t, dtype=float)
-        rv = row @ self.V
+        rv, rp = self._projected(row)
+        a = rv * c
         e = np.exp(np.multiply.outer(t - ta, self.lam))  # (n_t, size)
-        hom = e @ (rv * c)
-        dhom = e @ (rv * c * self.lam)
+        hom = e @ a
+        dhom = e @ (a * self.lam)
         ep = np.exp(1j * self.omega * t)
-        rp = row @ self.P
         return np.real(hom + rp * ep), np.real(dhom + 1j * self.omega * rp * ep)
 
     def propagate(self, ta: float, c: np.ndarray, t: float) -> np.ndarray:
@@ -566,6 +576,12 @@ def _check_system(system):
             "the exact reference needs a system with one hf.Jenkins contact, got "
             f"{type(getattr(system, 'contact', None)).__name__}"
         )
+    M, _, K = system.matrices()
+    if scipy.linalg.eigvalsh(K, M)[0] <= 0.0:
+        raise ValueError(
+            "the exact reference needs a positive definite stiffness matrix "
+            "(a structure held without the contact)"
+        )
 
 
 def _linear_response(system, force, omega, extra_stiffness):
@@ -692,41 +708,55 @@ def exact_periodic_solution(
             stick_fraction=1.0, elapsed=time.perf_counter() - start,
             _linear=(X, fc), **common,
         )  # fmt: skip
+    sol = _shoot(system, force, omega, initial_guess, tol, max_iterations, common)
+    sol.elapsed = time.perf_counter() - start
+    if not sol.residual <= tol:
+        _fail(sol, tol, on_failure)
+    return sol
+
+
+def _fail(sol: ExactSolution, tol: float, on_failure: str) -> None:
+    msg = (
+        f"exact reference at omega={sol.omega:.9g} rad/s: period-map residual "
+        f"{sol.residual:.3g} > tol={tol:.3g} after {sol.newton_iterations} "
+        "Newton iterations"
+    )
+    if on_failure == "raise":
+        raise ConvergenceError(msg)
+    warnings.warn(msg, ConvergenceWarning, stacklevel=3)
+
+
+def _shoot(system, force, omega, guess, tol, max_iterations, common) -> ExactSolution:
+    """Newton on the period map from ``guess``; the result carries its
+    residual (no warning here)."""
     model = _Model(system, force, omega)
-    t0, y0 = _initial_state(model, system, force, omega, initial_guess)
+    t0, y0 = _initial_state(model, system, force, omega, guess)
     scale_floor = model.delta
     it = 0
-    residual = np.inf
     for it in range(1, max_iterations + 1):
         segments, y1, J = _simulate(model, t0, y0, jacobian=True)
         r = y1 - y0
         scale = max(np.max(np.abs(y0)), scale_floor)
-        residual = float(np.max(np.abs(r)) / scale)
-        if residual <= tol:
+        if np.max(np.abs(r)) <= tol * scale:
             break
-        dy = np.linalg.solve(J - np.eye(model.size), -r)
+        A = J - np.eye(model.size)
+        try:
+            dy = np.linalg.solve(A, -r)
+        except np.linalg.LinAlgError:
+            # an iterate that never slips: the slider offset is free
+            dy = np.linalg.lstsq(A, -r, rcond=None)[0]
         y0 = y0 + dy
         if it <= 3 or not abs(y0[-1]) < 0.9 * model.delta:
             # re-centre t_0 in the middle of the longest stick phase
             segments, _, _ = _simulate(model, t0, y0)
             tm = _stick_middle(segments)
             if tm is not None:
-                seg = next(s for s in segments if s.ta <= _wrap(tm, segments) <= s.tb)
                 tw = _wrap(tm, segments)
+                seg = next(s for s in segments if s.ta <= tw <= s.tb)
                 y0 = model.phases[seg.mode].propagate(seg.ta, seg.c, tw)
                 t0 = math.fmod(tw, model.period)
     segments, y1, _ = _simulate(model, t0, y0)
     residual = float(np.max(np.abs(y1 - y0)) / max(np.max(np.abs(y0)), scale_floor))
-    if not residual <= tol:
-        msg = (
-            f"exact reference at omega={omega:.9g} rad/s: period-map residual "
-            f"{residual:.3g} > tol={tol:.3g} after {it} Newton iterations"
-        )
-        if on_failure == "raise":
-            raise ConvergenceError(msg)
-        import warnings
-
-        warnings.warn(msg, ConvergenceWarning, stacklevel=2)
     stuck_time = sum(s.tb - s.ta for s in segments if s.mode == STICK)
     n_events = sum(1 for s in segments if s.ending in ("slip", "stick"))
     return ExactSolution(
@@ -735,7 +765,7 @@ def exact_periodic_solution(
         newton_iterations=it,
         events=n_events,
         stick_fraction=stuck_time / model.period,
-        elapsed=time.perf_counter() - start,
+        elapsed=0.0,
         _model=model,
         _segments=segments,
         _t0=t0,
@@ -798,27 +828,57 @@ def exact_branch(
     force: float,
     omegas,
     *,
-    initial_guess=None,
     tol: float = 1e-12,
     on_failure: str = "warn",
 ) -> list[ExactSolution]:
     """Exact references at the pulsations ``omegas`` (rad/s), in the order
-    given, each Newton started from the previous stick–slip solution (the
-    first, and any after a linear one, from ``initial_guess`` or HBM).
+    given.
+
+    Each point is started from the HBM solution there (``harmonics=15``,
+    itself continued from the previous point's), which is closer than the
+    previous exact solution at another frequency; if Newton fails from it,
+    again from the previous exact solution.
+
+    Parameters
+    ----------
+    system, force, tol, on_failure
+        As in :func:`exact_periodic_solution`.
+    omegas : array_like, shape (n_points,)
+        Pulsations, rad/s, > 0.
 
     Returns
     -------
     list of ExactSolution, one per pulsation.
     """
+    from ..api import periodic_solution
+
     omegas = np.asarray(omegas, dtype=float).ravel()
     if omegas.size == 0 or not np.all(np.isfinite(omegas)) or np.any(omegas <= 0):
         raise ValueError("omegas must be a non-empty sequence of positive floats")
+    if on_failure not in ("warn", "raise"):
+        raise ValueError(f"on_failure must be 'warn' or 'raise', got {on_failure!r}")
     out = []
-    previous = initial_guess
+    hbm = previous = None
     for w in omegas:
-        sol = exact_periodic_solution(
-            system, force, w, initial_guess=previous, tol=tol, on_failure=on_failure
-        )
-        out.append(sol)
-        previous = sol if sol.kind == "stick-slip" else None
+        hbm = periodic_solution(system, force, float(w), initial_guess=hbm)
+        seeds = [hbm] if hbm.converged else []
+        if previous is not None:
+            seeds.append(previous)
+        best = None
+        for seed in seeds or [None]:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", ConvergenceWarning)
+                sol = exact_periodic_solution(
+                    system, force, float(w), initial_guess=seed, tol=tol
+                )
+            if best is None or sol.residual < best.residual:
+                best = sol
+            if sol.residual <= tol:
+                break
+        if not best.residual <= tol:
+            _fail(best, tol, on_failure)
+        out.append(best)
+        previous = best if best.kind == "stick-slip" else previous
+        if not hbm.converged:
+            hbm = None
     return out
