@@ -195,6 +195,7 @@ def _first_down_crossing(func, ta: float, tb: float, n_grid: int):
     """
     t = np.linspace(ta, tb, max(n_grid, 3))
     h, dh = func(t)
+    start_level = 1e-9 * np.max(np.abs(h))
 
     def f(s):
         return float(func(np.array([s]))[0][0])
@@ -208,6 +209,8 @@ def _first_down_crossing(func, ta: float, tb: float, n_grid: int):
                 return t[i + 1]
             return _root(f, t[i], t[i + 1])
         if h[i] > 0.0 and h[i + 1] > 0.0 and dh[i] < 0.0 and dh[i + 1] > 0.0:
+            if i == 0 and h[0] <= start_level:
+                continue  # the phase starts on the boundary: not a dip
             tm = _root(df, t[i], t[i + 1])
             if f(tm) <= 0.0:
                 return _root(f, t[i], tm)
