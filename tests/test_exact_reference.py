@@ -285,3 +285,18 @@ def test_failure_raises_when_asked():
     osc, w = stick_slip_point()
     with pytest.raises(ConvergenceError):
         exact_periodic_solution(osc, F, w, max_iterations=1, on_failure="raise")
+
+
+def test_stick_phase_starting_on_the_slip_limit_is_not_an_event():
+    """Regression: a stick phase starts with ``|f_c| = f_s`` and ``ẋ_c ≈ 0``;
+    rounding made its first grid interval look like a dip touching the
+    limit, so a zero-length slip followed, then a zero-length stick, ...
+    (paper SDOF scene, Fex/Fn = 0.2, seeded from the continued HBM)."""
+    from hbmfric.paper.scenes import paper_oscillator
+
+    osc = paper_oscillator(5.0)
+    omegas = [189.59632748112378, 192.26669829071707]
+    branch = exact_branch(osc, 1.0, omegas, on_failure="raise")
+    for sol in branch:
+        assert sol.kind == "stick-slip" and sol.events == 4
+        assert sol.residual < 1e-12
