@@ -310,3 +310,23 @@ def test_stick_phase_starting_on_the_slip_limit_is_not_an_event():
     for sol in branch:
         assert sol.kind == "stick-slip" and sol.events == 4
         assert sol.residual < 1e-12
+
+
+def test_coefficients_layout_matches_hbm_and_a_fine_dft(beam_solution):
+    """Every DOF of the beam: the exact coefficients in the PeriodicSolution
+    layout agree with H = 63 HBM to its truncation level and with a fine DFT
+    of the exact time history."""
+    beam, w, sol = beam_solution
+    hb = hf.periodic_solution(beam, 2.0, w, harmonics=63)
+    X = sol.coefficients(hb.harmonic_numbers)
+    assert X.shape == hb.coefficients.shape
+    scale = np.max(np.abs(X))
+    assert np.max(np.abs(X - hb.coefficients)) < 1e-5 * scale
+    n = 1 << 14
+    t = sol.period * np.arange(n) / n
+    x, _, _ = sol.states(t)
+    for k in (1, 3):
+        dft = 2.0 * np.mean(x * np.exp(-1j * k * w * t), axis=1)
+        col = 2 * (k // 2)  # odd harmonics only: 1 -> 0, 3 -> 2
+        exact = X[:, col] - 1j * X[:, col + 1]
+        assert np.max(np.abs(dft - exact)) < 1e-9 * scale

@@ -409,43 +409,78 @@ class ExactSolution:
                 x[sel] = f(tt[sel])[0]
         return t, x
 
-    def fourier(self, harmonic: int, dof=None) -> complex:
-        """Complex Fourier coefficient ``X_k`` with ``x ≈ Σ Re(X_k e^{ikΩt})``
-        (``X_0`` the mean), m; ``Xc_k = Re X_k``, ``Xs_k = -Im X_k``."""
-        k = int(harmonic)
-        if k < 0:
-            raise ValueError(f"harmonic must be >= 0, got {harmonic}")
-        j = self._dof(dof)
-        T = self.period
-        nu = k * self.omega
-        if self._linear is not None:
-            return complex(self._linear[0][j]) if k == 1 else 0.0j
+    def _state_fourier(self, k: int) -> np.ndarray:
+        """Complex Fourier coefficient of the state ``y``, shape (size,)."""
         model = self._model
-        rx, _ = model.dof_rows(j)
-        total = 0.0j
+        nu = k * self.omega
+        w = self.omega
+        total = np.zeros(model.size, dtype=complex)
         for s in self._segments:
             phase = model.phases[s.mode]
             tau = s.tb - s.ta
-            # homogeneous: Re(Σ r_m c_m e^{λ_m (t - t_a)})
-            a = (rx @ phase.V) * s.c
+            # homogeneous part Re(V (c e^{λ (t - t_a)})), integrated exactly
+            e = np.exp(-1j * nu * s.ta)
+            total += 0.5 * e * (phase.V @ (s.c * _expint(phase.lam - 1j * nu, tau)))
             total += (
                 0.5
-                * np.exp(-1j * nu * s.ta)
+                * e
                 * (
-                    np.sum(a * _expint(phase.lam - 1j * nu, tau))
-                    + np.sum(np.conj(a) * _expint(np.conj(phase.lam) - 1j * nu, tau))
+                    np.conj(phase.V)
+                    @ (np.conj(s.c) * _expint(np.conj(phase.lam) - 1j * nu, tau))
                 )
             )
-            # particular: Re(r P e^{iΩt})
-            rp = rx @ phase.P
-            w = self.omega
-            total += 0.5 * (
-                rp * np.exp(1j * (w - nu) * s.ta) * _expint(1j * (w - nu), tau)
-                + np.conj(rp)
-                * np.exp(-1j * (w + nu) * s.ta)
-                * _expint(-1j * (w + nu), tau)
+            # particular part Re(P e^{iΩt})
+            total += (
+                0.5
+                * phase.P
+                * (np.exp(1j * (w - nu) * s.ta) * _expint(1j * (w - nu), tau))
             )
-        return complex(total / T * (1.0 if k == 0 else 2.0))
+            total += (
+                0.5
+                * np.conj(phase.P)
+                * (np.exp(-1j * (w + nu) * s.ta) * _expint(-1j * (w + nu), tau))
+            )
+        return total / self.period * (1.0 if k == 0 else 2.0)
+
+    def _fourier_all(self, k: int) -> np.ndarray:
+        """``X_k`` of every DOF, shape (n_dof,)."""
+        if self._linear is not None:
+            X = self._linear[0]
+            return X.astype(complex) if k == 1 else np.zeros(X.shape, dtype=complex)
+        y = self._state_fourier(k)
+        return self._model.shapes @ y[: self._model.n]
+
+    def fourier(self, harmonic: int, dof=None) -> complex:
+        """Complex Fourier coefficient ``X_k`` with ``x ≈ Σ Re(X_k e^{ikΩt})``
+        (``X_0`` the mean), m; ``Xc_k = Re X_k``, ``Xs_k = -Im X_k``.
+        Integrated exactly phase by phase."""
+        k = int(harmonic)
+        if k < 0:
+            raise ValueError(f"harmonic must be >= 0, got {harmonic}")
+        return complex(self._fourier_all(k)[self._dof(dof)])
+
+    def coefficients(self, harmonic_numbers) -> np.ndarray:
+        """Fourier coefficients of every DOF in the layout of
+        :class:`hbmfric.PeriodicSolution`.
+
+        Parameters
+        ----------
+        harmonic_numbers : array_like of int, shape (n_harmonics,)
+            Harmonics ``k >= 0`` (e.g. a solution's ``harmonic_numbers``).
+
+        Returns
+        -------
+        ndarray, shape (n_dof, n_coef)
+            ``[X0]`` for ``k = 0``, ``[Xc_k, Xs_k]`` otherwise, with
+            ``x(t) = Σ Xc_k cos kΩt + Xs_k sin kΩt``, m.
+        """
+        cols = []
+        for k in np.asarray(harmonic_numbers, dtype=int).ravel():
+            if k < 0:
+                raise ValueError(f"harmonic numbers must be >= 0, got {k}")
+            X = self._fourier_all(int(k))
+            cols += [X.real] if k == 0 else [X.real, -X.imag]
+        return np.column_stack(cols)
 
     def amplitude(self, harmonic: int | None = None, dof=None) -> float:
         """``|X_k|`` of one harmonic ``k``, or by default (
