@@ -12,7 +12,12 @@ import scipy.linalg
 
 import hbmfric as hf
 from hbmfric.errors import ConvergenceError
-from hbmfric.validation import exact_branch, exact_periodic_solution, steady_state
+from hbmfric.validation import (
+    branch_errors,
+    exact_branch,
+    exact_periodic_solution,
+    steady_state,
+)
 from hbmfric.validation.exact import _Model, _simulate
 
 # SDOF scene: free resonance 100 rad/s, stuck resonance 200 rad/s, ζ = 2 %
@@ -354,3 +359,29 @@ def test_two_stick_slip_cycles_per_half_period():
     assert errs[1] < 1e-5
     w_in, w_damp, w_fric = _energy_terms(beam, 2.0, sol)
     assert w_damp + w_fric == pytest.approx(w_in, rel=1e-10)
+
+
+def test_branch_errors_of_whole_frfs():
+    """Whole SDOF FRFs (Fex/Fn = 0.5, 140-240 rad/s): every point compared;
+    the stuck stretches are exact to the Newton tolerance, H = 31 is better than H = 7
+    in the worst point, and a point's error is the one a separate solve
+    gives."""
+    from hbmfric.paper.scenes import paper_oscillator
+
+    osc = paper_oscillator(2.0)
+    worst = {}
+    for h in (7, 31):
+        branch = hf.frf(osc, 1.0, (140.0, 240.0), h)
+        err = branch_errors(branch, osc, every=4, on_failure="raise")
+        assert err.index[0] == 0 and err.index[-1] == len(branch) - 1
+        assert np.all(np.diff(err.index) <= 4)
+        stuck = np.array([r.kind == "stuck" for r in err.references])
+        assert 0 < stuck.sum() < len(branch)
+        assert np.max(err.error_h1[stuck]) < 1e-9  # HBM Newton tolerance
+        worst[h] = np.max(err.error_h1)
+        i = int(np.argmax(err.error_h1))
+        alone = exact_periodic_solution(osc, 1.0, err.omega[i])
+        a1 = branch.amplitude(harmonic=1)[err.index[i]]
+        ref = alone.amplitude(harmonic=1)
+        assert abs(a1 - ref) / ref == pytest.approx(err.error_h1[i], rel=1e-6)
+    assert worst[31] < 0.05 * worst[7]

@@ -48,7 +48,13 @@ from scipy.optimize import brentq
 from .._validate import finite_float, positive_int
 from ..errors import ConvergenceError, ConvergenceWarning
 
-__all__ = ["ExactSolution", "exact_branch", "exact_periodic_solution"]
+__all__ = [
+    "BranchErrors",
+    "ExactSolution",
+    "branch_errors",
+    "exact_branch",
+    "exact_periodic_solution",
+]
 
 STICK, SLIP = 0, 1
 #: sub-grid of a phase for bracketing events and extremes, points per period
@@ -203,17 +209,19 @@ def _first_down_crossing(func, ta: float, tb: float, n_grid: int):
     def df(s):
         return float(func(np.array([s]))[1][0])
 
-    for i in range(t.size - 1):
-        if h[i] > 0.0 and h[i + 1] <= 0.0:
+    pos = h > 0.0
+    cross = pos[:-1] & ~pos[1:]
+    dip = pos[:-1] & pos[1:] & (dh[:-1] < 0.0) & (dh[1:] > 0.0)
+    if dip.size and h[0] <= start_level:
+        dip[0] = False  # the phase starts on the boundary: not a dip
+    for i in np.flatnonzero(cross | dip):
+        if cross[i]:
             if h[i + 1] == 0.0:
                 return t[i + 1]
             return _root(f, t[i], t[i + 1])
-        if h[i] > 0.0 and h[i + 1] > 0.0 and dh[i] < 0.0 and dh[i + 1] > 0.0:
-            if i == 0 and h[0] <= start_level:
-                continue  # the phase starts on the boundary: not a dip
-            tm = _root(df, t[i], t[i + 1])
-            if f(tm) <= 0.0:
-                return _root(f, t[i], tm)
+        tm = _root(df, t[i], t[i + 1])
+        if f(tm) <= 0.0:
+            return _root(f, t[i], tm)
     return None
 
 
@@ -495,13 +503,10 @@ class ExactSolution:
             t = np.linspace(a, b, n_grid)
             x, v = f(t)
             hi, lo = max(hi, x.max()), min(lo, x.min())
-            for i in range(t.size - 1):
-                if v[i] * v[i + 1] < 0.0:
-                    tm = _root(
-                        lambda s, f=f: float(f(np.array([s]))[1][0]), t[i], t[i + 1]
-                    )
-                    xm = float(f(np.array([tm]))[0][0])
-                    hi, lo = max(hi, xm), min(lo, xm)
+            for i in np.flatnonzero(v[:-1] * v[1:] < 0.0):
+                tm = _root(lambda s, f=f: float(f(np.array([s]))[1][0]), t[i], t[i + 1])
+                xm = float(f(np.array([tm]))[0][0])
+                hi, lo = max(hi, xm), min(lo, xm)
         return 0.5 * (hi - lo)
 
     @property
@@ -920,3 +925,106 @@ def exact_branch(
         if not hbm.converged:
             hbm = None
     return out
+
+
+@dataclass
+class BranchErrors:
+    """Errors of an HBM branch against exact references at its own points.
+
+    Attributes
+    ----------
+    index : ndarray of int, shape (n_points,)
+        Indices of the compared branch points.
+    omega : ndarray, shape (n_points,)
+        Their pulsations, rad/s.
+    reference_h1, reference_hpp : ndarray, shape (n_points,)
+        Exact first-harmonic amplitude and half peak-to-peak value at
+        ``dof``, m.
+    error_h1, error_hpp : ndarray, shape (n_points,)
+        Relative errors of the branch's values.
+    references : list of ExactSolution
+    elapsed : float
+        Wall time of the references, s.
+    """
+
+    index: np.ndarray
+    omega: np.ndarray
+    reference_h1: np.ndarray
+    reference_hpp: np.ndarray
+    error_h1: np.ndarray
+    error_hpp: np.ndarray
+    references: list
+    elapsed: float
+
+
+def branch_errors(
+    branch,
+    system,
+    *,
+    dof=None,
+    every: int = 1,
+    tol: float = 1e-12,
+    on_failure: str = "warn",
+) -> BranchErrors:
+    """Relative errors of every point of an FRF branch (``hf.frf``) against
+    the exact reference at that point's pulsation.
+
+    Parameters
+    ----------
+    branch : Branch
+        Traced for ``system`` (its ``force`` is used).
+    system : Oscillator, CantileverBeam or compatible
+        As in :func:`exact_periodic_solution`.
+    dof : int, str or None
+        DOF compared (default: the contact DOF).
+    every : int
+        Compare every ``every``-th point only (the first and the last
+        always), to thin long branches.
+    tol, on_failure
+        As in :func:`exact_periodic_solution`.
+
+    Returns
+    -------
+    BranchErrors
+    """
+    if on_failure not in ("warn", "raise"):
+        raise ValueError(f"on_failure must be 'warn' or 'raise', got {on_failure!r}")
+    every = positive_int("every", every, low=1)
+    start = time.perf_counter()
+    index = np.unique(np.append(np.arange(0, len(branch), every), len(branch) - 1))
+    refs = []
+    previous = None
+    for i in index:
+        w = float(branch.omega[i])
+        best = None
+        for seed in (branch.point(int(i)), previous):
+            if seed is None:
+                continue
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", ConvergenceWarning)
+                sol = exact_periodic_solution(
+                    system, branch.force, w, initial_guess=seed, tol=tol
+                )
+            if best is None or sol.residual < best.residual:
+                best = sol
+            if sol.residual <= tol:
+                break
+        if not best.residual <= tol:
+            _fail(best, tol, on_failure)
+        refs.append(best)
+        if best.kind == "stick-slip":
+            previous = best
+    r1 = np.array([r.amplitude(harmonic=1, dof=dof) for r in refs])
+    rpp = np.array([r.amplitude(dof=dof) for r in refs])
+    a1 = np.asarray(branch.amplitude(harmonic=1, dof=dof))[index]
+    app = np.asarray(branch.amplitude(dof=dof))[index]
+    return BranchErrors(
+        index=index,
+        omega=np.asarray(branch.omega, dtype=float)[index],
+        reference_h1=r1,
+        reference_hpp=rpp,
+        error_h1=np.abs(a1 - r1) / r1,
+        error_hpp=np.abs(app - rpp) / rpp,
+        references=refs,
+        elapsed=time.perf_counter() - start,
+    )
