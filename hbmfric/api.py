@@ -1,20 +1,22 @@
 """Public entry points: ``frf`` (a continuation run) and ``periodic_solution``
-(Newton at one frequency)."""
+(one frequency, :mod:`hbmfric.periodic`, re-exported here)."""
 
 from __future__ import annotations
 
 import dataclasses
-import time
+import warnings
 
 import numpy as np
 
 from ._validate import finite_float
 from .continuation import AdaptiveContinuation, Continuation, ContinuationOptions
+from .continuation.accuracy import truncation_errors
 from .continuation.adaptive import LADDER, START
+from .errors import AccuracyWarning
 from .hbm import HBMProblem
-from .kernels import newton as _newton
-from .kernels.aft import STATE_NAMES
-from .results import Branch, PeriodicSolution
+from .periodic import periodic_solution as periodic_solution  # re-export
+from .results import Branch
+from .systems.protocol import check_system
 
 
 def _omega_range(omega) -> tuple[float, float]:
@@ -38,6 +40,7 @@ def _problem(system, force, harmonics, n_time, symmetry, aft, condense):
     """The HBM discretisation: condensed onto the contact DOF or full."""
     from .condensation import CondensedHBMProblem, can_condense
 
+    check_system(system)  # before anything reads the system
     if condense is None:
         condense = can_condense(system)
     if isinstance(condense, str) and condense in ("modal", "direct"):
@@ -79,7 +82,7 @@ def frf(
     system,
     force: float,
     omega: tuple[float, float],
-    harmonics: int | str = 15,
+    harmonics: int | str = "auto",
     *,
     n_time: int | None = None,
     symmetry: bool | None = None,
@@ -100,13 +103,17 @@ def frf(
         Amplitude ``F`` of the forcing ``F cos Ωt``, N.
     omega : (float, float)
         Frequency range ``(low, high)``, rad/s, ``0 < low < high``.
-    harmonics : int or "auto", default 15
+    harmonics : int or "auto", default "auto"
         Highest harmonic ``H``; ``"auto"`` chooses it along the branch
         (:mod:`hbmfric.continuation.adaptive`) so that the estimated
         relative truncation error stays below ``harmonic_tolerance``:
         stuck stretches run at ``H = 3``, stick–slip stretches higher (up
         to 63). The branch's coefficients are then padded with zeros to the
         largest ``H`` used and ``Branch.point_harmonics`` gives each point's.
+        A fixed ``H`` is faster when you know what the scene needs; its
+        branch carries the same per-point estimate
+        (``Branch.truncation_error``) and warns when it exceeds
+        ``harmonic_tolerance``.
     n_time : int, optional
         AFT samples per period (> 2 H); default depends on the AFT scheme
         (always the default with ``harmonics="auto"``).
@@ -125,6 +132,9 @@ def frf(
         0.02-0.2 times it (``bench/README.md``); it does not see the AFT's
         own sampling error (Menq: about 1e-5 at the default ``n_time``),
         and a rigid Coulomb contact (error ~ 1/H) drives ``H`` to the top.
+        With a fixed ``H``: the threshold of the
+        :class:`~hbmfric.errors.AccuracyWarning` on the per-point estimate
+        (:mod:`hbmfric.continuation.accuracy`).
     options : ContinuationOptions, optional
     amplitude_scale : float, optional
         Displacement scale of the arc length, m.
@@ -187,19 +197,54 @@ def frf(
             amplitude_scale,
             condense,
         )
+    tolerance = finite_float(
+        "harmonic_tolerance", harmonic_tolerance, low=0.0, low_open=True, high=1.0
+    )
     problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
     cont = Continuation(problem, (lo, hi), direction, options, amplitude_scale)
     state, elapsed = cont.run()
     n = problem.n_unknowns
     pts = np.array(state.points).reshape(-1, n + 1)
-    return _branch(
+    errors = truncation_errors(problem, pts)
+    branch = _branch(
         system,
         problem,
         state,
         elapsed,
         pts[:, n].copy(),
         problem.full_coefficients(pts),
-        _describe(system, problem, {"omega_range": [lo, hi], "sweep": sweep}),
+        _describe(
+            system,
+            problem,
+            {"omega_range": [lo, hi], "sweep": sweep, "harmonic_tolerance": tolerance},
+        ),
+        truncation_error=errors,
+    )
+    _warn_truncation(branch, tolerance)
+    return branch
+
+
+def _warn_truncation(branch: Branch, tolerance: float) -> None:
+    """An :class:`~hbmfric.errors.AccuracyWarning` when some point's
+    estimated truncation error exceeds ``tolerance``."""
+    errors = branch.truncation_error
+    if errors is None or errors.size == 0 or not np.max(errors) > tolerance:
+        return
+    worst = int(np.argmax(errors))
+    n_over = int(np.count_nonzero(errors > tolerance))
+    advice = (
+        "use harmonics='auto'"
+        if branch.point_harmonics is None
+        else "the top of the harmonic ladder cannot meet it (a rigid contact?)"
+    )
+    warnings.warn(
+        f"estimated truncation error {errors[worst]:.2g} exceeds "
+        f"harmonic_tolerance={tolerance:g} at {n_over} of {errors.size} points "
+        f"(worst at omega={branch.omega[worst]:.6g} rad/s, H="
+        f"{branch.harmonics_at(worst)}); {advice}, or raise harmonics; "
+        "per-point estimates in Branch.truncation_error",
+        AccuracyWarning,
+        stacklevel=3,
     )
 
 
@@ -281,7 +326,13 @@ def _frf_auto(
             "harmonic_calibrations": cont.n_calibrations,
         },
     )
-    return _branch(
+    errors = np.zeros(len(points))
+    for h in np.unique(levels_array):
+        idx = np.flatnonzero(levels_array == h)
+        errors[idx] = truncation_errors(
+            make_problem(int(h)), np.array([points[i] for i in idx])
+        )
+    branch = _branch(
         system,
         top,
         state,
@@ -290,99 +341,7 @@ def _frf_auto(
         coefficients,
         info,
         point_harmonics=levels_array,
+        truncation_error=errors,
     )
-
-
-def periodic_solution(
-    system,
-    force: float,
-    omega: float,
-    harmonics: int = 15,
-    *,
-    n_time: int | None = None,
-    symmetry: bool | None = None,
-    aft: str = "auto",
-    initial_guess=None,
-    options: ContinuationOptions | None = None,
-    condense: bool | None = None,
-) -> PeriodicSolution:
-    """Periodic steady state at one frequency by Newton's method.
-
-    Parameters
-    ----------
-    system, force, harmonics, n_time, symmetry, aft
-        As in :func:`frf`.
-    omega : float
-        Forcing pulsation, rad/s (> 0).
-    initial_guess : PeriodicSolution or ndarray, optional
-        Start for Newton (selects the branch where several coexist); an
-        array holds the coefficients of all DOFs in the layout of this
-        discretisation. Default: tries the stuck and the free linearisations.
-    options : ContinuationOptions, optional
-        Newton tolerances and iteration limit.
-    condense : bool, optional
-        As in :func:`frf`; an array ``initial_guess`` then holds the
-        contact-DOF coefficients only.
-
-    Returns
-    -------
-    PeriodicSolution
-        ``converged`` tells whether Newton met the tolerances.
-    """
-    omega = finite_float("omega", omega, low=0.0, low_open=True)
-    options = options or ContinuationOptions()
-    start = time.perf_counter()
-    problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
-    cont = Continuation(problem, (0.5 * omega, 1.5 * omega), 1, options, None)
-    n = problem.n_unknowns
-    guesses = []
-    if initial_guess is not None:
-        guesses.append(_guess_vector(initial_guess, problem))
-    guesses += [g[:n] for g in problem.initial_guesses(omega)]
-    best = None
-    total_it = 0
-    for g in guesses:
-        y, status, it = cont.solve_at(omega, g)
-        total_it += it
-        if status == _newton.CONVERGED:
-            best = y
-            break
-    converged = best is not None
-    if best is None:
-        best = y if np.all(np.isfinite(y)) else np.concatenate((guesses[-1], [omega]))
-    R, _, state = problem.residual(best)
-    return PeriodicSolution(
-        omega=omega,
-        force=problem.force,
-        harmonic_numbers=problem.harmonic_numbers.copy(),
-        coefficients=problem.full_coefficients(best)[0],
-        converged=converged,
-        newton_iterations=total_it,
-        residual_norm=float(np.max(np.abs(R))),
-        elapsed=time.perf_counter() - start,
-        contact_state=STATE_NAMES.get(state, str(state)),
-        dof_names=dict(getattr(system, "dof_names", {})),
-    )
-
-
-def _guess_vector(guess, problem: HBMProblem) -> np.ndarray:
-    """Coefficients of a guess re-laid onto this problem's harmonics."""
-    if isinstance(guess, PeriodicSolution):
-        X = np.zeros((problem.n_dof, problem.n_coef))
-        src = {int(k): i for i, k in enumerate(guess.harmonic_numbers)}
-        src_col = np.cumsum([0] + [1 if k == 0 else 2 for k in guess.harmonic_numbers])
-        col = 0
-        for k in problem.harmonic_numbers:
-            width = 1 if k == 0 else 2
-            if int(k) in src:
-                c = src_col[src[int(k)]]
-                X[:, col : col + width] = guess.coefficients[:, c : c + width]
-            col += width
-        return problem.unknowns_from_full(X)
-    g = np.ascontiguousarray(guess, dtype=np.float64).reshape(-1)
-    if g.size != problem.n_unknowns or not np.all(np.isfinite(g)):
-        raise ValueError(
-            f"initial_guess must hold {problem.n_unknowns} finite coefficients, "
-            f"got {g.size}"
-        )
-    return g
+    _warn_truncation(branch, tolerance)
+    return branch

@@ -51,6 +51,11 @@ class PeriodicSolution:
     contact_state : str
     dof_names : dict
         Named DOFs of the system (e.g. ``"tip"``, ``"force"``) → index.
+    method : str
+        How :func:`~hbmfric.periodic_solution` obtained it: ``"newton"``,
+        ``"load ramp"``, ``"continuation from below"``, ``"continuation
+        from above"``, ``"zero force"`` or ``"failed"`` (not converged);
+        ``"branch point"`` for :meth:`Branch.point`.
     """
 
     omega: float
@@ -63,6 +68,7 @@ class PeriodicSolution:
     elapsed: float = 0.0
     contact_state: str = ""
     dof_names: dict = field(default_factory=dict)
+    method: str = ""
 
     def amplitude(self, harmonic: int | None = None, dof=None) -> float:
         """Amplitude of ``x_dof``: of one harmonic (``sqrt(Xc² + Xs²)``), or
@@ -115,6 +121,11 @@ class Branch:
         when the whole branch used ``harmonic_numbers``.
     dof_names : dict
         Named DOFs of the system (e.g. ``"tip"``, ``"force"``) → index.
+    truncation_error : ndarray, shape (n_points,), optional
+        Estimated relative truncation error of each point: of the
+        first-harmonic amplitude and of half the peak-to-peak value at the
+        contact DOF (:mod:`hbmfric.continuation.accuracy`); 0 at a linear
+        (stuck) point. None for branches saved before it existed.
     """
 
     omega: np.ndarray
@@ -130,6 +141,7 @@ class Branch:
     info: dict = field(default_factory=dict)
     point_harmonics: np.ndarray | None = None
     dof_names: dict = field(default_factory=dict)
+    truncation_error: np.ndarray | None = None
 
     def __len__(self) -> int:
         return self.omega.size
@@ -170,6 +182,7 @@ class Branch:
             newton_iterations=0,
             residual_norm=float("nan"),
             dof_names=dict(self.dof_names),
+            method="branch point",
         )
 
     def plot(self, ax=None, harmonic: int | None = None, dof=None, **kwargs):
@@ -213,6 +226,8 @@ class Branch:
         }
         if self.point_harmonics is not None:
             arrays["point_harmonics"] = self.point_harmonics
+        if self.truncation_error is not None:
+            arrays["truncation_error"] = self.truncation_error
         np.savez(path, **arrays)
         return path if path.suffix == ".npz" else path.with_suffix(path.suffix + ".npz")
 
@@ -225,6 +240,7 @@ class Branch:
         ValueError
             If ``path`` is not a readable hbmfric branch file.
         """
+        _check_npz_sizes(path)
         try:
             with np.load(Path(path), allow_pickle=False) as data:
                 meta = json.loads(str(data["meta"]))
@@ -257,6 +273,11 @@ class Branch:
                         if "point_harmonics" in data.files
                         else None
                     ),
+                    truncation_error=(
+                        np.asarray(data["truncation_error"], dtype=np.float64).copy()
+                        if "truncation_error" in data.files
+                        else None
+                    ),
                 )
         except (
             AttributeError,
@@ -271,15 +292,84 @@ class Branch:
                 f"path {str(path)!r} is not an hbmfric branch file, or is damaged "
                 f"({exc})"
             ) from None
-        n = branch.omega.size
-        if (
-            branch.omega.ndim != 1
-            or branch.coefficients.ndim != 3
-            or branch.coefficients.shape[0] != n
-            or not np.all(np.isfinite(branch.omega))
-            or not np.all(np.isfinite(branch.coefficients))
-        ):
-            raise ValueError(
-                f"path {str(path)!r}: inconsistent or non-finite branch arrays"
-            )
+        _check_branch_arrays(path, branch)
         return branch
+
+
+def _check_npz_sizes(path) -> None:
+    """Check, from the array headers alone, that every array of the ``.npz``
+    file ``path`` fits in the bytes stored for it (a damaged or forged
+    header must not make :meth:`Branch.load` allocate terabytes)."""
+    try:
+        with zipfile.ZipFile(Path(path)) as zf:
+            for info in zf.infolist():
+                if not info.filename.endswith(".npy"):
+                    continue
+                field_name = info.filename[:-4]
+                with zf.open(info) as fh:
+                    version = np.lib.format.read_magic(fh)
+                    if version == (1, 0):
+                        header = np.lib.format.read_array_header_1_0(fh)
+                    else:
+                        header = np.lib.format.read_array_header_2_0(fh)
+                    offset = fh.tell()
+                shape, _, dtype = header
+                if dtype.hasobject:
+                    raise ValueError(
+                        f"path {str(path)!r}: field {field_name!r} holds Python "
+                        "objects; a branch file holds numbers only"
+                    )
+                size = dtype.itemsize
+                for dim in shape:
+                    size *= int(dim)
+                stored = info.file_size - offset
+                if size > stored:
+                    raise ValueError(
+                        f"path {str(path)!r}: field {field_name!r} claims shape "
+                        f"{tuple(shape)} ({size} bytes) but the file stores "
+                        f"{stored} bytes for it; the file is damaged"
+                    )
+    except (OSError, EOFError, zipfile.BadZipFile) as exc:
+        raise ValueError(
+            f"path {str(path)!r} is not an hbmfric branch file, or is damaged ({exc})"
+        ) from None
+
+
+def _check_branch_arrays(path, branch: Branch) -> None:
+    """Check that the arrays of a loaded branch agree with each other;
+    ``ValueError`` naming the file and the field otherwise."""
+
+    def bad(field_name: str, what: str) -> ValueError:
+        return ValueError(f"path {str(path)!r}: field {field_name!r} {what}")
+
+    n = branch.omega.size
+    if branch.omega.ndim != 1:
+        raise bad("omega", f"must be 1-d, has shape {branch.omega.shape}")
+    if not np.all(np.isfinite(branch.omega)):
+        raise bad("omega", "has non-finite values")
+    k = branch.harmonic_numbers
+    if k.ndim != 1 or k.size == 0 or np.any(k < 0) or np.any(np.diff(k) <= 0):
+        raise bad("harmonic_numbers", f"must be increasing integers >= 0, got {k}")
+    n_coef = int(np.sum(np.where(k == 0, 1, 2)))
+    c = branch.coefficients
+    if c.ndim != 3 or c.shape[0] != n or c.shape[2] != n_coef:
+        raise bad(
+            "coefficients",
+            f"has shape {c.shape}; omega ({n} points) and harmonic_numbers "
+            f"({n_coef} coefficients) ask for ({n}, n_dof, {n_coef})",
+        )
+    if not np.all(np.isfinite(c)):
+        raise bad("coefficients", "has non-finite values")
+    folds = branch.folds
+    if folds.ndim != 1 or np.any(folds < 0) or np.any(folds > n):
+        raise bad("folds", f"must be point indices in [0, {n}], got {folds}")
+    ph = branch.point_harmonics
+    if ph is not None and ph.shape != (n,):
+        raise bad("point_harmonics", f"must have shape ({n},), got {ph.shape}")
+    te = branch.truncation_error
+    if te is not None and te.shape != (n,):
+        raise bad("truncation_error", f"must have shape ({n},), got {te.shape}")
+    n_dof = c.shape[1]
+    for name, index in branch.dof_names.items():
+        if not 0 <= index < n_dof:
+            raise bad("dof_names", f"maps {name!r} to {index}, not in [0, {n_dof - 1}]")

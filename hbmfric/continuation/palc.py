@@ -82,6 +82,10 @@ class Continuation:
         options: ContinuationOptions | None = None,
         amplitude_scale: float | None = None,
     ) -> None:
+        if not isinstance(options, ContinuationOptions | None):
+            raise TypeError(
+                f"options must be a ContinuationOptions, got {type(options).__name__}"
+            )
         self.problem = problem
         self.low, self.high = float(omega_range[0]), float(omega_range[1])
         self.direction = 1 if direction >= 0 else -1

@@ -65,6 +65,9 @@ MARCHED = 3
 MICROSLIP = 4
 #: failure codes (negative)
 EVENT_OVERFLOW = -1
+#: the reversal search ran out of its work budget (a displacement that is
+#: not finite, or a degenerate one that no bound can resolve)
+SEARCH_BUDGET = -2
 
 STATE_NAMES = {
     MEMORYLESS: "memoryless law",
@@ -73,6 +76,7 @@ STATE_NAMES = {
     MARCHED: "law marched to its periodic state",
     MICROSLIP: "contact partially slips (microslip) during the period",
     EVENT_OVERFLOW: "too many stick/slip events for the sampling",
+    SEARCH_BUDGET: "event search ran out of its work budget (non-finite motion?)",
 }
 
 
@@ -506,13 +510,25 @@ def _find_reversals(
     ``X2`` holds the coefficients of ``u''`` (``-k² X``): at the samples
     ``u''`` is a row of ``inverse`` times ``X2``.
 
-    Returns the number of reversals (``-1`` if ``theta`` overflows);
-    ``theta[i]`` in ``(0, 2π]``, ``value[i] = u(theta[i])``.
+    The work is bounded: a motion with ``u'' ≡ 0`` (constant ``u``, for
+    instance the zero response to zero forcing) has no reversal and returns
+    at once, a non-finite one fails at once, and the number of examined
+    intervals is capped at ``4 _MAX_DEPTH (n_time + theta.size)``, enough
+    for every reversal pair to be resolved to full depth.
+
+    Returns the number of reversals, ``EVENT_OVERFLOW`` if ``theta``
+    overflows or ``SEARCH_BUDGET`` if the budget runs out or the motion is
+    not finite; ``theta[i]`` in ``(0, 2π]``, ``value[i] = u(theta[i])``.
     """
     n_coef = X.size
     n = u.size
     h = 2.0 * np.pi / n
     count = 0
+    if not (np.isfinite(b2) and np.isfinite(b3)):
+        return SEARCH_BUDGET
+    if b2 == 0.0:
+        return 0  # u is constant: it never reverses
+    budget = 4 * _MAX_DEPTH * (n + theta.size)
     for i in range(n):
         j = i + 1 if i + 1 < n else 0
         va = v[i]
@@ -526,6 +542,9 @@ def _find_reversals(
         stack[0, 4] = 0.0
         top = 1
         while top > 0:
+            budget -= 1
+            if budget < 0:
+                return SEARCH_BUDGET
             top -= 1
             a = stack[top, 0]
             b = stack[top, 1]
@@ -556,7 +575,7 @@ def _find_reversals(
                     continue
             elif (wa > 0.0) == (wb > 0.0) and abs(wa) + abs(wb) > b3 * width:
                 if count == theta.size:
-                    return -1
+                    return EVENT_OVERFLOW
                 if va == 0.0 or vb == 0.0:
                     th = a if va == 0.0 else b
                 else:
@@ -569,7 +588,7 @@ def _find_reversals(
             if depth >= _MAX_DEPTH:
                 if pa != pb:
                     if count == theta.size:
-                        return -1
+                        return EVENT_OVERFLOW
                     th = _refine(harmonic_numbers, X, a, b, va, vb, 0.0, True)
                     theta[count] = th
                     value[count] = evaluate(harmonic_numbers, X, th)[0]
@@ -875,7 +894,8 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
     Returns
     -------
     int
-        ``STUCK``, ``GROSS_SLIP`` or ``EVENT_OVERFLOW``.
+        ``STUCK``, ``GROSS_SLIP``, or a negative failure code
+        (``EVENT_OVERFLOW``, ``SEARCH_BUDGET``).
     """
     kt = params[0]
     slip_force = params[1]
@@ -915,7 +935,7 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
     if n_rev < 0:
         F[:] = 0.0
         dF[:, :] = 0.0
-        return EVENT_OVERFLOW
+        return n_rev
     i_max = 0
     i_min = 0
     for q in range(1, n_rev):

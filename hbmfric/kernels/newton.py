@@ -175,7 +175,10 @@ def tangent(J, previous, scale, A):
     """Unit tangent of the solution curve in scaled variables.
 
     Solves ``[J diag(scale); previousᵀ] t = [0; 1]`` and normalises, so that
-    the new tangent keeps the direction of ``previous``.
+    the new tangent keeps the direction of ``previous``. The rows of
+    ``J diag(scale)`` are equilibrated first (as in :func:`correct`): their
+    size follows the units of the load (N) while the last row is of order
+    one, and the pivot test is relative to the largest entry.
 
     Parameters
     ----------
@@ -196,8 +199,15 @@ def tangent(J, previous, scale, A):
     n = J.shape[0]
     b = np.zeros(n + 1)
     for i in range(n):
+        row_max = 0.0
         for j in range(n + 1):
-            A[i, j] = J[i, j] * scale[j]
+            v = J[i, j] * scale[j]
+            A[i, j] = v
+            if abs(v) > row_max:
+                row_max = abs(v)
+        inv = 1.0 / row_max if row_max > 0.0 else 1.0
+        for j in range(n + 1):
+            A[i, j] *= inv
     for j in range(n + 1):
         A[n, j] = previous[j]
     b[n] = 1.0

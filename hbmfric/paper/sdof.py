@@ -14,7 +14,7 @@ criterion needs, again at Fex = 1000 N (dashed).
 from __future__ import annotations
 
 import csv
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -339,11 +339,17 @@ def sdof_figures(
     """Figs. 8–11 of the paper; Figs. 8 and 9 with the Fex = 1000 N check.
     Curves whose contact is the same (roughness without effect above the
     limit load) are computed once."""
+    return list(iter_sdof_figures(harmonics, progress))
+
+
+def iter_sdof_figures(
+    harmonics: int = 15, progress: Callable[[str], None] | None = None
+) -> Iterator[FigureResult]:
+    """:func:`sdof_figures` one figure at a time, each yielded as soon as it
+    is computed (so that a caller can write it before the next one starts)."""
     big, cache = FORCES[-1], {}
     kw = {"harmonics": harmonics, "progress": progress, "cache": cache}
-    return [
-        masing_family(check_force=big, **kw),
-        menq_family(check_force=big, **kw),
-        rough_masing_family(**kw),
-        rough_menq_family(**kw),
-    ]
+    yield masing_family(check_force=big, **kw)
+    yield menq_family(check_force=big, **kw)
+    yield rough_masing_family(**kw)
+    yield rough_menq_family(**kw)
