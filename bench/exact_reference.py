@@ -3,16 +3,20 @@
 Run: ``python -m bench.exact_reference [--out bench/results] [--scenes a,b]``
 from the repository root. For every scene (the paper's SDOF Jenkins cases
 and the paper beam with a Jenkins tip at Fn = 5, 1, 0.5 N) and every setting
-(``hf.frf`` defaults, i.e. H = 15; ``harmonics="auto"``; H = 31; and a scan
-of fixed H for the smallest one within 1e-4):
+(``hf.frf`` defaults, i.e. ``harmonics="auto"``; H = 15, the former
+default; H = 31; and a scan of fixed H for the smallest one within 1e-4):
 
 * the whole FRF branch over the scene's range is traced by ``hf.frf`` and
   timed (least of ``REPEATS`` warm runs);
 * for the three headline settings, every point of the whole branch is also
   compared with the exact reference at its own pulsation
-  (:func:`hbmfric.validation.branch_errors`, ``whole_*`` columns);
+  (:func:`hbmfric.validation.branch_errors`, ``whole_*`` columns), and the
+  branch's own per-point estimate ``Branch.truncation_error`` with the
+  true error there (the larger of the two relative errors; points with a
+  true error above 1e-7): largest estimate, largest true error, points
+  where the estimate is below the true error, worst ratio true/estimate;
 * at ``N_CHECK`` pulsations spread evenly over ``±WINDOW`` around the
-  resonance peak (of the default branch), the HBM solution of the same
+  resonance peak (of the H = 15 branch), the HBM solution of the same
   discretisation is solved from the nearest branch point and compared with
   the exact event-driven periodic solution
   (:func:`hbmfric.validation.exact_branch`): relative error of the
@@ -165,6 +169,18 @@ def evaluate(
             "whole_error_hpp": float(np.max(err.error_hpp)),
             "whole_reference_time_s": err.elapsed,
         }
+        if getattr(branch, "truncation_error", None) is not None:
+            # the branch's own per-point estimate against the true error
+            true = np.maximum(err.error_h1, err.error_hpp)
+            est = np.asarray(branch.truncation_error)[err.index]
+            big = true > 1e-7
+            ratio = true[big] / np.maximum(est[big], 1e-300)
+            extra.update(
+                estimate_max=float(np.max(est)),
+                true_max=float(np.max(true)),
+                underestimated=f"{int(np.sum(ratio > 1.0))}/{int(np.sum(big))}",
+                worst_true_over_estimate=float(np.max(ratio)) if big.any() else 0.0,
+            )
     return {
         "scene": scene.name,
         "setting": label,
@@ -194,8 +210,8 @@ def run(out: Path, names=None) -> list[dict]:
     for scene in scenes():
         if names and scene.name not in names:
             continue
-        default, _ = _time_frf(scene, 15)
-        omegas = check_omegas(scene, default)
+        first, _ = _time_frf(scene, 15)
+        omegas = check_omegas(scene, first)
         t = time.perf_counter()
         refs = exact_branch(scene.system, scene.force, omegas, on_failure="raise")
         t_ref = time.perf_counter() - t
@@ -206,7 +222,7 @@ def run(out: Path, names=None) -> list[dict]:
             f"kinds {sorted({r.kind for r in refs})}, max residual {worst_res:.2g}",
             flush=True,
         )
-        settings = [(15, "default (H=15)"), ("auto", "auto"), (31, "H=31")]
+        settings = [("auto", "default (auto)"), (15, "H=15"), (31, "H=31")]
         for h, label in settings:
             s = evaluate(scene, h, label, omegas, refs, rows, whole=True)
             s["reference_time_s"] = t_ref
@@ -231,6 +247,12 @@ def _line(s: dict) -> str:
         if "whole_error_h1" in s
         else ""
     )
+    if "estimate_max" in s:
+        whole += (
+            f"; estimate max {s['estimate_max']:.3g} vs true {s['true_max']:.3g}, "
+            f"under {s['underestimated']}, worst true/est "
+            f"{s['worst_true_over_estimate']:.3g}"
+        )
     return (
         f"  {s['setting']:>16}: err h1 {s['error_h1']:.3g} (at "
         f"{s['omega_worst']:.5g} rad/s), hpp {s['error_hpp']:.3g}, extra "

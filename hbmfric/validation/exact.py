@@ -46,7 +46,7 @@ import scipy.linalg
 from scipy.optimize import brentq
 
 from .._validate import finite_float, positive_int
-from ..errors import ConvergenceError, ConvergenceWarning
+from ..errors import ConvergenceError, ConvergenceWarning, HbmfricWarning
 
 __all__ = [
     "BranchErrors",
@@ -821,7 +821,9 @@ def _initial_state(model, system, force, omega, guess):
     if guess is None:
         from ..api import periodic_solution
 
-        guess = periodic_solution(system, force, omega)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", HbmfricWarning)  # only a start
+            guess = periodic_solution(system, force, omega, 15)
     if isinstance(guess, ExactSolution):
         if guess._linear is None:
             # same forcing phase: the state at θ_0 = Ω_old t_0
@@ -896,7 +898,9 @@ def exact_branch(
     out = []
     hbm = previous = None
     for w in omegas:
-        hbm = periodic_solution(system, force, float(w), initial_guess=hbm)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", HbmfricWarning)  # only a start
+            hbm = periodic_solution(system, force, float(w), 15, initial_guess=hbm)
         seeds = [hbm] if hbm.converged else []
         if previous is not None:
             seeds.append(previous)
