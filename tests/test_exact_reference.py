@@ -386,3 +386,19 @@ def test_branch_errors_of_whole_frfs():
         ref = alone.amplitude(harmonic=1)
         assert abs(a1 - ref) / ref == pytest.approx(err.error_h1[i], rel=1e-6)
     assert worst[31] < 0.05 * worst[7]
+
+
+def test_many_events_per_period_with_a_stiff_contact():
+    """Regression (a random case of a fuzz run): kt/k = 510, ζ = 2.7 %,
+    f_s = 0.0026 F below resonance: stick phases of 0.13 % of the period
+    with a stiff, lightly damped stuck mode. Newton used to diverge (its
+    residual was measured against the diverging iterate itself); now it is
+    damped on a fixed scale and falls back to a time-integration start."""
+    law = hf.Jenkins(stiffness=509.58989727445805, slip_force=0.0025614418369508617)
+    osc = hf.Oscillator(1.0, 0.053994650228932246, 1.0, law)
+    w = 0.38588829772549693
+    sol = exact_periodic_solution(osc, 1.0, w, on_failure="raise")
+    assert sol.kind == "stick-slip" and sol.residual < 1e-12
+    s = steady_state(osc, 1.0, w, steps_per_period=4096, tol=1e-11)
+    a1 = np.hypot(*s.coefficients[0, 1:3])
+    assert a1 == pytest.approx(sol.amplitude(harmonic=1), rel=1e-4)

@@ -323,8 +323,10 @@ class ExactSolution:
     force : float
         Forcing amplitude, N.
     kind : str
-        ``"stick-slip"``, ``"stuck"`` (linear, never slips; slider centred)
-        or ``"free"`` (zero slip force: linear without contact).
+        ``"stick-slip"``, ``"stuck"`` (linear, never slips; slider centred),
+        ``"free"`` (zero slip force: linear without contact) or ``"failed"``
+        (no iterate could be simulated over a period; residual inf, no
+        time history).
     residual : float
         Period-map residual ``max|y(t_0 + T) - y(t_0)|`` relative to the
         state's size (``"stick-slip"``; 0 for the linear kinds).
@@ -745,6 +747,14 @@ def exact_periodic_solution(
             _linear=(X, fc), **common,
         )  # fmt: skip
     sol = _shoot(system, force, omega, initial_guess, tol, max_iterations, common)
+    if not sol.residual <= tol:
+        # many stick-slip cycles per period (a stiff, lightly damped stuck
+        # mode) can leave the HBM start outside Newton's basin: start from
+        # time integration instead
+        seed = _time_integration_guess(system, force, omega)
+        again = _shoot(system, force, omega, seed, tol, max_iterations, common)
+        if again.residual < sol.residual:
+            sol = again
     sol.elapsed = time.perf_counter() - start
     if not sol.residual <= tol:
         _fail(sol, tol, on_failure)
@@ -762,37 +772,64 @@ def _fail(sol: ExactSolution, tol: float, on_failure: str) -> None:
     warnings.warn(msg, ConvergenceWarning, stacklevel=3)
 
 
+def _period_residual(model, t0, y0, scale, jacobian=False):
+    """Period-map residual ``max|y(t_0 + T) - y_0| / scale`` (inf when the
+    period cannot be simulated), with the segments, end state and
+    monodromy."""
+    try:
+        segments, y1, J = _simulate(model, t0, y0, jacobian=jacobian)
+    except RuntimeError:  # an iterate chattering without end
+        return math.inf, None, None, None
+    res = float(np.max(np.abs(y1 - y0)) / scale)
+    return (res if np.isfinite(res) else math.inf), segments, y1, J
+
+
 def _shoot(system, force, omega, guess, tol, max_iterations, common) -> ExactSolution:
-    """Newton on the period map from ``guess``; the result carries its
-    residual (no warning here)."""
+    """Newton on the period map from ``guess``, with backtracking on the
+    residual; the result carries its residual (no warning here)."""
     model = _Model(system, force, omega)
     t0, y0 = _initial_state(model, system, force, omega, guess)
-    scale_floor = model.delta
+    # a fixed scale: relative to the iterate itself, a diverging iterate
+    # would look ever better
+    floor = max(np.max(np.abs(y0)), model.delta)
     it = 0
+    res, segments, y1, J = _period_residual(model, t0, y0, floor, jacobian=True)
     for it in range(1, max_iterations + 1):
-        segments, y1, J = _simulate(model, t0, y0, jacobian=True)
-        r = y1 - y0
-        scale = max(np.max(np.abs(y0)), scale_floor)
-        if np.max(np.abs(r)) <= tol * scale:
+        if res <= tol or J is None:
             break
         A = J - np.eye(model.size)
+        r = y1 - y0
         try:
             dy = np.linalg.solve(A, -r)
         except np.linalg.LinAlgError:
             # an iterate that never slips: the slider offset is free
             dy = np.linalg.lstsq(A, -r, rcond=None)[0]
-        y0 = y0 + dy
+        step = 1.0
+        for _ in range(30):
+            y_try = y0 + step * dy
+            res_try, seg_try, _, _ = _period_residual(model, t0, y_try, floor)
+            if res_try < res:
+                break
+            step *= 0.5
+        else:
+            break  # no decrease along the Newton direction
+        y0 = y_try
         if it <= 3 or not abs(y0[-1]) < 0.9 * model.delta:
             # re-centre t_0 in the middle of the longest stick phase
-            segments, _, _ = _simulate(model, t0, y0)
-            tm = _stick_middle(segments)
+            tm = _stick_middle(seg_try)
             if tm is not None:
-                tw = _wrap(tm, segments)
-                seg = next(s for s in segments if s.ta <= tw <= s.tb)
+                tw = _wrap(tm, seg_try)
+                seg = next(s for s in seg_try if s.ta <= tw <= s.tb)
                 y0 = model.phases[seg.mode].propagate(seg.ta, seg.c, tw)
                 t0 = math.fmod(tw, model.period)
-    segments, y1, _ = _simulate(model, t0, y0)
-    residual = float(np.max(np.abs(y1 - y0)) / max(np.max(np.abs(y0)), scale_floor))
+        res, segments, y1, J = _period_residual(model, t0, y0, floor, jacobian=True)
+    if segments is None:
+        return ExactSolution(
+            kind="failed", residual=math.inf, newton_iterations=it, events=0,
+            stick_fraction=0.0, elapsed=0.0, _model=model, **common,
+        )  # fmt: skip
+    # reported relative to the solution's own size
+    residual = res * floor / max(np.max(np.abs(y0)), model.delta)
     stuck_time = sum(s.tb - s.ta for s in segments if s.mode == STICK)
     n_events = sum(1 for s in segments if s.ending in ("slip", "stick"))
     return ExactSolution(
@@ -816,8 +853,38 @@ def _wrap(t: float, segments) -> float:
     return a + math.fmod(t - a, T) if t - a >= 0 else a + T + math.fmod(t - a, T)
 
 
+@dataclass
+class _SignalGuess:
+    """Sampled displacements and velocities over one period (a start)."""
+
+    t: np.ndarray  # (n_t,)
+    x: np.ndarray  # (n_dof, n_t)
+    v: np.ndarray  # (n_dof, n_t)
+
+
+def _time_integration_guess(system, force: float, omega: float) -> _SignalGuess:
+    """A start from the time-integration steady state (velocities by the
+    spectral derivative of the sampled displacements)."""
+    from .steady_state import steady_state
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", HbmfricWarning)  # only a start
+        ss = steady_state(system, force, omega, steps_per_period=2048, tol=1e-9)
+    x = np.asarray(ss.samples, dtype=float)
+    n_t = x.shape[1]
+    X = np.fft.rfft(x, axis=1)
+    k = np.arange(X.shape[1])
+    dX = 1j * k * omega * X
+    if n_t % 2 == 0:
+        dX[:, -1] = 0.0  # Nyquist term: no derivative
+    v = np.fft.irfft(dX, n=n_t, axis=1)
+    return _SignalGuess(2.0 * math.pi / omega * np.arange(n_t) / n_t, x, v)
+
+
 def _initial_state(model, system, force, omega, guess):
     n_t = 2048
+    if isinstance(guess, _SignalGuess):
+        return _guess_from_signal(model, system, guess.t, guess.x, guess.v)
     if guess is None:
         from ..api import periodic_solution
 
