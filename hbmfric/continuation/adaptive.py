@@ -104,11 +104,11 @@ TOP_FACTOR = 0.5 * SAFETY
 #: decay exponent of the estimate with ``H`` used to predict other levels
 DECAY = 3.5
 #: raise when the estimate ahead exceeds this fraction of the tolerance
-RAISE_AT = 0.5
+RAISE_AT = 1.0
 #: a raise aims at this fraction of the tolerance
-TARGET = 0.25
+TARGET = 0.5
 #: lower when a lower level is predicted below this fraction
-LOWER_AT = 0.1
+LOWER_AT = 0.2
 #: points in a row below ``LOWER_AT`` before lowering
 LOWER_PATIENCE = 3
 #: an estimate below this fraction of the tolerance means a linear response
