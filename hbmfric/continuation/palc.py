@@ -14,10 +14,11 @@ converged, tangent turned less than ``max_angle``, corrected point not far
 from the predictor (a short step is accepted at a corner of the branch,
 where a contact transition turns the tangent abruptly). Folds (turning
 points) are flagged when the Ω-component of the tangent changes sign. The
-run ends at the end of the frequency range (the last point solved exactly
-at the boundary), at ``max_steps``, or when the step falls below
-``min_step``; it never raises on a numerical failure and never stores a
-non-finite point.
+run ends at the far end of the frequency range (the last point solved
+exactly at the boundary), at the end it started from (after a fold the path
+can leave the range there, with only part of it covered), at
+``max_steps``, or when the step falls below ``min_step``; it never raises
+on a numerical failure and never stores a non-finite point.
 """
 
 from __future__ import annotations
@@ -33,6 +34,8 @@ from .options import ContinuationOptions
 
 #: stop reasons
 RANGE_END = "end of frequency range reached"
+#: the path turned back (at a fold) and left through the end it started from
+RANGE_START = "turned back at a fold and left the range at its starting end"
 MAX_STEPS = "maximum number of steps reached"
 MIN_STEP = "step size fell below min_step"
 NO_START = "no converged starting point"
@@ -364,10 +367,14 @@ class Continuation:
         state.n_steps += points.shape[0]
 
     def _land_on_boundary(self, state: ContinuationState, y_out: np.ndarray):
-        """The step left the range: solve the last point on the boundary."""
+        """The step left the range: solve the last point on the boundary.
+
+        The stop reason says through which end: the far one (``RANGE_END``)
+        or, after a fold, the one the run started from (``RANGE_START``)."""
         n = self.problem.n_unknowns
         y_in = state.y
-        bound = self.high if y_out[n] > self.high else self.low
+        left_high = y_out[n] > self.high
+        bound = self.high if left_high else self.low
         s = (bound - y_in[n]) / (y_out[n] - y_in[n])
         guess = y_in[:n] + s * (y_out[:n] - y_in[:n])
         y, status, it = self.solve_at(bound, guess)
@@ -377,7 +384,8 @@ class Continuation:
             state.tangents_omega.append(state.tangent[n])
             state.y = y
             state.n_steps += 1
-        return self._finish(state, RANGE_END)
+        far = left_high == (self.direction > 0)
+        return self._finish(state, RANGE_END if far else RANGE_START)
 
     @staticmethod
     def _finish(state: ContinuationState, reason: str) -> ContinuationState:
