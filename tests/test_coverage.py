@@ -1,0 +1,153 @@
+"""Which part of the asked frequency range a branch covers (issue 14, item 3):
+``Branch.coverage``/``gaps``/``complete``/``pieces``, the retrace from the
+other end of the range, the ``CoverageWarning`` and truthful stop reasons,
+and the early stops that used to end runs short."""
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+from naive import cubic_coefficients, sdof_residual
+
+import hbmfric as hf
+from hbmfric.continuation.palc import RANGE_END, RANGE_START
+
+HZ = 2.0 * math.pi
+
+
+@pytest.fixture
+def no_coverage_warning():
+    """Turn a CoverageWarning into an error inside the test."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", hf.CoverageWarning)
+        yield
+
+
+def _cubic():
+    return hf.Oscillator(1.0, 0.02, 1.0, hf.Cubic(1.0))
+
+
+def _jenkins_readme():
+    return hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0))
+
+
+def _cubic_residual(branch, i):
+    """Independent harmonic-balance residual of the cubic oscillator at
+    point ``i`` (exact convolution of the cube, plain NumPy), N."""
+    hn = branch.harmonic_numbers
+    X = branch.coefficients[i, 0]
+    return sdof_residual(
+        hn, X, branch.omega[i], 1.0, 0.02, 1.0, 1.0, cubic_coefficients(hn, X, 1.0)
+    )
+
+
+# ----------------------------------------------------------------------------
+# coverage of ordinary runs
+
+
+@pytest.mark.parametrize("sweep", ["up", "down"])
+@pytest.mark.parametrize("harmonics", [15, "auto"])
+def test_full_runs_are_complete(sweep, harmonics, no_coverage_warning):
+    """The README Jenkins example covers its range in either direction."""
+    b = hf.frf(_jenkins_readme(), 0.5, (0.5, 3.0), harmonics, sweep=sweep)
+    assert b.stop_reason == RANGE_END
+    assert b.omega_range == (0.5, 3.0)
+    assert b.coverage == (0.5, 3.0)
+    assert b.gaps == [] and b.pieces is None
+    assert b.complete
+
+
+def test_stop_reason_says_when_the_path_left_by_its_start():
+    """Cubic k3 = 1, F = 1 swept down over (0.3, 5): the path from 5 goes
+    down the lower branch to its fold near 1.65, turns back along the
+    unstable middle branch and leaves the range at 5 again. It used to
+    report "end of frequency range reached"."""
+    with pytest.warns(hf.CoverageWarning, match=r"covers only \[1\.6"):
+        b = hf.frf(_cubic(), 1.0, (0.3, 5.0), sweep="down", retrace=False)
+    assert b.stop_reason == RANGE_START
+    assert b.omega[0] == 5.0 and b.omega[-1] == 5.0 and b.folds.size == 1
+    lo, hi = b.coverage
+    assert 1.6 < lo < 1.7 and hi == 5.0
+    assert b.gaps == [(0.3, lo)]
+    assert not b.complete
+
+
+def test_retrace_completes_the_cubic_branch(no_coverage_warning):
+    """The same run retraced up from 0.3 covers the range: two pieces, every
+    point a solution of the harmonic balance (independent residual)."""
+    b = hf.frf(_cubic(), 1.0, (0.3, 5.0), sweep="down")
+    assert b.complete and b.gaps == [] and b.coverage == (0.3, 5.0)
+    first, second = b.piece_slices()
+    # first piece: 5 -> fold -> 5; second: the up sweep reversed, 5 -> 0.3
+    assert b.omega[first][[0, -1]].tolist() == [5.0, 5.0]
+    assert b.omega[second][[0, -1]].tolist() == [5.0, 0.3]
+    assert RANGE_START in b.stop_reason and RANGE_END in b.stop_reason
+    # one fold in the first piece, the two of the hysteresis in the second
+    assert b.folds.size == 3
+    assert np.all(b.folds[1:] > first.stop)
+    # a fold index marks a turn of Ω between points i - 1 and i
+    d = np.diff(b.omega)
+    for i in b.folds:
+        assert d[i - 2] * d[i] < 0.0 or abs(d[i - 1]) < 1e-2
+    for i in range(0, len(b), 7):
+        R = _cubic_residual(b, i)
+        assert np.max(np.abs(R)) < 1e-8
+
+
+@pytest.mark.parametrize("harmonics", [15, "auto"])
+@pytest.mark.parametrize("retrace", [False, True])
+def test_warning_exactly_when_incomplete(harmonics, retrace):
+    """A step budget too small for the range: a CoverageWarning naming the
+    asked range, the covered parts and the stop reason; with the retrace
+    the two pieces and the gap between them are recorded."""
+    with pytest.warns(hf.CoverageWarning) as record:
+        b = hf.frf(
+            _jenkins_readme(), 0.5, (0.5, 3.0), harmonics, max_steps=5, retrace=retrace
+        )
+    assert len(record) == 1
+    msg = str(record[0].message)
+    assert "[0.5, 3]" in msg and "maximum number of steps" in msg
+    assert not b.complete
+    ((gap_lo, gap_hi),) = b.gaps
+    if retrace:
+        first, second = b.piece_slices()
+        assert b.pieces.tolist() == [0, first.stop]
+        assert b.omega[0] == 0.5 and b.omega[-1] == 3.0
+        assert gap_lo == b.omega[first].max() and gap_hi == b.omega[second].min()
+        assert "retraced down from 3" in b.stop_reason
+    else:
+        assert b.pieces is None and gap_hi == 3.0
+        assert b.stop_reason == "maximum number of steps reached"
+    if harmonics == "auto":
+        assert b.point_harmonics.shape == b.omega.shape
+
+
+def test_bad_retrace():
+    with pytest.raises(TypeError, match="retrace"):
+        hf.frf(_jenkins_readme(), 0.5, (0.5, 3.0), retrace="yes")
+
+
+def test_coverage_survives_save_load(tmp_path):
+    with pytest.warns(hf.CoverageWarning):
+        b = hf.frf(_jenkins_readme(), 0.5, (0.5, 3.0), 5, max_steps=5)
+    back = hf.Branch.load(b.save(tmp_path / "b.npz"))
+    np.testing.assert_array_equal(back.pieces, b.pieces)
+    assert back.coverage == b.coverage and back.gaps == b.gaps
+    assert back.omega_range == (0.5, 3.0) and not back.complete
+    full = hf.frf(_jenkins_readme(), 0.5, (0.5, 3.0), 5)
+    back = hf.Branch.load(full.save(tmp_path / "full.npz"))
+    assert back.pieces is None and back.complete
+
+
+def test_old_branch_files_load(tmp_path):
+    """A file without the ``pieces`` array (written before it existed) loads
+    as one piece."""
+    b = hf.frf(_jenkins_readme(), 0.5, (0.5, 3.0), 3)
+    path = b.save(tmp_path / "old.npz")
+    with np.load(path) as data:
+        arrays = {k: data[k] for k in data.files}
+    assert "pieces" not in arrays
+    np.savez(path, **arrays)
+    back = hf.Branch.load(path)
+    assert back.pieces is None and back.complete and back.coverage == (0.5, 3.0)
