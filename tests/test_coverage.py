@@ -151,3 +151,69 @@ def test_old_branch_files_load(tmp_path):
     np.savez(path, **arrays)
     back = hf.Branch.load(path)
     assert back.pieces is None and back.complete and back.coverage == (0.5, 3.0)
+
+
+# ----------------------------------------------------------------------------
+# early stops: root causes
+
+
+def _rotated_back(hn, F, phi):
+    """Coefficients of ``f(θ + φ)`` from those of ``f(θ)``."""
+    out = F.copy()
+    col = 0
+    for k in hn:
+        if k == 0:
+            col += 1
+            continue
+        c, s = math.cos(k * phi), math.sin(k * phi)
+        out[col] = F[col] * c + F[col + 1] * s
+        out[col + 1] = -F[col] * s + F[col + 1] * c
+        col += 2
+    return out
+
+
+@pytest.mark.parametrize("n_time", [32, 48])
+def test_masing_force_continuous_when_reversal_pair_crosses_a_sample(n_time):
+    """``u = cos ψ + a cos 3ψ``, ``ψ = θ - φ``, with ``a`` just above 1/3 has
+    a pair of extremes 0.6 sample intervals apart near ``ψ = π/2``. Shifting
+    the phase ``φ`` moves the pair across the samples; the force of the
+    shifted motion, shifted back, must change smoothly with ``φ`` (it is
+    exactly independent of ``φ`` up to the sampled quadrature). The Masing
+    AFT used to see only extremes bracketed by the sampled slope: the pair
+    and its minor loop dropped out while it sat inside one interval and the
+    force jumped by 0.2 f_s (110 times the typical step)."""
+    from hbmfric.kernels.dft import fourier_matrices
+    from hbmfric.kernels.masing import aft_masing
+
+    law = hf.Menq.from_stiffness(stiffness=1000.0, slip_force=1.0)
+    hn = np.array([1, 3], dtype=np.int64)
+    inverse, forward, derivative = fourier_matrices(hn, n_time)
+    h = 2.0 * math.pi / n_time
+    a = 1.0 / 3.0 + 4.0 * (0.3 * h) ** 2 / 3.0
+    F = np.empty(4)
+    dF = np.empty((4, 4))
+    forces = []
+    for phi in np.linspace(0.0, 2.0 * h, 401):
+        X = 2.0 * np.array(
+            [math.cos(phi), math.sin(phi), a * math.cos(3 * phi), a * math.sin(3 * phi)]
+        )
+        aft_masing(
+            np.int64(law.code), law.params, hn, X, inverse, forward, derivative, F, dF
+        )
+        forces.append(_rotated_back(hn, F, phi))
+    steps = np.max(np.abs(np.diff(np.array(forces), axis=0)), axis=1)
+    assert steps.max() < 10.0 * np.median(steps)
+
+
+def test_stiff_menq_branch_passes_superharmonic_region(no_coverage_warning):
+    """Menq K0 = 1000 k, F = 2 f_s: near Ω = 0.36 (third superharmonic
+    resonance) pairs of extremes of the contact displacement are born
+    inside one sample interval. The branch used to stall at 0.3613 (and
+    the retrace from 47.46 at 0.5287); every point solves the harmonic
+    balance of the AFT it uses, so the check is the coverage plus the
+    first harmonic against time integration at the superharmonic peak."""
+    osc = hf.Oscillator(
+        1.0, 0.02, 1.0, hf.Menq.from_stiffness(stiffness=1000.0, slip_force=1.0)
+    )
+    b = hf.frf(osc, 2.0, (0.3, 47.46), retrace=False)
+    assert b.complete and b.stop_reason == RANGE_END
