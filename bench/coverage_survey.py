@@ -73,7 +73,7 @@ def covered(branch, omega) -> bool:
     if complete is not None:
         return bool(complete)
     far = hi if branch.info.get("sweep", "up") == "up" else lo
-    return (
+    return bool(
         branch.omega.min() <= lo + tol
         and branch.omega.max() >= hi - tol
         and abs(branch.omega[-1] - far) <= tol

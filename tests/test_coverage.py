@@ -207,13 +207,44 @@ def test_masing_force_continuous_when_reversal_pair_crosses_a_sample(n_time):
 
 def test_stiff_menq_branch_passes_superharmonic_region(no_coverage_warning):
     """Menq K0 = 1000 k, F = 2 f_s: near Ω = 0.36 (third superharmonic
-    resonance) pairs of extremes of the contact displacement are born
-    inside one sample interval. The branch used to stall at 0.3613 (and
-    the retrace from 47.46 at 0.5287); every point solves the harmonic
-    balance of the AFT it uses, so the check is the coverage plus the
-    first harmonic against time integration at the superharmonic peak."""
+    resonance) the branch used to stall (at 0.3613, and the retrace from
+    47.46 at 0.5287): pairs of extremes of the contact displacement were
+    born inside one sample interval (see the test above), and at the seam
+    left where one dies the corrector fails at every step size (bridged by
+    a fixed-Ω solve). The branch now runs through in one piece, without a
+    fold, and a point in the former gap agrees with time integration
+    started on it to the accuracy of the run elsewhere (3.8e-2 at 0.349,
+    before the gap: H = 15 on a stiff Menq loop)."""
+    from stress.cases import spot_check
+
     osc = hf.Oscillator(
         1.0, 0.02, 1.0, hf.Menq.from_stiffness(stiffness=1000.0, slip_force=1.0)
     )
     b = hf.frf(osc, 2.0, (0.3, 47.46), retrace=False)
     assert b.complete and b.stop_reason == RANGE_END
+    assert b.folds.size == 0 and np.all(np.diff(b.omega) > 0.0)
+    i = int(np.argmin(np.abs(b.omega - 0.45)))
+    assert spot_check(osc, 2.0, b, i) < 5e-2
+
+
+def test_barely_slipping_jenkins_branch_reaches_the_end(no_coverage_warning):
+    """Jenkins kt/k = 1e5, ζ = 1e-3, F = f_s: above Ω ≈ 25 the stuck
+    response barely exceeds the slip limit (kt |x| ≈ 1.02 f_s), and the
+    corrector failed at every step size at 45.18 of 474 rad/s. Now the run
+    reaches the end in one piece, and every fifth point solves the
+    harmonic balance of a plain-NumPy sampled Jenkins march (2^14 samples
+    per period) to 1e-6 N."""
+    from naive import analyse, jenkins_march, sample_angles, synthesize
+
+    osc = hf.Oscillator(1.0, 2e-3, 1.0, hf.Jenkins(stiffness=1e5, slip_force=1.0))
+    omega = (0.3, 1.5 * math.sqrt(1.0 + 1e5))
+    b = hf.frf(osc, 1.0, omega, retrace=False)
+    assert b.complete and b.stop_reason == RANGE_END
+    hn = b.harmonic_numbers
+    theta = sample_angles(2**14)
+    for i in range(0, len(b), 5):
+        X = b.coefficients[i, 0]
+        loop, _ = jenkins_march(synthesize(hn, X, theta), 1e5, 1.0)
+        contact = analyse(hn, loop)
+        R = sdof_residual(hn, X, b.omega[i], 1.0, 2e-3, 1.0, 1.0, contact)
+        assert np.max(np.abs(R)) < 1e-6, b.omega[i]

@@ -40,6 +40,17 @@ MAX_STEPS = "maximum number of steps reached"
 MIN_STEP = "step size fell below min_step"
 NO_START = "no converged starting point"
 
+#: most bridges (:meth:`Continuation._bridge`) in one run
+MAX_BRIDGES = 50
+#: Ω steps of a bridge, as fractions of the range width, tried in turn
+BRIDGE_STEPS = (1e-5, 1e-4, 1e-3)
+#: a bridge needs the tangent's Ω component (scaled) at least this large:
+#: nearer a fold a solve at fixed Ω could land on another branch
+BRIDGE_MIN_SLOPE = 1e-3
+#: a bridged point lies within this factor times the scaled arc length of
+#: the tangent prediction
+BRIDGE_TOLERANCE = 2.0
+
 
 @dataclass
 class ContinuationState:
@@ -56,6 +67,7 @@ class ContinuationState:
     n_steps: int = 0
     n_rejected: int = 0
     n_newton: int = 0
+    n_bridges: int = 0
     finished: bool = False
     stop_reason: str = ""
 
@@ -285,6 +297,8 @@ class Continuation:
         if outcome in (_arclength.REJECTED, _arclength.STEP_TOO_SMALL):
             state.n_rejected += 1
             if outcome == _arclength.STEP_TOO_SMALL:
+                if self._bridge(state):
+                    return state
                 return self._finish(state, MIN_STEP)
             return state
         self._record(state, y[None, :].copy(), tangent[-1:], np.array([outcome]))
@@ -340,10 +354,72 @@ class Continuation:
         if outcome == _arclength.RANGE_LEFT:
             return self._land_on_boundary(state, self._y_new.copy())
         if outcome == _arclength.STEP_BELOW_MIN:
+            if self._bridge(state):
+                return state
             return self._finish(state, MIN_STEP)
         if outcome == _arclength.BUDGET_SPENT:
             return self._finish(state, MAX_STEPS)
         return state
+
+    def _bridge(self, state: ContinuationState) -> bool:
+        """Step over a point where the corrector fails at every step size.
+
+        Contact events make the residual piecewise smooth; at some seams
+        (a contact barely slipping, a pair of displacement extremes being
+        born or dying) Newton from the tangent predictor cycles whatever
+        the step, and the step collapses although the branch goes on. The
+        bridge solves at fixed Ω a little further along the branch
+        (``BRIDGE_STEPS`` of the range width, in the direction of the
+        tangent) from the tangent prediction and accepts the first solution
+        within ``BRIDGE_TOLERANCE`` scaled arc lengths of that prediction,
+        as a corner; the run then goes on from it at the initial step. No
+        bridge where the tangent is nearly vertical in Ω (near a fold a
+        fixed-Ω solve could land on another branch), outside the range, or
+        after ``MAX_BRIDGES`` bridges. Returns whether a point was added.
+        """
+        if state.n_bridges >= MAX_BRIDGES:
+            return False
+        n = self.problem.n_unknowns
+        t = state.tangent
+        slope = float(t[n])
+        if not abs(slope) >= BRIDGE_MIN_SLOPE:
+            return False
+        y = state.y
+        width = self.high - self.low
+        # dX/dΩ along the tangent, physical units
+        rate = t[:n] * self.scale[:n] / (slope * self.scale[n])
+        sign = 1.0 if slope > 0.0 else -1.0
+        for fraction in BRIDGE_STEPS:
+            d_omega = sign * fraction * width
+            omega = y[n] + d_omega
+            if not self.low <= omega <= self.high:
+                return False
+            guess = y[:n] + d_omega * rate
+            y_new, status, it = self.solve_at(omega, guess)
+            state.n_newton += it
+            if status != _newton.CONVERGED or not np.all(np.isfinite(y_new)):
+                continue
+            distance = float(np.max(np.abs(y_new[:n] - guess) / self.scale[:n]))
+            if not distance <= BRIDGE_TOLERANCE * fraction / abs(slope):
+                continue
+            tangent = self._tangent(t)
+            if not np.all(np.isfinite(tangent)):
+                continue
+            # the run goes on away from the point it could not leave (at a
+            # corner the sign rule of the tangent may point back)
+            chord = (y_new - y) / self.scale
+            if float(np.dot(tangent, chord)) < 0.0:
+                tangent = -tangent
+            flag = _arclength.ACCEPTED | _arclength.CORNER
+            if (tangent[n] > 0.0) != (slope > 0.0):
+                flag |= _arclength.FOLD
+            self._record(state, y_new[None, :].copy(), tangent[-1:], np.array([flag]))
+            state.y = y_new
+            state.tangent = tangent
+            state.step = self.options.initial_step
+            state.n_bridges += 1
+            return True
+        return False
 
     def _placeholder_calibration(self) -> tuple:
         """A calibration argument of the right types for a trace without
