@@ -248,3 +248,32 @@ def test_barely_slipping_jenkins_branch_reaches_the_end(no_coverage_warning):
         contact = analyse(hn, loop)
         R = sdof_residual(hn, X, b.omega[i], 1.0, 2e-3, 1.0, 1.0, contact)
         assert np.max(np.abs(R)) < 1e-6, b.omega[i]
+
+
+@pytest.fixture(scope="module")
+def calibrated_beam():
+    return hf.CantileverBeam.calibrate()
+
+
+@pytest.mark.slow
+def test_coulomb_beam_swept_down_reaches_the_end(calibrated_beam, no_coverage_warning):
+    """Beam with a Coulomb tip, f_s = 2 N, Fex = 2 N, swept down from 110 Hz:
+    used to stop at 77.3 Hz; now one piece to 15 Hz."""
+    beam = calibrated_beam.beam.with_contact(hf.Coulomb(slip_force=2.0))
+    b = hf.frf(beam, 2.0, (HZ * 15.0, HZ * 110.0), 15, sweep="down", retrace=False)
+    assert b.complete and b.stop_reason == RANGE_END
+
+
+@pytest.mark.slow
+def test_coulomb_beam_stall_is_reported(calibrated_beam):
+    """f_s = 1 N swept down from 110 to 55 Hz stalls at 62.3 Hz, and the
+    retrace up from 55 Hz at 62.07 Hz (two topologies of a short stick
+    phase, bench/README.md): the branch says so, with the gap between the
+    pieces, and warns."""
+    beam = calibrated_beam.beam.with_contact(hf.Coulomb(slip_force=1.0))
+    with pytest.warns(hf.CoverageWarning, match="gaps: "):
+        b = hf.frf(beam, 2.0, (HZ * 55.0, HZ * 110.0), 15, sweep="down")
+    assert not b.complete and b.pieces.size == 2
+    ((lo, hi),) = b.gaps
+    assert 61.5 < lo / HZ < hi / HZ < 63.0
+    assert b.coverage == (HZ * 55.0, HZ * 110.0)
