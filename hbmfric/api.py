@@ -272,6 +272,7 @@ def _covering(trace, sweep: str, retrace: bool) -> Branch:
 
 def _branch(system, problem, state, elapsed, omega, coefficients, info, **extra):
     """The :class:`Branch` of a finished continuation ``state``."""
+    info["bridges"] = int(state.n_bridges)
     return Branch(
         omega=omega,
         coefficients=coefficients,

@@ -55,7 +55,7 @@ def test_full_runs_are_complete(sweep, harmonics, no_coverage_warning):
     assert b.omega_range == (0.5, 3.0)
     assert b.coverage == (0.5, 3.0)
     assert b.gaps == [] and b.pieces is None
-    assert b.complete
+    assert b.complete and b.info["bridges"] == 0
 
 
 def test_stop_reason_says_when_the_path_left_by_its_start():
@@ -223,6 +223,7 @@ def test_stiff_menq_branch_passes_superharmonic_region(no_coverage_warning):
     b = hf.frf(osc, 2.0, (0.3, 47.46), retrace=False)
     assert b.complete and b.stop_reason == RANGE_END
     assert b.folds.size == 0 and np.all(np.diff(b.omega) > 0.0)
+    assert b.info["bridges"] > 0
     i = int(np.argmin(np.abs(b.omega - 0.45)))
     assert spot_check(osc, 2.0, b, i) < 5e-2
 
@@ -239,7 +240,7 @@ def test_barely_slipping_jenkins_branch_reaches_the_end(no_coverage_warning):
     osc = hf.Oscillator(1.0, 2e-3, 1.0, hf.Jenkins(stiffness=1e5, slip_force=1.0))
     omega = (0.3, 1.5 * math.sqrt(1.0 + 1e5))
     b = hf.frf(osc, 1.0, omega, retrace=False)
-    assert b.complete and b.stop_reason == RANGE_END
+    assert b.complete and b.stop_reason == RANGE_END and b.info["bridges"] > 0
     hn = b.harmonic_numbers
     theta = sample_angles(2**14)
     for i in range(0, len(b), 5):

@@ -17,8 +17,11 @@ points) are flagged when the Ω-component of the tangent changes sign. The
 run ends at the far end of the frequency range (the last point solved
 exactly at the boundary), at the end it started from (after a fold the path
 can leave the range there, with only part of it covered), at
-``max_steps``, or when the step falls below ``min_step``; it never raises
-on a numerical failure and never stores a non-finite point.
+``max_steps``, or when the step falls below ``min_step`` and no bridge
+(:meth:`Continuation._bridge`: a fixed-Ω solve a little further along the
+tangent, for seams of the piecewise-smooth residual where the corrector
+fails at every step size) gets past; it never raises on a numerical
+failure and never stores a non-finite point.
 """
 
 from __future__ import annotations
