@@ -278,3 +278,69 @@ def test_coulomb_beam_stall_is_reported(calibrated_beam):
     ((lo, hi),) = b.gaps
     assert 61.5 < lo / HZ < hi / HZ < 63.0
     assert b.coverage == (HZ * 55.0, HZ * 110.0)
+
+
+def _piece(omega, harmonics, folds, sweep, point_harmonics=None):
+    """A synthetic branch piece: coefficient [p, d, c] = 100 p + 10 d + c."""
+    omega = np.asarray(omega, dtype=float)
+    n_coef = sum(1 if k == 0 else 2 for k in harmonics)
+    p, d, c = np.meshgrid(
+        np.arange(omega.size), np.arange(2), np.arange(n_coef), indexing="ij"
+    )
+    return hf.Branch(
+        omega=omega,
+        coefficients=(100.0 * p + 10.0 * d + c) * (1.0 if sweep == "up" else -1.0),
+        harmonic_numbers=np.asarray(harmonics, dtype=np.int64),
+        force=1.0,
+        folds=np.asarray(folds, dtype=np.int64),
+        stop_reason=f"{sweep} stop",
+        n_steps=omega.size,
+        n_rejected=1,
+        newton_iterations=10,
+        elapsed=0.5,
+        info={"omega_range": [1.0, 5.0], "sweep": sweep},
+        point_harmonics=point_harmonics,
+    )
+
+
+def test_join_pieces_layout():
+    """Second piece reversed after the first, shorter harmonic layouts
+    padded with zeros, folds moved to the reversed indices, counters
+    summed, the gap between the pieces found."""
+    from hbmfric.results import join_pieces
+
+    first = _piece([1.0, 1.5, 2.0, 1.8, 2.2], [1, 3], [3], "up", np.array([3] * 5))
+    second = _piece([5.0, 4.0, 3.0, 3.5], [1, 3, 5], [3], "down", np.array([5] * 4))
+    b = join_pieces(first, second, "joined")
+    path = [1.0, 1.5, 2.0, 1.8, 2.2, 3.5, 3.0, 4.0, 5.0]
+    np.testing.assert_array_equal(b.omega, path)
+    np.testing.assert_array_equal(b.harmonic_numbers, [1, 3, 5])
+    assert b.coefficients.shape == (9, 2, 6)
+    np.testing.assert_array_equal(b.coefficients[:5, :, :4], first.coefficients)
+    np.testing.assert_array_equal(b.coefficients[:5, :, 4:], 0.0)
+    np.testing.assert_array_equal(b.coefficients[5:], second.coefficients[::-1])
+    # the fold between points 2 and 3 of the second piece lies between its
+    # reversed points 0 and 1, i.e. joined points 5 and 6
+    np.testing.assert_array_equal(b.folds, [3, 6])
+    np.testing.assert_array_equal(b.point_harmonics, [3] * 5 + [5] * 4)
+    np.testing.assert_array_equal(b.pieces, [0, 5])
+    assert (b.n_steps, b.n_rejected, b.newton_iterations) == (9, 2, 20)
+    assert b.elapsed == 1.0 and b.stop_reason == "joined"
+    assert b.gaps == [(2.2, 3.0)] and b.coverage == (1.0, 5.0)
+    assert not b.complete
+    assert [p["stop_reason"] for p in b.info["pieces"]] == ["up stop", "down stop"]
+
+
+def test_plot_draws_each_piece_on_its_own(tmp_path):
+    """No line across the jump between pieces."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from hbmfric.results import join_pieces
+
+    first = _piece([1.0, 1.5, 2.0], [1, 3], [], "up")
+    second = _piece([5.0, 4.0, 3.0], [1, 3], [], "down")
+    ax = join_pieces(first, second, "joined").plot(harmonic=1)
+    lines = [line.get_xdata().tolist() for line in ax.lines]
+    assert lines == [[1.0, 1.5, 2.0], [3.0, 4.0, 5.0]]
+    assert ax.lines[0].get_color() == ax.lines[1].get_color()
