@@ -446,7 +446,12 @@ def join_pieces(first: Branch, second: Branch, stop_reason: str) -> Branch:
             (harmonics_of(first), harmonics_of(second)[back])
         )
     info = dict(first.info)
-    for key in ("harmonic_switches", "harmonic_resolves", "harmonic_calibrations"):
+    for key in (
+        "bridges",
+        "harmonic_switches",
+        "harmonic_resolves",
+        "harmonic_calibrations",
+    ):
         if key in first.info and key in second.info:
             info[key] = first.info[key] + second.info[key]
     info["pieces"] = [
