@@ -344,3 +344,40 @@ def test_plot_draws_each_piece_on_its_own(tmp_path):
     lines = [line.get_xdata().tolist() for line in ax.lines]
     assert lines == [[1.0, 1.5, 2.0], [3.0, 4.0, 5.0]]
     assert ax.lines[0].get_color() == ax.lines[1].get_color()
+
+
+@pytest.mark.parametrize(
+    ("name", "osc", "force", "omega"),
+    [
+        ("cubic", _cubic(), 1.0, (0.3, 5.0)),
+        (
+            "menq",
+            hf.Oscillator(
+                1.0, 0.02, 1.0, hf.Menq.from_stiffness(stiffness=1000.0, slip_force=1.0)
+            ),
+            2.0,
+            (0.3, 47.46),
+        ),
+    ],
+)
+def test_adaptive_harmonics_recover_from_a_level_change(
+    name, osc, force, omega, no_coverage_warning
+):
+    """``harmonics="auto"`` swept up: on the cubic the run lowered from
+    H = 45 to 3 by truncation (the ``H^-3.5`` law misjudges a geometric
+    spectrum) and stalled at 0.4765; on the stiff Menq it raised from 7 to
+    63 at the first point and stalled there. Both now reach the end: the
+    run solves the point again at the new level or returns to the old
+    one. Cubic: every point solves the harmonic balance in its own basis
+    (independent residual)."""
+    b = hf.frf(osc, force, omega, "auto", retrace=False)
+    assert b.complete and b.stop_reason == RANGE_END
+    if name == "cubic":
+        for i in range(0, len(b), 5):
+            h = b.harmonics_at(i)
+            hn = b.harmonic_numbers[b.harmonic_numbers <= h]
+            X = b.coefficients[i, 0, : 2 * hn.size]
+            R = sdof_residual(
+                hn, X, b.omega[i], 1.0, 0.02, 1.0, 1.0, cubic_coefficients(hn, X, 1.0)
+            )
+            assert np.max(np.abs(R)) < 1e-8, (b.omega[i], h)

@@ -392,13 +392,16 @@ class Continuation:
         # dX/dΩ along the tangent, physical units
         rate = t[:n] * self.scale[:n] / (slope * self.scale[n])
         sign = 1.0 if slope > 0.0 else -1.0
+        # the budget of the first point: the guess may be far (after a jump
+        # of the adaptive run to a much larger basis, padded with zeros)
+        budget = max(8 * self.options.max_newton, 100)
         for fraction in BRIDGE_STEPS:
             d_omega = sign * fraction * width
             omega = y[n] + d_omega
             if not self.low <= omega <= self.high:
                 return False
             guess = y[:n] + d_omega * rate
-            y_new, status, it = self.solve_at(omega, guess)
+            y_new, status, it = self.solve_at(omega, guess, budget)
             state.n_newton += it
             if status != _newton.CONVERGED or not np.all(np.isfinite(y_new)):
                 continue
