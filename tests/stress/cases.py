@@ -146,7 +146,8 @@ def run_case(c: Case, spot: bool = True) -> dict:
     gaps = np.maximum(dW, dX.max(axis=1)) if len(b) > 1 else np.zeros(0)
     # no step between two separately traced pieces
     if b.pieces is not None:
-        gaps[b.pieces[1:][b.pieces[1:] > 0] - 1] = 0.0
+        starts = b.pieces[(b.pieces > 0) & (b.pieces < len(b))]
+        gaps[starts - 1] = 0.0
     out["max_gap"] = float(gaps.max()) if gaps.size else 0.0
     out["gap_bound"] = 3.0 * options.max_step
     # the run must end on a boundary of the range (after folds, a branch
