@@ -12,10 +12,10 @@ from ._validate import finite_float
 from .continuation import AdaptiveContinuation, Continuation, ContinuationOptions
 from .continuation.accuracy import truncation_errors
 from .continuation.adaptive import LADDER, START
-from .errors import AccuracyWarning
+from .errors import AccuracyWarning, CoverageWarning
 from .hbm import HBMProblem
 from .periodic import periodic_solution as periodic_solution  # re-export
-from .results import Branch
+from .results import Branch, join_pieces
 from .systems.protocol import check_system
 
 
@@ -92,6 +92,7 @@ def frf(
     options: ContinuationOptions | None = None,
     amplitude_scale: float | None = None,
     condense: bool | None = None,
+    retrace: bool = True,
     **option_overrides,
 ) -> Branch:
     """Trace the forced response (FRF) of ``system`` over a frequency range.
@@ -146,18 +147,34 @@ def frf(
         the damping is classical, else from a direct solve per harmonic;
         ``"modal"`` or ``"direct"`` force one. ``False`` solves the full
         HBM.
+    retrace : bool, default True
+        When the run ends without covering the range (the step collapsed,
+        the step budget ran out, or the path turned back at a fold and
+        left through the end it started from), trace again from the other
+        end of the range in the opposite direction with the same settings
+        and join the two pieces (``Branch.pieces``).
     **option_overrides
         Fields of :class:`ContinuationOptions` to override.
 
     Returns
     -------
     Branch
-        Points in path order; ``stop_reason`` says why the run ended. A run
-        that cannot go on returns the points so far, never NaN points.
+        Points in path order; ``stop_reason`` says why the run ended and
+        ``coverage``, ``gaps`` and ``complete`` which part of the range it
+        covers. A run that cannot go on returns the points so far, never
+        NaN points.
+
+    Warns
+    -----
+    CoverageWarning
+        When the branch (after the retrace) does not cover the whole range.
     """
     lo, hi = _omega_range(omega)
     if sweep not in ("up", "down"):
         raise ValueError(f"sweep must be 'up' or 'down', got {sweep!r}")
+    if not isinstance(retrace, bool | np.bool_):
+        raise TypeError(f"retrace must be True or False, got {retrace!r}")
+    retrace = bool(retrace)
     if not isinstance(options, ContinuationOptions | None):
         raise TypeError(
             f"options must be a ContinuationOptions, got {type(options).__name__}"
@@ -177,7 +194,6 @@ def frf(
         amplitude_scale = finite_float(
             "amplitude_scale", amplitude_scale, low=0.0, low_open=True
         )
-    direction = 1 if sweep == "up" else -1
     if isinstance(harmonics, str):
         if harmonics != "auto":
             raise ValueError(
@@ -191,35 +207,43 @@ def frf(
             symmetry,
             aft,
             sweep,
-            direction,
             harmonic_tolerance,
             options,
             amplitude_scale,
             condense,
+            retrace,
         )
     tolerance = finite_float(
         "harmonic_tolerance", harmonic_tolerance, low=0.0, low_open=True, high=1.0
     )
     problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
-    cont = Continuation(problem, (lo, hi), direction, options, amplitude_scale)
-    state, elapsed = cont.run()
-    n = problem.n_unknowns
-    pts = np.array(state.points).reshape(-1, n + 1)
-    errors = truncation_errors(problem, pts)
-    branch = _branch(
-        system,
-        problem,
-        state,
-        elapsed,
-        pts[:, n].copy(),
-        problem.full_coefficients(pts),
-        _describe(
+
+    def trace(sweep: str) -> Branch:
+        direction = 1 if sweep == "up" else -1
+        cont = Continuation(problem, (lo, hi), direction, options, amplitude_scale)
+        state, elapsed = cont.run()
+        n = problem.n_unknowns
+        pts = np.array(state.points).reshape(-1, n + 1)
+        return _branch(
             system,
             problem,
-            {"omega_range": [lo, hi], "sweep": sweep, "harmonic_tolerance": tolerance},
-        ),
-        truncation_error=errors,
-    )
+            state,
+            elapsed,
+            pts[:, n].copy(),
+            problem.full_coefficients(pts),
+            _describe(
+                system,
+                problem,
+                {
+                    "omega_range": [lo, hi],
+                    "sweep": sweep,
+                    "harmonic_tolerance": tolerance,
+                },
+            ),
+            truncation_error=truncation_errors(problem, pts),
+        )
+
+    branch = _covering(trace, sweep, retrace)
     _warn_truncation(branch, tolerance)
     return branch
 
@@ -248,8 +272,53 @@ def _warn_truncation(branch: Branch, tolerance: float) -> None:
     )
 
 
+def _ends(branch: Branch) -> str:
+    """Where a piece stopped, for messages."""
+    if len(branch) == 0:
+        return "(no point)"
+    return f"at Ω = {branch.omega[-1]:.6g} rad/s"
+
+
+def _covering(trace, sweep: str, retrace: bool) -> Branch:
+    """The branch of ``trace(sweep)``; if it does not cover the range and
+    ``retrace`` is on, joined with ``trace`` of the opposite sweep
+    (:func:`hbmfric.results.join_pieces`). Warns when the result is still
+    incomplete."""
+    branch = trace(sweep)
+    if branch.complete:
+        return branch
+    if retrace:
+        other = "down" if sweep == "up" else "up"
+        second = trace(other)
+        lo, hi = branch.omega_range
+        start = hi if other == "down" else lo
+        reason = (
+            f"{sweep} sweep: {branch.stop_reason} {_ends(branch)}; retraced "
+            f"{other} from {start:.6g} rad/s: {second.stop_reason} {_ends(second)}"
+        )
+        branch = join_pieces(branch, second, reason)
+        if branch.complete:
+            return branch
+    lo, hi = branch.omega_range
+    covered = ", ".join(
+        f"[{branch.omega[p].min():.6g}, {branch.omega[p].max():.6g}]"
+        for p in branch.piece_slices()
+        if p.stop > p.start
+    )
+    warnings.warn(
+        f"the branch covers only {covered or 'nothing'} of the asked range "
+        f"[{lo:.6g}, {hi:.6g}] rad/s (gaps: "
+        + ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in branch.gaps)
+        + f"); stop: {branch.stop_reason}",
+        CoverageWarning,
+        stacklevel=3,
+    )
+    return branch
+
+
 def _branch(system, problem, state, elapsed, omega, coefficients, info, **extra):
     """The :class:`Branch` of a finished continuation ``state``."""
+    info["bridges"] = int(state.n_bridges)
     return Branch(
         omega=omega,
         coefficients=coefficients,
@@ -275,11 +344,11 @@ def _frf_auto(
     symmetry,
     aft,
     sweep,
-    direction,
     tolerance,
     options,
     amplitude_scale,
     condense,
+    retrace,
 ) -> Branch:
     """``frf`` with ``harmonics="auto"``."""
     if n_time is not None:
@@ -297,51 +366,56 @@ def _frf_auto(
             problems[h] = base.with_harmonics(h)
         return problems[h]
 
-    cont = AdaptiveContinuation(
-        make_problem, omega_range, direction, options, amplitude_scale, tolerance
-    )
-    state, points, levels, elapsed = cont.run()
-    top = make_problem(max(levels) if levels else LADDER[0])
-    # the harmonics of a level are a prefix of the top level's, in the same
-    # column layout: each level fills the leading columns of its points
-    coefficients = np.zeros((len(points), top.n_dof, top.n_coef))
-    levels_array = np.array(levels, dtype=np.int64)
-    omegas = np.empty(len(points))
-    for h in np.unique(levels_array):
-        idx = np.flatnonzero(levels_array == h)
-        p = make_problem(int(h))
-        pts = np.array([points[i] for i in idx])
-        omegas[idx] = pts[:, -1]
-        coefficients[idx, :, : p.n_coef] = p.full_coefficients(pts)
-    info = _describe(
-        system,
-        top,
-        {
-            "omega_range": list(omega_range),
-            "sweep": sweep,
-            "harmonics": "auto",
-            "harmonic_tolerance": tolerance,
-            "harmonic_switches": cont.n_switches,
-            "harmonic_resolves": cont.n_resolves,
-            "harmonic_calibrations": cont.n_calibrations,
-        },
-    )
-    errors = np.zeros(len(points))
-    for h in np.unique(levels_array):
-        idx = np.flatnonzero(levels_array == h)
-        errors[idx] = truncation_errors(
-            make_problem(int(h)), np.array([points[i] for i in idx])
+    def trace(sweep: str) -> Branch:
+        direction = 1 if sweep == "up" else -1
+        cont = AdaptiveContinuation(
+            make_problem, omega_range, direction, options, amplitude_scale, tolerance
         )
-    branch = _branch(
-        system,
-        top,
-        state,
-        elapsed,
-        omegas,
-        coefficients,
-        info,
-        point_harmonics=levels_array,
-        truncation_error=errors,
-    )
+        state, points, levels, elapsed = cont.run()
+        top = make_problem(max(levels) if levels else LADDER[0])
+        # the harmonics of a level are a prefix of the top level's, in the
+        # same column layout: each level fills the leading columns of its
+        # points
+        coefficients = np.zeros((len(points), top.n_dof, top.n_coef))
+        levels_array = np.array(levels, dtype=np.int64)
+        omegas = np.empty(len(points))
+        for h in np.unique(levels_array):
+            idx = np.flatnonzero(levels_array == h)
+            p = make_problem(int(h))
+            pts = np.array([points[i] for i in idx])
+            omegas[idx] = pts[:, -1]
+            coefficients[idx, :, : p.n_coef] = p.full_coefficients(pts)
+        info = _describe(
+            system,
+            top,
+            {
+                "omega_range": list(omega_range),
+                "sweep": sweep,
+                "harmonics": "auto",
+                "harmonic_tolerance": tolerance,
+                "harmonic_switches": cont.n_switches,
+                "harmonic_resolves": cont.n_resolves,
+                "harmonic_calibrations": cont.n_calibrations,
+            },
+        )
+        errors = np.zeros(len(points))
+        for h in np.unique(levels_array):
+            idx = np.flatnonzero(levels_array == h)
+            errors[idx] = truncation_errors(
+                make_problem(int(h)), np.array([points[i] for i in idx])
+            )
+        return _branch(
+            system,
+            top,
+            state,
+            elapsed,
+            omegas,
+            coefficients,
+            info,
+            point_harmonics=levels_array,
+            truncation_error=errors,
+        )
+
+    branch = _covering(trace, sweep, retrace)
     _warn_truncation(branch, tolerance)
     return branch

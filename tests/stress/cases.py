@@ -23,7 +23,7 @@ import numpy as np
 
 import hbmfric as hf
 from hbmfric.continuation.adaptive import truncation_estimate
-from hbmfric.continuation.palc import MAX_STEPS, MIN_STEP, RANGE_END
+from hbmfric.continuation.palc import MAX_STEPS, MIN_STEP, RANGE_END, RANGE_START
 from hbmfric.hbm import HBMProblem
 
 
@@ -126,7 +126,9 @@ def run_case(c: Case, spot: bool = True) -> dict:
         "newton": b.newton_iterations,
         "time_s": elapsed,
         "stop_reason": b.stop_reason,
-        "completed": b.stop_reason == RANGE_END,
+        # the range covered (a run that left by its starting end after a
+        # fold is retraced from the other end by ``frf``)
+        "completed": b.complete,
         "finite": bool(
             np.all(np.isfinite(b.coefficients)) and np.all(np.isfinite(b.omega))
         ),
@@ -142,6 +144,10 @@ def run_case(c: Case, spot: bool = True) -> dict:
     dX = np.abs(np.diff(b.coefficients[:, 0], axis=0)) / local[:, None]
     dW = np.abs(np.diff(b.omega)) / (omega[1] - omega[0])
     gaps = np.maximum(dW, dX.max(axis=1)) if len(b) > 1 else np.zeros(0)
+    # no step between two separately traced pieces
+    if b.pieces is not None:
+        starts = b.pieces[(b.pieces > 0) & (b.pieces < len(b))]
+        gaps[starts - 1] = 0.0
     out["max_gap"] = float(gaps.max()) if gaps.size else 0.0
     out["gap_bound"] = 3.0 * options.max_step
     # the run must end on a boundary of the range (after folds, a branch
@@ -161,7 +167,10 @@ def run_case(c: Case, spot: bool = True) -> dict:
             top = truncation_estimate(b.harmonic_numbers, X)
             tol = 0.1 if c.harmonics < 3 else max(5e-3, 2.0 * top)
             out["spot"].append((float(b.omega[i]), spot_check(osc, force, b, i), tol))
-    out["known_stop"] = b.stop_reason in (RANGE_END, MAX_STEPS, MIN_STEP)
+    reasons = [p["stop_reason"] for p in b.info.get("pieces", [])] or [b.stop_reason]
+    out["known_stop"] = all(
+        r in (RANGE_END, RANGE_START, MAX_STEPS, MIN_STEP) for r in reasons
+    )
     return out
 
 
