@@ -64,7 +64,7 @@ def test_stop_reason_says_when_the_path_left_by_its_start():
     unstable middle branch and leaves the range at 5 again. It used to
     report "end of frequency range reached"."""
     with pytest.warns(hf.CoverageWarning, match=r"covers only \[1\.6"):
-        b = hf.frf(_cubic(), 1.0, (0.3, 5.0), sweep="down", retrace=False)
+        b = hf.frf(_cubic(), 1.0, (0.3, 5.0), 15, sweep="down", retrace=False)
     assert b.stop_reason == RANGE_START
     assert b.omega[0] == 5.0 and b.omega[-1] == 5.0 and b.folds.size == 1
     lo, hi = b.coverage
@@ -76,7 +76,7 @@ def test_stop_reason_says_when_the_path_left_by_its_start():
 def test_retrace_completes_the_cubic_branch(no_coverage_warning):
     """The same run retraced up from 0.3 covers the range: two pieces, every
     point a solution of the harmonic balance (independent residual)."""
-    b = hf.frf(_cubic(), 1.0, (0.3, 5.0), sweep="down")
+    b = hf.frf(_cubic(), 1.0, (0.3, 5.0), 15, sweep="down")
     assert b.complete and b.gaps == [] and b.coverage == (0.3, 5.0)
     first, second = b.piece_slices()
     # first piece: 5 -> fold -> 5; second: the up sweep reversed, 5 -> 0.3
@@ -220,7 +220,7 @@ def test_stiff_menq_branch_passes_superharmonic_region(no_coverage_warning):
     osc = hf.Oscillator(
         1.0, 0.02, 1.0, hf.Menq.from_stiffness(stiffness=1000.0, slip_force=1.0)
     )
-    b = hf.frf(osc, 2.0, (0.3, 47.46), retrace=False)
+    b = hf.frf(osc, 2.0, (0.3, 47.46), 15, retrace=False)
     assert b.complete and b.stop_reason == RANGE_END
     assert b.folds.size == 0 and np.all(np.diff(b.omega) > 0.0)
     assert b.info["bridges"] > 0
@@ -239,7 +239,7 @@ def test_barely_slipping_jenkins_branch_reaches_the_end(no_coverage_warning):
 
     osc = hf.Oscillator(1.0, 2e-3, 1.0, hf.Jenkins(stiffness=1e5, slip_force=1.0))
     omega = (0.3, 1.5 * math.sqrt(1.0 + 1e5))
-    b = hf.frf(osc, 1.0, omega, retrace=False)
+    b = hf.frf(osc, 1.0, omega, 15, retrace=False)
     assert b.complete and b.stop_reason == RANGE_END and b.info["bridges"] > 0
     hn = b.harmonic_numbers
     theta = sample_angles(2**14)
