@@ -40,19 +40,26 @@ def _problem(system, force, harmonics, n_time, symmetry, aft, condense):
     """The HBM discretisation: condensed onto the contact DOF or full."""
     from .condensation import CondensedHBMProblem, can_condense
 
-    check_system(system)  # before anything reads the system
+    data = check_system(system)  # before anything reads the system
     if condense is None:
         condense = can_condense(system)
     if isinstance(condense, str) and condense in ("modal", "direct"):
         return CondensedHBMProblem(
-            system, force, harmonics, n_time, symmetry, aft, receptance=condense
+            system,
+            force,
+            harmonics,
+            n_time,
+            symmetry,
+            aft,
+            receptance=condense,
+            _checked=data,
         )
     if not isinstance(condense, bool | np.bool_):
         raise ValueError(
             f"condense must be True, False, None, 'modal' or 'direct', got {condense!r}"
         )
     cls = CondensedHBMProblem if condense else HBMProblem
-    return cls(system, force, harmonics, n_time, symmetry, aft)
+    return cls(system, force, harmonics, n_time, symmetry, aft, _checked=data)
 
 
 def _describe(system, problem: HBMProblem, extra: dict) -> dict:

@@ -108,9 +108,17 @@ class CondensedHBMProblem(HBMProblem):
         aft: str = "auto",
         receptance: str = "auto",
         subharmonic: int = 1,
+        _checked=None,
     ) -> None:
         super().__init__(
-            system, force, harmonics, n_time, symmetry, aft, subharmonic=subharmonic
+            system,
+            force,
+            harmonics,
+            n_time,
+            symmetry,
+            aft,
+            subharmonic=subharmonic,
+            _checked=_checked,
         )
         if system.contact is None:
             raise ValueError("condensation needs a contact law on the system")

@@ -124,8 +124,10 @@ class HBMProblem:
         symmetry: bool | None = None,
         aft: str = "auto",
         subharmonic: int = 1,
+        _checked=None,
     ) -> None:
-        data = check_system(system)
+        # ``_checked``: the SystemData of a caller that has just checked it
+        data = _checked if _checked is not None else check_system(system)
         self.system = system
         self.force = finite_float("force", force)
         self.subharmonic = positive_int("subharmonic", subharmonic, low=1)
