@@ -194,8 +194,10 @@ def spot_indices(branch: hf.Branch, dof: int = 0) -> list[int]:
 
 #: period budgets of the time-integration reference, tried in turn until it
 #: converges (ζ = 1e-4 needs tens of thousands of periods to settle the
-#: free ringing a truncated HBM start leaves)
-REFERENCE_PERIODS = (3000, 30000, 100000)
+#: free ringing a truncated HBM start leaves; far above the free frequency,
+#: hundreds of thousands, which the matrix does not afford: such a spot
+#: check stays inconclusive and the case is listed as a miss)
+REFERENCE_PERIODS = (3000, 30000)
 
 
 def spot_check(
