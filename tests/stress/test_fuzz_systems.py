@@ -178,11 +178,8 @@ def check(p: dict) -> list[str]:
 
 
 def describe(p: dict) -> str:
-    return ", ".join(
-        f"{k}={v:.3g}" if isinstance(v, float) else f"{k}={v}"
-        for k, v in p.items()
-        if k != "at"
-    )
+    """The example in full precision (to rebuild it with :func:`build`)."""
+    return ", ".join(f"{k}={v!r}" for k, v in p.items())
 
 
 def fuzz(max_examples: int) -> list[str]:
