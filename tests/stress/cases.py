@@ -207,13 +207,19 @@ REFERENCE_PERIODS = (3000, 30000)
 def spot_check(
     system, force: float, branch: hf.Branch, i: int
 ) -> tuple[float, str, int]:
-    """Relative first-harmonic difference (at the contact DOF) between the
-    HBM point and the time-integration steady state started on it (1024
-    steps per period), ``""`` and the period budget used — or ``inf`` and
-    why the reference does not count: a reference that did not converge
+    """:func:`reference_check` of branch point ``i``."""
+    return reference_check(system, force, branch.point(i))
+
+
+def reference_check(
+    system, force: float, sol: hf.PeriodicSolution
+) -> tuple[float, str, int]:
+    """Relative first-harmonic difference (at the contact DOF) between a
+    periodic solution and the time-integration steady state started on it
+    (1024 steps per period), ``""`` and the period budget used — or ``inf``
+    and why the reference does not count: a reference that did not converge
     (kernel status, or the period-to-period change still above ``tol``
     after the last budget of :data:`REFERENCE_PERIODS`) never passes."""
-    sol = branch.point(i)
     hn = sol.harmonic_numbers
     X = sol.coefficients  # (n_dof, n_coef)
     cols = np.cumsum([0] + [1 if k == 0 else 2 for k in hn[:-1]])
@@ -486,6 +492,13 @@ PSOL_CASES = [
     Case(law="dahl", ratio=0.5),
     Case(law="roughness", ratio=10.0, stiffness_ratio=1e2),
     Case(law="beam", normal_load=0.5, ratio=2.0),
+    # harder: folds (several values per Ω), the stop regime of rigid
+    # Coulomb, a stiff light-damped stick–slip branch, a stiff Dahl loop
+    Case(law="cubic", ratio=1.0, stiffness_ratio=1.0),
+    Case(law="coulomb", ratio=1.4, zeta=0.08),
+    Case(law="coulomb", ratio=1.0 + 1e-10, sweep="down"),
+    Case(ratio=10.0, stiffness_ratio=1e4, zeta=1e-4),
+    Case(law="dahl", ratio=1.0, stiffness_ratio=1e3, zeta=1e-3),
 ]
 PSOL_POINTS = 15
 #: a converged periodic_solution further than this (relative first-harmonic
@@ -527,12 +540,27 @@ def branch_values(system, force, branch: hf.Branch, w: float, harmonics) -> list
     return out
 
 
+def coexists(system, force, sol: hf.PeriodicSolution, law: str) -> bool:
+    """A converged solution off the traced branch is another steady state
+    when time integration started on it stays on it (a stable solution on
+    a part of the solution set the branch did not trace: the upper stretch
+    of a fold that leaves the range, an isola)."""
+    if law in NO_REFERENCE or not sol.amplitude(harmonic=1):
+        return False
+    X = sol.coefficients
+    top = truncation_estimate(sol.harmonic_numbers, X)
+    err, why, _ = reference_check(system, force, sol)
+    return not why and err <= max(5e-3, 2.0 * top)
+
+
 def psol_map(c: Case, n: int = PSOL_POINTS) -> dict:
     """``hf.periodic_solution`` (default start) at ``n`` frequencies inside
     the branch's covered range against the branch; every point is ``ok``
     (converged onto a branch value), ``warned`` (not converged, or off
-    the branch, with a ConvergenceWarning), ``wrong`` (converged, off every
-    branch value, no warning) or ``silent`` (not converged, no warning)."""
+    the branch, with a ConvergenceWarning), ``other`` (converged off the
+    branch onto another steady state that time integration confirms,
+    :func:`coexists`), ``wrong`` (converged, off every branch value, not
+    confirmed, no warning) or ``silent`` (not converged, no warning)."""
     system, force, omega = build(c)
     dof = response_dof(system)
     with warnings.catch_warnings():
@@ -556,6 +584,8 @@ def psol_map(c: Case, n: int = PSOL_POINTS) -> dict:
             verdict = "ok"
         elif warned:
             verdict = "warned"
+        elif sol.converged and coexists(system, force, sol, c.law):
+            verdict = "other"
         elif sol.converged:
             verdict = "wrong"
         else:
@@ -622,13 +652,14 @@ def law_summary(rows: list[dict]) -> str:
 def psol_table(maps: list[dict]) -> str:
     """Counts per verdict of the periodic_solution maps (markdown)."""
     lines = [
-        "| case | Ω points | ok | warned | wrong | silent | problems |",
-        "|---|---|---|---|---|---|---|",
+        "| case | Ω points | ok | warned | other | wrong | silent | problems |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     for m in maps:
         v = [p[1] for p in m["points"]]
         lines.append(
             f"| {m['case']} | {len(v)} | {v.count('ok')} | {v.count('warned')} | "
+            f"{v.count('other')} | "
             f"{v.count('wrong')} | {v.count('silent')} | "
             f"{'; '.join(psol_failures(m)) or '—'} |"
         )
