@@ -504,6 +504,8 @@ PSOL_POINTS = 15
 #: a converged periodic_solution further than this (relative first-harmonic
 #: amplitude) from every branch value at its Ω is a wrong answer
 PSOL_TOL = 1e-6
+#: ... or more than this times the displacement scale in absolute terms
+PSOL_ABS = 1e-12
 
 
 def branch_values(system, force, branch: hf.Branch, w: float, harmonics) -> list:
@@ -540,6 +542,13 @@ def branch_values(system, force, branch: hf.Branch, w: float, harmonics) -> list
     return out
 
 
+def psol_floor(system, force, omega) -> float:
+    """Absolute amplitude difference below which two solutions are the same:
+    :data:`PSOL_ABS` of the continuation's displacement scale (amplitudes of
+    1e-17 m under forces of 1 N are rounding noise)."""
+    return PSOL_ABS * HBMProblem(system, force, 15).amplitude_scale(omega)
+
+
 def coexists(system, force, sol: hf.PeriodicSolution, law: str) -> bool:
     """A converged solution off the traced branch is another steady state
     when time integration started on it stays on it (a stable solution on
@@ -567,6 +576,7 @@ def psol_map(c: Case, n: int = PSOL_POINTS) -> dict:
         warnings.simplefilter("ignore")
         b = hf.frf(system, force, omega, c.harmonics, sweep=c.sweep)
     lo, hi = float(b.omega.min()), float(b.omega.max())
+    floor = psol_floor(system, force, omega)
     points = []
     for j in range(n):
         w = lo + (hi - lo) * (j + 0.5) / n
@@ -576,9 +586,7 @@ def psol_map(c: Case, n: int = PSOL_POINTS) -> dict:
         warned = any(issubclass(x.category, hf.ConvergenceWarning) for x in caught)
         a = sol.amplitude(harmonic=1, dof=dof)
         values = branch_values(system, force, b, w, c.harmonics)
-        off = min(
-            (abs(a - v) / max(tol, 1e-300) for v, tol in values), default=math.inf
-        )
+        off = min((abs(a - v) / max(tol, floor) for v, tol in values), default=math.inf)
         on_branch = bool(np.isfinite(a)) and off <= 1.0
         if sol.converged and on_branch:
             verdict = "ok"

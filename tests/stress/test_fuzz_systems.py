@@ -30,7 +30,7 @@ from hypothesis import strategies as st
 
 import hbmfric as hf
 
-from .cases import PSOL_TOL, branch_values, coexists, covered
+from .cases import PSOL_TOL, branch_values, coexists, covered, psol_floor
 
 #: wall time allowed for one example (branch + two periodic solutions), s;
 #: the kernels are compiled by the first example
@@ -170,7 +170,8 @@ def check(p: dict) -> list[str]:
             continue
         warned = any(issubclass(c, hf.ConvergenceWarning) for c in categories)
         a = sol.amplitude(harmonic=1)
-        on = any(abs(a - v) <= max(tol, PSOL_TOL * abs(v)) for v, tol in values)
+        floor = psol_floor(osc, force, omega)
+        on = any(abs(a - v) <= max(tol, PSOL_TOL * abs(v), floor) for v, tol in values)
         if sol.converged and not on and not warned:
             if within_deadline(lambda sol=sol: coexists(osc, force, sol, p["law"])):
                 continue  # another steady state, confirmed by time integration
