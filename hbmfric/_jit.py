@@ -1,13 +1,242 @@
-"""The one project-wide JIT decorator.
+"""The one project-wide JIT decorator and the cache that keeps it safe.
 
-Every kernel is compiled with ``cache=True`` (the compiled code is stored next
-to the source and reused by later processes), ``nogil=True`` and
+Every kernel is compiled with ``cache=True``, ``nogil=True`` and
 ``error_model="numpy"`` (division by zero gives inf/nan instead of raising,
 so that kernels stay exception-free and report problems by status codes).
+
+Where the cache lives
+---------------------
+Numba's own cache sits next to each source file and is keyed by that file
+alone: after a callee in another file changes (a ``git pull`` on an
+editable install), a cached caller keeps running the old callee, bit for
+bit. hbmfric therefore places the cache of its own files in a directory
+named after a hash of all kernel sources (:func:`source_key`), so that any
+edit of any kernel starts a fresh cache and a stale one can never be read:
+
+1. ``$HBMFRIC_CACHE_DIR/<key>`` if that variable is set,
+2. else ``$NUMBA_CACHE_DIR/hbmfric/<key>`` if Numba's variable is set,
+3. else ``$XDG_CACHE_HOME/hbmfric/<key>`` (default ``~/.cache``).
+
+If that directory cannot be created or written (read-only home, read-only
+container), the kernels are compiled without a cache in every process and
+one :class:`~hbmfric.errors.CacheWarning` says so; ``import hbmfric`` never
+fails for want of a cache. Old ``<key>`` directories are not removed
+automatically (another installation may still use them); delete them at
+will.
 """
 
+from __future__ import annotations
+
+import hashlib
+import os
+import re
+import tempfile
+import warnings
+
 from numba import njit
+from numba.core import caching
 
-jit = njit(cache=True, nogil=True, error_model="numpy")
+from .errors import CacheWarning
 
-__all__ = ["jit"]
+PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
+"""Directory of the hbmfric package whose files use this cache."""
+
+
+_FROM_IMPORT = re.compile(
+    r"^[ \t]*from[ \t]+(\.*)([\w.]*)[ \t]+import[ \t]+(\([^)]*\)|[^\n#;]*)", re.M
+)
+_PLAIN_IMPORT = re.compile(r"^[ \t]*import[ \t]+([\w.]+)", re.M)
+
+
+def _imports(path: str, text: str, package_dir: str) -> tuple[bool, list[str]]:
+    """Scan one module's import statements: does it import Numba or ``_jit``,
+    and which files of the package does it import (relative imports)?
+
+    A textual scan (fast, unlike parsing): an import written inside a string
+    can only add a file to the hash, never drop one.
+    """
+    uses_numba = any(
+        m.group(1).split(".")[0] == "numba" for m in _PLAIN_IMPORT.finditer(text)
+    )
+    deps = []
+    here = os.path.dirname(path)
+    for m in _FROM_IMPORT.finditer(text):
+        dots, module, names = m.groups()
+        if not dots:
+            uses_numba |= module.split(".")[0] == "numba"
+            continue
+        base = here
+        for _ in range(len(dots) - 1):
+            base = os.path.dirname(base)
+        if module:
+            targets = [module.split(".")]
+        else:
+            names = names.strip("()").replace("\n", " ")
+            targets = [[n.split()[0]] for n in names.split(",") if n.strip()]
+        for name in targets:
+            stem = os.path.join(base, *name)
+            for candidate in (stem + ".py", os.path.join(stem, "__init__.py")):
+                if candidate.startswith(package_dir) and os.path.isfile(candidate):
+                    deps.append(candidate)
+                    uses_numba |= name[-1] == "_jit"
+    return uses_numba, deps
+
+
+def kernel_sources(package_dir: str = PACKAGE_DIR) -> list[str]:
+    """Paths of every source file that can change compiled code.
+
+    These are the ``.py`` files under ``package_dir`` that use Numba or the
+    ``jit`` decorator, plus every package module they import (relative
+    imports, followed transitively: constants and helpers that compiled code
+    freezes).
+
+    Parameters
+    ----------
+    package_dir : str
+        Root directory of the package.
+
+    Returns
+    -------
+    list of str, sorted
+    """
+    package_dir = os.path.abspath(package_dir)
+    texts = {}
+    for root, dirs, files in os.walk(package_dir):
+        dirs[:] = sorted(d for d in dirs if d != "__pycache__")
+        for name in files:
+            if name.endswith(".py"):
+                path = os.path.join(root, name)
+                with open(path, encoding="utf-8", errors="replace") as f:
+                    texts[path] = f.read()
+    parsed = {}
+
+    def parse(path):
+        if path not in parsed:
+            parsed[path] = _imports(path, texts[path], package_dir)
+        return parsed[path]
+
+    # Parsing is the slow part: parse only files that can import Numba or
+    # _jit, and the files they import.
+    todo = [
+        p for p, t in texts.items() if ("numba" in t or "_jit" in t) and parse(p)[0]
+    ]
+    seen = set(todo)
+    while todo:
+        path = todo.pop()
+        for dep in parse(path)[1]:
+            if dep not in seen and dep in texts:
+                seen.add(dep)
+                todo.append(dep)
+    return sorted(seen)
+
+
+def source_key(package_dir: str = PACKAGE_DIR) -> str:
+    """Hash of all kernel sources of the package (:func:`kernel_sources`).
+
+    Parameters
+    ----------
+    package_dir : str
+        Root directory of the package.
+
+    Returns
+    -------
+    str
+        16 hex digits; changes whenever any kernel source, or the set of
+        kernel files, changes.
+    """
+    package_dir = os.path.abspath(package_dir)
+    h = hashlib.sha256()
+    for path in kernel_sources(package_dir):
+        rel = os.path.relpath(path, package_dir).replace(os.sep, "/")
+        with open(path, "rb") as f:
+            data = f.read()
+        h.update(rel.encode() + b"\0" + str(len(data)).encode() + b"\0" + data)
+    return h.hexdigest()[:16]
+
+
+def cache_base(environ=None) -> str:
+    """Directory under which the ``<key>`` cache directories live.
+
+    Parameters
+    ----------
+    environ : mapping, optional
+        Environment to read (default ``os.environ``).
+    """
+    env = os.environ if environ is None else environ
+    if env.get("HBMFRIC_CACHE_DIR"):
+        return os.path.abspath(os.path.expanduser(env["HBMFRIC_CACHE_DIR"]))
+    if env.get("NUMBA_CACHE_DIR"):
+        return os.path.join(os.path.abspath(env["NUMBA_CACHE_DIR"]), "hbmfric")
+    xdg = env.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return os.path.join(os.path.abspath(xdg), "hbmfric")
+
+
+def _writable_dir(path: str) -> str | None:
+    """Create ``path`` and check that a file can be written there; return
+    None on success, else the reason."""
+    try:
+        os.makedirs(path, exist_ok=True)
+        tempfile.TemporaryFile(dir=path).close()
+    except OSError as exc:
+        return f"{type(exc).__name__}: {exc}"
+    return None
+
+
+class _KeyedCacheLocator(caching._SourceFileBackedLocatorMixin, caching._CacheLocator):
+    """Numba cache locator for the files of the hbmfric package only: puts
+    their cache in ``CACHE_DIR/<subdirectory in the package>``."""
+
+    def __init__(self, py_func, py_file):
+        self._py_file = py_file
+        self._lineno = py_func.__code__.co_firstlineno
+        rel = os.path.relpath(os.path.dirname(os.path.abspath(py_file)), PACKAGE_DIR)
+        self._cache_path = os.path.normpath(os.path.join(CACHE_DIR, rel))
+
+    def get_cache_path(self):
+        return self._cache_path
+
+    @classmethod
+    def from_function(cls, py_func, py_file):
+        if CACHE_DIR is None:
+            return None
+        path = os.path.abspath(py_file)
+        if not path.startswith(PACKAGE_DIR + os.sep) or not os.path.isfile(path):
+            return None
+        self = cls(py_func, py_file)
+        try:
+            self.ensure_cache_path()
+        except OSError:
+            return None
+        return self
+
+
+def _register_locator() -> None:
+    impl = getattr(caching, "CacheImpl", None) or caching._CacheImpl
+    classes = impl._locator_classes
+    classes[:] = [c for c in classes if c.__name__ != _KeyedCacheLocator.__name__]
+    classes.insert(0, _KeyedCacheLocator)
+
+
+CACHE_DIR: str | None = os.path.join(cache_base(), source_key())
+"""Directory of the compiled-kernel cache, or None if there is none."""
+
+_reason = _writable_dir(CACHE_DIR)
+if _reason is not None:
+    warnings.warn(
+        f"hbmfric cannot write its Numba cache to {CACHE_DIR!r} ({_reason}); "
+        "kernels are compiled in every process, which takes minutes. Set "
+        "HBMFRIC_CACHE_DIR to a writable directory to cache them.",
+        CacheWarning,
+        stacklevel=2,
+    )
+    CACHE_DIR = None
+del _reason
+
+CACHE: bool = CACHE_DIR is not None
+"""Whether compiled kernels are cached (pass as ``cache=`` to Numba)."""
+
+_register_locator()
+
+jit = njit(cache=CACHE, nogil=True, error_model="numpy")
+
+__all__ = ["CACHE", "CACHE_DIR", "cache_base", "jit", "kernel_sources", "source_key"]

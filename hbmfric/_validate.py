@@ -1,20 +1,46 @@
-"""Input checks for the public edge: clear ``ValueError`` messages that name
-the parameter and the allowed range. Kernels trust their input."""
+"""Input checks for the public edge: clear messages that name the parameter,
+``TypeError`` for a wrong type (a string or a bool where a number belongs),
+``ValueError`` for a wrong value with the allowed range. Kernels trust their
+input."""
 
 import math
+import numbers
 
 import numpy as np
+
+
+def real_number(name: str, value) -> float:
+    """Return ``value`` as a float if it is a real number.
+
+    Numbers are ``int``, ``float``, NumPy integer and floating scalars and
+    0-d arrays of those; ``bool``, strings, complex numbers and sequences
+    are not (``TypeError`` naming ``name``).
+    """
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        ok = value.dtype.kind in "iuf"
+    else:
+        ok = isinstance(value, numbers.Real) and not isinstance(value, bool | np.bool_)
+    if not ok:
+        raise TypeError(
+            f"{name} must be a real number (int or float), got "
+            f"{type(value).__name__} {value!r}"
+        )
+    return float(value)
 
 
 def finite_float(name: str, value, *, low=None, high=None, low_open=False) -> float:
     """Return ``value`` as a finite float, checking ``low <= value <= high``.
 
     With ``low_open=True`` the lower bound is strict (``value > low``).
+
+    Raises
+    ------
+    TypeError
+        If ``value`` is not a real number (:func:`real_number`).
+    ValueError
+        If it is NaN, infinite or out of range.
     """
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number, got {value!r}") from None
+    x = real_number(name, value)
     if not math.isfinite(x):
         raise ValueError(f"{name} must be finite, got {x}")
     if low is not None:

@@ -1,20 +1,22 @@
 """Public entry points: ``frf`` (a continuation run) and ``periodic_solution``
-(Newton at one frequency)."""
+(one frequency, :mod:`hbmfric.periodic`, re-exported here)."""
 
 from __future__ import annotations
 
 import dataclasses
-import time
+import warnings
 
 import numpy as np
 
 from ._validate import finite_float
 from .continuation import AdaptiveContinuation, Continuation, ContinuationOptions
+from .continuation.accuracy import truncation_errors
 from .continuation.adaptive import LADDER, START
+from .errors import AccuracyWarning, CoverageWarning
 from .hbm import HBMProblem
-from .kernels import newton as _newton
-from .kernels.aft import STATE_NAMES
-from .results import Branch, PeriodicSolution
+from .periodic import periodic_solution as periodic_solution  # re-export
+from .results import Branch, join_pieces
+from .systems.protocol import check_system
 
 
 def _omega_range(omega) -> tuple[float, float]:
@@ -38,6 +40,7 @@ def _problem(system, force, harmonics, n_time, symmetry, aft, condense):
     """The HBM discretisation: condensed onto the contact DOF or full."""
     from .condensation import CondensedHBMProblem, can_condense
 
+    check_system(system)  # before anything reads the system
     if condense is None:
         condense = can_condense(system)
     if isinstance(condense, str) and condense in ("modal", "direct"):
@@ -79,7 +82,7 @@ def frf(
     system,
     force: float,
     omega: tuple[float, float],
-    harmonics: int | str = 15,
+    harmonics: int | str = "auto",
     *,
     n_time: int | None = None,
     symmetry: bool | None = None,
@@ -89,6 +92,7 @@ def frf(
     options: ContinuationOptions | None = None,
     amplitude_scale: float | None = None,
     condense: bool | None = None,
+    retrace: bool = True,
     **option_overrides,
 ) -> Branch:
     """Trace the forced response (FRF) of ``system`` over a frequency range.
@@ -100,13 +104,17 @@ def frf(
         Amplitude ``F`` of the forcing ``F cos Ωt``, N.
     omega : (float, float)
         Frequency range ``(low, high)``, rad/s, ``0 < low < high``.
-    harmonics : int or "auto", default 15
+    harmonics : int or "auto", default "auto"
         Highest harmonic ``H``; ``"auto"`` chooses it along the branch
         (:mod:`hbmfric.continuation.adaptive`) so that the estimated
         relative truncation error stays below ``harmonic_tolerance``:
         stuck stretches run at ``H = 3``, stick–slip stretches higher (up
         to 63). The branch's coefficients are then padded with zeros to the
         largest ``H`` used and ``Branch.point_harmonics`` gives each point's.
+        A fixed ``H`` is faster when you know what the scene needs; its
+        branch carries the same per-point estimate
+        (``Branch.truncation_error``) and warns when it exceeds
+        ``harmonic_tolerance``.
     n_time : int, optional
         AFT samples per period (> 2 H); default depends on the AFT scheme
         (always the default with ``harmonics="auto"``).
@@ -125,6 +133,9 @@ def frf(
         0.02-0.2 times it (``bench/README.md``); it does not see the AFT's
         own sampling error (Menq: about 1e-5 at the default ``n_time``),
         and a rigid Coulomb contact (error ~ 1/H) drives ``H`` to the top.
+        With a fixed ``H``: the threshold of the
+        :class:`~hbmfric.errors.AccuracyWarning` on the per-point estimate
+        (:mod:`hbmfric.continuation.accuracy`).
     options : ContinuationOptions, optional
     amplitude_scale : float, optional
         Displacement scale of the arc length, m.
@@ -136,18 +147,34 @@ def frf(
         the damping is classical, else from a direct solve per harmonic;
         ``"modal"`` or ``"direct"`` force one. ``False`` solves the full
         HBM.
+    retrace : bool, default True
+        When the run ends without covering the range (the step collapsed,
+        the step budget ran out, or the path turned back at a fold and
+        left through the end it started from), trace again from the other
+        end of the range in the opposite direction with the same settings
+        and join the two pieces (``Branch.pieces``).
     **option_overrides
         Fields of :class:`ContinuationOptions` to override.
 
     Returns
     -------
     Branch
-        Points in path order; ``stop_reason`` says why the run ended. A run
-        that cannot go on returns the points so far, never NaN points.
+        Points in path order; ``stop_reason`` says why the run ended and
+        ``coverage``, ``gaps`` and ``complete`` which part of the range it
+        covers. A run that cannot go on returns the points so far, never
+        NaN points.
+
+    Warns
+    -----
+    CoverageWarning
+        When the branch (after the retrace) does not cover the whole range.
     """
     lo, hi = _omega_range(omega)
     if sweep not in ("up", "down"):
         raise ValueError(f"sweep must be 'up' or 'down', got {sweep!r}")
+    if not isinstance(retrace, bool | np.bool_):
+        raise TypeError(f"retrace must be True or False, got {retrace!r}")
+    retrace = bool(retrace)
     if not isinstance(options, ContinuationOptions | None):
         raise TypeError(
             f"options must be a ContinuationOptions, got {type(options).__name__}"
@@ -167,7 +194,6 @@ def frf(
         amplitude_scale = finite_float(
             "amplitude_scale", amplitude_scale, low=0.0, low_open=True
         )
-    direction = 1 if sweep == "up" else -1
     if isinstance(harmonics, str):
         if harmonics != "auto":
             raise ValueError(
@@ -181,30 +207,118 @@ def frf(
             symmetry,
             aft,
             sweep,
-            direction,
             harmonic_tolerance,
             options,
             amplitude_scale,
             condense,
+            retrace,
         )
-    problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
-    cont = Continuation(problem, (lo, hi), direction, options, amplitude_scale)
-    state, elapsed = cont.run()
-    n = problem.n_unknowns
-    pts = np.array(state.points).reshape(-1, n + 1)
-    return _branch(
-        system,
-        problem,
-        state,
-        elapsed,
-        pts[:, n].copy(),
-        problem.full_coefficients(pts),
-        _describe(system, problem, {"omega_range": [lo, hi], "sweep": sweep}),
+    tolerance = finite_float(
+        "harmonic_tolerance", harmonic_tolerance, low=0.0, low_open=True, high=1.0
     )
+    problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
+
+    def trace(sweep: str) -> Branch:
+        direction = 1 if sweep == "up" else -1
+        cont = Continuation(problem, (lo, hi), direction, options, amplitude_scale)
+        state, elapsed = cont.run()
+        n = problem.n_unknowns
+        pts = np.array(state.points).reshape(-1, n + 1)
+        return _branch(
+            system,
+            problem,
+            state,
+            elapsed,
+            pts[:, n].copy(),
+            problem.full_coefficients(pts),
+            _describe(
+                system,
+                problem,
+                {
+                    "omega_range": [lo, hi],
+                    "sweep": sweep,
+                    "harmonic_tolerance": tolerance,
+                },
+            ),
+            truncation_error=truncation_errors(problem, pts),
+        )
+
+    branch = _covering(trace, sweep, retrace)
+    _warn_truncation(branch, tolerance)
+    return branch
+
+
+def _warn_truncation(branch: Branch, tolerance: float) -> None:
+    """An :class:`~hbmfric.errors.AccuracyWarning` when some point's
+    estimated truncation error exceeds ``tolerance``."""
+    errors = branch.truncation_error
+    if errors is None or errors.size == 0 or not np.max(errors) > tolerance:
+        return
+    worst = int(np.argmax(errors))
+    n_over = int(np.count_nonzero(errors > tolerance))
+    advice = (
+        "use harmonics='auto'"
+        if branch.point_harmonics is None
+        else "the top of the harmonic ladder cannot meet it (a rigid contact?)"
+    )
+    warnings.warn(
+        f"estimated truncation error {errors[worst]:.2g} exceeds "
+        f"harmonic_tolerance={tolerance:g} at {n_over} of {errors.size} points "
+        f"(worst at omega={branch.omega[worst]:.6g} rad/s, H="
+        f"{branch.harmonics_at(worst)}); {advice}, or raise harmonics; "
+        "per-point estimates in Branch.truncation_error",
+        AccuracyWarning,
+        stacklevel=3,
+    )
+
+
+def _ends(branch: Branch) -> str:
+    """Where a piece stopped, for messages."""
+    if len(branch) == 0:
+        return "(no point)"
+    return f"at Ω = {branch.omega[-1]:.6g} rad/s"
+
+
+def _covering(trace, sweep: str, retrace: bool) -> Branch:
+    """The branch of ``trace(sweep)``; if it does not cover the range and
+    ``retrace`` is on, joined with ``trace`` of the opposite sweep
+    (:func:`hbmfric.results.join_pieces`). Warns when the result is still
+    incomplete."""
+    branch = trace(sweep)
+    if branch.complete:
+        return branch
+    if retrace:
+        other = "down" if sweep == "up" else "up"
+        second = trace(other)
+        lo, hi = branch.omega_range
+        start = hi if other == "down" else lo
+        reason = (
+            f"{sweep} sweep: {branch.stop_reason} {_ends(branch)}; retraced "
+            f"{other} from {start:.6g} rad/s: {second.stop_reason} {_ends(second)}"
+        )
+        branch = join_pieces(branch, second, reason)
+        if branch.complete:
+            return branch
+    lo, hi = branch.omega_range
+    covered = ", ".join(
+        f"[{branch.omega[p].min():.6g}, {branch.omega[p].max():.6g}]"
+        for p in branch.piece_slices()
+        if p.stop > p.start
+    )
+    warnings.warn(
+        f"the branch covers only {covered or 'nothing'} of the asked range "
+        f"[{lo:.6g}, {hi:.6g}] rad/s (gaps: "
+        + ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in branch.gaps)
+        + f"); stop: {branch.stop_reason}",
+        CoverageWarning,
+        stacklevel=3,
+    )
+    return branch
 
 
 def _branch(system, problem, state, elapsed, omega, coefficients, info, **extra):
     """The :class:`Branch` of a finished continuation ``state``."""
+    info["bridges"] = int(state.n_bridges)
     return Branch(
         omega=omega,
         coefficients=coefficients,
@@ -230,11 +344,11 @@ def _frf_auto(
     symmetry,
     aft,
     sweep,
-    direction,
     tolerance,
     options,
     amplitude_scale,
     condense,
+    retrace,
 ) -> Branch:
     """``frf`` with ``harmonics="auto"``."""
     if n_time is not None:
@@ -252,137 +366,56 @@ def _frf_auto(
             problems[h] = base.with_harmonics(h)
         return problems[h]
 
-    cont = AdaptiveContinuation(
-        make_problem, omega_range, direction, options, amplitude_scale, tolerance
-    )
-    state, points, levels, elapsed = cont.run()
-    top = make_problem(max(levels) if levels else LADDER[0])
-    # the harmonics of a level are a prefix of the top level's, in the same
-    # column layout: each level fills the leading columns of its points
-    coefficients = np.zeros((len(points), top.n_dof, top.n_coef))
-    levels_array = np.array(levels, dtype=np.int64)
-    omegas = np.empty(len(points))
-    for h in np.unique(levels_array):
-        idx = np.flatnonzero(levels_array == h)
-        p = make_problem(int(h))
-        pts = np.array([points[i] for i in idx])
-        omegas[idx] = pts[:, -1]
-        coefficients[idx, :, : p.n_coef] = p.full_coefficients(pts)
-    info = _describe(
-        system,
-        top,
-        {
-            "omega_range": list(omega_range),
-            "sweep": sweep,
-            "harmonics": "auto",
-            "harmonic_tolerance": tolerance,
-            "harmonic_switches": cont.n_switches,
-            "harmonic_resolves": cont.n_resolves,
-            "harmonic_calibrations": cont.n_calibrations,
-        },
-    )
-    return _branch(
-        system,
-        top,
-        state,
-        elapsed,
-        omegas,
-        coefficients,
-        info,
-        point_harmonics=levels_array,
-    )
-
-
-def periodic_solution(
-    system,
-    force: float,
-    omega: float,
-    harmonics: int = 15,
-    *,
-    n_time: int | None = None,
-    symmetry: bool | None = None,
-    aft: str = "auto",
-    initial_guess=None,
-    options: ContinuationOptions | None = None,
-    condense: bool | None = None,
-) -> PeriodicSolution:
-    """Periodic steady state at one frequency by Newton's method.
-
-    Parameters
-    ----------
-    system, force, harmonics, n_time, symmetry, aft
-        As in :func:`frf`.
-    omega : float
-        Forcing pulsation, rad/s (> 0).
-    initial_guess : PeriodicSolution or ndarray, optional
-        Start for Newton (selects the branch where several coexist); an
-        array holds the coefficients of all DOFs in the layout of this
-        discretisation. Default: tries the stuck and the free linearisations.
-    options : ContinuationOptions, optional
-        Newton tolerances and iteration limit.
-    condense : bool, optional
-        As in :func:`frf`; an array ``initial_guess`` then holds the
-        contact-DOF coefficients only.
-
-    Returns
-    -------
-    PeriodicSolution
-        ``converged`` tells whether Newton met the tolerances.
-    """
-    omega = finite_float("omega", omega, low=0.0, low_open=True)
-    options = options or ContinuationOptions()
-    start = time.perf_counter()
-    problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
-    cont = Continuation(problem, (0.5 * omega, 1.5 * omega), 1, options, None)
-    n = problem.n_unknowns
-    guesses = []
-    if initial_guess is not None:
-        guesses.append(_guess_vector(initial_guess, problem))
-    guesses += [g[:n] for g in problem.initial_guesses(omega)]
-    best = None
-    total_it = 0
-    for g in guesses:
-        y, status, it = cont.solve_at(omega, g)
-        total_it += it
-        if status == _newton.CONVERGED:
-            best = y
-            break
-    converged = best is not None
-    if best is None:
-        best = y if np.all(np.isfinite(y)) else np.concatenate((guesses[-1], [omega]))
-    R, _, state = problem.residual(best)
-    return PeriodicSolution(
-        omega=omega,
-        force=problem.force,
-        harmonic_numbers=problem.harmonic_numbers.copy(),
-        coefficients=problem.full_coefficients(best)[0],
-        converged=converged,
-        newton_iterations=total_it,
-        residual_norm=float(np.max(np.abs(R))),
-        elapsed=time.perf_counter() - start,
-        contact_state=STATE_NAMES.get(state, str(state)),
-        dof_names=dict(getattr(system, "dof_names", {})),
-    )
-
-
-def _guess_vector(guess, problem: HBMProblem) -> np.ndarray:
-    """Coefficients of a guess re-laid onto this problem's harmonics."""
-    if isinstance(guess, PeriodicSolution):
-        X = np.zeros((problem.n_dof, problem.n_coef))
-        src = {int(k): i for i, k in enumerate(guess.harmonic_numbers)}
-        src_col = np.cumsum([0] + [1 if k == 0 else 2 for k in guess.harmonic_numbers])
-        col = 0
-        for k in problem.harmonic_numbers:
-            width = 1 if k == 0 else 2
-            if int(k) in src:
-                c = src_col[src[int(k)]]
-                X[:, col : col + width] = guess.coefficients[:, c : c + width]
-            col += width
-        return problem.unknowns_from_full(X)
-    g = np.ascontiguousarray(guess, dtype=np.float64).reshape(-1)
-    if g.size != problem.n_unknowns or not np.all(np.isfinite(g)):
-        raise ValueError(
-            f"initial_guess must hold {problem.n_unknowns} finite coefficients, "
-            f"got {g.size}"
+    def trace(sweep: str) -> Branch:
+        direction = 1 if sweep == "up" else -1
+        cont = AdaptiveContinuation(
+            make_problem, omega_range, direction, options, amplitude_scale, tolerance
         )
-    return g
+        state, points, levels, elapsed = cont.run()
+        top = make_problem(max(levels) if levels else LADDER[0])
+        # the harmonics of a level are a prefix of the top level's, in the
+        # same column layout: each level fills the leading columns of its
+        # points
+        coefficients = np.zeros((len(points), top.n_dof, top.n_coef))
+        levels_array = np.array(levels, dtype=np.int64)
+        omegas = np.empty(len(points))
+        for h in np.unique(levels_array):
+            idx = np.flatnonzero(levels_array == h)
+            p = make_problem(int(h))
+            pts = np.array([points[i] for i in idx])
+            omegas[idx] = pts[:, -1]
+            coefficients[idx, :, : p.n_coef] = p.full_coefficients(pts)
+        info = _describe(
+            system,
+            top,
+            {
+                "omega_range": list(omega_range),
+                "sweep": sweep,
+                "harmonics": "auto",
+                "harmonic_tolerance": tolerance,
+                "harmonic_switches": cont.n_switches,
+                "harmonic_resolves": cont.n_resolves,
+                "harmonic_calibrations": cont.n_calibrations,
+            },
+        )
+        errors = np.zeros(len(points))
+        for h in np.unique(levels_array):
+            idx = np.flatnonzero(levels_array == h)
+            errors[idx] = truncation_errors(
+                make_problem(int(h)), np.array([points[i] for i in idx])
+            )
+        return _branch(
+            system,
+            top,
+            state,
+            elapsed,
+            omegas,
+            coefficients,
+            info,
+            point_harmonics=levels_array,
+            truncation_error=errors,
+        )
+
+    branch = _covering(trace, sweep, retrace)
+    _warn_truncation(branch, tolerance)
+    return branch

@@ -10,35 +10,56 @@ from pathlib import Path
 
 
 def _paper(args: argparse.Namespace) -> int:
-    from .paper import (
-        beam_normal_load_family,
-        beam_ratio_family,
-        beam_validation,
-        sdof_figures,
-        tensioner_frf,
-        tensioner_loop,
-    )
+    from . import paper
 
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        kind = "an existing file" if out.is_file() else "not a usable directory"
+        print(
+            f"hbmfric paper: --out {str(out)!r} is {kind} ({exc.strerror or exc}); "
+            "give a directory to write the results to",
+            file=sys.stderr,
+            flush=True,
+        )
+        return 2
     start = time.perf_counter()
 
     def progress(line: str) -> None:
         print(line, flush=True)
 
-    figures = sdof_figures(harmonics=args.harmonics, progress=progress)
-    figures.append(beam_normal_load_family(harmonics=args.harmonics, progress=progress))
-    figures.append(beam_ratio_family(harmonics=args.harmonics, progress=progress))
-    figures.append(beam_validation(harmonics=args.harmonics, progress=progress))
-    loop = tensioner_loop(progress=progress)
-    figures += [loop, tensioner_frf(loop.identification.law, progress=progress)]
-    for fig in figures:
+    h = args.harmonics
+
+    def computed():
+        # each figure is written as soon as it is computed, so that an error
+        # (a full disk, a failing scene) never loses the ones before it
+        yield from paper.iter_sdof_figures(harmonics=h, progress=progress)
+        yield paper.beam_normal_load_family(harmonics=h, progress=progress)
+        yield paper.beam_ratio_family(harmonics=h, progress=progress)
+        yield paper.beam_validation(harmonics=h, progress=progress)
+        loop = paper.tensioner_loop(progress=progress)
+        yield loop
+        yield paper.tensioner_frf(loop.identification.law, progress=progress)
+
+    figures = []
+    for fig in computed():
+        figures.append(fig)
         _print_verdict(fig)
-        csv_path = fig.write_csv(out / f"{fig.name}.csv")
-        print(f"wrote {csv_path}", flush=True)
-        if not args.no_plot:
-            png_path = fig.write_png(out / f"{fig.name}.png")
-            print(f"wrote {png_path}", flush=True)
+        try:
+            written = [fig.write_csv(out / f"{fig.name}.csv")]
+            if not args.no_plot:
+                written.append(fig.write_png(out / f"{fig.name}.png"))
+        except OSError as exc:
+            print(
+                f"hbmfric paper: cannot write {fig.name} to {str(out)!r} ({exc}); "
+                f"stopped after {len(figures) - 1} figure(s) written",
+                file=sys.stderr,
+                flush=True,
+            )
+            return 1
+        for path in written:
+            print(f"wrote {path}", flush=True)
     # the paper reads the beam's verdict from Figs. 13 (the stuck curve, the
     # envelope) and 14 (ratio invariance) together
     _print_verdict(_combined(figures, ("fig13_beam", "fig14_beam"), "fig13+14_beam"))
@@ -112,14 +133,31 @@ def main(argv: list[str] | None = None) -> int:
     )
     paper.add_argument("--out", default="paper-results", help="output directory")
     paper.add_argument(
-        "--harmonics", type=int, default=15, help="highest harmonic (default 15)"
+        "--harmonics",
+        type=_harmonics_arg,
+        default="auto",
+        help="highest harmonic, or 'auto' (default: chosen along each branch "
+        "for a relative truncation error below 1e-4)",
     )
     paper.add_argument("--no-plot", action="store_true", help="write CSV files only")
     paper.set_defaults(func=_paper)
     args = parser.parse_args(argv)
-    if getattr(args, "harmonics", 1) < 1:
-        parser.error("--harmonics must be >= 1")
     return args.func(args)
+
+
+def _harmonics_arg(text: str) -> int | str:
+    """``--harmonics``: a positive integer or ``auto``."""
+    if text == "auto":
+        return text
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"must be a positive integer or 'auto', got {text!r}"
+        ) from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be >= 1, got {value}")
+    return value
 
 
 if __name__ == "__main__":

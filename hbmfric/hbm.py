@@ -16,6 +16,7 @@ from .kernels.hbm import AFT_EVENTS, AFT_SAMPLES, NO_CONTACT, hbm_residual
 from .kernels.laws import JENKINS, MASING
 from .kernels.linear import first_harmonic_response
 from .signals import coefficient_columns
+from .systems.protocol import check_load, check_system
 
 AFT_SCHEMES = ("auto", "events", "samples")
 #: default DLFT penalty of a rigid Coulomb contact, in units of the static
@@ -77,8 +78,9 @@ class HBMProblem:
     Parameters
     ----------
     system : Oscillator or compatible
-        Provides ``matrices()``, ``load_vector(force)``, ``contact``,
-        ``contact_dof``, ``n_dof`` and ``symmetric``.
+        Follows the system protocol (:mod:`hbmfric.systems.protocol`:
+        ``matrices()``, ``load_vector(force)``, ``contact``, ``contact_dof``,
+        ``n_dof``, optionally ``symmetric``), checked on entry.
     force : float
         Forcing amplitude ``F`` of ``F cos Ωt``, N.
     harmonics : int
@@ -123,15 +125,19 @@ class HBMProblem:
         aft: str = "auto",
         subharmonic: int = 1,
     ) -> None:
+        data = check_system(system)
         self.system = system
         self.force = finite_float("force", force)
         self.subharmonic = positive_int("subharmonic", subharmonic, low=1)
-        static = getattr(system, "static_load", None)
-        static = None if static is None else np.asarray(static(), dtype=np.float64)
+        static = data.static_load
         if static is not None and not np.any(static):
             static = None
-        self.load_phase = finite_float("load_phase", getattr(system, "load_phase", 0))
-        symmetric = bool(system.symmetric) and static is None and subharmonic == 1
+        self.load_phase = data.load_phase
+        symmetric = (
+            bool(getattr(system, "symmetric", False))
+            and static is None
+            and subharmonic == 1
+        )
         if symmetry is None:
             symmetry = symmetric
         elif symmetry and not symmetric:
@@ -142,7 +148,7 @@ class HBMProblem:
         self.odd = bool(symmetry)
         if aft not in AFT_SCHEMES:
             raise ValueError(f"aft must be one of {AFT_SCHEMES}, got {aft!r}")
-        law = system.contact
+        law = data.contact
         rigid = law is not None and law.code == COULOMB
         self._rigid = rigid
         located = law is not None and (
@@ -155,13 +161,11 @@ class HBMProblem:
         if aft == "events" and not located:
             aft = "samples"
         self.aft = aft
-        self.n_dof = int(system.n_dof)
-        mass, damping, stiffness = (
-            np.ascontiguousarray(a, dtype=np.float64) for a in system.matrices()
-        )
+        self.n_dof = data.n_dof
+        mass, damping, stiffness = data.mass, data.damping, data.stiffness
         self._matrices = (mass, damping, stiffness)
         self._static = static
-        self._amplitude = np.asarray(system.load_vector(self.force), dtype=np.float64)
+        self._amplitude = check_load(system, self.force, self.n_dof)
         if law is None:
             self._law = (NO_CONTACT, np.zeros(1))
         elif rigid:

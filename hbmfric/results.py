@@ -5,6 +5,7 @@ persistence without pickle."""
 from __future__ import annotations
 
 import json
+import math
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -13,6 +14,10 @@ import numpy as np
 
 from ._validate import dof_index
 from .signals import half_peak_to_peak, harmonic_amplitude, synthesis_matrix
+
+#: relative tolerance (of the range width) of :attr:`Branch.complete` and
+#: :attr:`Branch.gaps`
+COVERAGE_RTOL = 1e-9
 
 
 def _resolve_dof(dof, names: dict, n_dof: int) -> int:
@@ -51,6 +56,11 @@ class PeriodicSolution:
     contact_state : str
     dof_names : dict
         Named DOFs of the system (e.g. ``"tip"``, ``"force"``) → index.
+    method : str
+        How :func:`~hbmfric.periodic_solution` obtained it: ``"newton"``,
+        ``"load ramp"``, ``"continuation from below"``, ``"continuation
+        from above"``, ``"zero force"`` or ``"failed"`` (not converged);
+        ``"branch point"`` for :meth:`Branch.point`.
     """
 
     omega: float
@@ -63,6 +73,7 @@ class PeriodicSolution:
     elapsed: float = 0.0
     contact_state: str = ""
     dof_names: dict = field(default_factory=dict)
+    method: str = ""
 
     def amplitude(self, harmonic: int | None = None, dof=None) -> float:
         """Amplitude of ``x_dof``: of one harmonic (``sqrt(Xc² + Xs²)``), or
@@ -115,6 +126,22 @@ class Branch:
         when the whole branch used ``harmonic_numbers``.
     dof_names : dict
         Named DOFs of the system (e.g. ``"tip"``, ``"force"``) → index.
+    truncation_error : ndarray, shape (n_points,), optional
+        Estimated relative truncation error of each point: of the
+        first-harmonic amplitude and of half the peak-to-peak value at the
+        contact DOF (:mod:`hbmfric.continuation.accuracy`); 0 at a linear
+        (stuck) point. None for branches saved before it existed.
+    pieces : ndarray of int, shape (n_pieces,), optional
+        Index of the first point of each separately traced piece (the first
+        entry 0), when a run that stopped short was retraced from the other
+        end of the range (:func:`hbmfric.frf`); None for one piece. Each
+        piece is a continuous path; between pieces the path jumps.
+
+    Notes
+    -----
+    :attr:`coverage`, :attr:`gaps` and :attr:`complete` say which part of
+    the asked range (:attr:`omega_range`) the points cover; ``frf`` warns
+    (:class:`hbmfric.CoverageWarning`) when a branch is not complete.
     """
 
     omega: np.ndarray
@@ -130,6 +157,8 @@ class Branch:
     info: dict = field(default_factory=dict)
     point_harmonics: np.ndarray | None = None
     dof_names: dict = field(default_factory=dict)
+    truncation_error: np.ndarray | None = None
+    pieces: np.ndarray | None = None
 
     def __len__(self) -> int:
         return self.omega.size
@@ -137,6 +166,79 @@ class Branch:
     @property
     def n_points(self) -> int:
         return self.omega.size
+
+    # ------------------------------------------------------------------
+    # coverage of the asked range
+    @property
+    def omega_range(self) -> tuple[float, float] | None:
+        """Frequency range asked for, ``(low, high)`` in rad/s (None when
+        the branch does not record it)."""
+        rng = self.info.get("omega_range")
+        if rng is None:
+            return None
+        return float(rng[0]), float(rng[1])
+
+    @property
+    def coverage(self) -> tuple[float, float]:
+        """``(omega_low, omega_high)``: the smallest and largest Ω of the
+        points, rad/s (NaN, NaN without points). With several
+        :attr:`pieces` there may be :attr:`gaps` in between."""
+        if self.omega.size == 0:
+            return math.nan, math.nan
+        return float(np.min(self.omega)), float(np.max(self.omega))
+
+    def piece_slices(self) -> list[slice]:
+        """The points of each traced piece (see ``pieces``), in path order."""
+        n = self.omega.size
+        starts = [0] if self.pieces is None else [int(i) for i in self.pieces]
+        ends = starts[1:] + [n]
+        return [slice(a, b) for a, b in zip(starts, ends, strict=True)]
+
+    def _tolerance(self) -> float:
+        lo, hi = self.omega_range
+        return COVERAGE_RTOL * (hi - lo)
+
+    @property
+    def gaps(self) -> list[tuple[float, float]]:
+        """Parts ``(low, high)`` of :attr:`omega_range` that no piece covers,
+        rad/s, in increasing order (a piece covers the interval between its
+        smallest and largest Ω: its path is continuous). Intervals shorter
+        than ``COVERAGE_RTOL`` times the range are not gaps. Empty when the
+        branch does not record the range."""
+        rng = self.omega_range
+        if rng is None:
+            return []
+        lo, hi = rng
+        tol = self._tolerance()
+        covered = sorted(
+            (float(np.min(self.omega[s])), float(np.max(self.omega[s])))
+            for s in self.piece_slices()
+            if s.stop > s.start
+        )
+        gaps = []
+        edge = lo
+        for a, b in covered:
+            if a - edge > tol:
+                gaps.append((edge, min(a, hi)))
+            edge = max(edge, b)
+        if hi - edge > tol:
+            gaps.append((edge, hi))
+        return gaps
+
+    @property
+    def complete(self) -> bool:
+        """Whether the points cover the whole asked range (to
+        ``COVERAGE_RTOL`` times its width): no :attr:`gaps` and, for one
+        piece, the path ended at the far end of the sweep (not by turning
+        back to the end it started from). False when the branch does not
+        record the range."""
+        rng = self.omega_range
+        if rng is None or self.omega.size == 0 or self.gaps:
+            return False
+        if self.pieces is not None and len(self.pieces) > 1:
+            return True
+        far = rng[0] if self.info.get("sweep") == "down" else rng[1]
+        return abs(float(self.omega[-1]) - far) <= self._tolerance()
 
     def amplitude(self, harmonic: int | None = None, dof=None) -> np.ndarray:
         """Amplitude at every point, shape (n_points,), m.
@@ -170,16 +272,23 @@ class Branch:
             newton_iterations=0,
             residual_norm=float("nan"),
             dof_names=dict(self.dof_names),
+            method="branch point",
         )
 
     def plot(self, ax=None, harmonic: int | None = None, dof=None, **kwargs):
-        """Draw amplitude against Ω (folds marked); returns the axes."""
+        """Draw amplitude against Ω (folds marked, each piece its own
+        line); returns the axes."""
         import matplotlib.pyplot as plt
 
         if ax is None:
             _, ax = plt.subplots()
         amp = self.amplitude(harmonic=harmonic, dof=dof)
-        (line,) = ax.plot(self.omega, amp, **kwargs)
+        line = None
+        for piece in self.piece_slices():  # no line across the jump between
+            if line is not None:
+                kwargs = {**kwargs, "color": line.get_color()}
+                kwargs.pop("label", None)
+            (line,) = ax.plot(self.omega[piece], amp[piece], **kwargs)
         if self.folds.size:
             ax.plot(
                 self.omega[self.folds], amp[self.folds], "x", color=line.get_color()
@@ -213,6 +322,10 @@ class Branch:
         }
         if self.point_harmonics is not None:
             arrays["point_harmonics"] = self.point_harmonics
+        if self.truncation_error is not None:
+            arrays["truncation_error"] = self.truncation_error
+        if self.pieces is not None:
+            arrays["pieces"] = self.pieces
         np.savez(path, **arrays)
         return path if path.suffix == ".npz" else path.with_suffix(path.suffix + ".npz")
 
@@ -225,6 +338,7 @@ class Branch:
         ValueError
             If ``path`` is not a readable hbmfric branch file.
         """
+        _check_npz_sizes(path)
         try:
             with np.load(Path(path), allow_pickle=False) as data:
                 meta = json.loads(str(data["meta"]))
@@ -257,6 +371,16 @@ class Branch:
                         if "point_harmonics" in data.files
                         else None
                     ),
+                    truncation_error=(
+                        np.asarray(data["truncation_error"], dtype=np.float64).copy()
+                        if "truncation_error" in data.files
+                        else None
+                    ),
+                    pieces=(
+                        np.asarray(data["pieces"], dtype=np.int64).copy()
+                        if "pieces" in data.files
+                        else None
+                    ),
                 )
         except (
             AttributeError,
@@ -271,15 +395,182 @@ class Branch:
                 f"path {str(path)!r} is not an hbmfric branch file, or is damaged "
                 f"({exc})"
             ) from None
-        n = branch.omega.size
-        if (
-            branch.omega.ndim != 1
-            or branch.coefficients.ndim != 3
-            or branch.coefficients.shape[0] != n
-            or not np.all(np.isfinite(branch.omega))
-            or not np.all(np.isfinite(branch.coefficients))
-        ):
-            raise ValueError(
-                f"path {str(path)!r}: inconsistent or non-finite branch arrays"
-            )
+        _check_branch_arrays(path, branch)
         return branch
+
+
+def _check_npz_sizes(path) -> None:
+    """Check, from the array headers alone, that every array of the ``.npz``
+    file ``path`` fits in the bytes stored for it (a damaged or forged
+    header must not make :meth:`Branch.load` allocate terabytes)."""
+    try:
+        with zipfile.ZipFile(Path(path)) as zf:
+            for info in zf.infolist():
+                if not info.filename.endswith(".npy"):
+                    continue
+                field_name = info.filename[:-4]
+                with zf.open(info) as fh:
+                    version = np.lib.format.read_magic(fh)
+                    if version == (1, 0):
+                        header = np.lib.format.read_array_header_1_0(fh)
+                    else:
+                        header = np.lib.format.read_array_header_2_0(fh)
+                    offset = fh.tell()
+                shape, _, dtype = header
+                if dtype.hasobject:
+                    raise ValueError(
+                        f"path {str(path)!r}: field {field_name!r} holds Python "
+                        "objects; a branch file holds numbers only"
+                    )
+                size = dtype.itemsize
+                for dim in shape:
+                    size *= int(dim)
+                stored = info.file_size - offset
+                if size > stored:
+                    raise ValueError(
+                        f"path {str(path)!r}: field {field_name!r} claims shape "
+                        f"{tuple(shape)} ({size} bytes) but the file stores "
+                        f"{stored} bytes for it; the file is damaged"
+                    )
+    except (OSError, EOFError, zipfile.BadZipFile) as exc:
+        raise ValueError(
+            f"path {str(path)!r} is not an hbmfric branch file, or is damaged ({exc})"
+        ) from None
+
+
+def _check_branch_arrays(path, branch: Branch) -> None:
+    """Check that the arrays of a loaded branch agree with each other;
+    ``ValueError`` naming the file and the field otherwise."""
+
+    def bad(field_name: str, what: str) -> ValueError:
+        return ValueError(f"path {str(path)!r}: field {field_name!r} {what}")
+
+    n = branch.omega.size
+    if branch.omega.ndim != 1:
+        raise bad("omega", f"must be 1-d, has shape {branch.omega.shape}")
+    if not np.all(np.isfinite(branch.omega)):
+        raise bad("omega", "has non-finite values")
+    k = branch.harmonic_numbers
+    if k.ndim != 1 or k.size == 0 or np.any(k < 0) or np.any(np.diff(k) <= 0):
+        raise bad("harmonic_numbers", f"must be increasing integers >= 0, got {k}")
+    n_coef = int(np.sum(np.where(k == 0, 1, 2)))
+    c = branch.coefficients
+    if c.ndim != 3 or c.shape[0] != n or c.shape[2] != n_coef:
+        raise bad(
+            "coefficients",
+            f"has shape {c.shape}; omega ({n} points) and harmonic_numbers "
+            f"({n_coef} coefficients) ask for ({n}, n_dof, {n_coef})",
+        )
+    if not np.all(np.isfinite(c)):
+        raise bad("coefficients", "has non-finite values")
+    folds = branch.folds
+    if folds.ndim != 1 or np.any(folds < 0) or np.any(folds > n):
+        raise bad("folds", f"must be point indices in [0, {n}], got {folds}")
+    ph = branch.point_harmonics
+    if ph is not None and ph.shape != (n,):
+        raise bad("point_harmonics", f"must have shape ({n},), got {ph.shape}")
+    te = branch.truncation_error
+    if te is not None and te.shape != (n,):
+        raise bad("truncation_error", f"must have shape ({n},), got {te.shape}")
+    pc = branch.pieces
+    if pc is not None and (
+        pc.ndim != 1
+        or pc.size == 0
+        or pc[0] != 0
+        or np.any(np.diff(pc) < 0)
+        or pc[-1] > n
+    ):
+        raise bad("pieces", f"must be increasing point indices from 0, got {pc}")
+    n_dof = c.shape[1]
+    for name, index in branch.dof_names.items():
+        if not 0 <= index < n_dof:
+            raise bad("dof_names", f"maps {name!r} to {index}, not in [0, {n_dof - 1}]")
+
+
+def join_pieces(first: Branch, second: Branch, stop_reason: str) -> Branch:
+    """One branch of two pieces of the same range traced from its two ends.
+
+    The points are those of ``first`` in path order, then those of
+    ``second`` reversed (so that the combined Ω runs from the start of the
+    first sweep, through the ends where the pieces stopped, to the start of
+    the second); ``pieces`` marks where the second begins. Work counters
+    and times are summed; fold indices are carried over.
+
+    Parameters
+    ----------
+    first, second : Branch
+        Pieces with the same DOFs; the harmonic numbers of one must be a
+        prefix of the other's (fixed ``H``: equal), the shorter ones'
+        coefficients are padded with zeros.
+    stop_reason : str
+        Stop reason of the combined branch.
+    """
+    hn1, hn2 = first.harmonic_numbers, second.harmonic_numbers
+    longer = hn1 if hn1.size >= hn2.size else hn2
+    shorter = hn2 if hn1.size >= hn2.size else hn1
+    if not np.array_equal(longer[: shorter.size], shorter):
+        raise ValueError("pieces with unrelated harmonic numbers cannot be joined")
+    n_dof = first.coefficients.shape[1]
+    n_coef = int(sum(1 if k == 0 else 2 for k in longer))
+
+    def padded(b: Branch, order) -> np.ndarray:
+        out = np.zeros((b.omega.size, n_dof, n_coef))
+        out[:, :, : b.coefficients.shape[2]] = b.coefficients[order]
+        return out
+
+    n1, n2 = first.omega.size, second.omega.size
+    back = slice(None, None, -1)
+    # a fold between points i - 1 and i of the second piece lies between
+    # its reversed points n2 - i - 1 and n2 - i
+    folds = np.concatenate((first.folds, n1 + n2 - second.folds[::-1])).astype(np.int64)
+
+    def harmonics_of(b: Branch) -> np.ndarray:
+        if b.point_harmonics is not None:
+            return b.point_harmonics
+        return np.full(b.omega.size, int(b.harmonic_numbers[-1]), dtype=np.int64)
+
+    truncation_error = None
+    if first.truncation_error is not None and second.truncation_error is not None:
+        truncation_error = np.concatenate(
+            (first.truncation_error, second.truncation_error[back])
+        )
+    point_harmonics = None
+    if first.point_harmonics is not None or second.point_harmonics is not None:
+        point_harmonics = np.concatenate(
+            (harmonics_of(first), harmonics_of(second)[back])
+        )
+    info = dict(first.info)
+    for key in (
+        "bridges",
+        "harmonic_switches",
+        "harmonic_resolves",
+        "harmonic_calibrations",
+    ):
+        if key in first.info and key in second.info:
+            info[key] = first.info[key] + second.info[key]
+    info["pieces"] = [
+        {
+            "sweep": b.info.get("sweep"),
+            "stop_reason": b.stop_reason,
+            "coverage": list(b.coverage) if b.omega.size else None,
+            "n_points": int(b.omega.size),
+        }
+        for b in (first, second)
+    ]
+    return Branch(
+        omega=np.concatenate((first.omega, second.omega[back])),
+        coefficients=np.concatenate((padded(first, slice(None)), padded(second, back))),
+        harmonic_numbers=longer.copy(),
+        force=first.force,
+        folds=folds,
+        stop_reason=stop_reason,
+        n_steps=first.n_steps + second.n_steps,
+        n_rejected=first.n_rejected + second.n_rejected,
+        newton_iterations=first.newton_iterations + second.newton_iterations,
+        elapsed=first.elapsed + second.elapsed,
+        info=info,
+        point_harmonics=point_harmonics,
+        dof_names=dict(first.dof_names),
+        pieces=np.array([0, n1], dtype=np.int64),
+        truncation_error=truncation_error,
+    )

@@ -181,7 +181,10 @@ def test_compiled_trace_equals_hand_stepping(jenkins_oscillator, force, kwargs):
 
 
 def test_stop_reasons_return_partial_branch(jenkins_oscillator):
-    branch = hf.frf(jenkins_oscillator, force=0.5, omega=(0.5, 3.0), max_steps=5)
+    with pytest.warns(hf.CoverageWarning, match="covers only"):
+        branch = hf.frf(
+            jenkins_oscillator, force=0.5, omega=(0.5, 3.0), max_steps=5, retrace=False
+        )
     assert branch.stop_reason == "maximum number of steps reached"
     assert 1 <= len(branch) <= 6
     assert np.all(np.isfinite(branch.coefficients))

@@ -663,7 +663,9 @@ def test_stiff_jenkins_against_dlft_with_light_damping(capsys):
     (3.5e-3 at F_s/P = 0.3, 2.3e-2 at 0.6) and DLFT is 1.4e-2 and 7.6e-2
     off; in the stop regime (stick phases) the stiff Jenkins HBM does not
     converge while DLFT converges within 3e-2. Asserted: DLFT converges
-    everywhere; Jenkins does not converge in the stop regime.
+    everywhere; Jenkins, where it converges (also in the stop regime since
+    periodic_solution's larger Newton budget: 6e-3 off at F_s/P = 0.3,
+    ω = 0.3), is within 3e-2.
     """
     c = 0.02
     cases = [(0.3, 0.7), (0.6, 1.2), (0.3, 0.3), (0.6, 0.5)]
@@ -687,8 +689,11 @@ def test_stiff_jenkins_against_dlft_with_light_damping(capsys):
                 f"converged={dlft.converged} err={_errors(dlft, ref)[0]:+.2e}"
             )
         assert dlft.converged
-        if not is_non_stop(c, fs, 1.0, w):
-            assert not jenkins.converged
+        # the stiff Jenkins HBM converges too since periodic_solution starts
+        # Newton with a first-point budget (stop 19); where it does, it is a
+        # solution whose truncation error is that of a stiff contact at H = 31
+        if jenkins.converged:
+            assert abs(_errors(jenkins, ref)[0]) < 3e-2
 
 
 # ----------------------------------------------------------------------------

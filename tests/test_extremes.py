@@ -81,7 +81,9 @@ def test_zero_initial_guess_converges_to_the_branch():
     # the stuck stiffness k + kt = 4): Newton from exactly zero displacement
     n_unknowns = 16  # odd harmonics 1..15 (symmetric): 8 × (cos, sin)
     sol = within_deadline(
-        lambda: hf.periodic_solution(osc, 0.2, 0.8, initial_guess=np.zeros(n_unknowns))
+        lambda: hf.periodic_solution(
+            osc, 0.2, 0.8, 15, initial_guess=np.zeros(n_unknowns)
+        )
     )
     assert sol.converged
     expected = linear_amplitude(0.2, 0.8, k=4.0)

@@ -26,3 +26,18 @@ def test_readme_contact_law_example_runs():
     namespace: dict = {}
     exec(compile(code, "README.md", "exec"), namespace)
     assert abs(namespace["menq"].stiffness / 3e4 - 1) < 1e-12
+
+
+def test_readme_own_system_example_runs():
+    text = (Path(__file__).parents[1] / "README.md").read_text()
+    (code,) = [
+        block
+        for block in re.findall(r"```python\n(.*?)```", text, re.S)
+        if "class TwoMasses" in block
+    ]
+    namespace: dict = {}
+    exec(compile(code, "README.md", "exec"), namespace)
+    branch = namespace["branch"]
+    assert branch.stop_reason == "end of frequency range reached"
+    # default DOF of the results: the one named "contact"
+    assert (branch.amplitude(harmonic=1) == branch.amplitude(1, dof=1)).all()

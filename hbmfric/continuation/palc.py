@@ -14,10 +14,14 @@ converged, tangent turned less than ``max_angle``, corrected point not far
 from the predictor (a short step is accepted at a corner of the branch,
 where a contact transition turns the tangent abruptly). Folds (turning
 points) are flagged when the Ω-component of the tangent changes sign. The
-run ends at the end of the frequency range (the last point solved exactly
-at the boundary), at ``max_steps``, or when the step falls below
-``min_step``; it never raises on a numerical failure and never stores a
-non-finite point.
+run ends at the far end of the frequency range (the last point solved
+exactly at the boundary), at the end it started from (after a fold the path
+can leave the range there, with only part of it covered), at
+``max_steps``, or when the step falls below ``min_step`` and no bridge
+(:meth:`Continuation._bridge`: a fixed-Ω solve a little further along the
+tangent, for seams of the piecewise-smooth residual where the corrector
+fails at every step size) gets past; it never raises on a numerical
+failure and never stores a non-finite point.
 """
 
 from __future__ import annotations
@@ -33,9 +37,22 @@ from .options import ContinuationOptions
 
 #: stop reasons
 RANGE_END = "end of frequency range reached"
+#: the path turned back (at a fold) and left through the end it started from
+RANGE_START = "turned back at a fold and left the range at its starting end"
 MAX_STEPS = "maximum number of steps reached"
 MIN_STEP = "step size fell below min_step"
 NO_START = "no converged starting point"
+
+#: most bridges (:meth:`Continuation._bridge`) in one run
+MAX_BRIDGES = 50
+#: Ω steps of a bridge, as fractions of the range width, tried in turn
+BRIDGE_STEPS = (1e-5, 1e-4, 1e-3)
+#: a bridge needs the tangent's Ω component (scaled) at least this large:
+#: nearer a fold a solve at fixed Ω could land on another branch
+BRIDGE_MIN_SLOPE = 1e-3
+#: a bridged point lies within this factor times the scaled arc length of
+#: the tangent prediction
+BRIDGE_TOLERANCE = 2.0
 
 
 @dataclass
@@ -53,6 +70,7 @@ class ContinuationState:
     n_steps: int = 0
     n_rejected: int = 0
     n_newton: int = 0
+    n_bridges: int = 0
     finished: bool = False
     stop_reason: str = ""
 
@@ -82,6 +100,10 @@ class Continuation:
         options: ContinuationOptions | None = None,
         amplitude_scale: float | None = None,
     ) -> None:
+        if not isinstance(options, ContinuationOptions | None):
+            raise TypeError(
+                f"options must be a ContinuationOptions, got {type(options).__name__}"
+            )
         self.problem = problem
         self.low, self.high = float(omega_range[0]), float(omega_range[1])
         self.direction = 1 if direction >= 0 else -1
@@ -282,6 +304,8 @@ class Continuation:
         if outcome in (_arclength.REJECTED, _arclength.STEP_TOO_SMALL):
             state.n_rejected += 1
             if outcome == _arclength.STEP_TOO_SMALL:
+                if self._bridge(state):
+                    return state
                 return self._finish(state, MIN_STEP)
             return state
         self._record(state, y[None, :].copy(), tangent[-1:], np.array([outcome]))
@@ -337,10 +361,75 @@ class Continuation:
         if outcome == _arclength.RANGE_LEFT:
             return self._land_on_boundary(state, self._y_new.copy())
         if outcome == _arclength.STEP_BELOW_MIN:
+            if self._bridge(state):
+                return state
             return self._finish(state, MIN_STEP)
         if outcome == _arclength.BUDGET_SPENT:
             return self._finish(state, MAX_STEPS)
         return state
+
+    def _bridge(self, state: ContinuationState) -> bool:
+        """Step over a point where the corrector fails at every step size.
+
+        Contact events make the residual piecewise smooth; at some seams
+        (a contact barely slipping, a pair of displacement extremes being
+        born or dying) Newton from the tangent predictor cycles whatever
+        the step, and the step collapses although the branch goes on. The
+        bridge solves at fixed Ω a little further along the branch
+        (``BRIDGE_STEPS`` of the range width, in the direction of the
+        tangent) from the tangent prediction and accepts the first solution
+        within ``BRIDGE_TOLERANCE`` scaled arc lengths of that prediction,
+        as a corner; the run then goes on from it at the initial step. No
+        bridge where the tangent is nearly vertical in Ω (near a fold a
+        fixed-Ω solve could land on another branch), outside the range, or
+        after ``MAX_BRIDGES`` bridges. Returns whether a point was added.
+        """
+        if state.n_bridges >= MAX_BRIDGES:
+            return False
+        n = self.problem.n_unknowns
+        t = state.tangent
+        slope = float(t[n])
+        if not abs(slope) >= BRIDGE_MIN_SLOPE:
+            return False
+        y = state.y
+        width = self.high - self.low
+        # dX/dΩ along the tangent, physical units
+        rate = t[:n] * self.scale[:n] / (slope * self.scale[n])
+        sign = 1.0 if slope > 0.0 else -1.0
+        # the budget of the first point: the guess may be far (after a jump
+        # of the adaptive run to a much larger basis, padded with zeros)
+        budget = max(8 * self.options.max_newton, 100)
+        for fraction in BRIDGE_STEPS:
+            d_omega = sign * fraction * width
+            omega = y[n] + d_omega
+            if not self.low <= omega <= self.high:
+                return False
+            guess = y[:n] + d_omega * rate
+            y_new, status, it = self.solve_at(omega, guess, budget)
+            state.n_newton += it
+            if status != _newton.CONVERGED or not np.all(np.isfinite(y_new)):
+                continue
+            distance = float(np.max(np.abs(y_new[:n] - guess) / self.scale[:n]))
+            if not distance <= BRIDGE_TOLERANCE * fraction / abs(slope):
+                continue
+            tangent = self._tangent(t)
+            if not np.all(np.isfinite(tangent)):
+                continue
+            # the run goes on away from the point it could not leave (at a
+            # corner the sign rule of the tangent may point back)
+            chord = (y_new - y) / self.scale
+            if float(np.dot(tangent, chord)) < 0.0:
+                tangent = -tangent
+            flag = _arclength.ACCEPTED | _arclength.CORNER
+            if (tangent[n] > 0.0) != (slope > 0.0):
+                flag |= _arclength.FOLD
+            self._record(state, y_new[None, :].copy(), tangent[-1:], np.array([flag]))
+            state.y = y_new
+            state.tangent = tangent
+            state.step = self.options.initial_step
+            state.n_bridges += 1
+            return True
+        return False
 
     def _placeholder_calibration(self) -> tuple:
         """A calibration argument of the right types for a trace without
@@ -364,10 +453,14 @@ class Continuation:
         state.n_steps += points.shape[0]
 
     def _land_on_boundary(self, state: ContinuationState, y_out: np.ndarray):
-        """The step left the range: solve the last point on the boundary."""
+        """The step left the range: solve the last point on the boundary.
+
+        The stop reason says through which end: the far one (``RANGE_END``)
+        or, after a fold, the one the run started from (``RANGE_START``)."""
         n = self.problem.n_unknowns
         y_in = state.y
-        bound = self.high if y_out[n] > self.high else self.low
+        left_high = y_out[n] > self.high
+        bound = self.high if left_high else self.low
         s = (bound - y_in[n]) / (y_out[n] - y_in[n])
         guess = y_in[:n] + s * (y_out[:n] - y_in[:n])
         y, status, it = self.solve_at(bound, guess)
@@ -377,7 +470,8 @@ class Continuation:
             state.tangents_omega.append(state.tangent[n])
             state.y = y
             state.n_steps += 1
-        return self._finish(state, RANGE_END)
+        far = left_high == (self.direction > 0)
+        return self._finish(state, RANGE_END if far else RANGE_START)
 
     @staticmethod
     def _finish(state: ContinuationState, reason: str) -> ContinuationState:

@@ -6,6 +6,12 @@ macroslip or a microslip contact model fits, with or without roughness.
 >>> family = hf.criterion.read_frfs("frfs.csv")  # doctest: +SKIP
 >>> result = hf.criterion.choose_contact_model(family)  # doctest: +SKIP
 >>> result.model, result.roughness, result.indicators  # doctest: +SKIP
+
+``result.model`` is "macroslip" or "microslip" only when every test lies
+clear of its threshold by its margin in noise units
+(``result.indicators["margin"]``), and "undecided" when the family lacks
+something a step needs or an indicator sits inside the noise
+(``result.indicators["undecided_reason"]``: "data" or "noise").
 """
 
 from .choose import CriterionResult, choose_contact_model

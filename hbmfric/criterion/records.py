@@ -3,6 +3,7 @@ curve tagged with its excitation force and normal load, and a CSV reader."""
 
 from __future__ import annotations
 
+import codecs
 import csv
 import math
 from dataclasses import dataclass
@@ -139,6 +140,41 @@ def _vector(name: str, value) -> np.ndarray:
     return a
 
 
+def _decode(path: Path, data: bytes) -> tuple[str, str]:
+    """Text of a CSV file and the name of its encoding: UTF-8 (with or
+    without the byte-order mark Excel writes for "CSV UTF-8"), UTF-16 with a
+    byte-order mark, otherwise Windows-1252 or Latin-1 (every byte is a
+    character there)."""
+    if data.startswith(codecs.BOM_UTF8):
+        candidates = [("utf-8-sig", "UTF-8 with byte-order mark")]
+    elif data.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        candidates = [("utf-16", "UTF-16")]
+    else:
+        candidates = [
+            ("utf-8", "UTF-8"),
+            ("cp1252", "Windows-1252"),
+            ("latin-1", "Latin-1"),
+        ]
+    for codec, name in candidates:
+        try:
+            text = data.decode(codec)
+        except UnicodeDecodeError as err:
+            last = (name, err)
+            continue
+        if "\x00" in text:
+            raise ValueError(
+                f"{path}: the file holds NUL characters (read as {name}); UTF-16 "
+                "without a byte-order mark is not supported: save it as CSV "
+                "UTF-8"
+            )
+        return text, name
+    name, err = last
+    raise ValueError(
+        f"{path}: not valid {name} (byte {err.start}: {err.reason}); save the "
+        "file as CSV UTF-8"
+    )
+
+
 def read_frfs(path: str | Path) -> list[FRFRecord]:
     """Read a family of FRFs from a long-format CSV file.
 
@@ -163,6 +199,13 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
     paper`` can be read back. Rows may come in any order; frequencies may
     be unevenly spaced and differ between curves.
 
+    Encoding: UTF-8, with or without the byte-order mark of Excel's "CSV
+    UTF-8", or UTF-16 with a byte-order mark; any other file is read as
+    Windows-1252, or Latin-1 (ISO 8859-1) when it is not valid Windows-1252.
+    Separator: a comma, or a semicolon or tab when the header has no comma
+    (numbers must use a decimal point either way). A quoted field cannot
+    span lines.
+
     Returns
     -------
     list of FRFRecord
@@ -171,16 +214,30 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
     Raises
     ------
     ValueError
-        A missing column, a value that is not a number, or a curve whose
-        rows disagree on force or normal load (the message gives the line).
+        A missing column, a row with too few fields, a value that is not a
+        finite number, or a curve whose rows disagree on force or normal load
+        (the message names the file and the line, counted from 1 in the
+        file), or a file that cannot be decoded (the message names the
+        encoding tried).
     """
     path = Path(path)
-    with open(path, newline="") as fh:
-        lines = [ln for ln in fh if ln.strip() and not ln.lstrip().startswith("#")]
-    if not lines:
+    text, encoding = _decode(path, path.read_bytes())
+    numbered = [
+        (n, ln)
+        for n, ln in enumerate(text.splitlines(), start=1)
+        if ln.strip() and not ln.lstrip().startswith("#")
+    ]
+    if not numbered:
         raise ValueError(f"{path}: empty file")
-    reader = csv.reader(lines)
-    header = [h.strip().lower() for h in next(reader)]
+    head_line = numbered[0][1]
+    delimiter = ","
+    if "," not in head_line:
+        delimiter = max(";\t", key=head_line.count)
+        if delimiter not in head_line:
+            delimiter = ","
+    header = [
+        h.strip().lower() for h in next(csv.reader([head_line], delimiter=delimiter))
+    ]
     index = {}
     for key, names in COLUMNS.items():
         for n in names:
@@ -191,19 +248,39 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
             if key != "curve":
                 raise ValueError(
                     f"{path}: no column for {key!r} (accepted names: "
-                    f"{', '.join(names)}); header is {header}"
+                    f"{', '.join(names)}); header (line {numbered[0][0]}, read as "
+                    f"{encoding}) is {header}"
                 )
+    numeric = ("force", "normal_load", "omega", "amplitude")
+    needed = max(index.values()) + 1
     curves: dict[str, dict] = {}
-    for lineno, row in enumerate(reader, start=2):
+    for lineno, line in numbered[1:]:
+        row = next(csv.reader([line], delimiter=delimiter), [])
         if not any(c.strip() for c in row):
             continue
-        try:
-            vals = {k: float(row[i]) for k, i in index.items() if k != "curve"}
-        except (ValueError, IndexError):
+        if len(row) < needed:
             raise ValueError(
-                f"{path}: data line {lineno}: expected numbers in columns "
-                f"{sorted(k for k in index if k != 'curve')}, got {row}"
-            ) from None
+                f"{path}: line {lineno}: {len(row)} field(s), but the header has "
+                f"{len(header)} and the columns "
+                f"{', '.join(header[index[k]] for k in index)} need at least "
+                f"{needed}: {line.strip()!r}"
+            )
+        vals = {}
+        for k in numeric:
+            cell = row[index[k]].strip()
+            try:
+                v = float(cell)
+            except ValueError:
+                raise ValueError(
+                    f"{path}: line {lineno}: column {header[index[k]]!r} must be a "
+                    f"number, got {cell!r}"
+                ) from None
+            if not math.isfinite(v):
+                raise ValueError(
+                    f"{path}: line {lineno}: column {header[index[k]]!r} must be "
+                    f"finite, got {cell!r}"
+                )
+            vals[k] = v
         if "curve" in index:
             key = row[index["curve"]].strip()
         else:
@@ -220,7 +297,7 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
         for q in ("force", "normal_load"):
             if not math.isclose(c[q], vals[q], rel_tol=1e-9):
                 raise ValueError(
-                    f"{path}: data line {lineno}: curve {key!r} has {q} "
+                    f"{path}: line {lineno}: curve {key!r} has {q} "
                     f"{vals[q]:g} but earlier rows say {c[q]:g}"
                 )
         c["w"].append(vals["omega"])

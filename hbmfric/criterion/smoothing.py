@@ -1,10 +1,12 @@
 """Noise-tolerant resampling of FRFs: interpolation of the log amplitude onto
 a common uniform frequency grid, local quadratic smoothing there, noise
-estimate, sub-grid peak location and flank crossings."""
+estimate and its propagation through both steps, sub-grid peak location and
+flank crossings."""
 
 from __future__ import annotations
 
 import numpy as np
+from scipy import sparse
 
 
 def peak(grid: np.ndarray, log_amp: np.ndarray) -> tuple[float, float, bool]:
@@ -81,28 +83,42 @@ def noise_level(omega: np.ndarray, log_amp: np.ndarray) -> float:
     return float(np.median(np.abs(r) / gain) / 0.6745)
 
 
-def smooth_grid(grid: np.ndarray, values: np.ndarray, half_width: float) -> np.ndarray:
-    """Local quadratic smoothing (tricube weights) of a curve already on the
-    uniform ``grid`` (NaN outside its range); ``half_width <= 0`` returns it
-    unchanged.
+def _local_weights(
+    grid: np.ndarray, finite: np.ndarray, half_width: float
+) -> tuple[np.ndarray, int]:
+    """Equivalent kernel of the local quadratic smoother.
 
-    The same linear operator acts on every curve, so stretches where two
-    curves coincide stay identical after smoothing.
+    Parameters
+    ----------
+    grid : ndarray, shape (n_grid,)
+        Uniform grid.
+    finite : ndarray of bool, shape (n_grid,)
+        Where the curve has a value.
+    half_width : float, > 0
+        Half width of the window (unit of ``grid``).
+
+    Returns
+    -------
+    weights : ndarray, shape (n_grid, 2 * hp + 1)
+        ``weights[k, m]`` multiplies the value at grid index ``k - hp + m``
+        in the smoothed value at ``k`` (0 outside the curve).
+    hp : int
+        Half width of the window in grid steps.
     """
-    if half_width <= 0.0:
-        return values.copy()
     dx = grid[1] - grid[0]
     hp = max(int(np.ceil(half_width / dx)), 2)
     h = (hp + 1) * dx
-    pad = np.full(values.size + 2 * hp, np.nan)
-    pad[hp:-hp] = values
-    win = np.lib.stride_tricks.sliding_window_view(pad, 2 * hp + 1)  # (n, 2hp+1)
+    pad = np.zeros(finite.size + 2 * hp, dtype=bool)
+    pad[hp:-hp] = finite
+    ok = np.lib.stride_tricks.sliding_window_view(pad, 2 * hp + 1)  # (n, 2hp+1)
     x = np.arange(-hp, hp + 1) * dx / h
-    ok = np.isfinite(win)
-    w = np.where(ok, (1.0 - np.abs(x) ** 3) ** 3, 0.0)
-    y = np.where(ok, win, 0.0)
-    s = [w.sum(axis=1)] + [(w * x**p).sum(axis=1) for p in range(1, 5)]
-    t = [(w * y).sum(axis=1), (w * x * y).sum(axis=1), (w * x**2 * y).sum(axis=1)]
+    tricube = (1.0 - np.abs(x) ** 3) ** 3
+    # windows wholly on the curve share one kernel; only those that reach
+    # past an end of it (or a gap) need their own
+    full = ok.all(axis=1)
+    rows = np.r_[np.nonzero(~full)[0], np.nonzero(full)[0][:1]]
+    w = np.where(ok[rows], tricube, 0.0)
+    s = [w.sum(axis=1)] + [w @ x**p for p in range(1, 5)]
     A = np.stack(
         [
             np.stack([s[0], s[1], s[2]], axis=-1),
@@ -111,14 +127,104 @@ def smooth_grid(grid: np.ndarray, values: np.ndarray, half_width: float) -> np.n
         ],
         axis=-2,
     )
-    out = np.full(values.shape, np.nan)
+    A = A + (1e-12 * s[0] + 1e-300)[:, None, None] * np.eye(3)
+    # the fitted value is e1 . A^-1 (sum w [1, x, x^2] y): A is symmetric, so
+    # the kernel is w (r0 + r1 x + r2 x^2) with r = A^-1 e1
+    r = np.linalg.solve(A, np.broadcast_to(np.eye(3)[:, :1], A.shape[:-1] + (1,)))
+    r = r[..., 0]
+    kernels = w * (r[:, :1] + r[:, 1:2] * x + r[:, 2:3] * x**2)
+    weights = np.empty(ok.shape)
+    n_partial = np.count_nonzero(~full)
+    weights[~full] = kernels[:n_partial]
+    if n_partial < rows.size:
+        weights[full] = kernels[n_partial]
+    return weights, hp
+
+
+def smooth_grid(grid: np.ndarray, values: np.ndarray, half_width: float) -> np.ndarray:
+    """Local quadratic smoothing (tricube weights) of a curve already on the
+    uniform ``grid`` (NaN outside its range); ``half_width <= 0`` returns it
+    unchanged.
+
+    The same linear operator acts on every curve, so stretches where two
+    curves coincide stay identical after smoothing. Each smoothed value is
+    clipped to the range of the data in its window.
+    """
+    if half_width <= 0.0:
+        return values.copy()
     inside = np.isfinite(values)
+    out = np.full(values.shape, np.nan)
     if np.count_nonzero(inside) < 3:
         return out
-    A = A[inside] + 1e-12 * s[0][inside, None, None] * np.eye(3)
-    b = np.stack(t, axis=-1)[inside, :, None]
-    coef = np.linalg.solve(A, b)[..., 0]
-    hi = np.max(np.where(ok, win, -np.inf), axis=1)[inside]
-    lo = np.min(np.where(ok, win, np.inf), axis=1)[inside]
-    out[inside] = np.clip(coef[:, 0], lo, hi)
+    weights, hp = _local_weights(grid, inside, half_width)
+    pad = np.full(values.size + 2 * hp, np.nan)
+    pad[hp:-hp] = values
+    win = np.lib.stride_tricks.sliding_window_view(pad, 2 * hp + 1)[inside]
+    ok = np.isfinite(win)
+    fit = np.sum(weights[inside] * np.where(ok, win, 0.0), axis=1)
+    hi = np.max(np.where(ok, win, -np.inf), axis=1)
+    lo = np.min(np.where(ok, win, np.inf), axis=1)
+    out[inside] = np.clip(fit, lo, hi)
+    return out
+
+
+def smoothed_noise(
+    omega: np.ndarray, grid: np.ndarray, half_width: float, sigma: float
+) -> np.ndarray:
+    """Standard deviation, on ``grid``, of the noise left on a curve after
+    :func:`interp_log` and :func:`smooth_grid`, when its samples carry
+    independent noise of standard deviation ``sigma``.
+
+    Both steps are linear, so each smoothed value is a weighted sum of the
+    samples; its standard deviation is ``sigma`` times the 2-norm of those
+    weights (the clipping in :func:`smooth_grid` only lowers it).
+
+    Parameters
+    ----------
+    omega : ndarray, shape (n,)
+        Sorted sample frequencies of the curve.
+    grid : ndarray, shape (n_grid,)
+        Uniform common grid.
+    half_width : float
+        Smoothing half width (unit of ``grid``); ``<= 0``: no smoothing.
+    sigma : float
+        Noise of each sample (log amplitude).
+
+    Returns
+    -------
+    ndarray, shape (n_grid,)
+        NaN outside the sampled range.
+    """
+    n = omega.size
+    inside = (grid >= omega[0]) & (grid <= omega[-1])
+    j = np.clip(np.searchsorted(omega, grid, side="right") - 1, 0, n - 2)
+    t = np.clip((grid - omega[j]) / (omega[j + 1] - omega[j]), 0.0, 1.0)
+    out = np.full(grid.shape, np.nan)
+    if half_width <= 0.0:
+        out[inside] = sigma * np.sqrt((1.0 - t[inside]) ** 2 + t[inside] ** 2)
+        return out
+    if np.count_nonzero(inside) < 3:
+        return out
+    weights, hp = _local_weights(grid, inside, half_width)
+    # smoothed = L @ (Phi @ samples): L the banded smoother, Phi the
+    # interpolation (two weights a row); the variance is sigma^2 times the
+    # squared row norms of their product
+    k = np.nonzero(inside)[0]
+    cols = k[:, None] + np.arange(-hp, hp + 1)[None, :]
+    lk = weights[k]
+    keep = lk != 0.0  # zero off the curve, so cols stay in range
+    rows = np.broadcast_to(k[:, None], cols.shape)
+    smoother = sparse.csr_matrix(
+        (lk[keep], (rows[keep], cols[keep])), shape=(grid.size, grid.size)
+    )
+    phi = sparse.csr_matrix(
+        (
+            np.concatenate([1.0 - t[k], t[k]]),
+            (np.concatenate([k, k]), np.concatenate([j[k], j[k] + 1])),
+        ),
+        shape=(grid.size, n),
+    )
+    c = smoother @ phi
+    var = np.asarray(c.multiply(c).sum(axis=1)).ravel()
+    out[inside] = sigma * np.sqrt(var[inside])
     return out

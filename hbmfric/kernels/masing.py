@@ -3,13 +3,17 @@
 The law is marched through the samples by
 :func:`hbmfric.kernels.laws.masing_step`, the same update the time integrator
 uses, but the path between samples is not taken as straight: every extreme
-of ``u(θ)`` that the sampled slope brackets is located (safeguarded Newton on
-the trigonometric polynomial) and inserted into the path, so the reversal
+of ``u(θ)`` is found and located (:func:`hbmfric.kernels.aft._find_reversals`,
+the search of the Jenkins event AFT, which also finds a pair of extremes
+closer than a sample interval) and inserted into the path, so the reversal
 points and the loop vertex carry their exact displacement. The force at the
-samples is then the exact Masing force of the continuous motion (as long as
-no two extremes share one sample interval), and only the quadrature of its
-Fourier integrals is sampled: the first harmonic converges about ten times
-faster in ``n_time`` than with sampled reversals.
+samples is then the exact Masing force of the continuous motion, and only
+the quadrature of its Fourier integrals is sampled: the first harmonic
+converges about ten times faster in ``n_time`` than with sampled reversals.
+(A pair of extremes inside one sample interval, which a sampled slope
+cannot bracket, used to be dropped with its minor loop: the force then
+jumped when the pair grew across a sample, and continuation stalled there,
+e.g. a stiff Menq contact near the third superharmonic resonance.)
 
 Steady state: the march starts at the located extreme of largest ``|u|``, on
 the virgin curve (the contact closed at ``u = 0``; see
@@ -26,7 +30,16 @@ Jacobian: at a reversal ``u'(θ_r) = 0``, so ``du_r/dX`` is the basis at
 import numpy as np
 
 from .._jit import jit
-from .aft import GROSS_SLIP, MICROSLIP, STUCK, _locate
+from .aft import (
+    _MAX_DEPTH,
+    EVENT_OVERFLOW,
+    GROSS_SLIP,
+    MICROSLIP,
+    STUCK,
+    _derivative_bounds,
+    _find_reversals,
+    _samples_uv,
+)
 from .dft import basis_at, evaluate
 from .laws import (
     MASING_ENTRY,
@@ -39,58 +52,6 @@ from .laws import (
     virgin_curve,
 )
 from .segments import project_samples
-
-
-@jit
-def _global_extremes(harmonic_numbers, X, u, v, h):
-    """Located global maximum and minimum of ``u(θ)``.
-
-    A sampled local extreme (sign change of the sampled slope) is refined
-    when it could beat the best sample: between samples ``u`` exceeds its
-    sampled neighbours by at most ``h² max|u''| / 8 <= h² Σ k² |X_k| / 8``.
-    Returns ``(u_max, θ_max, i_max, u_min, θ_min, i_min)`` with ``i`` the
-    sample that starts the interval holding the extreme.
-    """
-    n = u.size
-    i_max = np.argmax(u)
-    i_min = np.argmin(u)
-    u_max = u[i_max]
-    u_min = u[i_min]
-    th_max = i_max * h
-    th_min = i_min * h
-    curvature = 0.0
-    col = 0
-    for k in harmonic_numbers:
-        if k == 0:
-            col += 1
-        else:
-            curvature += k * k * (abs(X[col]) + abs(X[col + 1]))
-            col += 2
-    reach = 0.125 * h * h * curvature
-    sampled_max = u_max
-    sampled_min = u_min
-    for i in range(n):
-        j = (i + 1) % n
-        if v[i] > 0.0 and v[j] <= 0.0:
-            if max(u[i], u[j]) + reach < sampled_max:
-                continue
-            th = _locate(harmonic_numbers, X, i * h, (i + 1) * h, 0.0, True)
-            val = evaluate(harmonic_numbers, X, th)[0]
-            if val > u_max:
-                u_max, th_max, i_max = val, th, i
-        elif v[i] < 0.0 and v[j] >= 0.0:
-            if min(u[i], u[j]) - reach > sampled_min:
-                continue
-            th = _locate(harmonic_numbers, X, i * h, (i + 1) * h, 0.0, True)
-            val = evaluate(harmonic_numbers, X, th)[0]
-            if val < u_min:
-                u_min, th_min, i_min = val, th, i
-    # a sample that is itself the extreme: the interval starts before it
-    if th_max == i_max * h:
-        i_max = (i_max - 1) % n
-    if th_min == i_min * h:
-        i_min = (i_min - 1) % n
-    return u_max, th_max, i_max, u_min, th_min, i_min
 
 
 @jit
@@ -138,27 +99,49 @@ def aft_masing(code, params, harmonic_numbers, X, inverse, forward, derivative, 
     Returns
     -------
     int
-        ``STUCK``, ``MICROSLIP`` or ``GROSS_SLIP``.
+        ``STUCK``, ``MICROSLIP``, ``GROSS_SLIP`` or ``EVENT_OVERFLOW``
+        (more reversals than ``4 H + 8``; ``F``, ``dF`` zero).
     """
     n, n_coef = inverse.shape
-    h = 2.0 * np.pi / n
+    two_pi = 2.0 * np.pi
+    h = two_pi / n
+    cap = 4 * harmonic_numbers[-1] + 8  # reversals: at most 2 H, with room
     u = np.empty(n)
     v = np.empty(n)
-    for i in range(n):
-        a = 0.0
-        b = 0.0
-        for c in range(n_coef):
-            a += inverse[i, c] * X[c]
-            b += derivative[i, c] * X[c]
-        u[i] = a
-        v[i] = b
-    u_max, th_max, i_max, u_min, th_min, i_min = _global_extremes(
-        harmonic_numbers, X, u, v, h
+    rev_th = np.empty(cap)
+    rev_u = np.empty(cap)
+    stack = np.empty((_MAX_DEPTH + 2, 5))
+    X2 = np.empty(n_coef)
+    _samples_uv(harmonic_numbers, X, inverse, derivative, u, v)
+    b2, b3 = _derivative_bounds(harmonic_numbers, X, X2)
+    # every reversal, also a pair closer than a sample interval: one that
+    # went unseen would drop a minor loop, and the force would jump when
+    # the pair grows across a sample
+    n_rev = _find_reversals(
+        harmonic_numbers, X, X2, inverse, u, v, b2, b3, rev_th, rev_u, stack
     )
-    if u_max >= -u_min:
-        u_v, th_v, i_v = u_max, th_max, i_max
+    if n_rev < 0:
+        F[:] = 0.0
+        dF[:, :] = 0.0
+        return EVENT_OVERFLOW
+    q_max = 0
+    q_min = 0
+    for q in range(1, n_rev):
+        if rev_u[q] > rev_u[q_max]:
+            q_max = q
+        if rev_u[q] < rev_u[q_min]:
+            q_min = q
+    if n_rev == 0:  # a constant
+        u_max = u[0]
+        u_min = u[0]
+        q_v = -1
+        th_v = 0.0
     else:
-        u_v, th_v, i_v = u_min, th_min, i_min
+        u_max = rev_u[q_max]
+        u_min = rev_u[q_min]
+        q_v = q_max if u_max >= -u_min else q_min
+        th_v = rev_th[q_v]
+    u_v = u_max if u_max >= -u_min else u_min
     half_range = 0.5 * (u_max - u_min)
     lin = linear_limit(code, params)
     k0 = linear_stiffness(code, params)
@@ -184,13 +167,35 @@ def aft_masing(code, params, harmonic_numbers, X, inverse, forward, derivative, 
             odd = False
     n_march = n // 2 if odd else n
     weight = 2.0 if odd else 1.0
+    # the sample interval [base h, (base + 1) h) holds the vertex (a vertex
+    # on a sample ends the interval before it); the march visits samples
+    # base + 1 ... base + n_march and, before each, the reversals since the
+    # previous one, by their angle past the vertex
+    base = int(np.floor(th_v / h))
+    if base * h >= th_v:
+        base -= 1
+    i_v = base % n
+    past = np.empty(n_rev)
+    n_past = 0
+    for q in range(n_rev):
+        if q == q_v:
+            continue
+        d = rev_th[q] - th_v
+        while d < 0.0:
+            d += two_pi
+        while d >= two_pi:
+            d -= two_pi
+        if 1e-12 < d < two_pi - 1e-12:  # not the vertex again
+            past[n_past] = d
+            n_past += 1
+    order = np.argsort(past[:n_past])
     # marched points keep their basis row and df/dX, the reversal tags
     # index these rows: sample i in row i, the vertex in row n, the located
     # extremes after it
-    basis = np.empty((n + 1 + n_march, n_coef))
-    grad = np.empty((n + 1 + n_march, n_coef))
+    basis = np.empty((n + 1 + n_past, n_coef))
+    grad = np.empty((n + 1 + n_past, n_coef))
     force = np.empty(n)
-    state = np.empty(MASING_HEADER + MASING_ENTRY * (2 * n_march + 2))
+    state = np.empty(MASING_HEADER + MASING_ENTRY * (2 * (n_march + n_past) + 2))
     f_v, k_v = law_init(code, params, u_v, state)
     basis_at(harmonic_numbers, th_v, basis_v)
     for c in range(n_coef):
@@ -199,14 +204,13 @@ def aft_masing(code, params, harmonic_numbers, X, inverse, forward, derivative, 
     prev_row = n
     next_extreme = n + 1
     u_prev = u_v
+    e = 0
     for j in range(1, n_march + 1):
-        i = (i_v + j) % n
-        p = (i - 1) % n
-        if j > 1 and ((v[p] > 0.0 and v[i] < 0.0) or (v[p] < 0.0 and v[i] > 0.0)):
-            # an extreme inside the sample interval: march to it first
-            th_e = _locate(
-                harmonic_numbers, X, (i_v + j - 1) * h, (i_v + j) * h, 0.0, True
-            )
+        i = (base + j) % n
+        reach = (base + j) * h - th_v
+        while e < n_past and past[order[e]] <= reach:
+            # a reversal inside the sample interval: march to it first
+            th_e = th_v + past[order[e]]
             u_e = evaluate(harmonic_numbers, X, th_e)[0]
             basis_at(harmonic_numbers, th_e, basis[next_extreme])
             _masing_point(
@@ -215,6 +219,7 @@ def aft_masing(code, params, harmonic_numbers, X, inverse, forward, derivative, 
             prev_row = next_extreme
             next_extreme += 1
             u_prev = u_e
+            e += 1
         for c in range(n_coef):
             basis[i, c] = inverse[i, c]
         force[i] = _masing_point(

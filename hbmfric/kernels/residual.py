@@ -10,6 +10,7 @@ nothing at run time.
 from numba import types
 from numba.extending import overload
 
+from .._jit import CACHE
 from .condensed import CondensedProblem, condensed_residual
 from .hbm import hbm_residual
 
@@ -28,7 +29,7 @@ def _is_condensed(problem) -> bool:
     )
 
 
-@overload(residual, jit_options={"cache": True, "nogil": True})
+@overload(residual, jit_options={"cache": CACHE, "nogil": True})
 def _residual(y, problem, R, J):
     if _is_condensed(problem):
 

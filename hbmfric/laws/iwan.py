@@ -144,12 +144,19 @@ class Iwan(ContactLaw):
         n = positive_int("n_elements", n_elements, low=2 if beta > 0.0 else 1)
         c = (chi + 1.0) / (chi + 2.0)
         phi_max = fs * (1.0 + beta) / (kt * (beta + c))
-        r = fs * (chi + 1.0) / (phi_max ** (chi + 2.0) * (beta + c))
         s = beta * fs / (phi_max * (beta + c))
         m = n - 1 if beta > 0.0 else n
-        nodes = phi_max * (np.arange(m + 1) / m) ** (1.0 / (chi + 1.0))
-        k = r / (chi + 1.0) * np.diff(nodes ** (chi + 1.0))
-        f = r / (chi + 2.0) * np.diff(nodes ** (chi + 2.0))
+        # cell nodes φ_i with φ_i^(χ+1) = φ_max^(χ+1) i/m (equal stiffness);
+        # with u = i/m, ∫ρ over a cell is (K_T − S) Δu and ∫φρ is
+        # (F_S − S φ_max) Δ(u^p), p = (χ+2)/(χ+1), free of powers of φ_max
+        # and φ_i: as χ → -1 those underflow (φ_1 = φ_max (1/m)^(1/(χ+1)))
+        # and the stiffnesses came out 0; now the first cells get slip
+        # forces that round to 0 (exact to double precision: they slip at
+        # once), and Σ k = K_T, Σ f = F_S hold for every χ > -1
+        p = (chi + 2.0) / (chi + 1.0)
+        u = np.arange(m + 1) / m
+        k = (kt - s) * np.diff(u)
+        f = (fs - s * phi_max) * np.diff(u**p)
         if beta > 0.0:
             k = np.append(k, s)
             f = np.append(f, s * phi_max)

@@ -15,7 +15,27 @@ def hertz_mindlin_stiffness(
     asymptotic_stiffness: float, normal_load: float, limit_load: float
 ) -> float:
     """Default roughness law: ``kt = kt_∞ (F_n / F_lim)^(1/3)`` below the
-    limit load, ``kt_∞`` above (asperities crushed), N/m."""
+    limit load, ``kt_∞`` above (asperities crushed), N/m.
+
+    Parameters
+    ----------
+    asymptotic_stiffness : float
+        ``kt_∞``, N/m (or the unit of the law's adherent stiffness), >= 0.
+    normal_load : float
+        ``F_n``, N, >= 0.
+    limit_load : float
+        ``F_lim``, N, > 0.
+
+    Returns
+    -------
+    float
+        ``kt``, in the unit of ``asymptotic_stiffness``.
+    """
+    asymptotic_stiffness = finite_float(
+        "asymptotic_stiffness", asymptotic_stiffness, low=0.0
+    )
+    normal_load = finite_float("normal_load", normal_load, low=0.0)
+    limit_load = finite_float("limit_load", limit_load, low=0.0, low_open=True)
     if normal_load >= limit_load:
         return asymptotic_stiffness
     return asymptotic_stiffness * (normal_load / limit_load) ** (1.0 / 3.0)

@@ -17,6 +17,7 @@ from .beam import (
 from .scenes import PAPER_SDOF, paper_oscillator
 from .sdof import (
     FigureResult,
+    iter_sdof_figures,
     masing_family,
     menq_family,
     rough_masing_family,
@@ -36,6 +37,7 @@ __all__ = [
     "beam_normal_load_family",
     "beam_ratio_family",
     "beam_validation",
+    "iter_sdof_figures",
     "masing_family",
     "menq_family",
     "paper_beam",

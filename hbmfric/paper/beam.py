@@ -142,7 +142,7 @@ def _run(configs, harmonics, progress, tag, p):
 
 
 def beam_normal_load_family(
-    harmonics: int = 15,
+    harmonics: int | str = "auto",
     progress: Callable[[str], None] | None = None,
     **overrides,
 ) -> FigureResult:
@@ -167,7 +167,7 @@ def beam_normal_load_family(
 
 
 def beam_ratio_family(
-    harmonics: int = 15,
+    harmonics: int | str = "auto",
     progress: Callable[[str], None] | None = None,
     **overrides,
 ) -> FigureResult:
@@ -200,7 +200,7 @@ def beam_ratio_family(
     )
 
 
-def beam_criterion_family(harmonics: int = 15, **overrides):
+def beam_criterion_family(harmonics: int | str = "auto", **overrides):
     """The beam family the criterion reads, as records: Fig. 13 (Fex = 2 N,
     Fn = 40 … 0.5 N: the stuck curve and the mostly stuck ones) together
     with the twelve configurations of Fig. 14 (ratio invariance), and the
@@ -330,7 +330,7 @@ class BeamValidation(BeamFamily):
 
 
 def beam_validation(
-    harmonics: int = 15,
+    harmonics: int | str = "auto",
     progress: Callable[[str], None] | None = None,
     **overrides,
 ) -> BeamValidation:

@@ -14,7 +14,7 @@ criterion needs, again at Fex = 1000 N (dashed).
 from __future__ import annotations
 
 import csv
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -137,7 +137,7 @@ def sdof_family(
     law: Callable[[float], object],
     forces=(1.0,),
     ratios=PAPER_SDOF["ratios"],
-    harmonics: int = 15,
+    harmonics: int | str = "auto",
     progress: Callable[[str], None] | None = None,
     tag: str = "",
     check_forces=(),
@@ -155,7 +155,7 @@ def sdof_family(
         Excitation amplitudes Fex, N.
     ratios : sequence of float
         Values of Fex/Fn.
-    harmonics : int
+    harmonics : int or "auto"
         Highest harmonic.
     progress : callable, optional
         Receives one line per computed curve, starting with ``tag``.
@@ -267,7 +267,7 @@ def _paper_figure(
 def masing_family(
     force: float = 1.0,
     ratios=PAPER_SDOF["ratios"],
-    harmonics: int = 15,
+    harmonics: int | str = "auto",
     progress: Callable[[str], None] | None = None,
     check_force: float | None = None,
     cache: dict | None = None,
@@ -281,7 +281,7 @@ def masing_family(
         only).
     ratios : sequence of float
         Values of Fex/Fn.
-    harmonics : int
+    harmonics : int or "auto"
         Highest harmonic.
     progress : callable, optional
         Receives one line per computed curve.
@@ -298,7 +298,7 @@ def masing_family(
 def menq_family(
     force: float = 1.0,
     ratios=PAPER_SDOF["ratios"],
-    harmonics: int = 15,
+    harmonics: int | str = "auto",
     progress: Callable[[str], None] | None = None,
     check_force: float | None = None,
     cache: dict | None = None,
@@ -312,7 +312,7 @@ def menq_family(
 def rough_masing_family(
     forces=FORCES,
     ratios=PAPER_SDOF["ratios"],
-    harmonics: int = 15,
+    harmonics: int | str = "auto",
     progress: Callable[[str], None] | None = None,
     cache: dict | None = None,
 ) -> FigureResult:
@@ -324,7 +324,7 @@ def rough_masing_family(
 def rough_menq_family(
     forces=FORCES,
     ratios=PAPER_SDOF["ratios"],
-    harmonics: int = 15,
+    harmonics: int | str = "auto",
     progress: Callable[[str], None] | None = None,
     cache: dict | None = None,
 ) -> FigureResult:
@@ -334,16 +334,22 @@ def rough_menq_family(
 
 
 def sdof_figures(
-    harmonics: int = 15, progress: Callable[[str], None] | None = None
+    harmonics: int | str = "auto", progress: Callable[[str], None] | None = None
 ) -> list[FigureResult]:
     """Figs. 8–11 of the paper; Figs. 8 and 9 with the Fex = 1000 N check.
     Curves whose contact is the same (roughness without effect above the
     limit load) are computed once."""
+    return list(iter_sdof_figures(harmonics, progress))
+
+
+def iter_sdof_figures(
+    harmonics: int | str = "auto", progress: Callable[[str], None] | None = None
+) -> Iterator[FigureResult]:
+    """:func:`sdof_figures` one figure at a time, each yielded as soon as it
+    is computed (so that a caller can write it before the next one starts)."""
     big, cache = FORCES[-1], {}
     kw = {"harmonics": harmonics, "progress": progress, "cache": cache}
-    return [
-        masing_family(check_force=big, **kw),
-        menq_family(check_force=big, **kw),
-        rough_masing_family(**kw),
-        rough_menq_family(**kw),
-    ]
+    yield masing_family(check_force=big, **kw)
+    yield menq_family(check_force=big, **kw)
+    yield rough_masing_family(**kw)
+    yield rough_menq_family(**kw)

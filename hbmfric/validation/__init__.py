@@ -1,5 +1,21 @@
-"""Time-integration reference for validating HBM results."""
+"""References for validating HBM results: time integration, and exact
+event-driven periodic solutions for one Jenkins contact."""
 
+from .exact import (
+    BranchErrors,
+    ExactSolution,
+    branch_errors,
+    exact_branch,
+    exact_periodic_solution,
+)
 from .steady_state import SteadyState, steady_state
 
-__all__ = ["SteadyState", "steady_state"]
+__all__ = [
+    "BranchErrors",
+    "ExactSolution",
+    "branch_errors",
+    "SteadyState",
+    "exact_branch",
+    "exact_periodic_solution",
+    "steady_state",
+]

@@ -16,10 +16,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .._validate import dof_index, finite_float, positive_int
+from .._validate import finite_float, positive_int
 from ..kernels.dlft import COULOMB
 from ..kernels.laws import law_init, state_size
+from ..results import _resolve_dof
 from ..signals import harmonic_amplitude, sampled_peak_to_peak
+from ..systems.protocol import check_load, check_system
 from .integrator import (
     MESSAGES,
     NO_CONTACT,
@@ -89,6 +91,9 @@ class SteadyState:
         Kernel status code (0 = ok).
     message : str
         Why the integration stopped.
+    dof_names : dict
+        Named DOFs of the system (e.g. ``"tip"``, ``"contact"``) → index, as
+        on :class:`~hbmfric.PeriodicSolution` and :class:`~hbmfric.Branch`.
     """
 
     omega: float
@@ -108,6 +113,7 @@ class SteadyState:
     elapsed: float
     status: int
     message: str
+    dof_names: dict = field(default_factory=dict)
 
     @property
     def n_dof(self) -> int:
@@ -119,7 +125,7 @@ class SteadyState:
         """Forcing period ``2π/Ω``, s."""
         return 2.0 * np.pi / self.omega
 
-    def amplitude(self, harmonic: int | None = None, dof: int = 0) -> float:
+    def amplitude(self, harmonic: int | None = None, dof=None) -> float:
         """Amplitude of the displacement of ``dof``, m.
 
         Parameters
@@ -129,19 +135,21 @@ class SteadyState:
             half the peak-to-peak value of ``x(t)`` over the last period,
             from the step samples (each extreme refined by the parabola
             through its sample and the two neighbours).
-        dof : int
-            DOF index.
+        dof : int, str or None
+            DOF index, a name of ``dof_names`` (``"tip"``, ``"force"`` on the
+            beam) or None: the DOF named ``"contact"`` (the contact DOF of
+            the built-in systems), else 0 -- the same default as
+            :meth:`PeriodicSolution.amplitude`, so that
+            ``sol.amplitude(1)`` and ``ref.amplitude(1)`` compare one DOF.
         """
-        d = dof_index(dof, self.n_dof)
+        d = _resolve_dof(dof, self.dof_names, self.n_dof)
         if harmonic is None:
             return 0.5 * sampled_peak_to_peak(self.samples[d])
         return float(
             harmonic_amplitude(self.harmonic_numbers, self.coefficients[d], harmonic)
         )
 
-    def time_response(
-        self, n: int = 256, dof: int = 0
-    ) -> tuple[np.ndarray, np.ndarray]:
+    def time_response(self, n: int = 256, dof=None) -> tuple[np.ndarray, np.ndarray]:
         """Displacement over one period at ``n`` equidistant instants.
 
         Evaluated from the trigonometric interpolant of the step samples
@@ -152,8 +160,8 @@ class SteadyState:
         ----------
         n : int
             Number of instants (>= 2).
-        dof : int
-            DOF index.
+        dof : int, str or None
+            As in :meth:`amplitude`.
 
         Returns
         -------
@@ -163,7 +171,7 @@ class SteadyState:
             Displacement, m.
         """
         n = positive_int("n", n, low=2)
-        samples = self.samples[dof_index(dof, self.n_dof)]
+        samples = self.samples[_resolve_dof(dof, self.dof_names, self.n_dof)]
         t = self.period * np.arange(n) / n
         return t, _resample(samples, n)
 
@@ -203,9 +211,9 @@ def steady_state(
     Parameters
     ----------
     system : Oscillator or compatible
-        Any object with ``n_dof``, ``contact_dof``, ``contact`` (a contact
-        law or None), ``matrices() -> (M, C, K)`` each of shape
-        (n_dof, n_dof), and ``load_vector(force) -> p`` of shape (n_dof,).
+        A built-in system or any object following the system protocol
+        (:mod:`hbmfric.systems.protocol`: ``n_dof``, ``contact_dof``,
+        ``contact``, ``matrices() -> (M, C, K)``, ``load_vector(force)``).
     force : float
         Forcing amplitude, N.
     omega : float
@@ -308,6 +316,7 @@ def steady_state(
         elapsed=time.perf_counter() - start,
         status=run.status,
         message=_message(run, tol),
+        dof_names=dict(getattr(system, "dof_names", {})),
     )
 
 
@@ -351,29 +360,10 @@ class _Problem:
 
     @classmethod
     def build(cls, system, force) -> _Problem:
-        try:
-            n_dof = int(system.n_dof)
-            contact_dof = system.contact_dof
-            law = system.contact
-            matrices = system.matrices()
-        except AttributeError:
-            raise ValueError(
-                "system must be an hbmfric system (such as hf.Oscillator) with "
-                "n_dof, contact_dof, contact, matrices() and load_vector(force), "
-                f"got {type(system).__name__}"
-            ) from None
+        data = check_system(system)
         force = finite_float("force", force)
-        contact_dof = dof_index(contact_dof, n_dof)
-        mass, damping, stiffness = (
-            _square("system." + name, m, n_dof)
-            for name, m in zip(("mass", "damping", "stiffness"), matrices, strict=True)
-        )
-        load = np.ascontiguousarray(system.load_vector(force), dtype=np.float64)
-        if load.shape != (n_dof,) or not np.all(np.isfinite(load)):
-            raise ValueError(
-                f"system.load_vector(force) must be finite with shape ({n_dof},), "
-                f"got shape {load.shape}"
-            )
+        law = data.contact
+        load = check_load(system, force, data.n_dof)
         if law is None:
             code, params, k_stuck = NO_CONTACT, np.zeros(1), 0.0
         elif law.code == COULOMB:
@@ -389,26 +379,17 @@ class _Problem:
             if params.ndim != 1 or not np.all(np.isfinite(params)):
                 raise ValueError("system.contact.params must be a finite 1-d array")
             k_stuck = float(law.stuck_stiffness)
-        static = getattr(system, "static_load", None)
-        if static is not None:
-            static = np.ascontiguousarray(static(), dtype=np.float64)
-            if static.shape != (n_dof,) or not np.all(np.isfinite(static)):
-                raise ValueError(
-                    f"system.static_load() must be finite with shape ({n_dof},), "
-                    f"got shape {static.shape}"
-                )
-        phase = finite_float("system.load_phase", getattr(system, "load_phase", 0.0))
         return cls(
-            mass,
-            damping,
-            stiffness,
+            data.mass,
+            data.damping,
+            data.stiffness,
             load,
-            contact_dof,
+            data.contact_dof,
             code,
             params,
             k_stuck,
-            static,
-            phase,
+            data.static_load,
+            data.load_phase,
         )
 
     @property
@@ -590,15 +571,6 @@ class _Problem:
     def _failed(self, status, periods, iterations, steps) -> _Run:
         nan = np.full((self.n_dof, steps), np.nan)
         return _Run(status, periods, iterations, False, math.nan, nan, nan[0].copy())
-
-
-def _square(name: str, value, n: int) -> np.ndarray:
-    a = np.ascontiguousarray(value, dtype=np.float64)
-    if a.shape != (n, n):
-        raise ValueError(f"{name} must have shape ({n}, {n}), got {a.shape}")
-    if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must contain only finite values")
-    return a
 
 
 def _period_changes(starts: np.ndarray, peaks: np.ndarray, n: int) -> np.ndarray:

@@ -38,7 +38,7 @@ import numpy as np
 
 import hbmfric as hf
 from hbmfric.continuation.adaptive import truncation_estimate
-from hbmfric.continuation.palc import MAX_STEPS, MIN_STEP, RANGE_END
+from hbmfric.continuation.palc import MAX_STEPS, MIN_STEP, RANGE_END, RANGE_START
 from hbmfric.hbm import HBMProblem
 
 #: the coverage criterion: the branch's lowest and highest Ω equal the ends
@@ -272,7 +272,9 @@ def run_case(c: Case, spot: bool = True) -> dict:
         "time_s": elapsed,
         "stop_reason": b.stop_reason,
         "range_end": b.stop_reason == RANGE_END,
-        "covered": covered(b, omega),
+        # both: the Ω range of the branch reaches the ends of the asked
+        # range, and no gap between separately traced pieces
+        "covered": covered(b, omega) and bool(getattr(b, "complete", True)),
         "coverage_warning": any(
             issubclass(w.category, hf.CoverageWarning) for w in caught
         ),
@@ -297,6 +299,10 @@ def run_case(c: Case, spot: bool = True) -> dict:
     dX = np.abs(np.diff(coef, axis=0)) / local[:, None]
     dW = np.abs(np.diff(b.omega)) / (omega[1] - omega[0])
     gaps = np.maximum(dW, dX.max(axis=1)) if len(b) > 1 else np.zeros(0)
+    # no step between two separately traced pieces
+    if getattr(b, "pieces", None) is not None and gaps.size:
+        starts = b.pieces[(b.pieces > 0) & (b.pieces < len(b))]
+        gaps[starts - 1] = 0.0
     out["max_gap"] = float(gaps.max()) if gaps.size else 0.0
     out["gap_bound"] = 3.0 * options.max_step
     out["spot"] = []
@@ -315,7 +321,10 @@ def run_case(c: Case, spot: bool = True) -> dict:
             tol = 0.1 if h < 3 else max(5e-3, 2.0 * top)
             err, why, periods = spot_check(system, force, b, i)
             out["spot"].append((float(b.omega[i]), err, tol, why, periods))
-    out["known_stop"] = b.stop_reason in (RANGE_END, MAX_STEPS, MIN_STEP)
+    reasons = [p["stop_reason"] for p in b.info.get("pieces", [])] or [b.stop_reason]
+    out["known_stop"] = all(
+        r in (RANGE_END, RANGE_START, MAX_STEPS, MIN_STEP) for r in reasons
+    )
     return out
 
 

@@ -1,0 +1,123 @@
+"""Truncation-error estimate of every point of a fixed-``H`` branch.
+
+A branch traced with a fixed highest harmonic ``H`` carries, per point, the
+same estimate the adaptive-harmonics run keeps below its tolerance
+(:mod:`hbmfric.continuation.adaptive`): the relative error of the
+first-harmonic amplitude and of half the peak-to-peak value at the contact
+DOF,
+
+    ``max(CHANGE_FACTOR * change, TOP_FLOOR * m)``
+
+where ``change`` is the first-order change of those two measures when the
+basis grows to the next level of the ladder
+(:func:`hbmfric.kernels.truncation.truncation_change`, one residual and one
+LU in the larger basis: about one Newton iteration) and ``m`` the free
+measure ``H max(|X_H|, (K'/H)^4 |X_K'|) / |X_1|`` of the point.
+
+Cost. ``change`` is computed at every ``EVERY``-th point whose response is
+not linear and at the ``N_WORST`` points of largest free measure; between
+them the estimate is the free measure times the larger of the ratios
+``estimate / m`` at the two neighbouring calibrated points (the ratio drifts
+slowly along a branch; the free measure alone does not, see
+:mod:`hbmfric.continuation.adaptive`). A point whose response is linear
+(stuck contact: no higher harmonic) has estimate 0.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .adaptive import CHANGE_FACTOR, LADDER, LINEAR, TOP_FLOOR, _Level
+
+#: calibrate the free measure at every this many non-linear points
+EVERY = 32
+#: ... and at this many points of largest free measure
+N_WORST = 2
+
+
+def next_level(harmonics: int) -> int:
+    """The level of the ladder above ``harmonics`` (``1.4 H`` rounded up to
+    odd beyond the ladder's top)."""
+    for h in LADDER:
+        if h > harmonics:
+            return h
+    h = int(np.ceil(1.4 * harmonics))
+    return h + 1 if h % 2 == 0 else h
+
+
+def _free_measure(level: _Level, points: np.ndarray) -> np.ndarray:
+    """:meth:`_Level.measure` of every point at once, shape (n_points,)."""
+
+    def largest(columns: list[int]) -> np.ndarray:
+        if not columns:
+            return np.zeros(points.shape[0])
+        cols = np.array(columns)
+        return np.hypot(points[:, cols], points[:, cols + 1]).max(axis=1)
+
+    a1 = largest(level.first)
+    top = np.maximum(largest(level.top), level.prev_weight * largest(level.prev))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        measure = level.h * top / a1
+    measure[a1 == 0.0] = np.where(top[a1 == 0.0] == 0.0, 0.0, np.inf)
+    return measure
+
+
+def truncation_errors(problem, points: np.ndarray) -> np.ndarray:
+    """Estimated relative truncation error of each point of a branch.
+
+    Parameters
+    ----------
+    problem : HBMProblem or CondensedHBMProblem
+        The discretisation the points solve.
+    points : ndarray, shape (n_points, n_unknowns + 1)
+        ``[X, Ω]`` per point, in the layout of ``problem``.
+
+    Returns
+    -------
+    ndarray, shape (n_points,)
+        Estimated relative error of the first-harmonic amplitude and of half
+        the peak-to-peak value at the contact DOF (dimensionless); 0 for a
+        linear (stuck) point; inf where the estimate could not be formed
+        (``H = 1``, or a failed evaluation in the larger basis).
+    """
+    points = np.asarray(points, dtype=np.float64)
+    n_points = points.shape[0]
+    errors = np.zeros(n_points)
+    if n_points == 0:
+        return errors
+    level = _Level(problem, None)
+    if not level.top:
+        errors[:] = np.inf
+        return errors
+    measure = _free_measure(level, points)
+    nonlinear = np.flatnonzero(measure > LINEAR * 1e-4)
+    if nonlinear.size == 0:
+        return errors
+    # the next level (its problem and work arrays) is built once per problem
+    larger = getattr(problem, "_accuracy_level", None)
+    if larger is None:
+        larger = _Level(problem.with_harmonics(next_level(level.h)), None)
+        problem._accuracy_level = larger
+    chosen = np.zeros(n_points, dtype=bool)
+    chosen[nonlinear[::EVERY]] = True
+    chosen[nonlinear[-1]] = True
+    worst = nonlinear[np.argsort(measure[nonlinear])[-N_WORST:]]
+    chosen[worst] = True
+    calibrated = np.flatnonzero(chosen)
+    ratio = np.empty(calibrated.size)
+    for q, i in enumerate(calibrated):
+        change = larger.change(points[i])
+        estimate = max(CHANGE_FACTOR * change, TOP_FLOOR * measure[i])
+        errors[i] = estimate
+        ratio[q] = estimate / measure[i]
+    others = nonlinear[~chosen[nonlinear]]
+    if others.size:
+        right = np.searchsorted(calibrated, others)
+        left = np.clip(right - 1, 0, calibrated.size - 1)
+        right = np.clip(right, 0, calibrated.size - 1)
+        factor = np.maximum(ratio[left], ratio[right])
+        errors[others] = np.maximum(factor, TOP_FLOOR) * measure[others]
+    return errors
+
+
+__all__ = ["truncation_errors", "next_level"]

@@ -1,0 +1,452 @@
+"""The periodic steady state at one frequency: :func:`periodic_solution`.
+
+Newton's method at fixed Ω converges only from a start close enough to a
+solution; near a resonance with a stiff contact in gross slip neither
+linearisation (stuck, free) is. The solve therefore tries, in this order,
+and stops at the first converged solution:
+
+1. ``"newton"``: Newton from the user's ``initial_guess`` (if any), then
+   from the stuck and the free linearisations, with the generous iteration
+   budget a continuation gives its first point;
+2. ``"load ramp"``: natural continuation in the load amplitude at the
+   target Ω from a small fraction of the load, where the response is the
+   stuck linear one (:meth:`hbmfric.continuation.Continuation._load_ramp`);
+3. ``"continuation from below"`` / ``"continuation from above"``:
+   pseudo-arclength continuation in Ω (the engine of :func:`hbmfric.frf`,
+   same discretisation and options) from a frequency far below the target
+   (``Ω/2``, else ``Ω/4``) up to it, else from far above (``2 Ω``, else
+   ``4 Ω``) down to it. The first crossing of the target along the path is
+   interpolated between its two branch points and solved by Newton at the
+   target Ω.
+
+A result is converged when ``max |R| <= options.tol_residual * max |F|``
+(Newton's step test aside, which a solution on a seam of the piecewise
+smooth residual can keep failing). When nothing converges the call warns
+(:class:`~hbmfric.ConvergenceWarning`) or raises
+(:class:`~hbmfric.ConvergenceError`), and the returned coefficients are the
+iterate with the smallest residual.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+
+import numpy as np
+
+from ._validate import finite_float
+from .continuation import Continuation, ContinuationOptions
+from .continuation.adaptive import LADDER, START
+from .errors import AccuracyWarning, ConvergenceError, ConvergenceWarning
+from .hbm import HBMProblem
+from .kernels import newton as _newton
+from .kernels.aft import STATE_NAMES, STUCK
+from .results import PeriodicSolution
+
+#: ``harmonics="auto"`` stops when two successive ladder steps change the
+#: amplitudes by at most ``harmonic_tolerance / SETTLE_FACTOR``; measured
+#: against H = 63 (bench/README.md, "periodic_solution maps") the error is
+#: then at most 0.6 times the tolerance
+SETTLE_FACTOR = 1.5
+
+#: how a solution was obtained (``PeriodicSolution.method``)
+NEWTON = "newton"
+LOAD_RAMP = "load ramp"
+FROM_BELOW = "continuation from below"
+FROM_ABOVE = "continuation from above"
+ZERO_FORCE = "zero force"
+FAILED = "failed"
+
+#: start frequencies of the continuation fallback, as factors of the target Ω
+BELOW_STARTS = (0.5, 0.25)
+ABOVE_STARTS = (2.0, 4.0)
+#: the trace runs this fraction of its range past the target, so that the
+#: crossing lies between two branch points
+OVERSHOOT = 0.02
+
+BRANCH_SIDES = (None, "below", "above")
+ON_FAILURE = ("warn", "raise")
+
+
+def periodic_solution(
+    system,
+    force: float,
+    omega: float,
+    harmonics: int | str = "auto",
+    *,
+    n_time: int | None = None,
+    symmetry: bool | None = None,
+    aft: str = "auto",
+    initial_guess=None,
+    options: ContinuationOptions | None = None,
+    condense: bool | None = None,
+    branch_side: str | None = None,
+    harmonic_tolerance: float = 1e-4,
+    on_failure: str = "warn",
+) -> PeriodicSolution:
+    """Periodic steady state at one frequency.
+
+    Newton's method at fixed Ω, started from ``initial_guess``, from the
+    linearisations, by a load ramp and finally by continuation in Ω from a
+    frequency far below (then far above) the target (module docstring of
+    :mod:`hbmfric.periodic`); ``PeriodicSolution.method`` says which one
+    succeeded.
+
+    Parameters
+    ----------
+    system : Oscillator or compatible system
+    force : float
+        Amplitude ``F`` of the forcing ``F cos Ωt``, N. With ``F = 0`` (and
+        no static load) the zero solution is returned at once.
+    omega : float
+        Forcing pulsation Ω, rad/s (> 0).
+    harmonics : int or "auto", default "auto"
+        Highest harmonic ``H``. ``"auto"``: solve at ``H = 7`` and climb the
+        ladder of :mod:`hbmfric.continuation.adaptive` (11, 15, 21, ...,
+        63), each level started from the previous solution, until the
+        first-harmonic amplitude and half the peak-to-peak value at the
+        contact DOF change by less than ``harmonic_tolerance / 1.5``
+        (relative) over two steps of the ladder in a row (convergence in
+        ``H`` is not monotone); the finest level is returned (an
+        :class:`~hbmfric.AccuracyWarning` if ``H = 63`` does not get
+        there). Measured against ``H = 63`` on SDOF Jenkins (kt/k = 3,
+        30), Menq and Iwan (kt/k = 30) at F = 0.05, 0.5, 2 and 30
+        frequencies each: error at most 0.6 times the tolerance
+        (``bench/README.md``, "periodic_solution maps").
+    n_time, symmetry, aft
+        As in :func:`hbmfric.frf` (``n_time`` not with ``"auto"``).
+    initial_guess : PeriodicSolution or ndarray, optional
+        First start for Newton (selects the branch where several coexist
+        and Newton converges from it); an array holds the coefficients of
+        all DOFs in the layout of this discretisation (with ``condense``,
+        of the contact DOF only), so it needs an explicit integer
+        ``harmonics``; with ``harmonics="auto"`` only a
+        :class:`PeriodicSolution` is accepted.
+    options : ContinuationOptions, optional
+        Newton tolerances and the settings of the continuation fallback.
+    condense : bool or {"modal", "direct"}, optional
+        As in :func:`hbmfric.frf`.
+    branch_side : {None, "below", "above"}
+        Which solution to return where several coexist (between the folds
+        of a bent resonance). None (default): the first one found by the
+        sequence above; Newton from the linearisations may land on any of
+        them, the continuation fallback returns the one reached from below.
+        ``"below"`` (``"above"``): skip Newton and the load ramp and
+        return the solution on the branch traced from far below (above) the
+        target, at its first crossing of Ω. In the fold region of a
+        resonance bent to higher frequencies (hardening) that is the
+        large-amplitude (small-amplitude) solution, of one bent to lower
+        frequencies (softening) the small-amplitude (large-amplitude) one.
+        Not with ``initial_guess`` (which selects a solution by itself).
+    harmonic_tolerance : float, default 1e-4
+        With ``harmonics="auto"``: target relative truncation error of the
+        first-harmonic amplitude and of half the peak-to-peak value at the
+        contact DOF (in ``(0, 1]``).
+    on_failure : {"warn", "raise"}
+        When no start converges: issue a
+        :class:`~hbmfric.ConvergenceWarning` and return the iterate with the
+        smallest residual (``converged=False``, ``method="failed"``), or
+        raise :class:`~hbmfric.ConvergenceError`.
+
+    Returns
+    -------
+    PeriodicSolution
+        ``coefficients`` of shape (n_dof, n_coef), m; ``converged``,
+        ``method``, ``residual_norm`` (N) and ``newton_iterations`` (all
+        Newton evaluations of every attempt) tell how it was obtained.
+    """
+    from .api import _problem  # api re-exports this function
+
+    start = time.perf_counter()
+    omega = finite_float("omega", omega, low=0.0, low_open=True)
+    force = finite_float("force", force)
+    if on_failure not in ON_FAILURE:
+        raise ValueError(f"on_failure must be 'warn' or 'raise', got {on_failure!r}")
+    if branch_side not in BRANCH_SIDES:
+        raise ValueError(
+            f"branch_side must be None, 'below' or 'above', got {branch_side!r}"
+        )
+    if branch_side is not None and initial_guess is not None:
+        raise ValueError("give either initial_guess or branch_side, not both")
+    if not isinstance(options, ContinuationOptions | None):
+        raise TypeError(
+            f"options must be a ContinuationOptions, got {type(options).__name__}"
+        )
+    options = options or ContinuationOptions()
+    auto = isinstance(harmonics, str)
+    if auto:
+        if harmonics != "auto":
+            raise ValueError(
+                f"harmonics must be a positive integer or 'auto', got {harmonics!r}"
+            )
+        if n_time is not None:
+            raise ValueError("n_time cannot be given with harmonics='auto'")
+        harmonic_tolerance = finite_float(
+            "harmonic_tolerance", harmonic_tolerance, low=0.0, low_open=True, high=1.0
+        )
+        if initial_guess is not None and not isinstance(
+            initial_guess, PeriodicSolution
+        ):
+            raise ValueError(
+                "with harmonics='auto' initial_guess must be a PeriodicSolution"
+            )
+        harmonics = LADDER[START]
+    problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
+    if not np.any(problem.load):
+        # unforced and damped: the steady state is rest
+        rest = np.zeros(problem.n_unknowns + 1)
+        rest[-1] = omega
+        state = STATE_NAMES[STUCK]
+        return _solution(system, problem, rest, True, 0, 0.0, start, ZERO_FORCE, state)
+    guess = None
+    if initial_guess is not None:
+        guess = _guess_vector(initial_guess, problem)
+    solver = _FixedOmega(problem, omega, options)
+    y, method = solver.solve(guess, branch_side)
+    if auto and y is not None:
+        y, problem, solver = _climb(
+            system, problem, omega, options, y, solver, harmonic_tolerance
+        )
+    converged = y is not None
+    if not converged:
+        y = solver.fallback()
+    R, _, state = problem.residual(y)
+    residual = float(np.max(np.abs(R)))
+    if not converged:
+        message = (
+            f"periodic_solution did not converge at omega = {omega:.6g} rad/s, "
+            f"force = {force:.6g} N: max|R| = {residual:.3e} N (tolerance "
+            f"{solver.tolerance:.3e} N) after {', '.join(solver.tried)}; the "
+            "returned coefficients are not a solution"
+        )
+        if on_failure == "raise":
+            raise ConvergenceError(message)
+        warnings.warn(message, ConvergenceWarning, stacklevel=2)
+        method = FAILED
+    return _solution(
+        system,
+        problem,
+        y,
+        converged,
+        solver.iterations,
+        residual,
+        start,
+        method,
+        STATE_NAMES.get(state, str(state)),
+    )
+
+
+def _solution(
+    system, problem, y, converged, iterations, residual, start, method, contact_state
+) -> PeriodicSolution:
+    """The :class:`PeriodicSolution` of the point ``y = [X, Ω]``."""
+    return PeriodicSolution(
+        omega=float(y[-1]),
+        force=problem.force,
+        harmonic_numbers=problem.harmonic_numbers.copy(),
+        coefficients=problem.full_coefficients(y)[0],
+        converged=bool(converged),
+        newton_iterations=int(iterations),
+        residual_norm=residual,
+        elapsed=time.perf_counter() - start,
+        contact_state=contact_state,
+        dof_names=dict(getattr(system, "dof_names", {})),
+        method=method,
+    )
+
+
+class _FixedOmega:
+    """The attempts at one Ω on one discretisation, with their bookkeeping:
+    Newton evaluations, the attempts made and the best failed iterate."""
+
+    def __init__(self, problem: HBMProblem, omega: float, options) -> None:
+        self.problem = problem
+        self.omega = omega
+        self.options = options
+        self.cont = Continuation(problem, (0.5 * omega, 1.5 * omega), 1, options)
+        self.tolerance = self.cont.tol_residual
+        # the budget of a continuation's first point (palc.Continuation.init)
+        self.budget = max(8 * options.max_newton, 100)
+        self.iterations = 0
+        self.tried: list[str] = []
+        self._linear = None
+        self.best = None
+        self.best_residual = np.inf
+
+    def linear(self) -> list[np.ndarray]:
+        """The linearised starts (flat X), computed once: for a rigid
+        Coulomb contact they include a presolve of up to hundreds of
+        iterations."""
+        if self._linear is None:
+            n = self.problem.n_unknowns
+            self._linear = [g[:n] for g in self.problem.initial_guesses(self.omega)]
+        return self._linear
+
+    def fallback(self) -> np.ndarray:
+        """The finite iterate with the smallest residual, else the stuck
+        linearisation: what a failed solve returns."""
+        if self.best is not None:
+            return self.best
+        return np.append(self.linear()[0], self.omega)
+
+    def accept(self, y: np.ndarray, status: int) -> bool:
+        """Whether ``y`` is a solution; a failed finite iterate is kept if it
+        is the best so far."""
+        if not np.all(np.isfinite(y)):
+            return False
+        if status == _newton.CONVERGED:
+            return True
+        R, _, aft = self.problem.residual(y)
+        res = float(np.max(np.abs(R))) if aft >= 0 else np.inf
+        if res <= self.tolerance:
+            # Newton's look-ahead step test failed on a seam of the
+            # piecewise smooth residual; the balance itself holds
+            return True
+        if res < self.best_residual:
+            self.best, self.best_residual = y.copy(), res
+        return False
+
+    def newton(self, guess: np.ndarray) -> np.ndarray | None:
+        """Newton at the target Ω from ``guess`` (flat X); the solution
+        ``[X, Ω]`` or None."""
+        y, status, it = self.cont.solve_at(self.omega, guess, self.budget)
+        self.iterations += it
+        return y if self.accept(y, status) else None
+
+    def solve(self, guess, branch_side):
+        """``(y, method)``, ``y = [X, Ω]`` or None when nothing converged."""
+        if branch_side is None:
+            self.tried.append("Newton")
+            starts = ([] if guess is None else [guess]) + self.linear()
+            for g in starts:
+                y = self.newton(g)
+                if y is not None:
+                    return y, NEWTON
+            self.tried.append("load ramp")
+            y, status, it = self.cont._load_ramp(self.omega)
+            self.iterations += it
+            if self.accept(y, status):
+                return y, LOAD_RAMP
+        sides = ("below", "above") if branch_side is None else (branch_side,)
+        for side in sides:
+            self.tried.append(f"continuation from {side}")
+            y = self.from_side(side)
+            if y is not None:
+                return y, FROM_BELOW if side == "below" else FROM_ABOVE
+        return None, FAILED
+
+    def from_side(self, side: str) -> np.ndarray | None:
+        """Continuation in Ω from far below (above) the target; the solution
+        at its first crossing of the target, or None."""
+        omega = self.omega
+        n = self.problem.n_unknowns
+        for factor in BELOW_STARTS if side == "below" else ABOVE_STARTS:
+            far = factor * omega
+            pad = OVERSHOOT * abs(omega - far)
+            if side == "below":
+                cont = Continuation(self.problem, (far, omega + pad), 1, self.options)
+            else:
+                cont = Continuation(self.problem, (omega - pad, far), -1, self.options)
+            state, _ = cont.run()
+            self.iterations += state.n_newton
+            if not state.points:
+                continue
+            points = np.array(state.points)
+            w = points[:, n] - omega
+            for j in range(points.shape[0] - 1):
+                if w[j] == 0.0 or w[j] * w[j + 1] < 0.0:
+                    s = w[j] / (w[j] - w[j + 1])
+                    seed = (1.0 - s) * points[j, :n] + s * points[j + 1, :n]
+                    for g in (seed, points[j, :n], points[j + 1, :n]):
+                        y = self.newton(g)
+                        if y is not None:
+                            return y
+                    break
+        return None
+
+
+def _climb(system, problem, omega, options, y, solver, tolerance):
+    """``harmonics="auto"``: up the ladder from the converged ``y`` of
+    ``problem`` until the amplitudes at the contact DOF settle.
+
+    Returns the finest converged ``(y, problem, solver)``; the solvers'
+    iteration counts add up in the returned one.
+    """
+    contact = int(getattr(system, "contact_dof", 0))
+
+    def measures(p, v):
+        sol = _solution(system, p, v, True, 0, 0.0, 0.0, "", "")
+        return np.array(
+            [sol.amplitude(harmonic=1, dof=contact), sol.amplitude(dof=contact)]
+        )
+
+    here = measures(problem, y)
+    changes: list[float] = []
+    level = LADDER.index(problem.harmonics)
+    for h in LADDER[level + 1 :]:
+        finer = problem.with_harmonics(h)
+        nxt = _FixedOmega(finer, omega, options)
+        nxt.iterations = solver.iterations
+        previous = _solution(system, problem, y, True, 0, 0.0, 0.0, "", "")
+        seed = _guess_vector(previous, finer)
+        y_new = nxt.newton(seed)
+        if y_new is None:
+            y_new, _ = nxt.solve(seed, None)
+        if y_new is None:
+            warnings.warn(
+                f"periodic_solution(harmonics='auto'): no solution at H = {h} "
+                f"from the one at H = {problem.harmonics} (omega = {omega:.6g} "
+                f"rad/s); returning H = {problem.harmonics}, whose truncation "
+                "error is not estimated",
+                AccuracyWarning,
+                stacklevel=3,
+            )
+            solver.iterations = nxt.iterations
+            return y, problem, solver
+        there = measures(finer, y_new)
+        change = float(np.max(np.abs(there - here) / np.maximum(np.abs(there), 1e-300)))
+        y, problem, solver, here = y_new, finer, nxt, there
+        changes.append(change)
+        # two settled steps in a row: convergence in H is not monotone
+        # (a single small change can be a crossing of the limit)
+        if len(changes) >= 2 and SETTLE_FACTOR * max(changes[-2:]) <= tolerance:
+            return y, problem, solver
+    warnings.warn(
+        f"periodic_solution(harmonics='auto'): the amplitudes still change by "
+        f"{max(changes[-2:]):.2e} (relative) between H = {LADDER[-3]}, "
+        f"{LADDER[-2]} and {LADDER[-1]} at omega = {omega:.6g} rad/s, above "
+        f"harmonic_tolerance / {SETTLE_FACTOR:g} = {tolerance / SETTLE_FACTOR:.2e}",
+        AccuracyWarning,
+        stacklevel=3,
+    )
+    return y, problem, solver
+
+
+def _guess_vector(guess, problem: HBMProblem) -> np.ndarray:
+    """Coefficients of a guess re-laid onto this problem's harmonics."""
+    if isinstance(guess, PeriodicSolution):
+        n_dof = guess.coefficients.shape[0]
+        if n_dof != problem.n_dof:
+            raise ValueError(
+                f"initial_guess is a PeriodicSolution of a system with {n_dof} "
+                f"DOFs; this system has {problem.n_dof}: give a solution of the "
+                "same system (or of one with the same DOF layout)"
+            )
+        X = np.zeros((problem.n_dof, problem.n_coef))
+        src = {int(k): i for i, k in enumerate(guess.harmonic_numbers)}
+        src_col = np.cumsum([0] + [1 if k == 0 else 2 for k in guess.harmonic_numbers])
+        col = 0
+        for k in problem.harmonic_numbers:
+            width = 1 if k == 0 else 2
+            if int(k) in src:
+                c = src_col[src[int(k)]]
+                X[:, col : col + width] = guess.coefficients[:, c : c + width]
+            col += width
+        return problem.unknowns_from_full(X)
+    g = np.ascontiguousarray(guess, dtype=np.float64).reshape(-1)
+    if g.size != problem.n_unknowns or not np.all(np.isfinite(g)):
+        raise ValueError(
+            f"initial_guess must hold {problem.n_unknowns} finite coefficients, "
+            f"got {g.size}"
+        )
+    return g

@@ -1,0 +1,228 @@
+"""The Numba cache of hbmfric (hbmfric/_jit.py): it never serves code compiled
+from older sources, and a missing cache location costs speed, not the import.
+
+Most tests run a tiny copy of the package (the real ``_jit.py`` and
+``errors.py`` plus two small kernels) in a subprocess, so that they compile
+in a second instead of minutes.
+"""
+
+import os
+import shutil
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+import hbmfric
+from hbmfric import _jit
+
+CALLEE = """\
+from .._jit import jit
+
+
+@jit
+def value(x):
+    return x + {increment}
+"""
+
+CALLER = """\
+from .._jit import jit
+from .callee import value
+
+
+@jit
+def twice(x):
+    return 2.0 * value(x)
+"""
+
+RUN = """\
+import warnings
+
+with warnings.catch_warnings(record=True) as caught:
+    warnings.simplefilter("always")
+    from hbmfric.kernels.caller import twice
+    from hbmfric.errors import CacheWarning
+
+    result = twice(1.0)
+n_cache = sum(issubclass(w.category, CacheWarning) for w in caught)
+print(result, n_cache, len(twice.stats.cache_hits), len(twice.signatures))
+for w in caught:
+    print("WARNING", w.category.__name__, w.message)
+"""
+
+
+def _tiny_package(root, increment="1.0"):
+    """Write a package ``hbmfric`` with the real cache module under ``root``."""
+    pkg = root / "hbmfric"
+    (pkg / "kernels").mkdir(parents=True)
+    (pkg / "__init__.py").write_text("")
+    (pkg / "kernels" / "__init__.py").write_text("")
+    for name in ("_jit.py", "errors.py"):
+        shutil.copy(os.path.join(_jit.PACKAGE_DIR, name), pkg / name)
+    (pkg / "kernels" / "callee.py").write_text(CALLEE.format(increment=increment))
+    (pkg / "kernels" / "caller.py").write_text(CALLER)
+    return pkg
+
+
+def _run(root, env_extra):
+    env = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_")}
+    env.pop("HBMFRIC_CACHE_DIR", None)
+    env.update(PYTHONPATH=str(root), **env_extra)
+    proc = subprocess.run(
+        [sys.executable, "-c", RUN],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=str(root),
+    )
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    first, *rest = proc.stdout.splitlines()
+    result, n_cache, n_hits, n_sigs = first.split()
+    return float(result), int(n_cache), int(n_hits), int(n_sigs), rest
+
+
+def _nbi_files(path):
+    return [
+        os.path.join(d, f)
+        for d, _, fs in os.walk(path)
+        for f in fs
+        if f.endswith(".nbi")
+    ]
+
+
+def test_edited_callee_is_never_served_stale(tmp_path):
+    # Numba's own cache keys a caller by its own file: after the callee in
+    # another file changes, the cached caller would still return 2 * (1 + 1).
+    root = tmp_path / "src"
+    pkg = _tiny_package(root, increment="1.0")
+    env = {"HBMFRIC_CACHE_DIR": str(tmp_path / "cache")}
+
+    assert _run(root, env)[:4] == (4.0, 0, 0, 1)
+    # Second process: served from the cache, same answer.
+    assert _run(root, env)[:4] == (4.0, 0, 1, 1)
+
+    (pkg / "kernels" / "callee.py").write_text(CALLEE.format(increment="2.0"))
+    result, n_cache, _, n_sigs, _ = _run(root, env)
+    assert result == 2.0 * (1.0 + 2.0)
+    assert (n_cache, n_sigs) == (0, 1)
+
+    # The cache lives in the user cache directory, never in the package.
+    assert _nbi_files(pkg) == []
+    assert len(os.listdir(tmp_path / "cache")) == 2  # one directory per source key
+
+
+def test_no_writable_cache_location_one_warning(tmp_path):
+    # A regular file where directories should be: no cache directory can be
+    # made (this holds even for root, unlike a chmod).
+    root = tmp_path / "src"
+    pkg = _tiny_package(root)
+    blocker = tmp_path / "blocker"
+    blocker.write_text("not a directory")
+    (pkg / "kernels" / "__pycache__").write_text("not a directory")
+    (pkg / "__pycache__").write_text("not a directory")
+    env = {
+        "HBMFRIC_CACHE_DIR": str(blocker / "hbmfric"),
+        "XDG_CACHE_HOME": str(blocker / "xdg"),
+        "HOME": str(blocker / "home"),
+    }
+    result, n_cache, n_hits, n_sigs, lines = _run(root, env)
+    assert result == 4.0
+    assert n_cache == 1, lines
+    assert (n_hits, n_sigs) == (0, 1)
+    assert any("HBMFRIC_CACHE_DIR" in line for line in lines)
+
+
+def test_source_key_follows_kernel_sources(tmp_path):
+    copy = tmp_path / "hbmfric"
+    shutil.copytree(
+        _jit.PACKAGE_DIR, copy, ignore=shutil.ignore_patterns("__pycache__")
+    )
+    key = _jit.source_key(str(copy))
+    assert key == _jit.source_key(_jit.PACKAGE_DIR)  # content, not location
+    assert len(key) == 16
+
+    rel = [os.path.relpath(p, copy) for p in _jit.kernel_sources(str(copy))]
+    assert os.path.join("kernels", "residual.py") in rel  # caches via @overload
+    assert os.path.join("kernels", "dft.py") in rel
+    assert "_jit.py" in rel
+    assert "api.py" not in rel
+
+    # Editing a module that compiled code does not depend on keeps the key.
+    with open(copy / "api.py", "a") as f:
+        f.write("\n# a comment\n")
+    assert _jit.source_key(str(copy)) == key
+
+    # Editing any kernel, even one only called from other files, changes it.
+    with open(copy / "kernels" / "dft.py", "a") as f:
+        f.write("\n# a comment\n")
+    key2 = _jit.source_key(str(copy))
+    assert key2 != key
+
+    # A plain module that a kernel imports (constants frozen into compiled
+    # code) counts as a kernel source too.
+    (copy / "kernels" / "constants.py").write_text("LIMIT = 3\n")
+    assert _jit.source_key(str(copy)) == key2
+    with open(copy / "kernels" / "dft.py", "a") as f:
+        f.write("from .constants import (\n    LIMIT,\n)\n")
+    key3 = _jit.source_key(str(copy))
+    (copy / "kernels" / "constants.py").write_text("LIMIT = 4\n")
+    assert _jit.source_key(str(copy)) != key3
+
+
+def test_cache_base_resolution(tmp_path):
+    home = os.path.expanduser("~")
+    assert _jit.cache_base({}) == os.path.join(home, ".cache", "hbmfric")
+    assert _jit.cache_base({"XDG_CACHE_HOME": str(tmp_path)}) == str(
+        tmp_path / "hbmfric"
+    )
+    assert _jit.cache_base({"NUMBA_CACHE_DIR": str(tmp_path)}) == str(
+        tmp_path / "hbmfric"
+    )
+    env = {"HBMFRIC_CACHE_DIR": str(tmp_path / "x"), "NUMBA_CACHE_DIR": "/elsewhere"}
+    assert _jit.cache_base(env) == str(tmp_path / "x")
+
+
+def test_package_kernels_use_the_keyed_cache():
+    from hbmfric.kernels import dft
+
+    if not _jit.CACHE:
+        pytest.skip("no writable cache in this environment")
+    assert os.path.basename(_jit.CACHE_DIR) == _jit.source_key()
+    cache = dft.evaluate._cache
+    assert cache.cache_path == os.path.join(_jit.CACHE_DIR, "kernels")
+
+
+@pytest.mark.slow
+def test_real_package_without_cache_location(tmp_path):
+    """End to end: the whole package imports and solves with no writable
+    cache location, with one CacheWarning (compiles every kernel: minutes)."""
+    blocker = tmp_path / "blocker"
+    blocker.write_text("not a directory")
+    code = textwrap.dedent(
+        """
+        import warnings
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            import hbmfric as hf
+            osc = hf.Oscillator(mass=1.0, damping=0.05, stiffness=1.0,
+                                contact=hf.Jenkins(stiffness=3.0, slip_force=1.0))
+            sol = hf.periodic_solution(osc, force=0.5, omega=1.3, harmonics=5)
+        print(sum(issubclass(w.category, hf.CacheWarning) for w in caught))
+        """
+    )
+    env = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_")}
+    env.update(
+        HBMFRIC_CACHE_DIR=str(blocker / "c"),
+        PYTHONPATH=os.path.dirname(os.path.dirname(hbmfric.__file__)),
+    )
+    proc = subprocess.run(
+        [sys.executable, "-c", code],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=1800,
+    )
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert proc.stdout.split()[-1] == "1"
