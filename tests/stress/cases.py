@@ -513,8 +513,10 @@ PSOL_POINTS = 15
 #: a converged periodic_solution further than this (relative first-harmonic
 #: amplitude) from every branch value at its Ω is a wrong answer
 PSOL_TOL = 1e-6
-#: ... or more than this times the displacement scale in absolute terms
-PSOL_ABS = 1e-12
+#: ... and more than this times the continuation's displacement scale in
+#: absolute terms: ten times Newton's ``tol_step`` (1e-9 of that scale), so
+#: two solutions the corrector cannot tell apart are not two answers
+PSOL_ABS = 1e-8
 
 
 def branch_values(system, force, branch: hf.Branch, w: float, harmonics) -> list:
@@ -553,8 +555,9 @@ def branch_values(system, force, branch: hf.Branch, w: float, harmonics) -> list
 
 def psol_floor(system, force, omega) -> float:
     """Absolute amplitude difference below which two solutions are the same:
-    :data:`PSOL_ABS` of the continuation's displacement scale (amplitudes of
-    1e-17 m under forces of 1 N are rounding noise)."""
+    :data:`PSOL_ABS` of the continuation's displacement scale (at
+    ``F = f_s (1 + 1e-10)`` rigid Coulomb moves by 1e-11 m, which Newton's
+    tolerances do not resolve)."""
     return PSOL_ABS * HBMProblem(system, force, 15).amplitude_scale(omega)
 
 
