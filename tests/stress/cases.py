@@ -7,8 +7,8 @@ A case is a single-DOF oscillator ``m ẍ + c ẋ + k x + f_c = F cos Ωt`` with
 a base of ``m = 1``, ``k = 1``, slip force ``1`` (``F`` is then ``Fex/Fn``),
 ``kt/k = 3``, damping ratio ``ζ = 0.01`` of the free oscillator, ``H = 15``,
 swept up over ``[0.3 ω_free, 1.5 ω_stuck]`` (``[0.3 ω_free, 3 ω_free]``
-for the rigid Coulomb contact, ``[0.3 ω_free, 2 ω_free]`` for the cubic
-spring, whose ``ratio`` is ``F`` and ``stiffness_ratio`` is ``k3/k``).
+for the rigid Coulomb contact and the cubic spring, whose ``ratio`` is
+``F`` and ``stiffness_ratio`` is ``k3/k``).
 
 ``law="beam"`` is the calibrated cantilever beam (24 Hz slipping, 87 Hz
 stuck) with a Jenkins tip of ``μ = 1.5`` at ``normal_load`` N; ``ratio`` is
@@ -121,7 +121,7 @@ def _roughness(c: Case, k: float, fs: float):
 #: None = 1.5 ω_stuck)
 LAWS = {
     "jenkins": (_jenkins, None),
-    "cubic": (_cubic, 2.0),
+    "cubic": (_cubic, 3.0),
     "menq": (_menq, None),
     "iwan": (_iwan, None),
     "coulomb": (_coulomb, 3.0),

@@ -97,10 +97,8 @@ def build(p: dict):
     law = make_law(p)
     damping = 2.0 * p["zeta"]
     osc = hf.Oscillator(1.0, damping, 1.0, law)
-    if p["law"] == "coulomb":
+    if p["law"] in ("coulomb", "cubic"):
         top = 3.0
-    elif p["law"] == "cubic":
-        top = 2.0
     else:
         top = 1.5 * math.sqrt(1.0 + law.stuck_stiffness)
     return osc, p["ratio"], (0.3, top)
