@@ -47,10 +47,51 @@ def test_stress_fast(case):
 INCOMPLETE = {"cubic ratio=10 stiffness_ratio=1", "cubic ratio=1 stiffness_ratio=100"}
 
 
+_STALL = (
+    "stall at min_step from both ends at the third-order superharmonic "
+    "resonance in gross slip (Ω ≈ 0.34-0.40), CoverageWarning"
+)
+_DECAY = (
+    "time-integration reference not settled in 100000 periods: ζ = 1e-4 "
+    "far above ω_free (decay time 1e4 s)"
+)
+_RINGING = (
+    "time-integration reference not settled in 100000 periods at Ω = 0.3: "
+    "stick-phase ringing at sqrt(kt/m) = 100 rad/s"
+)
+#: the other misses of the widened matrix (bench/README.md, "Stress
+#: matrix"): recorded as strict expected failures with their reason, so a
+#: fix shows as an unexpected pass
+KNOWN = {
+    "jenkins ratio=0.0001 stiffness_ratio=100 zeta=0.0001": _DECAY,
+    "jenkins ratio=0.0001 stiffness_ratio=10000 zeta=0.0001": _DECAY,
+    "jenkins ratio=0.01 stiffness_ratio=100 zeta=0.0001": _DECAY,
+    "jenkins ratio=0.01 stiffness_ratio=10000 zeta=0.0001": _DECAY,
+    "jenkins stiffness_ratio=100 zeta=0.0001": _DECAY,
+    "jenkins stiffness_ratio=10000 zeta=0.0001": _DECAY,
+    "menq stiffness_ratio=100 zeta=0.0001": _DECAY,
+    "roughness stiffness_ratio=100 zeta=0.0001": _DECAY,
+    "jenkins ratio=10 stiffness_ratio=10000": _RINGING,
+    "jenkins ratio=10 stiffness_ratio=10000 sweep=down": _RINGING,
+    "roughness ratio=10 stiffness_ratio=10000": _RINGING,
+    "dahl ratio=0.01 stiffness_ratio=10000": (
+        "time-integration reference change 1.4e-8 > 1e-8 after 100000 periods"
+    ),
+    "menq ratio=10 stiffness_ratio=10000": _STALL + "; " + _RINGING,
+    "iwan ratio=10 stiffness_ratio=10000": _STALL,
+    "coulomb ratio=10": _STALL,
+    "coulomb ratio=10 sweep=down": _STALL,
+    "dahl ratio=10 stiffness_ratio=10000": _STALL,
+}
+
+
 def _marked(case):
     if case.name in INCOMPLETE:
         reason = "covers [0.3, 0.314] only; no start at 3 rad/s"
         return pytest.param(case, marks=pytest.mark.xfail(reason=reason, strict=True))
+    if case.name in KNOWN:
+        mark = pytest.mark.xfail(reason=KNOWN[case.name], strict=True)
+        return pytest.param(case, marks=mark)
     return case
 
 
