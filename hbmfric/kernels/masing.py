@@ -32,7 +32,6 @@ import numpy as np
 from .._jit import jit
 from .aft import (
     _MAX_DEPTH,
-    EVENT_OVERFLOW,
     GROSS_SLIP,
     MICROSLIP,
     STUCK,
@@ -99,8 +98,10 @@ def aft_masing(code, params, harmonic_numbers, X, inverse, forward, derivative, 
     Returns
     -------
     int
-        ``STUCK``, ``MICROSLIP``, ``GROSS_SLIP`` or ``EVENT_OVERFLOW``
-        (more reversals than ``4 H + 8``; ``F``, ``dF`` zero).
+        ``STUCK``, ``MICROSLIP``, ``GROSS_SLIP``, or the negative code of
+        the reversal search (``EVENT_OVERFLOW``: more reversals than
+        ``4 H + 8``; ``SEARCH_BUDGET``: non-finite motion or work budget
+        spent); ``F``, ``dF`` zero on failure.
     """
     n, n_coef = inverse.shape
     two_pi = 2.0 * np.pi
@@ -120,10 +121,10 @@ def aft_masing(code, params, harmonic_numbers, X, inverse, forward, derivative, 
     n_rev = _find_reversals(
         harmonic_numbers, X, X2, inverse, u, v, b2, b3, rev_th, rev_u, stack
     )
-    if n_rev < 0:
+    if n_rev < 0:  # EVENT_OVERFLOW or SEARCH_BUDGET
         F[:] = 0.0
         dF[:, :] = 0.0
-        return EVENT_OVERFLOW
+        return n_rev
     q_max = 0
     q_min = 0
     for q in range(1, n_rev):

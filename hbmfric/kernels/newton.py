@@ -38,6 +38,37 @@ def _norm_inf(a):
 
 
 @jit
+def equilibrate_rows(J, scale, A, row_scale):
+    """First ``n`` rows of ``A``: ``J diag(scale)`` with each row divided by
+    its largest entry (rows of residuals in N next to a constraint row of
+    order one; the pivot tests are relative to the largest entry).
+
+    Parameters
+    ----------
+    J : ndarray, shape (n, n + 1)
+        Jacobian, physical units.
+    scale : ndarray, shape (n + 1,)
+        Variable scales.
+    A : ndarray, shape (n + 1, n + 1)
+        Output: rows ``0 .. n - 1`` filled.
+    row_scale : ndarray, shape (>= n,)
+        Output: the factor applied to each row (1 for a zero row).
+    """
+    n = J.shape[0]
+    for i in range(n):
+        row_max = 0.0
+        for j in range(n + 1):
+            v = J[i, j] * scale[j]
+            A[i, j] = v
+            if abs(v) > row_max:
+                row_max = abs(v)
+        inv = 1.0 / row_max if row_max > 0.0 else 1.0
+        for j in range(n + 1):
+            A[i, j] *= inv
+        row_scale[i] = inv
+
+
+@jit
 def correct(
     problem,
     y,
@@ -123,17 +154,9 @@ def correct(
             g += constraint[i] * (y[i] - y_pred[i]) / scale[i]
         # solve in scaled variables with equilibrated rows: the unknowns
         # may differ by many orders of magnitude (X in m, Ω in rad/s)
+        equilibrate_rows(J, scale, A, b)
         for i in range(n):
-            row_max = 0.0
-            for j in range(n + 1):
-                v = J[i, j] * scale[j]
-                A[i, j] = v
-                if abs(v) > row_max:
-                    row_max = abs(v)
-            inv = 1.0 / row_max if row_max > 0.0 else 1.0
-            for j in range(n + 1):
-                A[i, j] *= inv
-            b[i] = -R[i] * inv
+            b[i] = -R[i] * b[i]
         for j in range(n + 1):
             A[n, j] = constraint[j]
         b[n] = -g
@@ -198,16 +221,8 @@ def tangent(J, previous, scale, A):
     """
     n = J.shape[0]
     b = np.zeros(n + 1)
-    for i in range(n):
-        row_max = 0.0
-        for j in range(n + 1):
-            v = J[i, j] * scale[j]
-            A[i, j] = v
-            if abs(v) > row_max:
-                row_max = abs(v)
-        inv = 1.0 / row_max if row_max > 0.0 else 1.0
-        for j in range(n + 1):
-            A[i, j] *= inv
+    equilibrate_rows(J, scale, A, b)
+    b[:n] = 0.0
     for j in range(n + 1):
         A[n, j] = previous[j]
     b[n] = 1.0
