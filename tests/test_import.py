@@ -34,11 +34,15 @@ def test_import_loads_no_matplotlib_and_compiles_nothing(tmp_path):
 
         at_import = compiled()
         mpl = sorted(m for m in sys.modules if m.split(".")[0] == "matplotlib")
+        heavy = sorted(
+            m for m in ("scipy.optimize", "scipy.integrate") if m in sys.modules
+        )
         import numpy as np
         from hbmfric.kernels.dft import n_coefficients
         n_coefficients(np.array([1, 3]))
         after_call = compiled()
-        print(json.dumps({"import": at_import, "call": after_call, "mpl": mpl}))
+        print(json.dumps({"import": at_import, "call": after_call, "mpl": mpl,
+                          "heavy": heavy}))
         """
     )
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
@@ -52,6 +56,7 @@ def test_import_loads_no_matplotlib_and_compiles_nothing(tmp_path):
     )
     report = json.loads(out.stdout.strip().splitlines()[-1])
     assert report["mpl"] == []
+    assert report["heavy"] == []  # imported lazily, where they are used
     assert len(report["import"]) >= 10  # the kernels are visible to the check
     assert all(n == 0 for n in report["import"].values()), {
         k: v for k, v in report["import"].items() if v

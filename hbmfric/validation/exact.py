@@ -43,7 +43,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.linalg
-from scipy.optimize import brentq
 
 from .._validate import finite_float, positive_int
 from ..errors import ConvergenceError, ConvergenceWarning, HbmfricWarning
@@ -182,6 +181,8 @@ def _root(f, a: float, b: float) -> float:
     fa, fb = f(a), f(b)
     if fa == 0.0 or fb == 0.0 or (fa > 0.0) == (fb > 0.0):
         return a if abs(fa) <= abs(fb) else b
+    from scipy.optimize import brentq  # lazy: keeps ``import hbmfric`` light
+
     return brentq(f, a, b, xtol=1e-16 * max(abs(a), abs(b)), rtol=1e-15)
 
 
