@@ -30,7 +30,17 @@ from .laws import (
     hertz_mindlin_stiffness,
 )
 from .results import Branch, PeriodicSolution
-from .systems import BeamCalibration, BeltTensioner, CantileverBeam, Oscillator
+from .systems import (
+    BeamCalibration,
+    BeltTensioner,
+    CantileverBeam,
+    LinearStructure,
+    Oscillator,
+    ReducedStructure,
+    craig_bampton,
+    read_matrices,
+    read_matrix,
+)
 
 __version__ = "0.1.0"
 
@@ -51,15 +61,20 @@ __all__ = [
     "Cubic",
     "Iwan",
     "Jenkins",
+    "LinearStructure",
     "Menq",
     "ModifiedDahl",
     "Oscillator",
     "PeriodicSolution",
+    "ReducedStructure",
     "Roughness",
+    "craig_bampton",
     "criterion",
     "frf",
     "hertz_mindlin_stiffness",
     "identify",
     "periodic_solution",
+    "read_matrices",
+    "read_matrix",
     "validation",
 ]
