@@ -19,6 +19,7 @@ from .errors import (
     ConvergenceWarning,
     CoverageWarning,
     HbmfricWarning,
+    StudyWarning,
 )
 from .laws import (
     ContactLaw,
@@ -30,6 +31,7 @@ from .laws import (
     hertz_mindlin_stiffness,
 )
 from .results import Branch, PeriodicSolution
+from .study import StudyResult, grid, study
 from .systems import (
     BeamCalibration,
     BeltTensioner,
@@ -51,6 +53,7 @@ __all__ = [
     "ConvergenceWarning",
     "CoverageWarning",
     "HbmfricWarning",
+    "StudyWarning",
     "BeamCalibration",
     "BeltTensioner",
     "Branch",
@@ -68,13 +71,16 @@ __all__ = [
     "PeriodicSolution",
     "ReducedStructure",
     "Roughness",
+    "StudyResult",
     "craig_bampton",
     "criterion",
     "frf",
+    "grid",
     "hertz_mindlin_stiffness",
     "identify",
     "periodic_solution",
     "read_matrices",
     "read_matrix",
+    "study",
     "validation",
 ]
