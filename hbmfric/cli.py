@@ -1,5 +1,6 @@
 """Command line: ``hbmfric paper [--out DIR]`` reproduces the paper's
-results on the built-in scenes."""
+results on the built-in scenes; ``hbmfric run scene.toml`` runs a scene
+file."""
 
 from __future__ import annotations
 
@@ -64,6 +65,20 @@ def _paper(args: argparse.Namespace) -> int:
     # envelope) and 14 (ratio invariance) together
     _print_verdict(_combined(figures, ("fig13_beam", "fig14_beam"), "fig13+14_beam"))
     print(f"done in {time.perf_counter() - start:.2f} s", flush=True)
+    return 0
+
+
+def _run(args: argparse.Namespace) -> int:
+    from .scene import SceneError, run_scene
+
+    try:
+        run_scene(args.scene, args.out, progress=lambda line: print(line, flush=True))
+    except FileNotFoundError as exc:
+        print(f"hbmfric run: {exc}", file=sys.stderr, flush=True)
+        return 2
+    except SceneError as exc:
+        print(f"hbmfric run: {exc}", file=sys.stderr, flush=True)
+        return 2
     return 0
 
 
@@ -141,6 +156,17 @@ def main(argv: list[str] | None = None) -> int:
     )
     paper.add_argument("--no-plot", action="store_true", help="write CSV files only")
     paper.set_defaults(func=_paper)
+    run = sub.add_parser(
+        "run",
+        help="run a scene file (TOML): a system, its contact, an FRF or a study",
+        description="Trace the FRF (or the study grid) a scene file describes and "
+        "write its outputs; see hbmfric/scene.py or examples/scenes/.",
+    )
+    run.add_argument("scene", help="the scene file (.toml)")
+    run.add_argument(
+        "--out", default=None, help="output directory (overrides the file)"
+    )
+    run.set_defaults(func=_run)
     args = parser.parse_args(argv)
     return args.func(args)
 
