@@ -156,6 +156,13 @@ def _write_index(path: Path, entries, combined: str | None) -> None:
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
 
 
+def _warmup(args: argparse.Namespace) -> int:
+    from .warmup import warmup
+
+    warmup(progress=lambda line: print(line, flush=True))
+    return 0
+
+
 def _run(args: argparse.Namespace) -> int:
     from .scene import SceneError, run_scene
 
@@ -254,6 +261,14 @@ def main(argv: list[str] | None = None) -> int:
         "--out", default=None, help="output directory (overrides the file)"
     )
     run.set_defaults(func=_run)
+    warm = sub.add_parser(
+        "warmup",
+        help="compile (or load) the kernels typical runs use, once, now",
+        description="Run a tiny problem through each path of the engine so that "
+        "the one-time Numba compilation happens now rather than in the first "
+        "real run (e.g. after pip install, or in a container build).",
+    )
+    warm.set_defaults(func=_warmup)
     args = parser.parse_args(argv)
     return args.func(args)
 

@@ -59,3 +59,19 @@ def test_paper_rejects_bad_harmonics(tmp_path):
 
     with pytest.raises(SystemExit):
         main(["paper", "--out", str(tmp_path), "--harmonics", "0"])
+
+
+def test_warmup_runs_every_path(capsys):
+    """``hbmfric warmup`` runs one tiny problem per engine path and reports
+    each; a second run loads everything from the cache (no compile line)."""
+    assert main(["warmup"]) == 0
+    out = capsys.readouterr().out
+    for step in (
+        "Jenkins FRF",
+        "Menq FRF",
+        "Coulomb FRF",
+        "beam FRF",
+        "time integration",
+    ):
+        assert f"warmup: {step}" in out
+    assert "warmup: done" in out
