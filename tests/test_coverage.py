@@ -95,6 +95,35 @@ def test_retrace_completes_the_cubic_branch(no_coverage_warning):
         assert np.max(np.abs(R)) < 1e-8
 
 
+@pytest.mark.filterwarnings("ignore::hbmfric.AccuracyWarning")
+def test_retrace_starts_past_a_load_fold(no_coverage_warning):
+    """Cubic k3 = 1, F = 10 over (0.3, 3), swept up: the path turns at a
+    fold near 0.314 and leaves by 0.3. The retrace from 3 rad/s found no
+    starting point: at Ω = 3 the non-resonant solution the linear guesses
+    lead to has just merged with the middle one (single-harmonic balance
+    ``a (1 - Ω²) + 3/4 a³ = F`` peaks at 10.06 ≈ F), Newton and the load
+    ramp stagnate at that fold (|R| = 2e-3) and only the resonant solution
+    is left. Arc-length continuation in the load goes round the fold to
+    it; the retrace then covers the range. The start is the resonant
+    solution (single-harmonic root 3.77, 3 % off at H = 15) and every 7th
+    point of the retrace solves an independent harmonic balance."""
+    b = hf.frf(_cubic(), 10.0, (0.3, 3.0), 15)
+    assert b.complete and b.coverage == (0.3, 3.0)
+    first, second = b.piece_slices()
+    # the retrace, stored in increasing Ω after the first piece, started at 3
+    assert b.omega[second][[0, -1]].tolist() == [0.3, 3.0]
+    a1 = b.amplitude(harmonic=1)[second.stop - 1]
+    roots = np.roots([0.75, 0.0, 1.0 - 9.0, -10.0])
+    upper = max(r.real for r in roots if abs(r.imag) < 1e-12)
+    assert abs(a1 - upper) < 0.05 * upper
+    hn = b.harmonic_numbers
+    for i in range(second.start, second.stop, 7):
+        X = b.coefficients[i, 0]
+        cube = cubic_coefficients(hn, X, 1.0)
+        R = sdof_residual(hn, X, b.omega[i], 1.0, 0.02, 1.0, 10.0, cube)
+        assert np.max(np.abs(R)) < 1e-7
+
+
 @pytest.mark.parametrize("harmonics", [15, "auto"])
 @pytest.mark.parametrize("retrace", [False, True])
 def test_warning_exactly_when_incomplete(harmonics, retrace):

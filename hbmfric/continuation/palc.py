@@ -53,6 +53,12 @@ BRIDGE_MIN_SLOPE = 1e-3
 #: a bridged point lies within this factor times the scaled arc length of
 #: the tangent prediction
 BRIDGE_TOLERANCE = 2.0
+#: arc-length continuation in the load (:meth:`Continuation._load_arclength`):
+#: load factor of its first solve, most steps, smallest and largest step
+LOAD_START = 1e-3
+LOAD_STEPS = 400
+LOAD_MIN_STEP = 1e-7
+LOAD_MAX_STEP = 0.2
 
 
 @dataclass
@@ -221,6 +227,9 @@ class Continuation:
         else:
             y, status, it = self._load_ramp(omega0)
             state.n_newton += it
+        if status != _newton.CONVERGED:
+            y, status, it = self._load_arclength(omega0)
+            state.n_newton += it
         if status == _newton.CONVERGED:
             state.y = y
             state.tangent = self._tangent(t0)
@@ -276,6 +285,164 @@ class Continuation:
         finally:
             load[:] = full
         return y, status, evaluations
+
+    def _load_arclength(self, omega: float, max_steps: int = LOAD_STEPS):
+        """First point by pseudo-arclength continuation in the load factor.
+
+        The load ramp (:meth:`_load_ramp`) follows the solution of the
+        stuck linear start in the load factor ``λ`` at fixed Ω and stalls
+        where that solution ceases to exist: at a fold in ``λ`` (a
+        hardening spring above its linear resonance, where the
+        non-resonant solution merges with the middle one before full load
+        and only the resonant one is left, so that Newton from the linear
+        guesses stagnates at the fold). Here the path in ``(X, λ)`` is
+        followed by arc length, around such folds, until it crosses
+        ``λ = 1``; the point there is then solved at fixed Ω by Newton from
+        the interpolation of the two points around the crossing.
+
+        Scaled variables: ``X`` divided by the peak of the linear responses
+        at full load (the size a solution is expected to have), ``λ`` as is.
+        Returns ``(y, status, evaluations)``.
+        """
+        problem = self.problem
+        load = problem.load  # the array the kernel problem holds
+        full = load.copy()
+        n = problem.n_unknowns
+        o = self.options
+        guesses = problem.initial_guesses(omega)
+        sx = max(max(float(np.max(np.abs(g[:n]))) for g in guesses), 1e-300)
+        scale = np.ones(n + 1)
+        scale[:n] = sx
+        tol = self.tol_residual
+        evaluations = 0
+        y = np.empty(n + 1)
+        y[n] = omega
+
+        def evaluate(w):
+            nonlocal evaluations
+            load[:] = w[n] * full
+            y[:n] = w[:n]
+            R, J, state = problem.residual(y)
+            evaluations += 1
+            if state < 0 or not np.all(np.isfinite(R)):
+                return None, None
+            return R, J
+
+        def bordered(J, d, row):
+            """[J_X diag(sx), dR/dλ; row] with equilibrated rows, and the
+            row factors."""
+            A = np.empty((n + 1, n + 1))
+            A[:n, :n] = J[:, :n] * scale[:n]
+            A[:n, n] = d
+            rows = 1.0 / np.maximum(np.max(np.abs(A[:n]), axis=1), 1e-300)
+            A[:n] *= rows[:, None]
+            A[n] = row
+            return A, rows
+
+        def correct(w, w_pred, t, d):
+            """Newton on the hyperplane through w_pred orthogonal to t."""
+            w = w.copy()
+            R, J = evaluate(w)
+            if R is None:
+                return None, 0
+            res = float(np.max(np.abs(R)))
+            for it in range(o.max_newton):
+                A, rows = bordered(J, d, t)
+                b = np.empty(n + 1)
+                b[:n] = -R * rows
+                b[n] = -float(np.dot(t, (w - w_pred) / scale))
+                try:
+                    dw = np.linalg.solve(A, b) * scale
+                except np.linalg.LinAlgError:
+                    return None, it
+                if not np.all(np.isfinite(dw)):
+                    return None, it
+                step = float(np.max(np.abs(dw / scale)))
+                if res <= tol and step <= o.tol_step:
+                    return w, it
+                lam = 1.0
+                for _ in range(10):
+                    trial = w + lam * dw
+                    Rt, Jt = evaluate(trial)
+                    rt = float(np.max(np.abs(Rt))) if Rt is not None else np.inf
+                    if rt <= tol or rt < (1.0 - 1e-4 * lam) * res:
+                        break
+                    lam *= 0.5
+                if Rt is None:
+                    return None, it
+                w, R, J, res = trial, Rt, Jt, rt
+            return (w, o.max_newton) if res <= tol else (None, o.max_newton)
+
+        def tangent(J, d, previous):
+            A, _ = bordered(J, d, previous)
+            rhs = np.zeros(n + 1)
+            rhs[n] = 1.0
+            try:
+                t = np.linalg.solve(A, rhs)
+            except np.linalg.LinAlgError:
+                return None
+            norm = float(np.linalg.norm(t))
+            return t / norm if np.isfinite(norm) and norm > 0.0 else None
+
+        status = _newton.MAX_ITERATIONS
+        out = np.full(n + 1, np.nan)
+        try:
+            lam0 = LOAD_START
+            load[:] = lam0 * full
+            budget = max(8 * o.max_newton, 100)
+            y0, status, it = self.solve_at(omega, lam0 * guesses[0][:n], budget)
+            evaluations += it
+            if status != _newton.CONVERGED:
+                return out, status, evaluations
+            status = _newton.MAX_ITERATIONS
+            w = np.append(y0[:n], lam0)
+            # dR/dλ: the residual is affine in the load
+            R1, _ = evaluate(np.append(w[:n], 1.0))
+            R0, J0 = evaluate(np.append(w[:n], 0.0))
+            if R1 is None or R0 is None:
+                return out, status, evaluations
+            d = R1 - R0
+            e_lam = np.zeros(n + 1)
+            e_lam[n] = 1.0
+            t = tangent(J0, d, e_lam)
+            ds = 0.05
+            for _ in range(max_steps):
+                if t is None or ds < LOAD_MIN_STEP:
+                    break
+                w_pred = w + ds * t * scale
+                w_new, it = correct(w_pred, w_pred, t, d)
+                ok = w_new is not None
+                if ok:
+                    _, J = evaluate(w_new)
+                    t_new = tangent(J, d, t) if J is not None else None
+                    ok = (
+                        t_new is not None
+                        and float(np.max(np.abs(w_new - w_pred) / scale))
+                        <= o.max_correction * ds
+                        and float(np.dot(t_new, t)) >= np.cos(o.max_angle)
+                    )
+                if not ok:
+                    ds *= o.shrink
+                    continue
+                if w_new[n] >= 1.0:
+                    # crossed full load: solve there from the interpolation
+                    s = (1.0 - w[n]) / (w_new[n] - w[n])
+                    guess = w[:n] + s * (w_new[:n] - w[:n])
+                    load[:] = full
+                    y1, st, it = self.solve_at(omega, guess, budget)
+                    evaluations += it
+                    if st == _newton.CONVERGED:
+                        return y1, st, evaluations
+                    ds *= o.shrink  # land nearer λ = 1
+                    continue
+                if w_new[n] <= 0.0:
+                    break  # the path went back to no load
+                w, t = w_new, t_new
+                if it <= o.target_newton:
+                    ds = min(ds * o.growth, LOAD_MAX_STEP)
+        finally:
+            load[:] = full
+        return out, status, evaluations
 
     def _tangent(self, previous: np.ndarray) -> np.ndarray:
         return _newton.tangent(self._J, previous, self.scale, self._A)

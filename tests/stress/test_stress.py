@@ -38,15 +38,6 @@ def test_stress_fast(case):
         assert out["spot"]  # the time-integration check ran
 
 
-#: cases known to cover only part of their range (issue 14): the up sweep
-#: turns at a fold near 0.314 and leaves at 0.3 (reported as "end of
-#: frequency range reached" before), and the retrace finds no starting
-#: point at 3 rad/s (Newton stalls at |R| = 8e-4 from the linear guesses
-#: between three coexisting solutions). The same case twice: F = 10, k3 = 1
-#: and F = 1, k3 = 100 differ by an amplitude scale.
-INCOMPLETE = {"cubic ratio=10 stiffness_ratio=1", "cubic ratio=1 stiffness_ratio=100"}
-
-
 _STALL = (
     "stall at min_step from both ends at the third-order superharmonic "
     "resonance in gross slip (Ω ≈ 0.34-0.40), CoverageWarning"
@@ -86,9 +77,6 @@ KNOWN = {
 
 
 def _marked(case):
-    if case.name in INCOMPLETE:
-        reason = "covers [0.3, 0.314] only; no start at 3 rad/s"
-        return pytest.param(case, marks=pytest.mark.xfail(reason=reason, strict=True))
     if case.name in KNOWN:
         mark = pytest.mark.xfail(reason=KNOWN[case.name], strict=True)
         return pytest.param(case, marks=mark)
