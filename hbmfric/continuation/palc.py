@@ -53,6 +53,14 @@ BRIDGE_MIN_SLOPE = 1e-3
 #: a bridged point lies within this factor times the scaled arc length of
 #: the tangent prediction
 BRIDGE_TOLERANCE = 2.0
+#: a turn past a seam (:meth:`Continuation._turn`): distances past the
+#: stalled point (scaled) at which the Jacobian of the next piece is taken,
+#: the probe distance that picks the tangent's sign, the steps tried, and
+#: the cosine to the reversed old tangent above which a step leads back
+TURN_PROBES = (1e-6, 1e-5, 1e-4)
+TURN_PROBE = 1e-5
+TURN_STEPS = (1e-3, 1e-4)
+TURN_BACK = 0.99
 #: arc-length continuation in the load (:meth:`Continuation._load_arclength`):
 #: load factor of its first solve, most steps, smallest and largest step
 LOAD_START = 1e-3
@@ -471,7 +479,7 @@ class Continuation:
         if outcome in (_arclength.REJECTED, _arclength.STEP_TOO_SMALL):
             state.n_rejected += 1
             if outcome == _arclength.STEP_TOO_SMALL:
-                if self._bridge(state):
+                if self._bridge(state) or self._turn(state):
                     return state
                 return self._finish(state, MIN_STEP)
             return state
@@ -528,7 +536,7 @@ class Continuation:
         if outcome == _arclength.RANGE_LEFT:
             return self._land_on_boundary(state, self._y_new.copy())
         if outcome == _arclength.STEP_BELOW_MIN:
-            if self._bridge(state):
+            if self._bridge(state) or self._turn(state):
                 return state
             return self._finish(state, MIN_STEP)
         if outcome == _arclength.BUDGET_SPENT:
@@ -596,6 +604,102 @@ class Continuation:
             state.step = self.options.initial_step
             state.n_bridges += 1
             return True
+        return False
+
+    def _turn(self, state: ContinuationState) -> bool:
+        """Go on past a seam where the branch turns by more than a right
+        angle.
+
+        Where the residual is only piecewise smooth (a contact law's
+        Jacobian jumps when a pair of reversals of the contact displacement
+        is born or dies), the branch can run into a seam and leave it along
+        a direction at more than 90° to the one it came from: a fold
+        without a smooth turn (the stiff Masing laws in gross slip at the
+        third superharmonic resonance, where the branch zigzags in Ω). The
+        predictor along the old tangent then points away from every
+        solution and the corrector fails at every step size, so the step
+        collapses at the seam; a fixed-Ω bridge does not apply where the
+        tangent is nearly vertical in Ω.
+
+        The tangent of the piece beyond the seam is the null direction of
+        the Jacobian just past it (``TURN_PROBES`` along the old tangent);
+        its sign is the one along which the residual stays smaller (the
+        other sign enters the old piece's side, where the residual grows
+        at first order). From the point, a step of ``TURN_STEPS`` along
+        that tangent is accepted by the ordinary tests relative to it
+        (converged, correction at most ``max_correction`` times the step,
+        turn at most ``max_angle``) and when it does not lead back along
+        the traced piece; the point is recorded as a corner (and a fold when
+        Ω turns). Counted with the bridges (at most ``MAX_BRIDGES``).
+        Returns whether a point was added.
+        """
+        if state.n_bridges >= MAX_BRIDGES:
+            return False
+        n = self.problem.n_unknowns
+        o = self.options
+        y0 = state.y
+        t0 = state.tangent
+        scale = self.scale
+        work = self._work
+        R, J, A, piv, y_pred, y_new, t_new = work
+        for delta in TURN_PROBES:
+            _, J_side, aft = self.problem.residual(y0 + delta * t0 * scale)
+            state.n_newton += 1
+            if aft < 0:
+                continue
+            t1 = _newton.tangent(J_side, t0, scale, A)
+            if not np.all(np.isfinite(t1)):
+                continue
+            sizes = []
+            for sign in (1.0, -1.0):
+                r, _, aft = self.problem.residual(y0 + sign * TURN_PROBE * t1 * scale)
+                state.n_newton += 1
+                sizes.append(float(np.max(np.abs(r))) if aft >= 0 else np.inf)
+            if not min(sizes) < np.inf:
+                continue
+            t1 = t1 if sizes[0] <= sizes[1] else -t1
+            for ds in TURN_STEPS:
+                y = y0.copy()
+                status, evaluations, _, distance, angle = _newton.palc_step(
+                    self.problem.kernel_problem,
+                    y,
+                    t1,
+                    ds,
+                    scale,
+                    self.tol_residual,
+                    o.tol_step,
+                    o.max_newton,
+                    R,
+                    J,
+                    A,
+                    piv,
+                    y_pred,
+                    y_new,
+                    t_new,
+                )
+                state.n_newton += evaluations
+                if status != _newton.CONVERGED:
+                    continue
+                if not (distance <= o.max_correction * ds and angle <= o.max_angle):
+                    continue
+                if not self.low <= y_new[n] <= self.high:
+                    continue
+                chord = (y_new - y0) / scale
+                length = float(np.linalg.norm(chord))
+                if not length > 0.0 or -float(np.dot(chord, t0)) > TURN_BACK * length:
+                    continue  # back along the traced piece
+                flag = _arclength.ACCEPTED | _arclength.CORNER
+                if (t_new[n] > 0.0) != (t0[n] > 0.0):
+                    flag |= _arclength.FOLD
+                tangent = t_new.copy()
+                self._record(
+                    state, y_new[None, :].copy(), tangent[-1:], np.array([flag])
+                )
+                state.y = y_new.copy()
+                state.tangent = tangent
+                state.step = ds
+                state.n_bridges += 1
+                return True
         return False
 
     def _placeholder_calibration(self) -> tuple:
