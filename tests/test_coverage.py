@@ -258,6 +258,31 @@ def test_stiff_menq_branch_passes_superharmonic_region(no_coverage_warning):
     assert error < 5e-2, why
 
 
+@pytest.mark.filterwarnings("ignore::hbmfric.AccuracyWarning")
+def test_stiff_iwan_branch_turns_past_seams(no_coverage_warning):
+    """Iwan (Segalman, 50 elements) kt/k = 1e4, F = 10 f_s, ζ = 0.01: at the
+    third superharmonic resonance in gross slip the up sweep stalled at
+    Ω = 0.3483 and the retrace from 150 rad/s at 0.4028. At a seam of the
+    piecewise smooth residual the branch leaves at more than a right angle
+    to the direction it came from: the predictor points away from every
+    solution and the corrector failed at every step size; the fixed-Ω
+    bridge does not apply (tangent nearly vertical in Ω). The run now
+    takes the tangent beyond the seam and reaches the end in one piece,
+    increasing in Ω, and points across the former gap agree with time
+    integration started on them (5e-3, the stress matrix's tolerance)."""
+    from stress.cases import Case, build, spot_check
+
+    osc, force, omega = build(Case(law="iwan", ratio=10.0, stiffness_ratio=1e4))
+    b = hf.frf(osc, force, omega, 15, retrace=False)
+    assert b.complete and b.stop_reason == RANGE_END and b.info["bridges"] > 0
+    assert np.all(np.diff(b.omega) > 0.0)
+    gap = np.nonzero((b.omega > 0.3483) & (b.omega < 0.4028))[0]
+    assert gap.size > 20
+    for i in gap[:: gap.size // 4]:
+        error, why, _ = spot_check(osc, force, b, i)
+        assert error < 5e-3, (b.omega[i], why)
+
+
 def test_barely_slipping_jenkins_branch_reaches_the_end(no_coverage_warning):
     """Jenkins kt/k = 1e5, ζ = 1e-3, F = f_s: above Ω ≈ 25 the stuck
     response barely exceeds the slip limit (kt |x| ≈ 1.02 f_s), and the
