@@ -20,8 +20,15 @@ can leave the range there, with only part of it covered), at
 ``max_steps``, or when the step falls below ``min_step`` and no bridge
 (:meth:`Continuation._bridge`: a fixed-Ω solve a little further along the
 tangent, for seams of the piecewise-smooth residual where the corrector
-fails at every step size) gets past; it never raises on a numerical
+fails at every step size) and no turn (:meth:`Continuation._turn`: a step
+along the tangent of the piece beyond a seam, where the branch leaves the
+seam at more than a right angle) gets past; it never raises on a numerical
 failure and never stores a non-finite point.
+
+The first point: Newton from the stuck and the free linearisations, then a
+load ramp (:meth:`Continuation._load_ramp`), then arc-length continuation
+in the load (:meth:`Continuation._load_arclength`), which goes round a fold
+in the load where the solution the linear guesses lead to ceases to exist.
 """
 
 from __future__ import annotations
@@ -211,7 +218,9 @@ class Continuation:
         return y, status, it
 
     def init(self, guess: np.ndarray | None = None) -> ContinuationState:
-        """Solve the first point and set up the state."""
+        """Solve the first point and set up the state: Newton from ``guess``
+        and the linearisations, then the load ramp, then arc-length
+        continuation in the load (module doc)."""
         n = self.problem.n_unknowns
         omega0 = self.low if self.direction > 0 else self.high
         guesses = [guess] if guess is not None else []
