@@ -124,6 +124,20 @@ def test_retrace_starts_past_a_load_fold(no_coverage_warning):
         assert np.max(np.abs(R)) < 1e-7
 
 
+def test_range_end_only_claimed_with_a_point_on_the_boundary():
+    """Rigid Coulomb, F = 10 f_s, H = 3, swept down over (0.3, 3): the path
+    leaves the range below 0.3, but Newton finds no point at 0.3 itself
+    (H = 3 has none there: the up sweep finds no start). The stop reason
+    used to say "end of frequency range reached" with the last point at
+    0.3055; it now says that no point was found on the boundary."""
+    osc = hf.Oscillator(1.0, 0.02, 1.0, hf.Coulomb(slip_force=1.0))
+    with pytest.warns(hf.CoverageWarning, match="no converged point on the boundary"):
+        b = hf.frf(osc, 10.0, (0.3, 3.0), 3, sweep="down", retrace=False)
+    assert b.omega.min() > 0.3 + 1e-3 and not b.complete
+    assert b.stop_reason != RANGE_END and b.stop_reason.startswith(RANGE_END)
+    assert f"last point at Ω = {b.omega[-1]:.6g}" in b.stop_reason
+
+
 @pytest.mark.parametrize("harmonics", [15, "auto"])
 @pytest.mark.parametrize("retrace", [False, True])
 def test_warning_exactly_when_incomplete(harmonics, retrace):

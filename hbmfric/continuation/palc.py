@@ -49,6 +49,9 @@ RANGE_START = "turned back at a fold and left the range at its starting end"
 MAX_STEPS = "maximum number of steps reached"
 MIN_STEP = "step size fell below min_step"
 NO_START = "no converged starting point"
+#: added to RANGE_END / RANGE_START when the step left the range but Newton
+#: found no point on the boundary itself
+NO_BOUNDARY_POINT = "but no converged point on the boundary"
 
 #: most bridges (:meth:`Continuation._bridge`) in one run
 MAX_BRIDGES = 50
@@ -736,7 +739,9 @@ class Continuation:
         """The step left the range: solve the last point on the boundary.
 
         The stop reason says through which end: the far one (``RANGE_END``)
-        or, after a fold, the one the run started from (``RANGE_START``)."""
+        or, after a fold, the one the run started from (``RANGE_START``),
+        and, when Newton finds no point on the boundary (the branch ends
+        short of it), ``NO_BOUNDARY_POINT`` with where the last point is."""
         n = self.problem.n_unknowns
         y_in = state.y
         left_high = y_out[n] > self.high
@@ -745,13 +750,19 @@ class Continuation:
         guess = y_in[:n] + s * (y_out[:n] - y_in[:n])
         y, status, it = self.solve_at(bound, guess)
         state.n_newton += it
+        far = left_high == (self.direction > 0)
+        reason = RANGE_END if far else RANGE_START
         if status == _newton.CONVERGED and np.all(np.isfinite(y)):
             state.points.append(y.copy())
             state.tangents_omega.append(state.tangent[n])
             state.y = y
             state.n_steps += 1
-        far = left_high == (self.direction > 0)
-        return self._finish(state, RANGE_END if far else RANGE_START)
+        else:
+            reason += (
+                f" ({NO_BOUNDARY_POINT} Ω = {bound:.6g} rad/s; last point at "
+                f"Ω = {y_in[n]:.6g} rad/s)"
+            )
+        return self._finish(state, reason)
 
     @staticmethod
     def _finish(state: ContinuationState, reason: str) -> ContinuationState:
