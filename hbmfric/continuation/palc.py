@@ -322,7 +322,26 @@ class Continuation:
 
         Scaled variables: ``X`` divided by the peak of the linear responses
         at full load (the size a solution is expected to have), ``λ`` as is.
-        Returns ``(y, status, evaluations)``.
+        Steps follow the acceptance tests of the continuation (converged,
+        correction at most ``max_correction`` times the step, turn at most
+        ``max_angle``); the path is abandoned when it returns to ``λ <= 0``,
+        after ``max_steps`` steps or below ``LOAD_MIN_STEP``.
+
+        Parameters
+        ----------
+        omega : float
+            Frequency of the point, rad/s.
+        max_steps : int, optional
+            Most arc-length steps in the load.
+
+        Returns
+        -------
+        y : ndarray, shape (n_unknowns + 1,)
+            ``[X, Ω]`` at full load (NaN when nothing converged).
+        status : int
+            ``CONVERGED`` or a failure code of :mod:`hbmfric.kernels.newton`.
+        evaluations : int
+            Residual evaluations spent.
         """
         problem = self.problem
         load = problem.load  # the array the kernel problem holds
@@ -643,7 +662,17 @@ class Continuation:
         turn at most ``max_angle``) and when it does not lead back along
         the traced piece; the point is recorded as a corner (and a fold when
         Ω turns). Counted with the bridges (at most ``MAX_BRIDGES``).
-        Returns whether a point was added.
+
+        Parameters
+        ----------
+        state : ContinuationState
+            Stalled state; on success its point, tangent (unit, scaled,
+            shape (n_unknowns + 1,)) and step are replaced.
+
+        Returns
+        -------
+        bool
+            Whether a point was added.
         """
         if state.n_bridges >= MAX_BRIDGES:
             return False
