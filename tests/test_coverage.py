@@ -95,6 +95,49 @@ def test_retrace_completes_the_cubic_branch(no_coverage_warning):
         assert np.max(np.abs(R)) < 1e-8
 
 
+@pytest.mark.filterwarnings("ignore::hbmfric.AccuracyWarning")
+def test_retrace_starts_past_a_load_fold(no_coverage_warning):
+    """Cubic k3 = 1, F = 10 over (0.3, 3), swept up: the path turns at a
+    fold near 0.314 and leaves by 0.3. The retrace from 3 rad/s found no
+    starting point: at Ω = 3 the non-resonant solution the linear guesses
+    lead to has just merged with the middle one (single-harmonic balance
+    ``a (1 - Ω²) + 3/4 a³ = F`` peaks at 10.06 ≈ F), Newton and the load
+    ramp stagnate at that fold (|R| = 2e-3) and only the resonant solution
+    is left. Arc-length continuation in the load goes round the fold to
+    it; the retrace then covers the range. The start is the resonant
+    solution (single-harmonic root 3.77, 3 % off at H = 15) and every 7th
+    point of the retrace solves an independent harmonic balance."""
+    b = hf.frf(_cubic(), 10.0, (0.3, 3.0), 15)
+    assert b.complete and b.coverage == (0.3, 3.0)
+    first, second = b.piece_slices()
+    # the retrace, stored in increasing Ω after the first piece, started at 3
+    assert b.omega[second][[0, -1]].tolist() == [0.3, 3.0]
+    a1 = b.amplitude(harmonic=1)[second.stop - 1]
+    roots = np.roots([0.75, 0.0, 1.0 - 9.0, -10.0])
+    upper = max(r.real for r in roots if abs(r.imag) < 1e-12)
+    assert abs(a1 - upper) < 0.05 * upper
+    hn = b.harmonic_numbers
+    for i in range(second.start, second.stop, 7):
+        X = b.coefficients[i, 0]
+        cube = cubic_coefficients(hn, X, 1.0)
+        R = sdof_residual(hn, X, b.omega[i], 1.0, 0.02, 1.0, 10.0, cube)
+        assert np.max(np.abs(R)) < 1e-7
+
+
+def test_range_end_only_claimed_with_a_point_on_the_boundary():
+    """Rigid Coulomb, F = 10 f_s, H = 3, swept down over (0.3, 3): the path
+    leaves the range below 0.3, but Newton finds no point at 0.3 itself
+    (H = 3 has none there: the up sweep finds no start). The stop reason
+    used to say "end of frequency range reached" with the last point at
+    0.3055; it now says that no point was found on the boundary."""
+    osc = hf.Oscillator(1.0, 0.02, 1.0, hf.Coulomb(slip_force=1.0))
+    with pytest.warns(hf.CoverageWarning, match="no converged point on the boundary"):
+        b = hf.frf(osc, 10.0, (0.3, 3.0), 3, sweep="down", retrace=False)
+    assert b.omega.min() > 0.3 + 1e-3 and not b.complete
+    assert b.stop_reason != RANGE_END and b.stop_reason.startswith(RANGE_END)
+    assert f"last point at Ω = {b.omega[-1]:.6g}" in b.stop_reason
+
+
 @pytest.mark.parametrize("harmonics", [15, "auto"])
 @pytest.mark.parametrize("retrace", [False, True])
 def test_warning_exactly_when_incomplete(harmonics, retrace):
@@ -227,6 +270,31 @@ def test_stiff_menq_branch_passes_superharmonic_region(no_coverage_warning):
     i = int(np.argmin(np.abs(b.omega - 0.45)))
     error, why, _ = spot_check(osc, 2.0, b, i)
     assert error < 5e-2, why
+
+
+@pytest.mark.filterwarnings("ignore::hbmfric.AccuracyWarning")
+def test_stiff_iwan_branch_turns_past_seams(no_coverage_warning):
+    """Iwan (Segalman, 50 elements) kt/k = 1e4, F = 10 f_s, ζ = 0.01: at the
+    third superharmonic resonance in gross slip the up sweep stalled at
+    Ω = 0.3483 and the retrace from 150 rad/s at 0.4028. At a seam of the
+    piecewise smooth residual the branch leaves at more than a right angle
+    to the direction it came from: the predictor points away from every
+    solution and the corrector failed at every step size; the fixed-Ω
+    bridge does not apply (tangent nearly vertical in Ω). The run now
+    takes the tangent beyond the seam and reaches the end in one piece,
+    increasing in Ω, and points across the former gap agree with time
+    integration started on them (5e-3, the stress matrix's tolerance)."""
+    from stress.cases import Case, build, spot_check
+
+    osc, force, omega = build(Case(law="iwan", ratio=10.0, stiffness_ratio=1e4))
+    b = hf.frf(osc, force, omega, 15, retrace=False)
+    assert b.complete and b.stop_reason == RANGE_END and b.info["bridges"] > 0
+    assert np.all(np.diff(b.omega) > 0.0)
+    gap = np.nonzero((b.omega > 0.3483) & (b.omega < 0.4028))[0]
+    assert gap.size > 20
+    for i in gap[:: gap.size // 4]:
+        error, why, _ = spot_check(osc, force, b, i)
+        assert error < 5e-3, (b.omega[i], why)
 
 
 def test_barely_slipping_jenkins_branch_reaches_the_end(no_coverage_warning):

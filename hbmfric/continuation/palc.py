@@ -20,8 +20,15 @@ can leave the range there, with only part of it covered), at
 ``max_steps``, or when the step falls below ``min_step`` and no bridge
 (:meth:`Continuation._bridge`: a fixed-Ω solve a little further along the
 tangent, for seams of the piecewise-smooth residual where the corrector
-fails at every step size) gets past; it never raises on a numerical
+fails at every step size) and no turn (:meth:`Continuation._turn`: a step
+along the tangent of the piece beyond a seam, where the branch leaves the
+seam at more than a right angle) gets past; it never raises on a numerical
 failure and never stores a non-finite point.
+
+The first point: Newton from the stuck and the free linearisations, then a
+load ramp (:meth:`Continuation._load_ramp`), then arc-length continuation
+in the load (:meth:`Continuation._load_arclength`), which goes round a fold
+in the load where the solution the linear guesses lead to ceases to exist.
 """
 
 from __future__ import annotations
@@ -42,6 +49,9 @@ RANGE_START = "turned back at a fold and left the range at its starting end"
 MAX_STEPS = "maximum number of steps reached"
 MIN_STEP = "step size fell below min_step"
 NO_START = "no converged starting point"
+#: added to RANGE_END / RANGE_START when the step left the range but Newton
+#: found no point on the boundary itself
+NO_BOUNDARY_POINT = "but no converged point on the boundary"
 
 #: most bridges (:meth:`Continuation._bridge`) in one run
 MAX_BRIDGES = 50
@@ -53,6 +63,20 @@ BRIDGE_MIN_SLOPE = 1e-3
 #: a bridged point lies within this factor times the scaled arc length of
 #: the tangent prediction
 BRIDGE_TOLERANCE = 2.0
+#: a turn past a seam (:meth:`Continuation._turn`): distances past the
+#: stalled point (scaled) at which the Jacobian of the next piece is taken,
+#: the probe distance that picks the tangent's sign, the steps tried, and
+#: the cosine to the reversed old tangent above which a step leads back
+TURN_PROBES = (1e-6, 1e-5, 1e-4)
+TURN_PROBE = 1e-5
+TURN_STEPS = (1e-3, 1e-4)
+TURN_BACK = 0.99
+#: arc-length continuation in the load (:meth:`Continuation._load_arclength`):
+#: load factor of its first solve, most steps, smallest and largest step
+LOAD_START = 1e-3
+LOAD_STEPS = 400
+LOAD_MIN_STEP = 1e-7
+LOAD_MAX_STEP = 0.2
 
 
 @dataclass
@@ -197,7 +221,9 @@ class Continuation:
         return y, status, it
 
     def init(self, guess: np.ndarray | None = None) -> ContinuationState:
-        """Solve the first point and set up the state."""
+        """Solve the first point and set up the state: Newton from ``guess``
+        and the linearisations, then the load ramp, then arc-length
+        continuation in the load (module doc)."""
         n = self.problem.n_unknowns
         omega0 = self.low if self.direction > 0 else self.high
         guesses = [guess] if guess is not None else []
@@ -220,6 +246,9 @@ class Continuation:
                 break
         else:
             y, status, it = self._load_ramp(omega0)
+            state.n_newton += it
+        if status != _newton.CONVERGED:
+            y, status, it = self._load_arclength(omega0)
             state.n_newton += it
         if status == _newton.CONVERGED:
             state.y = y
@@ -277,6 +306,183 @@ class Continuation:
             load[:] = full
         return y, status, evaluations
 
+    def _load_arclength(self, omega: float, max_steps: int = LOAD_STEPS):
+        """First point by pseudo-arclength continuation in the load factor.
+
+        The load ramp (:meth:`_load_ramp`) follows the solution of the
+        stuck linear start in the load factor ``λ`` at fixed Ω and stalls
+        where that solution ceases to exist: at a fold in ``λ`` (a
+        hardening spring above its linear resonance, where the
+        non-resonant solution merges with the middle one before full load
+        and only the resonant one is left, so that Newton from the linear
+        guesses stagnates at the fold). Here the path in ``(X, λ)`` is
+        followed by arc length, around such folds, until it crosses
+        ``λ = 1``; the point there is then solved at fixed Ω by Newton from
+        the interpolation of the two points around the crossing.
+
+        Scaled variables: ``X`` divided by the peak of the linear responses
+        at full load (the size a solution is expected to have), ``λ`` as is.
+        Steps follow the acceptance tests of the continuation (converged,
+        correction at most ``max_correction`` times the step, turn at most
+        ``max_angle``); the path is abandoned when it returns to ``λ <= 0``,
+        after ``max_steps`` steps or below ``LOAD_MIN_STEP``.
+
+        Parameters
+        ----------
+        omega : float
+            Frequency of the point, rad/s.
+        max_steps : int, optional
+            Most arc-length steps in the load.
+
+        Returns
+        -------
+        y : ndarray, shape (n_unknowns + 1,)
+            ``[X, Ω]`` at full load (NaN when nothing converged).
+        status : int
+            ``CONVERGED`` or a failure code of :mod:`hbmfric.kernels.newton`.
+        evaluations : int
+            Residual evaluations spent.
+        """
+        problem = self.problem
+        load = problem.load  # the array the kernel problem holds
+        full = load.copy()
+        n = problem.n_unknowns
+        o = self.options
+        guesses = problem.initial_guesses(omega)
+        sx = max(max(float(np.max(np.abs(g[:n]))) for g in guesses), 1e-300)
+        scale = np.ones(n + 1)
+        scale[:n] = sx
+        tol = self.tol_residual
+        evaluations = 0
+        y = np.empty(n + 1)
+        y[n] = omega
+
+        def evaluate(w):
+            nonlocal evaluations
+            load[:] = w[n] * full
+            y[:n] = w[:n]
+            R, J, state = problem.residual(y)
+            evaluations += 1
+            if state < 0 or not np.all(np.isfinite(R)):
+                return None, None
+            return R, J
+
+        def bordered(J, d, row):
+            """[J_X diag(sx), dR/dλ; row] with equilibrated rows, and the
+            row factors."""
+            A = np.empty((n + 1, n + 1))
+            A[:n, :n] = J[:, :n] * scale[:n]
+            A[:n, n] = d
+            rows = 1.0 / np.maximum(np.max(np.abs(A[:n]), axis=1), 1e-300)
+            A[:n] *= rows[:, None]
+            A[n] = row
+            return A, rows
+
+        def correct(w, w_pred, t, d):
+            """Newton on the hyperplane through w_pred orthogonal to t."""
+            w = w.copy()
+            R, J = evaluate(w)
+            if R is None:
+                return None, 0
+            res = float(np.max(np.abs(R)))
+            for it in range(o.max_newton):
+                A, rows = bordered(J, d, t)
+                b = np.empty(n + 1)
+                b[:n] = -R * rows
+                b[n] = -float(np.dot(t, (w - w_pred) / scale))
+                try:
+                    dw = np.linalg.solve(A, b) * scale
+                except np.linalg.LinAlgError:
+                    return None, it
+                if not np.all(np.isfinite(dw)):
+                    return None, it
+                step = float(np.max(np.abs(dw / scale)))
+                if res <= tol and step <= o.tol_step:
+                    return w, it
+                lam = 1.0
+                for _ in range(10):
+                    trial = w + lam * dw
+                    Rt, Jt = evaluate(trial)
+                    rt = float(np.max(np.abs(Rt))) if Rt is not None else np.inf
+                    if rt <= tol or rt < (1.0 - 1e-4 * lam) * res:
+                        break
+                    lam *= 0.5
+                if Rt is None:
+                    return None, it
+                w, R, J, res = trial, Rt, Jt, rt
+            return (w, o.max_newton) if res <= tol else (None, o.max_newton)
+
+        def tangent(J, d, previous):
+            A, _ = bordered(J, d, previous)
+            rhs = np.zeros(n + 1)
+            rhs[n] = 1.0
+            try:
+                t = np.linalg.solve(A, rhs)
+            except np.linalg.LinAlgError:
+                return None
+            norm = float(np.linalg.norm(t))
+            return t / norm if np.isfinite(norm) and norm > 0.0 else None
+
+        status = _newton.MAX_ITERATIONS
+        out = np.full(n + 1, np.nan)
+        try:
+            lam0 = LOAD_START
+            load[:] = lam0 * full
+            budget = max(8 * o.max_newton, 100)
+            y0, status, it = self.solve_at(omega, lam0 * guesses[0][:n], budget)
+            evaluations += it
+            if status != _newton.CONVERGED:
+                return out, status, evaluations
+            status = _newton.MAX_ITERATIONS
+            w = np.append(y0[:n], lam0)
+            # dR/dλ: the residual is affine in the load
+            R1, _ = evaluate(np.append(w[:n], 1.0))
+            R0, J0 = evaluate(np.append(w[:n], 0.0))
+            if R1 is None or R0 is None:
+                return out, status, evaluations
+            d = R1 - R0
+            e_lam = np.zeros(n + 1)
+            e_lam[n] = 1.0
+            t = tangent(J0, d, e_lam)
+            ds = 0.05
+            for _ in range(max_steps):
+                if t is None or ds < LOAD_MIN_STEP:
+                    break
+                w_pred = w + ds * t * scale
+                w_new, it = correct(w_pred, w_pred, t, d)
+                ok = w_new is not None
+                if ok:
+                    _, J = evaluate(w_new)
+                    t_new = tangent(J, d, t) if J is not None else None
+                    ok = (
+                        t_new is not None
+                        and float(np.max(np.abs(w_new - w_pred) / scale))
+                        <= o.max_correction * ds
+                        and float(np.dot(t_new, t)) >= np.cos(o.max_angle)
+                    )
+                if not ok:
+                    ds *= o.shrink
+                    continue
+                if w_new[n] >= 1.0:
+                    # crossed full load: solve there from the interpolation
+                    s = (1.0 - w[n]) / (w_new[n] - w[n])
+                    guess = w[:n] + s * (w_new[:n] - w[:n])
+                    load[:] = full
+                    y1, st, it = self.solve_at(omega, guess, budget)
+                    evaluations += it
+                    if st == _newton.CONVERGED:
+                        return y1, st, evaluations
+                    ds *= o.shrink  # land nearer λ = 1
+                    continue
+                if w_new[n] <= 0.0:
+                    break  # the path went back to no load
+                w, t = w_new, t_new
+                if it <= o.target_newton:
+                    ds = min(ds * o.growth, LOAD_MAX_STEP)
+        finally:
+            load[:] = full
+        return out, status, evaluations
+
     def _tangent(self, previous: np.ndarray) -> np.ndarray:
         return _newton.tangent(self._J, previous, self.scale, self._A)
 
@@ -304,7 +510,7 @@ class Continuation:
         if outcome in (_arclength.REJECTED, _arclength.STEP_TOO_SMALL):
             state.n_rejected += 1
             if outcome == _arclength.STEP_TOO_SMALL:
-                if self._bridge(state):
+                if self._bridge(state) or self._turn(state):
                     return state
                 return self._finish(state, MIN_STEP)
             return state
@@ -361,7 +567,7 @@ class Continuation:
         if outcome == _arclength.RANGE_LEFT:
             return self._land_on_boundary(state, self._y_new.copy())
         if outcome == _arclength.STEP_BELOW_MIN:
-            if self._bridge(state):
+            if self._bridge(state) or self._turn(state):
                 return state
             return self._finish(state, MIN_STEP)
         if outcome == _arclength.BUDGET_SPENT:
@@ -431,6 +637,112 @@ class Continuation:
             return True
         return False
 
+    def _turn(self, state: ContinuationState) -> bool:
+        """Go on past a seam where the branch turns by more than a right
+        angle.
+
+        Where the residual is only piecewise smooth (a contact law's
+        Jacobian jumps when a pair of reversals of the contact displacement
+        is born or dies), the branch can run into a seam and leave it along
+        a direction at more than 90° to the one it came from: a fold
+        without a smooth turn (the stiff Masing laws in gross slip at the
+        third superharmonic resonance, where the branch zigzags in Ω). The
+        predictor along the old tangent then points away from every
+        solution and the corrector fails at every step size, so the step
+        collapses at the seam; a fixed-Ω bridge does not apply where the
+        tangent is nearly vertical in Ω.
+
+        The tangent of the piece beyond the seam is the null direction of
+        the Jacobian just past it (``TURN_PROBES`` along the old tangent);
+        its sign is the one along which the residual stays smaller (the
+        other sign enters the old piece's side, where the residual grows
+        at first order). From the point, a step of ``TURN_STEPS`` along
+        that tangent is accepted by the ordinary tests relative to it
+        (converged, correction at most ``max_correction`` times the step,
+        turn at most ``max_angle``) and when it does not lead back along
+        the traced piece; the point is recorded as a corner (and a fold when
+        Ω turns). Counted with the bridges (at most ``MAX_BRIDGES``).
+
+        Parameters
+        ----------
+        state : ContinuationState
+            Stalled state; on success its point, tangent (unit, scaled,
+            shape (n_unknowns + 1,)) and step are replaced.
+
+        Returns
+        -------
+        bool
+            Whether a point was added.
+        """
+        if state.n_bridges >= MAX_BRIDGES:
+            return False
+        n = self.problem.n_unknowns
+        o = self.options
+        y0 = state.y
+        t0 = state.tangent
+        scale = self.scale
+        work = self._work
+        R, J, A, piv, y_pred, y_new, t_new = work
+        for delta in TURN_PROBES:
+            _, J_side, aft = self.problem.residual(y0 + delta * t0 * scale)
+            state.n_newton += 1
+            if aft < 0:
+                continue
+            t1 = _newton.tangent(J_side, t0, scale, A)
+            if not np.all(np.isfinite(t1)):
+                continue
+            sizes = []
+            for sign in (1.0, -1.0):
+                r, _, aft = self.problem.residual(y0 + sign * TURN_PROBE * t1 * scale)
+                state.n_newton += 1
+                sizes.append(float(np.max(np.abs(r))) if aft >= 0 else np.inf)
+            if not min(sizes) < np.inf:
+                continue
+            t1 = t1 if sizes[0] <= sizes[1] else -t1
+            for ds in TURN_STEPS:
+                y = y0.copy()
+                status, evaluations, _, distance, angle = _newton.palc_step(
+                    self.problem.kernel_problem,
+                    y,
+                    t1,
+                    ds,
+                    scale,
+                    self.tol_residual,
+                    o.tol_step,
+                    o.max_newton,
+                    R,
+                    J,
+                    A,
+                    piv,
+                    y_pred,
+                    y_new,
+                    t_new,
+                )
+                state.n_newton += evaluations
+                if status != _newton.CONVERGED:
+                    continue
+                if not (distance <= o.max_correction * ds and angle <= o.max_angle):
+                    continue
+                if not self.low <= y_new[n] <= self.high:
+                    continue
+                chord = (y_new - y0) / scale
+                length = float(np.linalg.norm(chord))
+                if not length > 0.0 or -float(np.dot(chord, t0)) > TURN_BACK * length:
+                    continue  # back along the traced piece
+                flag = _arclength.ACCEPTED | _arclength.CORNER
+                if (t_new[n] > 0.0) != (t0[n] > 0.0):
+                    flag |= _arclength.FOLD
+                tangent = t_new.copy()
+                self._record(
+                    state, y_new[None, :].copy(), tangent[-1:], np.array([flag])
+                )
+                state.y = y_new.copy()
+                state.tangent = tangent
+                state.step = ds
+                state.n_bridges += 1
+                return True
+        return False
+
     def _placeholder_calibration(self) -> tuple:
         """A calibration argument of the right types for a trace without
         adaptive harmonics (never used)."""
@@ -456,7 +768,9 @@ class Continuation:
         """The step left the range: solve the last point on the boundary.
 
         The stop reason says through which end: the far one (``RANGE_END``)
-        or, after a fold, the one the run started from (``RANGE_START``)."""
+        or, after a fold, the one the run started from (``RANGE_START``),
+        and, when Newton finds no point on the boundary (the branch ends
+        short of it), ``NO_BOUNDARY_POINT`` with where the last point is."""
         n = self.problem.n_unknowns
         y_in = state.y
         left_high = y_out[n] > self.high
@@ -465,13 +779,19 @@ class Continuation:
         guess = y_in[:n] + s * (y_out[:n] - y_in[:n])
         y, status, it = self.solve_at(bound, guess)
         state.n_newton += it
+        far = left_high == (self.direction > 0)
+        reason = RANGE_END if far else RANGE_START
         if status == _newton.CONVERGED and np.all(np.isfinite(y)):
             state.points.append(y.copy())
             state.tangents_omega.append(state.tangent[n])
             state.y = y
             state.n_steps += 1
-        far = left_high == (self.direction > 0)
-        return self._finish(state, RANGE_END if far else RANGE_START)
+        else:
+            reason += (
+                f" ({NO_BOUNDARY_POINT} Ω = {bound:.6g} rad/s; last point at "
+                f"Ω = {y_in[n]:.6g} rad/s)"
+            )
+        return self._finish(state, reason)
 
     @staticmethod
     def _finish(state: ContinuationState, reason: str) -> ContinuationState:
