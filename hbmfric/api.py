@@ -36,8 +36,9 @@ def _omega_range(omega) -> tuple[float, float]:
     return lo, hi
 
 
-def _problem(system, force, harmonics, n_time, symmetry, aft, condense):
-    """The HBM discretisation: condensed onto the contact DOF or full."""
+def _problem(system, force, harmonics, n_time, symmetry, aft, condense, subharmonic=1):
+    """The HBM discretisation: condensed onto the contact DOF or full
+    (``subharmonic``: see :class:`~hbmfric.hbm.HBMProblem`)."""
     from .condensation import CondensedHBMProblem, can_condense
 
     data = check_system(system)  # before anything reads the system
@@ -52,6 +53,7 @@ def _problem(system, force, harmonics, n_time, symmetry, aft, condense):
             symmetry,
             aft,
             receptance=condense,
+            subharmonic=subharmonic,
             _checked=data,
         )
     if not isinstance(condense, bool | np.bool_):
@@ -59,7 +61,16 @@ def _problem(system, force, harmonics, n_time, symmetry, aft, condense):
             f"condense must be True, False, None, 'modal' or 'direct', got {condense!r}"
         )
     cls = CondensedHBMProblem if condense else HBMProblem
-    return cls(system, force, harmonics, n_time, symmetry, aft, _checked=data)
+    return cls(
+        system,
+        force,
+        harmonics,
+        n_time,
+        symmetry,
+        aft,
+        subharmonic=subharmonic,
+        _checked=data,
+    )
 
 
 def _describe(system, problem: HBMProblem, extra: dict) -> dict:
@@ -220,10 +231,34 @@ def frf(
             condense,
             retrace,
         )
-    tolerance = finite_float(
-        "harmonic_tolerance", harmonic_tolerance, low=0.0, low_open=True, high=1.0
-    )
     problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
+    return _frf_fixed(
+        system,
+        problem,
+        (lo, hi),
+        sweep,
+        harmonic_tolerance,
+        options,
+        amplitude_scale,
+        retrace,
+    )
+
+
+def _frf_fixed(
+    system, problem, omega_range, sweep, tolerance, options, amplitude_scale, retrace
+) -> Branch:
+    """``frf`` with a fixed ``H`` on the discretisation ``problem``.
+
+    A subharmonic problem (``problem.subharmonic = ν > 1``) is traced over
+    ``omega_range`` of the fundamental ``Ω/ν`` (the branch's ``omega``) and
+    carries no truncation estimate (its first harmonic is zero)."""
+    tolerance = finite_float(
+        "harmonic_tolerance", tolerance, low=0.0, low_open=True, high=1.0
+    )
+    lo, hi = omega_range
+    extra = {"omega_range": [lo, hi], "harmonic_tolerance": tolerance}
+    if problem.subharmonic != 1:
+        extra["subharmonic"] = problem.subharmonic
 
     def trace(sweep: str) -> Branch:
         direction = 1 if sweep == "up" else -1
@@ -238,16 +273,10 @@ def frf(
             elapsed,
             pts[:, n].copy(),
             problem.full_coefficients(pts),
-            _describe(
-                system,
-                problem,
-                {
-                    "omega_range": [lo, hi],
-                    "sweep": sweep,
-                    "harmonic_tolerance": tolerance,
-                },
+            _describe(system, problem, {**extra, "sweep": sweep}),
+            truncation_error=(
+                truncation_errors(problem, pts) if problem.subharmonic == 1 else None
             ),
-            truncation_error=truncation_errors(problem, pts),
         )
 
     branch = _covering(trace, sweep, retrace)
