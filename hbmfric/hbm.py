@@ -13,7 +13,7 @@ from .kernels.dft import fourier_matrices
 from .kernels.dlft import COULOMB
 from .kernels.dlft_tail import tail_length
 from .kernels.hbm import AFT_EVENTS, AFT_SAMPLES, NO_CONTACT, hbm_residual
-from .kernels.laws import JENKINS, MASING
+from .kernels.laws import DAHL, JENKINS, MASING
 from .kernels.linear import first_harmonic_response
 from .signals import coefficient_columns
 from .systems.protocol import check_load, check_system
@@ -56,7 +56,19 @@ def select_harmonics(harmonics: int, odd: bool) -> np.ndarray:
     return np.arange(0, harmonics + 1, dtype=np.int64)
 
 
-def default_n_time(harmonic_numbers: np.ndarray, aft: str) -> int:
+#: smallest default ``n_time`` of the sampled AFT of the modified Dahl law.
+#: The sampled march turns at a sample, not at the reversal of ``u`` between
+#: two samples; measured on the belt tensioner (f1 = 20 N, 41.2 Hz, H = 15,
+#: against the shooting reference of
+#: :mod:`hbmfric.systems.tensioner_shooting`), the first-harmonic amplitude
+#: is 9.7e-5 off at ``n_time = 240`` (16 H) and 2e-8 at 960; at H = 63,
+#: 1008 samples give 8.5e-7 (``bench/README.md``, "Belt tensioner").
+DAHL_MIN_SAMPLES = 1024
+
+
+def default_n_time(
+    harmonic_numbers: np.ndarray, aft: str, law_code: int | None = None
+) -> int:
     """Default samples per period.
 
     ``events``: the samples only detect stick/slip events (Jenkins) or
@@ -64,12 +76,15 @@ def default_n_time(harmonic_numbers: np.ndarray, aft: str) -> int:
     would go unseen, so take 8 samples per period of the highest harmonic
     (at least 32). ``samples``: ``16 H`` rounded to a
     multiple of 8, alias-free for a cubic law and keeping the friction
-    aliasing small.
+    aliasing small; for the modified Dahl law (``law_code`` ``DAHL``) at
+    least :data:`DAHL_MIN_SAMPLES`, since its error is set by how close a
+    sample falls to each reversal of the displacement, not by ``H``.
     """
     h_max = int(harmonic_numbers[-1])
     if aft == "events":
         return max(32, 8 * h_max)
-    return max(32, 8 * ((16 * h_max + 7) // 8))
+    floor = DAHL_MIN_SAMPLES if law_code == DAHL else 32
+    return max(floor, 8 * ((16 * h_max + 7) // 8))
 
 
 class HBMProblem:
@@ -210,7 +225,7 @@ class HBMProblem:
             )
         aft = self.aft
         if n_time is None:
-            n_time = default_n_time(self.harmonic_numbers, aft)
+            n_time = default_n_time(self.harmonic_numbers, aft, self._law[0])
         n_time = positive_int("n_time", n_time, low=1)
         if n_time <= 2 * self.harmonics:
             raise ValueError(

@@ -109,7 +109,12 @@ class _Rig:
             [
                 v1,
                 v2,
-                (-T + self.f0 + self.force * math.sin(self.omega * t) + self.m1 * self.g)
+                (
+                    -T
+                    + self.f0
+                    + self.force * math.sin(self.omega * t)
+                    + self.m1 * self.g
+                )
                 / self.m1,
                 (T - F + self.m2 * self.g) / self.m2,
                 self.beta * sigma * v2,
@@ -302,4 +307,49 @@ def shooting_steady_state(
     )
 
 
-__all__ = ["ShootingSolution", "shooting_steady_state"]
+def state_at_zero(
+    rig: BeltTensioner,
+    harmonic_numbers: np.ndarray,
+    coefficients: np.ndarray,
+    omega: float,
+    n_samples: int = 1024,
+) -> np.ndarray:
+    """``[u1, u2, u̇1, u̇2, F]`` at ``t = 0`` of a harmonic-balance point, to
+    start the shooting on the same branch (m, m/s, N).
+
+    Parameters
+    ----------
+    rig : BeltTensioner
+    harmonic_numbers : ndarray of int, shape (n_harmonics,)
+    coefficients : ndarray, shape (2, n_coef)
+        Layout ``[X0, Xc1, Xs1, …]``, m.
+    omega : float
+        Fundamental pulsation, rad/s.
+    n_samples : int
+        Samples of ``u2`` over the period for the Dahl force's loop.
+
+    Returns
+    -------
+    ndarray, shape (5,)
+    """
+    from ..signals import synthesis_matrix
+
+    X = np.asarray(coefficients, dtype=float)
+    u = np.zeros(2)
+    v = np.zeros(2)
+    col = 0
+    for k in harmonic_numbers:
+        if k == 0:
+            u += X[:, col]
+            col += 1
+            continue
+        u += X[:, col]
+        v += k * omega * X[:, col + 1]
+        col += 2
+    theta = 2.0 * math.pi * np.arange(n_samples) / n_samples
+    u2 = X[1] @ synthesis_matrix(harmonic_numbers, theta).T
+    force = float(rig.tensioner.hysteresis(u2)[0])
+    return np.array([u[0], u[1], v[0], v[1], force])
+
+
+__all__ = ["ShootingSolution", "shooting_steady_state", "state_at_zero"]
