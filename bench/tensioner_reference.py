@@ -224,6 +224,18 @@ def run(out: Path, forces=FORCES, every: int = 1) -> list[dict]:
         refs = np.array(refs)
         interp = _interpolate(branch, values, freqs)
         interp_err = None if interp is None else _relative(interp, refs)
+        if interp_err is not None:
+            for fr, e in zip(freqs, interp_err, strict=True):
+                rows.append(
+                    {
+                        "force_N": force,
+                        "setting": "default interpolated",
+                        "frequency_Hz": f"{fr:.10g}",
+                        "error_tension": f"{e[0]:.4g}",
+                        "error_h1_shaker": f"{e[1]:.4g}",
+                        "error_h1_pulley": f"{e[2]:.4g}",
+                    }
+                )
         grid_err = {}
         for setting in ("auto", *SCAN):
             b = branch if setting == "auto" else _frf(force, setting, 0)[0]
