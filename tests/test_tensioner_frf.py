@@ -9,7 +9,12 @@ import pytest
 
 import hbmfric as hf
 from hbmfric.condensation import CondensedHBMProblem, can_condense
-from hbmfric.systems.tensioner_response import branch_tension_range, time_domain_frf
+from hbmfric.continuation import ContinuationOptions
+from hbmfric.systems.tensioner_response import (
+    branch_tension_range,
+    hbm_frf,
+    time_domain_frf,
+)
 from hbmfric.systems.tensioner_shooting import shooting_steady_state, state_at_zero
 
 RIG = hf.BeltTensioner()
@@ -111,3 +116,42 @@ def test_default_branch_matches_the_reference(default_branch):
         np.testing.assert_allclose(
             _hbm_values(branch, i), _reference_at(branch, i, 20.0), rtol=1e-4
         )
+
+
+def _check_tension_frf(curve, force, n, rtol):
+    """``n`` points of a :class:`TensionFRF` against the shooting reference."""
+    branch = curve.info["branch"]
+    nu = curve.info["subharmonic"]
+    np.testing.assert_allclose(
+        curve.frequency, nu * branch.omega / (2.0 * math.pi), rtol=1e-14
+    )
+    for i in np.linspace(0, len(branch) - 1, n).astype(int):
+        start = state_at_zero(
+            RIG, branch.harmonic_numbers, branch.coefficients[i], branch.omega[i]
+        )
+        ref = shooting_steady_state(RIG, force, curve.frequency[i], start)
+        assert ref.converged
+        assert curve.tension_range[i] == pytest.approx(ref.tension_range, rel=rtol)
+
+
+def test_hbm_frf_paper_settings_against_the_reference():
+    """``hbm_frf`` (now a layer over ``hf.frf``) with the settings of the
+    paper's Fig. 5 before this change (H = 15, max_step 0.03), f1 = 5 N:
+    the tension range within 1e-4 of the reference (3.6e-5 measured)."""
+    curve = hbm_frf(RIG, 5.0, BAND_HZ, 15, options=ContinuationOptions(max_step=0.03))
+    assert curve.method == "hbm" and curve.info["harmonics"] == 15
+    assert isinstance(curve.info["branch"], hf.Branch)
+    assert curve.info["stop_reason"] == "end of frequency range reached"
+    _check_tension_frf(curve, 5.0, 5, 1e-4)
+
+
+def test_subharmonic_hbm_frf_against_the_reference():
+    """ν = 3 (the paper's resonance at one third of the stuck one) through
+    the common path: 15 harmonics of Ω, within 2e-4 of the reference
+    (1.2e-4 measured, truncation)."""
+    curve = hbm_frf(RIG, 20.0, (12.0, 16.0), harmonics=45, subharmonic=3)
+    assert curve.method == "hbm/3"
+    assert curve.info["branch"].truncation_error is None
+    _check_tension_frf(curve, 20.0, 3, 2e-4)
+    with pytest.raises(ValueError, match="fixed number of harmonics"):
+        hbm_frf(RIG, 20.0, (12.0, 16.0), subharmonic=3)
