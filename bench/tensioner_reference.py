@@ -22,7 +22,8 @@ For every forcing amplitude of the paper's Fig. 5 (f1 = 2, 5, 20, 50 N) over
 * ``grid``: ``N_GRID`` log-spaced frequencies plus the peak of the tension
   range and one third of the stuck resonance, reference there, compared
   with (a) the default branch interpolated (cubic spline in frequency
-  between its points, ``interp_*``) and (b) the HBM solution at that
+  between its points, ``interp_*``; also for a branch with
+  ``max_step=FINE_STEP``, the paper figure's step) and (b) the HBM solution at that
   frequency for the default and for fixed ``H`` in ``SCAN`` (solved from
   the nearest branch point), from which the smallest fixed ``H`` within
   1e-4 at every grid frequency is found and its whole branch timed.
@@ -60,6 +61,8 @@ N_GRID = 22
 REPEATS = 3
 TARGET = 1e-4
 SCAN = (7, 11, 15, 21, 31, 45, 63)
+#: ``max_step`` of the finer branch whose interpolation is also measured
+FINE_STEP = 0.03
 RIG = hf.BeltTensioner()
 
 
@@ -236,6 +239,12 @@ def run(out: Path, forces=FORCES, every: int = 1) -> list[dict]:
                         "error_h1_pulley": f"{e[2]:.4g}",
                     }
                 )
+        # the same with a finer continuation step (the paper figure's)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", hf.AccuracyWarning)
+            fine = hf.frf(RIG, force, _band(), max_step=FINE_STEP)
+        fine_interp = _interpolate(fine, quantities(fine), freqs)
+        fine_err = None if fine_interp is None else _relative(fine_interp, refs)
         grid_err = {}
         for setting in ("auto", *SCAN):
             b = branch if setting == "auto" else _frf(force, setting, 0)[0]
@@ -276,6 +285,10 @@ def run(out: Path, forces=FORCES, every: int = 1) -> list[dict]:
             "grid_points": freqs.size,
             "grid_error": float(np.max(grid_err["auto"])),
             "interp_error": math.nan if interp_err is None else float(interp_err.max()),
+            "fine_points": len(fine),
+            "fine_interp_error": (
+                math.nan if fine_err is None else float(fine_err.max())
+            ),
             "h15_grid_error": float(np.max(grid_err[15])),
             "h15_time_s": t15,
             "best_fixed_H": best_h,
@@ -299,7 +312,8 @@ def _line(s: dict) -> str:
         f"{s['whole_error_h1']:.2g}; worst at {s['whole_worst_Hz']:.4g} Hz; "
         f"{s['checked']} checked, {s['stable']} stable); grid of "
         f"{s['grid_points']}: {s['grid_error']:.2g}, interpolated "
-        f"{s['interp_error']:.2g}; H = 15: {s['h15_grid_error']:.2g}, "
+        f"{s['interp_error']:.2g} (max_step {FINE_STEP}: {s['fine_points']} "
+        f"points, {s['fine_interp_error']:.2g}); H = 15: {s['h15_grid_error']:.2g}, "
         f"{s['h15_time_s'] * 1e3:.0f} ms; smallest fixed H within 1e-4: "
         f"{s['best_fixed_H']} ({s['best_fixed_time_s'] * 1e3:.0f} ms); scan "
         f"{s['scan']}; {s['wall_s']:.0f} s"
