@@ -5,6 +5,7 @@ problem tuple that the kernels see."""
 from __future__ import annotations
 
 import copy
+import math
 
 import numpy as np
 
@@ -226,6 +227,11 @@ class HBMProblem:
         aft = self.aft
         if n_time is None:
             n_time = default_n_time(self.harmonic_numbers, aft, self._law[0])
+            if self.subharmonic > 1:
+                # samples invariant under the shift by T = νT/ν: a T-periodic
+                # response stays an exact solution of the sampled balance
+                step = math.lcm(8, self.subharmonic)
+                n_time = step * -(-n_time // step)
         n_time = positive_int("n_time", n_time, low=1)
         if n_time <= 2 * self.harmonics:
             raise ValueError(
