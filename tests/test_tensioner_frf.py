@@ -155,3 +155,24 @@ def test_subharmonic_hbm_frf_against_the_reference():
     _check_tension_frf(curve, 20.0, 3, 2e-4)
     with pytest.raises(ValueError, match="fixed number of harmonics"):
         hbm_frf(RIG, 20.0, (12.0, 16.0), subharmonic=3)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("force", [2.0, 5.0, 20.0, 50.0])
+def test_default_branch_against_the_reference_over_the_band(force):
+    """The paper's Fig. 5 amplitudes at default settings: every 4th point of
+    the whole branch (>= 20 frequencies over 5-100 Hz, the resonances
+    included) within 1e-4 of the reference (``bench/tensioner_reference``
+    checks every point)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", hf.CoverageWarning)
+        warnings.simplefilter("error", hf.AccuracyWarning)
+        branch = hf.frf(RIG, force, BAND)
+    index = np.arange(0, len(branch), 4)
+    assert index.size >= 20
+    tension = branch_tension_range(RIG, branch)
+    peak = int(np.argmax(tension))
+    for i in np.unique(np.append(index, peak)):
+        np.testing.assert_allclose(
+            _hbm_values(branch, i), _reference_at(branch, i, force), rtol=1e-4
+        )
