@@ -160,7 +160,8 @@ def frf(
     condense : bool or {"modal", "direct"}, optional
         Solve the HBM on the contact DOF only (linear DOFs eliminated per
         harmonic by the dynamic receptance, every DOF recovered at the
-        end); default: whenever the system has several DOFs and a contact.
+        end); default: whenever the system has several DOFs, a contact and
+        symmetric matrices with a regular ``K``.
         The receptance comes from modal superposition with all modes when
         the damping is classical, else from a direct solve per harmonic;
         ``"modal"`` or ``"direct"`` force one. ``False`` solves the full

@@ -9,8 +9,13 @@ forcing frequency, by three routes:
 * ``time_domain_frf(..., method="jit")``: the project's fixed-step Newmark
   integrator (:func:`hbmfric.validation.steady_state`), the Dahl force
   updated exactly per step through the law kernel;
-* ``hbm_frf``: harmonic balance with the Dahl AFT and pseudo-arclength
-  continuation, optionally subharmonic (fundamental ``Ω/ν``).
+* ``hbm_frf``: harmonic balance through the engine's one path,
+  :func:`hbmfric.frf` (defaults: ``harmonics="auto"``, coverage,
+  retrace, warnings), in hertz, with the tension range of every point;
+  optionally subharmonic (fundamental ``Ω/ν``, fixed ``H``).
+
+The independent reference of both is the shooting solution of
+:mod:`hbmfric.systems.tensioner_shooting` (``bench/tensioner_reference.py``).
 """
 
 from __future__ import annotations
