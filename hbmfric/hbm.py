@@ -14,7 +14,7 @@ from .kernels.dft import fourier_matrices
 from .kernels.dlft import COULOMB
 from .kernels.dlft_tail import tail_length
 from .kernels.hbm import AFT_EVENTS, AFT_SAMPLES, NO_CONTACT, hbm_residual
-from .kernels.laws import DAHL, JENKINS, MASING
+from .kernels.laws import JENKINS, MASING
 from .kernels.linear import first_harmonic_response
 from .signals import coefficient_columns
 from .systems.protocol import check_load, check_system
@@ -57,19 +57,7 @@ def select_harmonics(harmonics: int, odd: bool) -> np.ndarray:
     return np.arange(0, harmonics + 1, dtype=np.int64)
 
 
-#: smallest default ``n_time`` of the sampled AFT of the modified Dahl law.
-#: The sampled march turns at a sample, not at the reversal of ``u`` between
-#: two samples; measured on the belt tensioner (f1 = 20 N, 41.2 Hz, H = 15,
-#: against the shooting reference of
-#: :mod:`hbmfric.systems.tensioner_shooting`), the first-harmonic amplitude
-#: is 9.7e-5 off at ``n_time = 240`` (16 H) and 2e-8 at 960; at H = 63,
-#: 1008 samples give 8.5e-7 (``bench/README.md``, "Belt tensioner").
-DAHL_MIN_SAMPLES = 1024
-
-
-def default_n_time(
-    harmonic_numbers: np.ndarray, aft: str, law_code: int | None = None
-) -> int:
+def default_n_time(harmonic_numbers: np.ndarray, aft: str) -> int:
     """Default samples per period.
 
     ``events``: the samples only detect stick/slip events (Jenkins) or
@@ -77,15 +65,13 @@ def default_n_time(
     would go unseen, so take 8 samples per period of the highest harmonic
     (at least 32). ``samples``: ``16 H`` rounded to a
     multiple of 8, alias-free for a cubic law and keeping the friction
-    aliasing small; for the modified Dahl law (``law_code`` ``DAHL``) at
-    least :data:`DAHL_MIN_SAMPLES`, since its error is set by how close a
-    sample falls to each reversal of the displacement, not by ``H``.
+    aliasing small (the modified Dahl law's AFT locates the reversals of
+    the displacement between samples, :func:`hbmfric.kernels.dahl.aft_dahl`).
     """
     h_max = int(harmonic_numbers[-1])
     if aft == "events":
         return max(32, 8 * h_max)
-    floor = DAHL_MIN_SAMPLES if law_code == DAHL else 32
-    return max(floor, 8 * ((16 * h_max + 7) // 8))
+    return max(32, 8 * ((16 * h_max + 7) // 8))
 
 
 class HBMProblem:
@@ -226,7 +212,7 @@ class HBMProblem:
             )
         aft = self.aft
         if n_time is None:
-            n_time = default_n_time(self.harmonic_numbers, aft, self._law[0])
+            n_time = default_n_time(self.harmonic_numbers, aft)
             if self.subharmonic > 1:
                 # samples invariant under the shift by T = νT/ν: a T-periodic
                 # response stays an exact solution of the sampled balance
