@@ -82,7 +82,7 @@ KNOWN = {
     "coulomb ratio=10": _STALL,
     "coulomb ratio=10 sweep=down": _STALL,
     # "dahl ratio=10 stiffness_ratio=10000" stalled likewise until the
-    # sampled Dahl AFT got at least 1024 samples (hbm.DAHL_MIN_SAMPLES)
+    # Dahl AFT located the reversals of u between samples (kernels/dahl.py)
 }
 
 
