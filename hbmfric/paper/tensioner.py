@@ -202,8 +202,9 @@ def tensioner_frf(
     harmonics : int or "auto"
         HBM harmonics; ``"auto"`` (the engine's default) keeps the tension
         range within 1e-4 of the shooting reference over the band
-        (``bench/README.md``, "Belt tensioner"); H = 15, the former
-        setting, is up to 1e-3 off at f1 = 50 N below 15 Hz.
+        (``bench/README.md``, "Belt tensioner against the shooting
+        reference"); H = 15, the former setting, is up to 2.5e-3 off at
+        f1 = 50 N below 15 Hz.
     n_time_domain : int
         Time-domain frequencies per curve (log-spaced over the band).
     """
