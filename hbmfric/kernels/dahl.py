@@ -27,7 +27,11 @@ through the stages (forward mode), so they are those of the discrete map.
 Periodic state (:func:`dahl_periodic`, :func:`aft_dahl`): marching one period
 of samples from a starting force ``F₀`` gives ``F_N(F₀)``, a contraction with
 slope ``A = Π ∂F_i/∂F_{i-1} = exp(−β TV(u))`` for μ = 1 (TV the total
-variation of ``u`` over the period). The periodic force is the fixed point
+variation of ``u`` over the period). In the AFT (:func:`aft_dahl`) the
+march also passes through every reversal of ``u`` between two samples,
+located on the Fourier series, so that for μ = 1 the force at the samples
+is exact (a march that turned at the samples would be off by O(h²)).
+The periodic force is the fixed point
 ``F_N(F₀) = F₀``, solved by Newton's method on ``F₀`` (one step for μ = 1,
 where ``F_N`` is affine in ``F₀``), and the Jacobian ``dF/dX`` follows from
 the implicit function theorem: ``dF₀/dX = (∂F_N/∂X) / (1 − A)``. A constant
