@@ -1,6 +1,8 @@
 """Time to the first FRF branch in a fresh process, cold and warm Numba cache.
 
-Run: ``python -m bench.cold_start`` (from the repository root).
+Run: ``python -m bench.cold_start [--profile]`` (from the repository root);
+``--profile`` also runs ``hbmfric paper`` cold in a fresh process and lists
+the compile time of every kernel (exclusive of the kernels it calls).
 
 Each run is ``python -c "import hbmfric; hbmfric.frf(...)"`` (the SDOF
 Jenkins branch, H = 15) in a new interpreter with ``NUMBA_CACHE_DIR`` in a
@@ -28,7 +30,7 @@ FRF = (
 
 
 def _run(code: str, cache: str) -> float:
-    env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+    env = dict(os.environ, NUMBA_CACHE_DIR=cache, HBMFRIC_CACHE_DIR=cache)
     t = time.perf_counter()
     subprocess.run([sys.executable, "-c", code], check=True, cwd=ROOT, env=env)
     return time.perf_counter() - t
@@ -44,9 +46,87 @@ def measure(warm_runs: int = 3) -> dict:
     return {"cold_s": cold, "warm_s": warm, "import_s": imp, "python_s": bare}
 
 
+#: run in a fresh process with an empty cache: every compilation of a
+#: hbmfric kernel timed by Numba's ``numba:compile`` event, exclusive of the
+#: kernels it compiles in turn
+PROFILE = """
+import json, sys, time
+from numba.core import event
+
+records, stack = [], []
+
+class Timer(event.Listener):
+    def on_start(self, ev):
+        stack.append([time.perf_counter(), 0.0])
+    def on_end(self, ev):
+        t0, children = stack.pop()
+        total = time.perf_counter() - t0
+        if stack:
+            stack[-1][1] += total
+        f = ev.data["dispatcher"].py_func
+        records.append((f.__module__ + "." + f.__qualname__, total - children))
+
+event.register("numba:compile", Timer())
+t = time.perf_counter()
+from hbmfric.cli import main
+main(sys.argv[1:])
+records.append(("TOTAL wall", time.perf_counter() - t))
+print("PROFILE" + json.dumps(records))
+"""
+
+
+def compile_profile(argv: list[str]) -> tuple[float, list[tuple[str, float, int]]]:
+    """Compile time of every kernel during ``hbmfric <argv>`` run cold.
+
+    Returns
+    -------
+    wall : float
+        Wall time of the whole command, s.
+    kernels : list of (name, seconds, compilations)
+        Exclusive compile time per kernel (summed over its signatures),
+        largest first.
+    """
+    import json
+
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(
+            os.environ,
+            NUMBA_CACHE_DIR=cache,
+            HBMFRIC_CACHE_DIR=cache,
+            HBMFRIC_QUIET="1",
+        )
+        proc = subprocess.run(
+            [sys.executable, "-c", PROFILE, *argv],
+            cwd=ROOT,
+            env=env,
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+    line = [x for x in proc.stdout.splitlines() if x.startswith("PROFILE")][-1]
+    records = json.loads(line[len("PROFILE") :])
+    wall = records.pop()[1]
+    per: dict[str, list] = {}
+    for name, sec in records:
+        per.setdefault(name, [0.0, 0])
+        per[name][0] += sec
+        per[name][1] += 1
+    kernels = sorted(((k, v[0], v[1]) for k, v in per.items()), key=lambda r: -r[1])
+    return wall, kernels
+
+
 def main() -> None:
     for k, v in measure().items():
         print(f"{k:>10}: {v:.2f}")
+    if "--profile" in sys.argv:
+        with tempfile.TemporaryDirectory() as out:
+            wall, kernels = compile_profile(["paper", "--out", out, "--no-plot"])
+        total = sum(k[1] for k in kernels)
+        print(f"cold 'hbmfric paper': {wall:.1f} s, of which compiling {total:.1f} s")
+        print("| kernel | compile s (exclusive) | compilations |")
+        print("|---|---|---|")
+        for name, sec, n in kernels[:25]:
+            print(f"| {name} | {sec:.2f} | {n} |")
 
 
 if __name__ == "__main__":

@@ -19,6 +19,7 @@ from .errors import (
     ConvergenceWarning,
     CoverageWarning,
     HbmfricWarning,
+    StudyWarning,
 )
 from .laws import (
     ContactLaw,
@@ -30,7 +31,18 @@ from .laws import (
     hertz_mindlin_stiffness,
 )
 from .results import Branch, PeriodicSolution
-from .systems import BeamCalibration, BeltTensioner, CantileverBeam, Oscillator
+from .study import StudyResult, grid, study
+from .systems import (
+    BeamCalibration,
+    BeltTensioner,
+    CantileverBeam,
+    LinearStructure,
+    Oscillator,
+    ReducedStructure,
+    craig_bampton,
+    read_matrices,
+    read_matrix,
+)
 
 __version__ = "0.1.0"
 
@@ -41,6 +53,7 @@ __all__ = [
     "ConvergenceWarning",
     "CoverageWarning",
     "HbmfricWarning",
+    "StudyWarning",
     "BeamCalibration",
     "BeltTensioner",
     "Branch",
@@ -51,15 +64,23 @@ __all__ = [
     "Cubic",
     "Iwan",
     "Jenkins",
+    "LinearStructure",
     "Menq",
     "ModifiedDahl",
     "Oscillator",
     "PeriodicSolution",
+    "ReducedStructure",
     "Roughness",
+    "StudyResult",
+    "craig_bampton",
     "criterion",
     "frf",
+    "grid",
     "hertz_mindlin_stiffness",
     "identify",
     "periodic_solution",
+    "read_matrices",
+    "read_matrix",
+    "study",
     "validation",
 ]

@@ -23,6 +23,15 @@ one :class:`~hbmfric.errors.CacheWarning` says so; ``import hbmfric`` never
 fails for want of a cache. Old ``<key>`` directories are not removed
 automatically (another installation may still use them); delete them at
 will.
+
+The first compilation
+---------------------
+Compiling the kernels takes minutes on a small machine; it happens once per
+installed version. So that a first run does not look hung, the first
+compilation of a hbmfric kernel in a process prints one line to standard
+error saying what happens, why, and that it happens once (a listener on
+Numba's ``numba:compile`` event, which fires only for a real compilation,
+never for a kernel loaded from the cache). ``HBMFRIC_QUIET=1`` silences it.
 """
 
 from __future__ import annotations
@@ -30,11 +39,13 @@ from __future__ import annotations
 import hashlib
 import os
 import re
+import sys
 import tempfile
 import warnings
 
 from numba import njit
 from numba.core import caching
+from numba.core import event as _event
 
 from .errors import CacheWarning
 
@@ -236,6 +247,60 @@ CACHE: bool = CACHE_DIR is not None
 """Whether compiled kernels are cached (pass as ``cache=`` to Numba)."""
 
 _register_locator()
+
+
+class CompileNotice(_event.Listener):
+    """Prints one line when the first kernel under ``prefix`` is compiled.
+
+    Parameters
+    ----------
+    prefix : str
+        Directory whose kernels count (the hbmfric package).
+    cache_dir : str or None
+        Where the compiled kernels go (None: no cache).
+    stream : file-like, optional
+        Where the line goes (default ``sys.stderr`` at the time of writing).
+    """
+
+    def __init__(self, prefix: str, cache_dir: str | None, stream=None) -> None:
+        self.prefix = os.path.abspath(prefix) + os.sep
+        self.cache_dir = cache_dir
+        self.stream = stream
+        self.done = False
+
+    def message(self) -> str:
+        """The line printed."""
+        if self.cache_dir is None:
+            where = (
+                "there is no writable cache, so this happens in every process "
+                "(set HBMFRIC_CACHE_DIR to a writable directory)"
+            )
+        else:
+            where = (
+                f"once per installed version: later runs load them from "
+                f"{self.cache_dir}"
+            )
+        return (
+            "hbmfric: compiling its Numba kernels on first use (a few minutes on "
+            f"two cores); this happens {where}."
+        )
+
+    def on_start(self, event) -> None:
+        if self.done:
+            return
+        func = getattr(event.data.get("dispatcher"), "py_func", None)
+        path = getattr(getattr(func, "__code__", None), "co_filename", "")
+        if not os.path.abspath(path).startswith(self.prefix):
+            return
+        self.done = True
+        print(self.message(), file=self.stream or sys.stderr, flush=True)
+
+    def on_end(self, event) -> None:
+        pass
+
+
+if not os.environ.get("HBMFRIC_QUIET"):
+    _event.register("numba:compile", CompileNotice(PACKAGE_DIR, CACHE_DIR))
 
 jit = njit(cache=CACHE, nogil=True, error_model="numpy")
 

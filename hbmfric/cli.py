@@ -1,5 +1,6 @@
 """Command line: ``hbmfric paper [--out DIR]`` reproduces the paper's
-results on the built-in scenes."""
+results on the built-in scenes; ``hbmfric run scene.toml`` runs a scene
+file."""
 
 from __future__ import annotations
 
@@ -43,9 +44,11 @@ def _paper(args: argparse.Namespace) -> int:
         yield paper.tensioner_frf(loop.identification.law, progress=progress)
 
     figures = []
+    entries = []
+    index = out / "index.md"
     for fig in computed():
         figures.append(fig)
-        _print_verdict(fig)
+        verdict = _print_verdict(fig)
         try:
             written = [fig.write_csv(out / f"{fig.name}.csv")]
             if not args.no_plot:
@@ -60,10 +63,117 @@ def _paper(args: argparse.Namespace) -> int:
             return 1
         for path in written:
             print(f"wrote {path}", flush=True)
+        entries.append((fig.name, [p.name for p in written], verdict))
+        _write_index(index, entries, None)
     # the paper reads the beam's verdict from Figs. 13 (the stuck curve, the
     # envelope) and 14 (ratio invariance) together
-    _print_verdict(_combined(figures, ("fig13_beam", "fig14_beam"), "fig13+14_beam"))
+    combined = _print_verdict(
+        _combined(figures, ("fig13_beam", "fig14_beam"), "fig13+14_beam")
+    )
+    _write_index(index, entries, combined)
+    print(f"index of the figures: {index}", flush=True)
     print(f"done in {time.perf_counter() - start:.2f} s", flush=True)
+    return 0
+
+
+#: what each figure shows, and the claim of the paper it checks
+FIGURES = {
+    "fig03_tensioner_loop": (
+        "hysteresis loop of the belt tensioner and the modified Dahl law "
+        "identified from it (envelope lines by least squares, beta from the loop)",
+        "Sec. 2: the modified Dahl law reproduces the tensioner's loop",
+    ),
+    "fig05_tensioner_frf": (
+        "belt-tension variation |max T - min T| against forcing frequency at "
+        "several forcing amplitudes, harmonic balance against time integration",
+        "Sec. 2: stuck at low forcing, slipping at high forcing, bounded tension "
+        "over a band, softening, a subharmonic resonance at a third of the stuck one",
+    ),
+    "fig08_masing": (
+        "single-DOF FRFs per unit force with a Jenkins (Masing macroslip) contact, "
+        "Fex/Fn = 10, 0.5, 0.2, 0.1, 0.001",
+        "Sec. 3.1: FRFs depend on Fex/Fn only; mostly stuck curves stay inside the "
+        "fully stuck envelope (criterion: macroslip)",
+    ),
+    "fig09_menq": (
+        "the same family with a Menq microslip contact",
+        "Sec. 3.1: mostly stuck curves move to lower frequency, out of the stuck "
+        "envelope (criterion: microslip)",
+    ),
+    "fig10_masing_roughness": (
+        "the Masing family with roughness, Fex = 1 N and 1000 N at each ratio",
+        "Sec. 3.1: with roughness the curves move to lower frequency and are no "
+        "longer a function of Fex/Fn alone",
+    ),
+    "fig11_menq_roughness": (
+        "the Menq family with roughness, Fex = 1 N and 1000 N at each ratio",
+        "Sec. 3.1: as Fig. 10, for microslip",
+    ),
+    "fig13_beam_normal_load": (
+        "tip FRFs of the clamped beam at Fex = 2 N, Fn from 40 N to 0.5 N",
+        "Sec. 3.2: linear and stuck at 87 Hz (Fn = 40 N), flat at Fn = 1 N, full "
+        "slip at 24 Hz (Fn = 0.5 N)",
+    ),
+    "fig14_beam_ratios": (
+        "beam FRFs per unit force at Fex/Fn = 0.5, 1, 2 (Fn = 2.5, 3, 5, 10 N)",
+        "Sec. 3.2: the twelve configurations collapse by ratio: macroslip without "
+        "roughness",
+    ),
+    "fig15_beam_validation": (
+        "beam FRFs by harmonic balance with time-integration points",
+        "Sec. 3.2: the harmonic balance matches the reference response",
+    ),
+}
+
+
+def _describe(name: str) -> tuple[str, str]:
+    for key, text in FIGURES.items():
+        if name.startswith(key):
+            return text
+    return ("", "")
+
+
+def _write_index(path: Path, entries, combined: str | None) -> None:
+    """The Markdown index of the figures written so far (rewritten after
+    each, so that an interrupted run still has one)."""
+    lines = [
+        "# hbmfric paper: the figures",
+        "",
+        "Reproduction of Chatelet, Michon, Manin & Jacquet, *Stick/slip phenomena "
+        "in dynamics: choice of contact model*, Mechanism and Machine Theory 43 "
+        "(2008). One line per figure: what it shows, and the paper's claim it "
+        "checks (with the contact-model criterion's verdict where it applies).",
+        "",
+        "| figure | files | what it shows | claim checked | criterion |",
+        "|---|---|---|---|---|",
+    ]
+    for name, files, verdict in entries:
+        shows, claim = _describe(name)
+        links = ", ".join(f"[{f}]({f})" for f in files)
+        lines.append(f"| {name} | {links} | {shows} | {claim} | {verdict or ''} |")
+    if combined:
+        lines += ["", f"Beam, Figs. 13 and 14 read together: {combined}."]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+
+def _warmup(args: argparse.Namespace) -> int:
+    from .warmup import warmup
+
+    warmup(progress=lambda line: print(line, flush=True))
+    return 0
+
+
+def _run(args: argparse.Namespace) -> int:
+    from .scene import SceneError, run_scene
+
+    try:
+        run_scene(args.scene, args.out, progress=lambda line: print(line, flush=True))
+    except FileNotFoundError as exc:
+        print(f"hbmfric run: {exc}", file=sys.stderr, flush=True)
+        return 2
+    except SceneError as exc:
+        print(f"hbmfric run: {exc}", file=sys.stderr, flush=True)
+        return 2
     return 0
 
 
@@ -84,21 +194,22 @@ def _combined(figures, prefixes, name):
     )
 
 
-def _print_verdict(fig) -> None:
+def _print_verdict(fig) -> str | None:
     """One line: the contact-model criterion's verdict on a computed family
-    (figures that are not FRF families, without ``criterion``, are skipped)."""
+    (figures that are not FRF families, without ``criterion``, are skipped);
+    returns it (None when skipped)."""
     if fig is None:
-        return
+        return None
     params = getattr(fig, "parameters", None) or [{}]
     if not hasattr(fig, "criterion") or not all(
         "normal_load" in p and "force" in p for p in params
     ):
-        return
+        return None
     try:
         res = fig.criterion()
     except ValueError as err:  # e.g. a curve with zero amplitude somewhere
         print(f"{fig.name} criterion: not applicable ({err})", flush=True)
-        return
+        return f"not applicable ({err})"
     ind = res.indicators
     parts = []
     if ind.get("ratio_spread") is not None:
@@ -111,11 +222,9 @@ def _print_verdict(fig) -> None:
             "peak shifts "
             + ", ".join(f"{100 * v:+.1f} % (Fex/Fn={r:.3g})" for r, v in shifts.items())
         )
-    print(
-        f"{fig.name} criterion: {res.verdict}"
-        + (f" ({'; '.join(parts)})" if parts else ""),
-        flush=True,
-    )
+    text = res.verdict + (f" ({'; '.join(parts)})" if parts else "")
+    print(f"{fig.name} criterion: {text}", flush=True)
+    return text
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -141,6 +250,25 @@ def main(argv: list[str] | None = None) -> int:
     )
     paper.add_argument("--no-plot", action="store_true", help="write CSV files only")
     paper.set_defaults(func=_paper)
+    run = sub.add_parser(
+        "run",
+        help="run a scene file (TOML): a system, its contact, an FRF or a study",
+        description="Trace the FRF (or the study grid) a scene file describes and "
+        "write its outputs; see hbmfric/scene.py or examples/scenes/.",
+    )
+    run.add_argument("scene", help="the scene file (.toml)")
+    run.add_argument(
+        "--out", default=None, help="output directory (overrides the file)"
+    )
+    run.set_defaults(func=_run)
+    warm = sub.add_parser(
+        "warmup",
+        help="compile (or load) the kernels typical runs use, once, now",
+        description="Run a tiny problem through each path of the engine so that "
+        "the one-time Numba compilation happens now rather than in the first "
+        "real run (e.g. after pip install, or in a container build).",
+    )
+    warm.set_defaults(func=_warmup)
     args = parser.parse_args(argv)
     return args.func(args)
 

@@ -32,6 +32,11 @@ class CacheWarning(HbmfricWarning):
     compiled in every process."""
 
 
+class StudyWarning(HbmfricWarning):
+    """Some parameter sets of a study failed or warned; the others are
+    kept (:attr:`hbmfric.study.StudyResult.failures` and ``.warned``)."""
+
+
 class ConvergenceError(RuntimeError):
     """Raised instead of :class:`ConvergenceWarning` where the user asked
     for an exception (``on_failure="raise"``)."""
@@ -44,4 +49,5 @@ __all__ = [
     "ConvergenceWarning",
     "CoverageWarning",
     "HbmfricWarning",
+    "StudyWarning",
 ]

@@ -169,7 +169,7 @@ class HBMProblem:
         mass, damping, stiffness = data.mass, data.damping, data.stiffness
         self._matrices = (mass, damping, stiffness)
         self._static = static
-        self._amplitude = check_load(system, self.force, self.n_dof)
+        self._amplitude = check_load(system, self.force, self.n_dof, data.load_phase)
         if law is None:
             self._law = (NO_CONTACT, np.zeros(1))
         elif rigid:
@@ -233,8 +233,9 @@ class HBMProblem:
         load = np.zeros((self.n_dof, self.n_coef))
         columns = coefficient_columns(self.harmonic_numbers)
         col1 = columns[self.subharmonic]
-        load[:, col1] = self._amplitude * np.cos(self.load_phase)
-        load[:, col1 + 1] = self._amplitude * np.sin(self.load_phase)
+        # Re(q e^{iΩt}) = Re(q) cos Ωt - Im(q) sin Ωt
+        load[:, col1] = self._amplitude.real
+        load[:, col1 + 1] = -self._amplitude.imag
         if self._static is not None:
             load[:, columns[0]] = self._static
         self.load = load.reshape(-1)

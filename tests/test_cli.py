@@ -13,6 +13,19 @@ def test_paper_writes_fig8(tmp_path, capsys):
     assert main(["paper", "--out", str(tmp_path), "--harmonics", "7"]) == 0
     out = capsys.readouterr().out
     assert out.count("fig8 Masing") == len(PAPER_SDOF["ratios"])
+    # the index: one row per figure written, each with what it shows, the
+    # claim it checks and links to files that exist; its path printed last
+    index = tmp_path / "index.md"
+    assert f"index of the figures: {index}" in out
+    rows = [r for r in index.read_text().splitlines() if r[:6] in ("| fig0", "| fig1")]
+    written = sorted(p.stem for p in tmp_path.glob("*.csv") if "_time_" not in p.stem)
+    assert sorted(r.split("|")[1].strip() for r in rows) == written
+    for r in rows:
+        cells = [c.strip() for c in r.split("|")[1:-1]]
+        assert cells[2] and cells[3], r  # what it shows, claim checked
+        for link in cells[1].split(", "):
+            assert (tmp_path / link[1 : link.index("]")]).exists()
+    assert "macroslip" in index.read_text()
     assert (tmp_path / "fig08_masing.png").stat().st_size > 10_000
     with open(tmp_path / "fig08_masing.csv") as fh:
         rows = list(csv.DictReader(fh))
@@ -46,3 +59,19 @@ def test_paper_rejects_bad_harmonics(tmp_path):
 
     with pytest.raises(SystemExit):
         main(["paper", "--out", str(tmp_path), "--harmonics", "0"])
+
+
+def test_warmup_runs_every_path(capsys):
+    """``hbmfric warmup`` runs one tiny problem per engine path and reports
+    each; a second run loads everything from the cache (no compile line)."""
+    assert main(["warmup"]) == 0
+    out = capsys.readouterr().out
+    for step in (
+        "Jenkins FRF",
+        "Menq FRF",
+        "Coulomb FRF",
+        "beam FRF",
+        "time integration",
+    ):
+        assert f"warmup: {step}" in out
+    assert "warmup: done" in out

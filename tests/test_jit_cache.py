@@ -65,9 +65,10 @@ def _tiny_package(root, increment="1.0"):
     return pkg
 
 
-def _run(root, env_extra):
+def _process(root, env_extra):
     env = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_")}
-    env.pop("HBMFRIC_CACHE_DIR", None)
+    for name in ("HBMFRIC_CACHE_DIR", "HBMFRIC_QUIET"):
+        env.pop(name, None)
     env.update(PYTHONPATH=str(root), **env_extra)
     proc = subprocess.run(
         [sys.executable, "-c", RUN],
@@ -78,6 +79,11 @@ def _run(root, env_extra):
         cwd=str(root),
     )
     assert proc.returncode == 0, proc.stderr[-3000:]
+    return proc
+
+
+def _run(root, env_extra):
+    proc = _process(root, env_extra)
     first, *rest = proc.stdout.splitlines()
     result, n_cache, n_hits, n_sigs = first.split()
     return float(result), int(n_cache), int(n_hits), int(n_sigs), rest
@@ -111,6 +117,49 @@ def test_edited_callee_is_never_served_stale(tmp_path):
     # The cache lives in the user cache directory, never in the package.
     assert _nbi_files(pkg) == []
     assert len(os.listdir(tmp_path / "cache")) == 2  # one directory per source key
+
+
+def _notices(stderr: str) -> list[str]:
+    return [line for line in stderr.splitlines() if line.startswith("hbmfric: compil")]
+
+
+def test_first_compilation_says_so_once(tmp_path):
+    """The first compilation prints one line (what, why, that it happens
+    once); a process that loads every kernel from the cache prints none;
+    HBMFRIC_QUIET silences it."""
+    root = tmp_path / "src"
+    _tiny_package(root)
+    env = {"HBMFRIC_CACHE_DIR": str(tmp_path / "cache")}
+
+    cold = _notices(_process(root, env).stderr)
+    assert len(cold) == 1  # two kernels compiled, one line
+    assert "once per installed version" in cold[0]
+    assert str(tmp_path / "cache") in cold[0]
+    assert _notices(_process(root, env).stderr) == []  # warm: silent
+
+    quiet = dict(env, HBMFRIC_CACHE_DIR=str(tmp_path / "other"), HBMFRIC_QUIET="1")
+    assert _notices(_process(root, quiet).stderr) == []
+
+
+def test_compile_notice_without_cache_says_every_process(tmp_path):
+    import io
+
+    from numba import njit
+
+    stream = io.StringIO()
+    notice = _jit.CompileNotice(os.path.dirname(__file__), None, stream)
+
+    class Event:
+        data = {"dispatcher": njit(lambda x: x)}
+
+    notice.on_start(Event())
+    notice.on_start(Event())
+    lines = stream.getvalue().splitlines()
+    assert len(lines) == 1 and "every process" in lines[0]
+
+    elsewhere = _jit.CompileNotice(str(tmp_path), None, io.StringIO())
+    elsewhere.on_start(Event())  # a kernel outside the package: silent
+    assert elsewhere.stream.getvalue() == ""
 
 
 def test_no_writable_cache_location_one_warning(tmp_path):

@@ -2,7 +2,20 @@
 
 from .beam import CantileverBeam
 from .calibration import BeamCalibration
+from .craig_bampton import ReducedStructure, craig_bampton
+from .matrix_files import read_matrices, read_matrix
 from .oscillator import Oscillator
+from .structure import LinearStructure
 from .tensioner import BeltTensioner
 
-__all__ = ["BeamCalibration", "BeltTensioner", "CantileverBeam", "Oscillator"]
+__all__ = [
+    "BeamCalibration",
+    "BeltTensioner",
+    "CantileverBeam",
+    "LinearStructure",
+    "Oscillator",
+    "ReducedStructure",
+    "craig_bampton",
+    "read_matrices",
+    "read_matrix",
+]

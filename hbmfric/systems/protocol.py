@@ -18,7 +18,8 @@
     static receptance) and is skipped otherwise.
 ``load_vector(force)`` -> p
     Amplitude per DOF of the forcing ``p cos Ωt`` for the forcing amplitude
-    ``force`` (N), shape (n,), finite.
+    ``force`` (N), shape (n,), finite; complex for loads with their own
+    phases, the forcing then being ``Re(p e^{iΩt})``.
 ``contact`` : ContactLaw or None
     The friction law (such as :class:`~hbmfric.Jenkins`), or None for a
     linear system.
@@ -200,10 +201,33 @@ def check_system(system) -> SystemData:
     return SystemData(n, law, int(c), mass, damping, stiffness, static, phase)
 
 
-def check_load(system, force: float, n_dof: int) -> np.ndarray:
-    """``system.load_vector(force)`` as a finite float64 array of shape
-    (n_dof,), N; ``ValueError`` naming it otherwise."""
-    return _vector("system.load_vector(force)", system.load_vector(force), n_dof)
+def check_load(system, force: float, n_dof: int, phase: float = 0.0) -> np.ndarray:
+    """The forcing as a complex amplitude per DOF, shape (n_dof,), N.
+
+    ``system.load_vector(force)`` may be real (the load ``p cos(Ωt − φ)``
+    with ``φ`` the system's ``load_phase``, passed as ``phase``) or complex
+    (the load ``Re(p e^{iΩt})``, each DOF with its own phase, which
+    ``load_phase`` shifts too). The result ``q`` is in the second form:
+    the load is ``Re(q e^{iΩt}) = Re(q) cos Ωt − Im(q) sin Ωt``.
+
+    Raises
+    ------
+    ValueError
+        If the vector has the wrong shape or non-finite entries (named).
+    """
+    label = "system.load_vector(force)"
+    value = system.load_vector(force)
+    if np.iscomplexobj(value):
+        a = np.asarray(value, dtype=np.complex128)
+        if a.shape != (n_dof,):
+            raise ValueError(
+                f"{label} must have shape ({n_dof},) (n_dof), got {a.shape}"
+            )
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"{label} must contain only finite values (no NaN or inf)")
+    else:
+        a = _vector(label, value, n_dof).astype(np.complex128)
+    return a * np.exp(-1j * phase) if phase else a
 
 
 __all__ = ["REQUIRED", "SystemData", "check_load", "check_system"]

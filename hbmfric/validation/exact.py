@@ -46,6 +46,7 @@ import scipy.linalg
 
 from .._validate import finite_float, positive_int
 from ..errors import ConvergenceError, ConvergenceWarning, HbmfricWarning
+from ..systems.protocol import check_load
 
 __all__ = [
     "BranchErrors",
@@ -84,7 +85,7 @@ class _Model:
         self.wn = wn
         cm = phi.T @ C @ phi
         ac = phi[system.contact_dof]  # x_c = ac . q
-        pf = phi.T @ np.asarray(system.load_vector(force), dtype=float)
+        pf = phi.T @ _cosine_load(system, force)
         # y = (q, p, φ): q' = W p, p' = -W q - W⁻¹ Cm W p - W⁻¹ ac kt φ + W⁻¹ pf cos
         A = np.zeros((self.size, self.size))
         A[:n, n : 2 * n] = np.diag(wn)
@@ -623,11 +624,25 @@ def _check_system(system):
         )
 
 
+def _cosine_load(system, force) -> np.ndarray:
+    """The load vector of a cosine forcing ``p cos Ωt``, shape (n_dof,);
+    ValueError for loads with a phase (not implemented here)."""
+    q = check_load(
+        system, force, int(system.n_dof), float(getattr(system, "load_phase", 0.0))
+    )
+    if np.any(q.imag):
+        raise ValueError(
+            "the exact reference takes cosine loads p cos(Ωt) only; this system's "
+            "load has a phase (load_phase or a complex load_vector)"
+        )
+    return q.real.copy()
+
+
 def _linear_response(system, force, omega, extra_stiffness):
     M, C, K = (np.asarray(a, dtype=float) for a in system.matrices())
     K = K.copy()
     K[system.contact_dof, system.contact_dof] += extra_stiffness
-    p = np.asarray(system.load_vector(force), dtype=float)
+    p = _cosine_load(system, force)
     X = np.linalg.solve(K - omega**2 * M + 1j * omega * C, p.astype(complex))
     return X
 

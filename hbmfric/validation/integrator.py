@@ -1,22 +1,24 @@
 """Fixed-step time integration of a linear structure with one contact to ground.
 
-System: ``M ẍ + C ẋ + K x + e_c f_c(x_c) = p₀ + p cos(Ω t − φ)``, with ``e_c``
-the unit vector of the contact DOF ``c`` and ``p₀`` a constant load (the
-phase φ only shifts the samples ``cos_sum``; ``p₀`` enters through
-``q₀ = 2 K_eff⁻¹ p₀``, the trapezoidal sum ``p₀ + p₀`` of a step).
+System: ``M ẍ + C ẋ + K x + e_c f_c(x_c) = p₀ + p_c cos Ωt + p_s sin Ωt``,
+with ``e_c`` the unit vector of the contact DOF ``c`` and ``p₀`` a constant
+load (``p₀`` enters through ``q₀ = 2 K_eff⁻¹ p₀``, the trapezoidal sum
+``p₀ + p₀`` of a step; a load ``p cos(Ωt − φ)`` is ``p_c = p cos φ``,
+``p_s = p sin φ``).
 
 Scheme: Newmark's average-acceleration rule, which is the trapezoidal rule on
 ``(x, v)``: second order, unconditionally stable, no numerical damping.
 Eliminating the acceleration, one step of length ``h`` reads
 
-    K_eff x₁ = (K_eff - 2 K) x₀ + (4/h) M v₀ + p (cos Ωt₀ + cos Ωt₁)
-               - e_c (f₀ + f₁),
+    K_eff x₁ = (K_eff - 2 K) x₀ + (4/h) M v₀ + p_c (cos Ωt₀ + cos Ωt₁)
+               + p_s (sin Ωt₀ + sin Ωt₁) - e_c (f₀ + f₁),
     v₁ = (2/h)(x₁ - x₀) - v₀,         K_eff = (4/h²) M + (2/h) C + K,
 
 so with ``S = K_eff⁻¹`` factorised once (by the caller) every step is
 
-    x_lin = x₀ + A x₀ + B v₀ + q (cos Ωt₀ + cos Ωt₁) - g f₀,
-    A = -2 S K,  B = (4/h) S M,  q = S p,  g = S e_c,
+    x_lin = x₀ + A x₀ + B v₀ + q_c (cos Ωt₀ + cos Ωt₁)
+            + q_s (sin Ωt₀ + sin Ωt₁) - g f₀,
+    A = -2 S K,  B = (4/h) S M,  q_c,s = S p_c,s,  g = S e_c,
 
 two matrix-vector products, then a scalar equation for the contact DOF
 
@@ -198,7 +200,7 @@ def _period(system, x, v, law_state, x_new, peaks, record, samples, contact_forc
         two_over_h,
     ) = system
     n = x.size
-    n_steps = cos_sum.size
+    n_steps = cos_sum.shape[1]
     has_contact = law_code != NO_CONTACT
     with_state = has_contact and is_masing(law_code)
     f = law_state[0]
@@ -215,9 +217,10 @@ def _period(system, x, v, law_state, x_new, peaks, record, samples, contact_forc
             for i in range(n):
                 samples[i, step] = x[i]
             contact_force[step] = f
-        s = cos_sum[step]
+        s_c = cos_sum[0, step]
+        s_s = cos_sum[1, step]
         for i in range(n):
-            x_new[i] = x[i] + q[i] * s + q0[i] - g[i] * f
+            x_new[i] = x[i] + q[0, i] * s_c + q[1, i] * s_s + q0[i] - g[i] * f
         # column by column (rows of the transposes): contiguous, vectorised
         for j in range(n):
             x_j = x[j]
@@ -287,15 +290,15 @@ def newmark_periods(system, x, v, law_state, x_new, starts, peaks):
         that ``A x`` runs over contiguous memory column by column.
     B_t : ndarray, shape (n_dof, n_dof)
         Transpose of ``B = (4/h) K_eff⁻¹ M``, s.
-    q : ndarray, shape (n_dof,)
-        ``K_eff⁻¹ p``, m (per unit of ``cos``).
+    q : ndarray, shape (2, n_dof)
+        ``K_eff⁻¹ p_c`` and ``K_eff⁻¹ p_s``, m (per unit of ``cos``, ``sin``).
     q0 : ndarray, shape (n_dof,)
         ``2 K_eff⁻¹ p₀``, m (constant load; zeros without one).
     g : ndarray, shape (n_dof,)
         ``K_eff⁻¹ e_c``, m/N (zeros without contact).
-    cos_sum : ndarray, shape (N,)
-        ``cos(Ωt_k − φ) + cos(Ωt_{k+1} − φ)`` for the ``N`` steps of a
-        period.
+    cos_sum : ndarray, shape (2, N)
+        ``cos Ωt_k + cos Ωt_{k+1}`` and ``sin Ωt_k + sin Ωt_{k+1}`` for the
+        ``N`` steps of a period.
     contact_dof : int
         DOF of the contact to ground.
     law_code : int

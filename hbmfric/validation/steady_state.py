@@ -354,7 +354,9 @@ class _Problem:
     law_params: np.ndarray
     stuck_stiffness: float
     #: constant load ``p₀`` (system hook ``static_load()``), N, and the phase
-    #: φ of the forcing ``p cos(Ωt − φ)`` (system attribute ``load_phase``)
+    #: φ of the forcing ``p cos(Ωt − φ)`` (system attribute ``load_phase``),
+    #: already applied to ``load``, the complex amplitude ``q`` of the forcing
+    #: ``Re(q e^{iΩt})``
     static_load: np.ndarray | None = None
     load_phase: float = 0.0
 
@@ -363,7 +365,7 @@ class _Problem:
         data = check_system(system)
         force = finite_float("force", force)
         law = data.contact
-        load = check_load(system, force, data.n_dof)
+        load = check_load(system, force, data.n_dof, data.load_phase)
         if law is None:
             code, params, k_stuck = NO_CONTACT, np.zeros(1), 0.0
         elif law.code == COULOMB:
@@ -447,7 +449,7 @@ class _Problem:
         k[c, c] += self.stuck_stiffness
         dynamic = k - omega_h**2 * self.mass + 1j * omega_h * self.damping
         try:
-            X = np.linalg.solve(dynamic, self.load * np.exp(-1j * self.load_phase))
+            X = np.linalg.solve(dynamic, self.load)
         except np.linalg.LinAlgError:
             raise ValueError(
                 "initial_state='linear': the stuck linearisation is singular at "
@@ -474,7 +476,9 @@ class _Problem:
         unit = np.zeros(n)
         unit[self.contact_dof] = 1.0
         static = np.zeros(n) if self.static_load is None else self.static_load
-        rhs = np.column_stack((self.stiffness, self.mass, self.load, unit, static))
+        rhs = np.column_stack(
+            (self.stiffness, self.mass, self.load.real, -self.load.imag, unit, static)
+        )
         try:
             solved = np.linalg.solve(k_eff, rhs)
         except np.linalg.LinAlgError:
@@ -485,17 +489,17 @@ class _Problem:
         # the kernels take the transposes (column-wise products)
         A_t = np.ascontiguousarray(-2.0 * solved[:, :n].T)
         B_t = np.ascontiguousarray((4.0 / h) * solved[:, n : 2 * n].T)
-        q = np.ascontiguousarray(solved[:, 2 * n])
-        g = np.ascontiguousarray(solved[:, 2 * n + 1])
-        q0 = np.ascontiguousarray(2.0 * solved[:, 2 * n + 2])
+        q = np.ascontiguousarray(solved[:, 2 * n : 2 * n + 2].T)
+        g = np.ascontiguousarray(solved[:, 2 * n + 2])
+        q0 = np.ascontiguousarray(2.0 * solved[:, 2 * n + 3])
         if self.law_code != NO_CONTACT and not g[self.contact_dof] > 0.0:
             raise ValueError(
                 "the effective stiffness must be positive definite at the contact "
                 "DOF; check the system matrices"
             )
         phase = 2.0 * np.pi * np.arange(steps + 1) / steps
-        cosine = np.cos(phase - self.load_phase)
-        cos_sum = np.ascontiguousarray(cosine[:-1] + cosine[1:])
+        samples = np.stack((np.cos(phase), np.sin(phase)))
+        cos_sum = np.ascontiguousarray(samples[:, :-1] + samples[:, 1:])
         return A_t, B_t, q, q0, g, cos_sum, 2.0 / h
 
     def integrate(self, omega, steps, tol, max_periods, x, v, f) -> _Run:

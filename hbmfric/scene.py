@@ -1,0 +1,510 @@
+"""Runs described in files: ``hbmfric run scene.toml``.
+
+A scene file (TOML) names a system, its contact, the FRF to trace, what to
+write, and optionally a study grid (one FRF per combination). Every table
+and key is checked: an unknown key or a bad value is refused with its path
+in the file (``scene.toml: [contact] stiffness: ...``). Example::
+
+    [system]
+    kind = "oscillator"          # oscillator | beam | tensioner | matrices
+    mass = 1.0                   # kg
+    damping = 0.02               # N s/m
+    stiffness = 1.0              # N/m
+
+    [contact]
+    law = "jenkins"              # jenkins | menq | iwan | coulomb | dahl | cubic
+    stiffness = 3.0              # | roughness | none; the law's own arguments
+    slip_force = 1.0
+
+    [frf]
+    force = 0.5                  # N
+    omega = [0.5, 3.0]           # rad/s (or frequency_hz = [lo, hi])
+    harmonics = "auto"           # or an integer; any hf.frf keyword
+
+    [output]
+    directory = "results"        # relative to the scene file
+    csv = "frf.csv"
+    png = "frf.png"              # omit for no plot (no matplotlib import)
+    npz = "frf.npz"
+
+    [study]                      # optional: one FRF per combination
+    "frf.force" = [0.1, 0.5, 2.0]
+    "contact.normal_load" = [1.0, 10.0]   # (laws given by μ and N)
+    executor = "processes"       # or "serial"
+
+The paper's scenes ship as examples in ``examples/scenes/``.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import inspect
+import math
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+SYSTEM_KINDS = ("oscillator", "beam", "tensioner", "matrices")
+LAWS = ("jenkins", "menq", "iwan", "coulomb", "dahl", "cubic", "roughness", "none")
+TOP_LEVEL = ("system", "contact", "frf", "output", "study")
+OUTPUT_KEYS = ("directory", "csv", "png", "npz")
+STUDY_OPTIONS = ("executor", "workers", "normal_load", "sets")
+
+
+class SceneError(ValueError):
+    """A scene file that cannot be run; the message names the file and the
+    key path."""
+
+
+def _fail(where: str, msg: str) -> SceneError:
+    return SceneError(f"{where}: {msg}")
+
+
+def _law_class(name: str):
+    import hbmfric as hf
+
+    return {
+        "jenkins": hf.Jenkins,
+        "menq": hf.Menq,
+        "iwan": hf.Iwan,
+        "coulomb": hf.Coulomb,
+        "dahl": hf.ModifiedDahl,
+        "cubic": hf.Cubic,
+        "roughness": hf.Roughness,
+    }[name]
+
+
+def _call(where: str, cls, kwargs: dict, extra: dict | None = None):
+    """``cls(**kwargs, **extra)`` with unknown keys of ``kwargs`` (the
+    file's) and bad values reported at ``where``; ``extra`` are arguments
+    the scene supplies itself (the contact law)."""
+    extra = extra or {}
+    params = inspect.signature(cls).parameters
+    accepted = [p for p in params if p not in extra and p != "self"]
+    unknown = sorted(set(kwargs) - set(accepted))
+    if unknown:
+        raise _fail(
+            where,
+            f"unknown key(s) {', '.join(repr(u) for u in unknown)} (accepted: "
+            f"{', '.join(accepted)})",
+        )
+    try:
+        return cls(**kwargs, **extra)
+    except (TypeError, ValueError) as exc:
+        raise _fail(where, str(exc)) from None
+
+
+def _tuple_values(d: dict, keys) -> dict:
+    return {
+        k: tuple(v) if k in keys and isinstance(v, list) else v for k, v in d.items()
+    }
+
+
+def build_contact(table: dict | None, where: str):
+    """The contact law of a ``[contact]`` table (None for ``law = "none"``
+    or no table)."""
+    if table is None:
+        return None
+    if not isinstance(table, dict):
+        raise _fail(where, "must be a table")
+    t = dict(table)
+    law = t.pop("law", None)
+    if law is None:
+        raise _fail(where, f"missing key 'law' (one of {', '.join(LAWS)})")
+    if law not in LAWS:
+        raise _fail(f"{where} law", f"unknown law {law!r} (one of {', '.join(LAWS)})")
+    if law == "none":
+        if t:
+            raise _fail(where, f"law 'none' takes no other keys, got {sorted(t)}")
+        return None
+    cls = _law_class(law)
+    if law == "roughness":
+        base = t.pop("base", None)
+        if not isinstance(base, dict):
+            raise _fail(where, "law 'roughness' needs a [contact.base] table (the law)")
+        base_law = build_contact(base, f"{where[:-1]}.base]")
+        return _call(where, cls, t, {"law": base_law})
+    if law == "menq" and t.pop("from_stiffness", False):
+        return _call(where, cls.from_stiffness, t)
+    if law == "iwan":
+        t = _tuple_values(t, ("stiffnesses", "slip_forces", "friction_coefficients"))
+    if law == "dahl":
+        t = _tuple_values(t, ("upper", "lower"))
+    return _call(where, cls, t)
+
+
+def build_system(scene: dict, name: str):
+    """The system of a parsed scene (see the module notes)."""
+    import hbmfric as hf
+
+    where = f"{name}: [system]"
+    table = scene.get("system")
+    if not isinstance(table, dict):
+        raise _fail(name, "missing table [system]")
+    t = dict(table)
+    kind = t.pop("kind", None)
+    if kind not in SYSTEM_KINDS:
+        raise _fail(
+            f"{name}: [system] kind",
+            f"must be one of {', '.join(SYSTEM_KINDS)}, got {kind!r}",
+        )
+    contact = build_contact(scene.get("contact"), f"{name}: [contact]")
+    if kind == "oscillator":
+        if "damping_ratio" in t:
+            if "damping" in t:
+                raise _fail(where, "give damping or damping_ratio, not both")
+            zeta = t.pop("damping_ratio")
+            try:
+                t["damping"] = (
+                    2.0
+                    * float(zeta)
+                    * math.sqrt(float(t["stiffness"]) * float(t["mass"]))
+                )
+            except (KeyError, TypeError, ValueError):
+                raise _fail(
+                    where, "damping_ratio needs numeric mass and stiffness"
+                ) from None
+        return _call(where, hf.Oscillator, t, {"contact": contact})
+    if kind == "beam":
+        return _call(where, hf.CantileverBeam, t, {"contact": contact})
+    if kind == "tensioner":
+        if contact is not None and not isinstance(contact, hf.ModifiedDahl):
+            raise _fail(f"{name}: [contact]", "the tensioner takes law = 'dahl'")
+        extra = {"tensioner": contact} if contact is not None else {}
+        return _call(where, hf.BeltTensioner, t, extra)
+    # matrices
+    base = Path(scene.get("_directory", "."))
+    files = {}
+    for key in ("mass", "stiffness", "damping"):
+        if key in t:
+            value = t.pop(key)
+            if isinstance(value, str):
+                head, sep, var = value.rpartition(":")
+                path = (
+                    head if sep and head.lower().endswith((".mat", ".npz")) else value
+                )
+                var = var if sep and path == head else None
+                try:
+                    files[key] = hf.read_matrix(base / path, var)
+                except (OSError, ValueError) as exc:
+                    raise _fail(f"{where} {key}", str(exc)) from None
+            else:
+                files[key] = value
+    if "mass" not in files or "stiffness" not in files:
+        raise _fail(where, "kind 'matrices' needs mass and stiffness (file names)")
+    if "load" in t and isinstance(t["load"], dict):
+        t["load"] = {
+            (int(k) if k.isdigit() else k): _complex(v) for k, v in t["load"].items()
+        }
+    if "rayleigh" in t and isinstance(t["rayleigh"], list):
+        t["rayleigh"] = tuple(t["rayleigh"])
+    return _call(where, hf.LinearStructure, {**files, **t}, {"contact": contact})
+
+
+def _complex(v):
+    """A load value: a number, or ``[re, im]``."""
+    if isinstance(v, list) and len(v) == 2:
+        return complex(v[0], v[1])
+    return v
+
+
+def _frf_options(scene: dict, name: str) -> tuple[float, tuple[float, float], dict]:
+    import hbmfric as hf
+
+    where = f"{name}: [frf]"
+    t = dict(scene.get("frf") or {})
+    if "force" not in t:
+        raise _fail(where, "missing key 'force' (N)")
+    force = t.pop("force")
+    if "omega" in t and "frequency_hz" in t:
+        raise _fail(where, "give omega (rad/s) or frequency_hz, not both")
+    if "frequency_hz" in t:
+        band = t.pop("frequency_hz")
+        scale = 2.0 * math.pi
+    elif "omega" in t:
+        band = t.pop("omega")
+        scale = 1.0
+    else:
+        raise _fail(where, "missing key 'omega' (rad/s, [low, high]) or frequency_hz")
+    if not (isinstance(band, list) and len(band) == 2):
+        raise _fail(f"{where} omega", f"must be [low, high], got {band!r}")
+    try:
+        omega = (float(band[0]) * scale, float(band[1]) * scale)
+    except (TypeError, ValueError):
+        raise _fail(f"{where} omega", f"must be two numbers, got {band!r}") from None
+    accepted = set(inspect.signature(hf.frf).parameters) - {
+        "system",
+        "force",
+        "omega",
+        "option_overrides",
+        "options",
+    }
+    accepted |= {f.name for f in dataclasses.fields(hf.ContinuationOptions)}
+    unknown = sorted(set(t) - accepted)
+    if unknown:
+        raise _fail(
+            where,
+            f"unknown key(s) {', '.join(repr(u) for u in unknown)} (accepted: force, "
+            f"omega, frequency_hz, {', '.join(sorted(accepted))})",
+        )
+    return force, omega, t
+
+
+@dataclasses.dataclass
+class Scene:
+    """A checked scene.
+
+    Attributes
+    ----------
+    name : str
+        The file (for messages).
+    data : dict
+        The parsed TOML.
+    directory : Path
+        The scene file's directory (relative paths start there).
+    """
+
+    name: str
+    data: dict
+    directory: Path
+
+    def system(self, overrides: dict | None = None):
+        """The system, with ``{"contact.normal_load": 3.0, ...}`` applied."""
+        return build_system(self._with(overrides), self.name)
+
+    def _with(self, overrides: dict | None) -> dict:
+        d = copy.deepcopy(self.data)
+        d["_directory"] = str(self.directory)
+        for path, value in (overrides or {}).items():
+            table, _, key = path.partition(".")
+            d.setdefault(table, {})[key] = value
+        return d
+
+    def frf_call(self, overrides: dict | None = None):
+        """``(force, omega, keyword arguments)`` of :func:`hbmfric.frf`."""
+        return _frf_options(self._with(overrides), self.name)
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read and check a scene file.
+
+    Raises
+    ------
+    FileNotFoundError
+        If the file does not exist.
+    SceneError
+        (a ``ValueError``) for a TOML syntax error, an unknown table or key,
+        or a bad value; the message names the file and the key path.
+    """
+    path = Path(path)
+    name = str(path)
+    try:
+        with open(path, "rb") as fh:
+            data = tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise _fail(name, f"not valid TOML: {exc}") from None
+    unknown = sorted(set(data) - set(TOP_LEVEL))
+    if unknown:
+        raise _fail(
+            name,
+            f"unknown table(s) {', '.join(f'[{u}]' for u in unknown)} (accepted: "
+            f"{', '.join(f'[{t}]' for t in TOP_LEVEL)})",
+        )
+    out = data.get("output", {})
+    bad = sorted(set(out) - set(OUTPUT_KEYS))
+    if bad:
+        raise _fail(
+            f"{name}: [output]",
+            f"unknown key(s) {', '.join(map(repr, bad))} (accepted: "
+            f"{', '.join(OUTPUT_KEYS)})",
+        )
+    scene = Scene(name, data, path.resolve().parent)
+    scene.system()  # checks [system] and [contact]
+    scene.frf_call()  # checks [frf]
+    for p in study_sets(scene):
+        for key in p:
+            table = key.partition(".")[0]
+            if table not in ("system", "contact") and key != "frf.force":
+                raise _fail(
+                    f"{name}: [study] {key!r}",
+                    "study axes are 'frf.force' or paths into [system] or [contact], "
+                    "such as 'contact.normal_load'",
+                )
+        scene.system(p)
+        scene.frf_call(p)
+        break
+    return scene
+
+
+def study_sets(scene: Scene) -> list[dict]:
+    """The parameter sets of the ``[study]`` table (empty without one): the
+    grid of its axes, or its explicit ``sets``."""
+    import hbmfric as hf
+
+    raw = dict(scene.data.get("study") or {})
+    if not raw:
+        return []
+    sets = raw.pop("sets", None)
+    for k in ("executor", "workers", "normal_load"):
+        raw.pop(k, None)
+    t = {}
+    for k, v in raw.items():  # unquoted dotted keys arrive as nested tables
+        if isinstance(v, dict):
+            t.update({f"{k}.{kk}": vv for kk, vv in v.items()})
+        else:
+            t[k] = v
+    where = f"{scene.name}: [study]"
+    if sets is not None:
+        if t:
+            raise _fail(where, "give grid axes or sets, not both")
+        if not isinstance(sets, list) or not all(isinstance(s, dict) for s in sets):
+            raise _fail(f"{where} sets", "must be an array of tables")
+        flat = []
+        for s in sets:
+            f = {}
+            for k, v in s.items():
+                if isinstance(v, dict):
+                    f.update({f"{k}.{kk}": vv for kk, vv in v.items()})
+                else:
+                    f[k] = v
+            flat.append(f)
+        return flat
+    for k, v in t.items():
+        if not isinstance(v, list) or not v:
+            raise _fail(
+                f"{where} {k!r}", f"a grid axis must be a non-empty list, got {v!r}"
+            )
+    return hf.grid(**t)
+
+
+class SceneBuilder:
+    """``build(parameters)`` for :func:`hbmfric.study`: the scene's system
+    with the parameter set's overrides (picklable)."""
+
+    def __init__(self, scene: Scene) -> None:
+        self.scene = scene
+
+    def __call__(self, params: dict):
+        return self.scene.system({k: v for k, v in params.items() if k != "frf.force"})
+
+
+def run_scene(path: str | Path, out: str | Path | None = None, progress=print) -> dict:
+    """Run a scene file: trace its FRF (or its study) and write the outputs.
+
+    Parameters
+    ----------
+    path : str or Path
+        The scene file.
+    out : str or Path, optional
+        Output directory, overriding ``[output] directory``.
+    progress : callable
+        Receives one line per step (``print`` by default).
+
+    Returns
+    -------
+    dict
+        ``"branch"`` (or ``"study"``), ``"written"`` (paths).
+    """
+    import hbmfric as hf
+
+    scene = load_scene(path)
+    output = scene.data.get("output", {})
+    directory = (
+        Path(out) if out is not None else scene.directory / output.get("directory", ".")
+    )
+    directory.mkdir(parents=True, exist_ok=True)
+    written = []
+    sets = study_sets(scene)
+    if not sets:
+        force, omega, kwargs = scene.frf_call()
+        branch = hf.frf(scene.system(), force, omega, **kwargs)
+        progress(
+            f"{scene.name}: {len(branch)} points, Ω {branch.omega.min():.6g}–"
+            f"{branch.omega.max():.6g} rad/s, complete={branch.complete}, "
+            f"{branch.elapsed:.3f} s"
+        )
+        if "csv" in output:
+            written.append(_branch_csv(branch, directory / output["csv"]))
+        if "npz" in output:
+            written.append(Path(branch.save(directory / output["npz"])))
+        if "png" in output:
+            import matplotlib
+
+            matplotlib.use("Agg")
+            import matplotlib.pyplot as plt
+
+            fig, ax = plt.subplots(figsize=(6, 4))
+            branch.plot(ax=ax)
+            fig.savefig(directory / output["png"], dpi=120)
+            plt.close(fig)
+            written.append(directory / output["png"])
+        result = {"branch": branch}
+    else:
+        st = scene.data["study"]
+        force0, omega, kwargs = scene.frf_call()
+        params = [{"frf.force": force0, **p} for p in sets]
+        normal = st.get("normal_load", "contact.normal_load")
+        res = hf.study(
+            SceneBuilder(scene),
+            params,
+            omega,
+            executor=st.get("executor", "processes"),
+            workers=st.get("workers"),
+            force_key="frf.force",
+            normal_load_key=normal if any(normal in p for p in params) else None,
+            progress=True,
+            **kwargs,
+        )
+        progress(
+            f"{scene.name}: {len(res)} FRFs, {len(res.failures)} failed, "
+            f"{res.elapsed:.2f} s ({res.executor})"
+        )
+        if "csv" in output:
+            written.append(res.to_csv(directory / output["csv"]))
+        if "npz" in output:
+            written.append(res.to_npz(directory / output["npz"]))
+        if "png" in output:
+            import matplotlib
+
+            matplotlib.use("Agg")
+            import matplotlib.pyplot as plt
+
+            fig, ax = plt.subplots(figsize=(6, 4))
+            for r in res.runs:
+                if r.ok:
+                    r.branch.plot(
+                        ax=ax,
+                        label=", ".join(
+                            f"{k}={v:g}"
+                            for k, v in r.parameters.items()
+                            if isinstance(v, float | int)
+                        ),
+                    )
+            ax.legend(fontsize=6)
+            fig.savefig(directory / output["png"], dpi=120)
+            plt.close(fig)
+            written.append(directory / output["png"])
+        result = {"study": res}
+    for p in written:
+        progress(f"wrote {p}")
+    result["written"] = written
+    return result
+
+
+def _branch_csv(branch, path: Path) -> Path:
+    import csv
+
+    amp = branch.amplitude(harmonic=1)
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["omega", "amplitude", "truncation_error"])
+        err = (
+            branch.truncation_error
+            if branch.truncation_error is not None
+            else np.full(len(branch), np.nan)
+        )
+        for om, a, e in zip(branch.omega, amp, err, strict=True):
+            w.writerow([f"{om:.12g}", f"{a:.12g}", f"{e:.3g}"])
+    return path

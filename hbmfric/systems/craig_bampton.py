@@ -1,0 +1,186 @@
+"""Craig–Bampton reduction onto boundary (contact) DOFs plus fixed-interface
+modes.
+
+The DOFs are split into boundary DOFs ``b`` (kept physically: the contact
+DOFs, the forced DOFs, any DOF to be read out exactly) and interior DOFs
+``i``. The interior motion is represented by the static constraint modes
+``Ψ = -K_ii⁻¹ K_ib`` (the interior's static response to a unit motion of
+each boundary DOF) plus the first ``n_modes`` fixed-interface modes ``Φ_i``
+(the interior's modes with every boundary DOF clamped):
+
+    x = T [x_b; η],   T = [[I, 0], [Ψ, Φ_i]],
+
+and the reduced matrices are ``Tᵀ M T``, ``Tᵀ C T``, ``Tᵀ K T``, the reduced
+load ``Tᵀ p``. Friction acts on boundary DOFs only, so the reduced model
+carries the contact exactly; the reduction is accurate for responses well
+below the highest kept fixed-interface frequency (:attr:`ReducedStructure.
+cutoff_frequency`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .structure import LinearStructure
+
+
+class ReducedStructure(LinearStructure):
+    """A :class:`LinearStructure` reduced by :func:`craig_bampton`.
+
+    Its first ``n_boundary`` DOFs are the kept boundary DOFs (with their
+    names), the rest the modal coordinates of the fixed-interface modes
+    (named ``"mode:1"``, ``"mode:2"``, ...).
+
+    Attributes
+    ----------
+    full : LinearStructure
+        The structure that was reduced.
+    boundary : ndarray of int, shape (n_boundary,)
+        Indices of the kept DOFs in the full structure.
+    transformation : ndarray, shape (n_full, n_boundary + n_modes)
+        ``T``: full displacements ``x = T x_reduced``.
+    cutoff_frequency : float
+        Highest kept fixed-interface frequency, Hz (inf without modes).
+    """
+
+    def expand(self, coefficients: np.ndarray) -> np.ndarray:
+        """Displacements (or Fourier coefficients) of every DOF of the full
+        structure from those of the reduced one.
+
+        Parameters
+        ----------
+        coefficients : ndarray, shape (n_reduced, ...) or (..., n_reduced, n_coef)
+            Reduced coordinates along axis 0, or a branch's coefficients
+            ``(n_points, n_reduced, n_coef)``.
+
+        Returns
+        -------
+        ndarray
+            The same shape with ``n_reduced`` replaced by ``n_full``.
+        """
+        c = np.asarray(coefficients, dtype=float)
+        n = self.transformation.shape[1]
+        if c.ndim == 3 and c.shape[1] == n:
+            return np.einsum("fr,prc->pfc", self.transformation, c)
+        if c.shape[0] != n:
+            raise ValueError(
+                f"coefficients must have {n} reduced coordinates along axis 0 "
+                f"(or axis 1 of a branch's coefficients), got shape {c.shape}"
+            )
+        return np.tensordot(self.transformation, c, axes=(1, 0))
+
+
+def craig_bampton(
+    structure: LinearStructure, boundary, n_modes: int
+) -> ReducedStructure:
+    """Reduce a structure onto boundary DOFs plus fixed-interface modes.
+
+    Parameters
+    ----------
+    structure : LinearStructure
+        The full model (its contact DOF must be a boundary DOF).
+    boundary : sequence of int or str
+        The DOFs kept physically (indices or names), e.g. the contact DOFs
+        and the forced DOF.
+    n_modes : int
+        Number of fixed-interface modes kept (0 gives the Guyan reduction).
+
+    Returns
+    -------
+    ReducedStructure
+        Same contact law, load ``Tᵀ p``, damping ``Tᵀ C T``; DOF names of
+        the boundary DOFs carried over.
+
+    Raises
+    ------
+    ValueError
+        Empty or repeated boundary, the contact DOF not in it, ``n_modes``
+        out of range (0 to the number of interior DOFs), or an interior
+        that is not held by the boundary (singular ``K_ii``: rigid-body
+        motion of the interior).
+    """
+    if not isinstance(structure, LinearStructure):
+        raise ValueError(
+            "craig_bampton reduces a hf.LinearStructure, got "
+            f"{type(structure).__name__}"
+        )
+    try:
+        items = list(boundary)
+    except TypeError:
+        raise ValueError(
+            f"boundary must be a sequence of DOFs, got {boundary!r}"
+        ) from None
+    b = np.array([structure.dof(d, "boundary") for d in items], dtype=int)
+    n = structure.n_dof
+    if b.size == 0:
+        raise ValueError("boundary must hold at least one DOF")
+    if np.unique(b).size != b.size:
+        raise ValueError(f"boundary has repeated DOFs: {items!r}")
+    if structure.contact is not None and structure.contact_dof not in b:
+        raise ValueError(
+            f"the contact DOF {structure.contact_dof} must be a boundary DOF "
+            "(friction acts on physical DOFs only)"
+        )
+    interior = np.setdiff1d(np.arange(n), b)
+    if isinstance(n_modes, bool) or not isinstance(n_modes, int | np.integer):
+        raise ValueError(f"n_modes must be an integer, got {n_modes!r}")
+    if not 0 <= n_modes <= interior.size:
+        raise ValueError(
+            f"n_modes must be in [0, {interior.size}] (the interior DOFs), got "
+            f"{n_modes}"
+        )
+    M, C, K = structure.matrices()
+    T = np.zeros((n, b.size + n_modes))
+    T[b, np.arange(b.size)] = 1.0
+    cutoff = math.inf
+    if interior.size:
+        from scipy.linalg import cho_factor, cho_solve, eigh
+
+        K_ii = K[np.ix_(interior, interior)]
+        try:
+            factor = cho_factor(K_ii)
+        except np.linalg.LinAlgError:
+            raise ValueError(
+                "the interior stiffness K_ii is singular: the boundary DOFs do not "
+                "hold the interior (add DOFs to the boundary)"
+            ) from None
+        T[np.ix_(interior, np.arange(b.size))] = -cho_solve(
+            factor, K[np.ix_(interior, b)]
+        )
+        if n_modes:
+            lam, phi = eigh(
+                K_ii, M[np.ix_(interior, interior)], subset_by_index=(0, n_modes - 1)
+            )
+            T[np.ix_(interior, b.size + np.arange(n_modes))] = phi
+            cutoff = math.sqrt(max(float(lam[-1]), 0.0)) / (2.0 * math.pi)
+
+    def reduce(a):
+        r = T.T @ a @ T
+        return 0.5 * (r + r.T)
+
+    position = {int(d): k for k, d in enumerate(b)}
+    names = {
+        name: position[i]
+        for name, i in structure.dof_names.items()
+        if i in position and name != "contact"
+    }
+    names.update({f"mode:{j + 1}": b.size + j for j in range(n_modes)})
+    load = T.T @ structure.load
+    reduced = ReducedStructure(
+        reduce(M),
+        reduce(K),
+        reduce(C) if np.any(C) else None,
+        load=load,
+        contact=structure.contact,
+        contact_dof=position[structure.contact_dof]
+        if structure.contact is not None
+        else None,
+        dof_names=names,
+    )
+    reduced.full = structure
+    reduced.boundary = b
+    reduced.transformation = T
+    reduced.cutoff_frequency = cutoff
+    return reduced

@@ -1,0 +1,176 @@
+"""Reading structural matrices from the files finite-element codes export.
+
+Formats, chosen by the file suffix:
+
+``.mtx`` (Matrix Market)
+    One matrix per file (Abaqus, ANSYS, Nastran via DMAP, FreeFEM and
+    most sparse tools write it), read by :func:`scipy.io.mmread`. A
+    "symmetric" file stores one triangle; it is expanded.
+``.mat`` (MATLAB, version 5 to 7.2)
+    Several named variables per file, read by :func:`scipy.io.loadmat`.
+``.npz`` / ``.npy`` (NumPy)
+    Several named arrays per file, or one.
+
+Sparse matrices are returned dense: the harmonic balance works on dense
+(reduced) matrices of up to a few thousand DOFs; reduce larger models first
+(:func:`hbmfric.craig_bampton` on a model of that size, or in the FE code).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+#: names tried, in order, for each matrix in ``.mat`` and ``.npz`` files
+#: (case-insensitive)
+DEFAULT_NAMES = {
+    "mass": ("M", "mass", "Mass", "MGG", "Mff"),
+    "stiffness": ("K", "stiffness", "Stiffness", "KGG", "Kff"),
+    "damping": ("C", "D", "damping", "Damping", "BGG", "Cff"),
+}
+
+
+def _dense(value, label: str) -> np.ndarray:
+    if hasattr(value, "toarray"):
+        value = value.toarray()
+    a = np.asarray(value)
+    if a.dtype.kind not in "iuf":
+        raise ValueError(f"{label} must hold real numbers, got dtype {a.dtype}")
+    return np.array(a, dtype=np.float64)
+
+
+def read_matrix(path: str | Path, name: str | None = None) -> np.ndarray:
+    """Read one matrix from a ``.mtx``, ``.mat``, ``.npz`` or ``.npy`` file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file; its suffix selects the format.
+    name : str, optional
+        Variable name inside a ``.mat`` or ``.npz`` file. Required when
+        the file holds several arrays; ignored for ``.mtx`` and ``.npy``.
+
+    Returns
+    -------
+    ndarray, shape (n, m), float64
+        Dense.
+
+    Raises
+    ------
+    FileNotFoundError
+        If the file does not exist.
+    ValueError
+        Unknown suffix, unknown or ambiguous variable name (the message
+        lists the names in the file), or non-real entries.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"no such matrix file: {path}")
+    suffix = path.suffix.lower()
+    if suffix == ".mtx":
+        from scipy.io import mmread
+
+        return _dense(mmread(str(path)), str(path))
+    if suffix == ".npy":
+        return _dense(np.load(path, allow_pickle=False), str(path))
+    if suffix == ".mat":
+        from scipy.io import loadmat
+
+        try:
+            data = loadmat(str(path))
+        except NotImplementedError:
+            raise ValueError(
+                f"{path}: MATLAB v7.3 (HDF5) files are not read; save with "
+                "save(..., '-v7') or export the matrices as Matrix Market"
+            ) from None
+        arrays = {k: v for k, v in data.items() if not k.startswith("__")}
+    elif suffix == ".npz":
+        with np.load(path, allow_pickle=False) as data:
+            arrays = {k: data[k] for k in data.files}
+    else:
+        raise ValueError(
+            f"{path}: unknown matrix file type {suffix!r} (use .mtx, .mat, .npz "
+            "or .npy)"
+        )
+    if name is None:
+        if len(arrays) != 1:
+            raise ValueError(
+                f"{path} holds {len(arrays)} arrays ({', '.join(sorted(arrays))}); "
+                "say which with name="
+            )
+        name = next(iter(arrays))
+    if name not in arrays:
+        raise ValueError(
+            f"{path} has no array {name!r} (it has {', '.join(sorted(arrays))})"
+        )
+    return _dense(arrays[name], f"{path}[{name}]")
+
+
+def read_matrices(
+    path: str | Path, names: dict[str, str] | None = None
+) -> dict[str, np.ndarray]:
+    """Read the mass, stiffness and (if present) damping matrices from one
+    ``.mat`` or ``.npz`` file.
+
+    Parameters
+    ----------
+    path : str or Path
+    names : dict, optional
+        ``{"mass": ..., "stiffness": ..., "damping": ...}``: the variable
+        names in the file. Default: the first match, ignoring case, among
+        :data:`DEFAULT_NAMES`.
+
+    Returns
+    -------
+    dict
+        ``"mass"`` and ``"stiffness"`` (and ``"damping"`` if found), dense
+        float64 arrays.
+
+    Raises
+    ------
+    ValueError
+        If the mass or stiffness matrix is not found (the message lists the
+        names in the file).
+    """
+    path = Path(path)
+    if path.suffix.lower() not in (".mat", ".npz"):
+        raise ValueError(
+            f"{path}: read_matrices reads .mat or .npz files; for Matrix Market "
+            "files (one matrix each) use read_matrix on each"
+        )
+    if path.suffix.lower() == ".mat":
+        from scipy.io import whosmat
+
+        if not path.is_file():
+            raise FileNotFoundError(f"no such matrix file: {path}")
+        try:
+            present = [entry[0] for entry in whosmat(str(path))]
+        except NotImplementedError:
+            present = []
+    else:
+        if not path.is_file():
+            raise FileNotFoundError(f"no such matrix file: {path}")
+        with np.load(path, allow_pickle=False) as data:
+            present = list(data.files)
+    lower = {p.lower(): p for p in present}
+    out = {}
+    for role in ("mass", "stiffness", "damping"):
+        given = (names or {}).get(role)
+        if given is not None:
+            out[role] = read_matrix(path, given)
+            continue
+        found = next(
+            (lower[c.lower()] for c in DEFAULT_NAMES[role] if c.lower() in lower),
+            None,
+        )
+        if found is not None:
+            out[role] = read_matrix(path, found)
+        elif role != "damping":
+            raise ValueError(
+                f"{path}: no {role} matrix found (looked for "
+                f"{', '.join(DEFAULT_NAMES[role])}; the file has "
+                f"{', '.join(sorted(present)) or 'nothing readable'}); pass "
+                f"names={{'{role}': ...}}"
+            )
+    return out

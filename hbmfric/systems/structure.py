@@ -1,0 +1,397 @@
+"""A linear structure given by its matrices, with one friction contact.
+
+This is how a structure from a finite-element code enters hbmfric: mass and
+stiffness matrices (full or reduced, e.g. by :func:`craig_bampton`), a
+damping model, named DOFs, loads on any DOFs with any phase, and a contact
+law acting on one DOF. :class:`LinearStructure` follows the system protocol
+(:mod:`hbmfric.systems.protocol`), so :func:`hbmfric.frf`,
+:func:`hbmfric.periodic_solution` and the time-integration reference accept
+it like the built-in systems.
+
+Forcing convention: with the load vector ``p`` (complex, N, per unit of the
+forcing amplitude) and the amplitude ``F`` passed to :func:`hbmfric.frf`,
+the force on the structure is ``F Re(p e^{iΩt})``: a real ``p_j`` is a
+cosine load, ``p_j = |p_j| e^{-iφ_j}`` the load ``|p_j| cos(Ωt − φ_j)``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+import numpy as np
+
+from .._validate import finite_float
+from ..laws import ContactLaw
+
+#: relative tolerance of the symmetry checks of M, C and K
+SYMMETRY_TOL = 1e-10
+#: eigenvalues of K above ``-NEGATIVE_TOL * max|eig|`` count as >= 0
+NEGATIVE_TOL = 1e-9
+
+
+def _square(label: str, value, n: int | None = None) -> np.ndarray:
+    """``value`` as a finite, symmetric float64 matrix (dense)."""
+    if hasattr(value, "toarray"):  # scipy.sparse
+        value = value.toarray()
+    try:
+        a = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"{label} must be a real square matrix, got {type(value).__name__}"
+        ) from None
+    if a.ndim != 2 or a.shape[0] != a.shape[1] or a.shape[0] == 0:
+        raise ValueError(f"{label} must be a non-empty square matrix, got {a.shape}")
+    if n is not None and a.shape[0] != n:
+        raise ValueError(
+            f"{label} has shape {a.shape}, but the mass matrix has {n} DOFs"
+        )
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{label} must contain only finite values (no NaN or inf)")
+    scale = float(np.max(np.abs(a)))
+    asym = float(np.max(np.abs(a - a.T)))
+    if asym > SYMMETRY_TOL * max(scale, 1e-300):
+        raise ValueError(
+            f"{label} must be symmetric; max |A - Aᵀ| = {asym:.3g} "
+            f"(max |A| = {scale:.3g})"
+        )
+    return np.ascontiguousarray(0.5 * (a + a.T))
+
+
+def _semidefinite(label: str, a: np.ndarray, strict: bool) -> np.ndarray:
+    """Eigenvalues of ``a``; ValueError if it is indefinite (or singular
+    with ``strict``)."""
+    eig = np.linalg.eigvalsh(a)
+    top = max(float(np.max(np.abs(eig))), 1e-300)
+    if strict and not eig[0] > NEGATIVE_TOL * top:
+        raise ValueError(
+            f"{label} must be positive definite (every DOF needs mass); its "
+            f"smallest eigenvalue is {eig[0]:.3g} (largest {eig[-1]:.3g})"
+        )
+    if eig[0] < -NEGATIVE_TOL * top:
+        raise ValueError(
+            f"{label} must be positive semi-definite; it has the negative "
+            f"eigenvalue {eig[0]:.3g} (largest {eig[-1]:.3g})"
+        )
+    return eig
+
+
+class LinearStructure:
+    """A linear structure from its matrices, with at most one contact.
+
+    Parameters
+    ----------
+    mass : array_like or sparse, shape (n, n)
+        Mass matrix ``M``, kg; symmetric positive definite.
+    stiffness : array_like or sparse, shape (n, n)
+        Stiffness matrix ``K``, N/m; symmetric positive semi-definite (a
+        free-floating structure has rigid-body modes).
+    damping : array_like, shape (n, n), optional
+        Viscous damping matrix ``C``, N s/m, symmetric. At most one of
+        ``damping``, ``rayleigh`` and ``modal_damping``; none of them means
+        no viscous damping.
+    rayleigh : (float, float), optional
+        ``(α, β)`` of Rayleigh damping ``C = α M + β K``.
+    modal_damping : float or array_like, optional
+        Damping ratio of every mode (one value) or of the first modes (one
+        per mode, the rest undamped): ``C = M Φ diag(2 ζ_j ω_j) Φᵀ M`` with
+        the mass-normalised modes ``Φ``.
+    load : array_like or mapping, optional
+        Load per unit forcing amplitude: a vector of shape (n,), real or
+        complex (see the module notes for the phase), or a mapping
+        ``{dof: value}`` with DOF indices or names. Default: a unit cosine
+        load on the contact DOF.
+    contact : ContactLaw, optional
+        The friction law; None for a linear structure.
+    contact_dof : int or str, optional
+        The DOF the contact acts on (index or name); required with a
+        contact.
+    dof_names : mapping of str to int, optional
+        Names of DOFs, accepted wherever a DOF is asked for. ``"contact"``
+        is added for the contact DOF.
+
+    Raises
+    ------
+    ValueError
+        Mismatched shapes, non-finite entries, a non-symmetric or
+        indefinite matrix, a DOF that does not exist, an unknown name, or
+        more than one damping model; the message names the argument.
+
+    Examples
+    --------
+    >>> import numpy as np, hbmfric as hf
+    >>> s = hf.LinearStructure(np.eye(2), [[2.0, -1.0], [-1.0, 1.0]],
+    ...                        modal_damping=0.01, contact=hf.Jenkins(3.0, 1.0),
+    ...                        contact_dof=1, load={0: 1.0})
+    >>> s.n_dof, s.contact_dof
+    (2, 1)
+    """
+
+    def __init__(
+        self,
+        mass,
+        stiffness,
+        damping=None,
+        *,
+        rayleigh: tuple[float, float] | None = None,
+        modal_damping=None,
+        load=None,
+        contact: ContactLaw | None = None,
+        contact_dof: int | str | None = None,
+        dof_names: Mapping[str, int] | None = None,
+    ) -> None:
+        M = _square("mass", mass)
+        n = M.shape[0]
+        _semidefinite("mass", M, strict=True)
+        K = _square("stiffness", stiffness, n)
+        _semidefinite("stiffness", K, strict=False)
+        self._mass, self._stiffness = M, K
+        self.n_dof = n
+        self._names = self._check_names(dof_names)
+        given = [
+            name
+            for name, v in (
+                ("damping", damping),
+                ("rayleigh", rayleigh),
+                ("modal_damping", modal_damping),
+            )
+            if v is not None
+        ]
+        if len(given) > 1:
+            raise ValueError(
+                f"give at most one damping model, got {' and '.join(given)}"
+            )
+        self._modes = None
+        if damping is not None:
+            C = _square("damping", damping, n)
+            _semidefinite("damping", C, strict=False)
+        elif rayleigh is not None:
+            try:
+                alpha, beta = rayleigh
+            except (TypeError, ValueError):
+                raise ValueError(
+                    f"rayleigh must be a pair (alpha, beta), got {rayleigh!r}"
+                ) from None
+            alpha = finite_float("rayleigh alpha", alpha, low=0.0)
+            beta = finite_float("rayleigh beta", beta, low=0.0)
+            C = alpha * M + beta * K
+        elif modal_damping is not None:
+            C = self._modal_damping(modal_damping)
+        else:
+            C = np.zeros((n, n))
+        self._damping = np.ascontiguousarray(C)
+        if contact is not None and not isinstance(contact, ContactLaw):
+            raise ValueError(
+                "contact must be a contact law such as hf.Jenkins, or None, got "
+                f"{type(contact).__name__}"
+            )
+        self.contact = contact
+        if contact_dof is None:
+            if contact is not None:
+                raise ValueError("contact_dof is required with a contact")
+            self.contact_dof = 0
+        else:
+            self.contact_dof = self.dof(contact_dof, "contact_dof")
+        if contact is not None or contact_dof is not None:
+            self._names.setdefault("contact", self.contact_dof)
+        self._load = self._check_load(load)
+
+    @classmethod
+    def from_files(cls, mass, stiffness, damping=None, **kwargs) -> LinearStructure:
+        """A structure from matrix files, one per matrix.
+
+        Parameters
+        ----------
+        mass, stiffness : str or Path
+            Files of ``M`` and ``K`` (``.mtx``, ``.npy``, or ``.mat`` /
+            ``.npz`` holding one array; ``"file.mat:Kff"`` picks the array
+            ``Kff`` of a file with several).
+        damping : str or Path, optional
+            File of ``C``.
+        **kwargs
+            The other arguments of :class:`LinearStructure` (``rayleigh``,
+            ``modal_damping``, ``load``, ``contact``, ``contact_dof``,
+            ``dof_names``).
+        """
+        from .matrix_files import read_matrix
+
+        def read(spec):
+            text = str(spec)
+            head, sep, name = text.rpartition(":")
+            if sep and head.lower().endswith((".mat", ".npz")):
+                return read_matrix(head, name)
+            return read_matrix(text)
+
+        c = None if damping is None else read(damping)
+        return cls(read(mass), read(stiffness), c, **kwargs)
+
+    @classmethod
+    def from_file(cls, path, names: dict | None = None, **kwargs) -> LinearStructure:
+        """A structure from one ``.mat`` or ``.npz`` file holding ``M``,
+        ``K`` and optionally ``C`` (names found as in
+        :func:`hbmfric.systems.matrix_files.read_matrices`, or given by
+        ``names={"mass": ..., "stiffness": ..., "damping": ...}``);
+        ``**kwargs`` as for :class:`LinearStructure`. A damping matrix in
+        the file is used unless another damping model is given."""
+        from .matrix_files import read_matrices
+
+        found = read_matrices(path, names)
+        damping = found.get("damping")
+        if any(kwargs.get(k) is not None for k in ("rayleigh", "modal_damping")):
+            damping = None
+        return cls(found["mass"], found["stiffness"], damping, **kwargs)
+
+    # -- checks ----------------------------------------------------------------
+    def _check_names(self, names) -> dict[str, int]:
+        if names is None:
+            return {}
+        if not isinstance(names, Mapping):
+            raise ValueError(
+                f"dof_names must be a mapping of names to DOF indices, got "
+                f"{type(names).__name__}"
+            )
+        out = {}
+        for name, index in names.items():
+            if not isinstance(name, str):
+                raise ValueError(f"dof_names keys must be strings, got {name!r}")
+            out[name] = self._index(index, f"dof_names[{name!r}]")
+        return out
+
+    def _index(self, index, label: str) -> int:
+        n = self.n_dof
+        if isinstance(index, bool) or not isinstance(index, int | np.integer):
+            raise ValueError(
+                f"{label} must be a DOF index in [0, {n - 1}], got {index!r}"
+            )
+        if not 0 <= index < n:
+            raise ValueError(
+                f"{label} = {index} does not exist: the structure has {n} DOFs "
+                f"(0 to {n - 1})"
+            )
+        return int(index)
+
+    def dof(self, which: int | str, label: str = "dof") -> int:
+        """Index of a DOF given by index or name (ValueError if unknown)."""
+        if isinstance(which, str):
+            if which not in self._names:
+                known = ", ".join(sorted(self._names)) or "none"
+                raise ValueError(
+                    f"{label}: unknown DOF name {which!r} (known: {known})"
+                )
+            return self._names[which]
+        return self._index(which, label)
+
+    def _check_load(self, load) -> np.ndarray:
+        n = self.n_dof
+        p = np.zeros(n, dtype=complex)
+        if load is None:
+            p[self.contact_dof] = 1.0
+            return p
+        if isinstance(load, Mapping):
+            for key, value in load.items():
+                j = self.dof(key, "load key")
+                v = complex(value)
+                if not (math.isfinite(v.real) and math.isfinite(v.imag)):
+                    raise ValueError(f"load[{key!r}] must be finite, got {value!r}")
+                p[j] += v
+            return p
+        try:
+            a = np.array(load, dtype=complex)
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"load must be a vector of shape ({n},) or a mapping {{dof: value}}, "
+                f"got {type(load).__name__}"
+            ) from None
+        if a.shape != (n,):
+            raise ValueError(f"load must have shape ({n},) (n_dof), got {a.shape}")
+        if not np.all(np.isfinite(a)):
+            raise ValueError("load must contain only finite values (no NaN or inf)")
+        return a
+
+    def _modal_damping(self, ratios) -> np.ndarray:
+        omega, phi = self.modes()
+        z = np.atleast_1d(np.asarray(ratios, dtype=float))
+        if z.ndim != 1 or not np.all(np.isfinite(z)) or np.any(z < 0.0):
+            raise ValueError(
+                "modal_damping must be a ratio >= 0 or a 1-d array of ratios >= 0, "
+                f"got {ratios!r}"
+            )
+        if z.size > omega.size:
+            raise ValueError(
+                f"modal_damping has {z.size} ratios but the structure has "
+                f"{omega.size} modes"
+            )
+        zeta = np.full(omega.size, z[0]) if z.size == 1 else np.zeros(omega.size)
+        if z.size > 1:
+            zeta[: z.size] = z
+        mphi = self._mass @ phi
+        return (mphi * (2.0 * zeta * omega)) @ mphi.T
+
+    # -- the system protocol -----------------------------------------------------
+    def matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Mass (kg), damping (N s/m) and stiffness (N/m), each (n, n)."""
+        return self._mass.copy(), self._damping.copy(), self._stiffness.copy()
+
+    def load_vector(self, force: float) -> np.ndarray:
+        """Load amplitudes per DOF for the forcing amplitude ``force``,
+        shape (n,): real for cosine loads, complex when some load has a
+        phase (force ``Re(p e^{iΩt})``), N."""
+        p = force * self._load
+        return p.real.copy() if not np.any(self._load.imag) else p
+
+    @property
+    def load(self) -> np.ndarray:
+        """Load per unit forcing amplitude, complex, shape (n,)."""
+        return self._load.copy()
+
+    @property
+    def symmetric(self) -> bool:
+        """True when the response has odd harmonics only (odd law)."""
+        return self.contact is None or self.contact.odd
+
+    @property
+    def dof_names(self) -> dict[str, int]:
+        """Named DOFs → index."""
+        return dict(self._names)
+
+    def modes(self) -> tuple[np.ndarray, np.ndarray]:
+        """Natural pulsations (rad/s, ascending) and mass-normalised mode
+        shapes (columns) of the structure without the contact."""
+        if self._modes is None:
+            from scipy.linalg import eigh
+
+            lam, phi = eigh(self._stiffness, self._mass)
+            self._modes = (np.sqrt(np.clip(lam, 0.0, None)), phi)
+        omega, phi = self._modes
+        return omega.copy(), phi.copy()
+
+    def natural_frequencies(self, n: int | None = None) -> np.ndarray:
+        """The first ``n`` natural frequencies (all by default), Hz."""
+        omega = self.modes()[0] / (2.0 * math.pi)
+        return omega if n is None else omega[:n]
+
+    def with_contact(
+        self, contact: ContactLaw | None, contact_dof: int | str | None = None
+    ) -> LinearStructure:
+        """The same structure with another contact (on the same DOF unless
+        ``contact_dof`` is given)."""
+        new = object.__new__(LinearStructure)
+        new.__dict__.update(self.__dict__)
+        new._names = dict(self._names)
+        if contact is not None and not isinstance(contact, ContactLaw):
+            raise ValueError(
+                "contact must be a contact law such as hf.Jenkins, or None, got "
+                f"{type(contact).__name__}"
+            )
+        new.contact = contact
+        if contact_dof is not None:
+            new.contact_dof = self.dof(contact_dof, "contact_dof")
+            new._names["contact"] = new.contact_dof
+        return new
+
+    def __repr__(self) -> str:
+        law = type(self.contact).__name__ if self.contact is not None else None
+        return (
+            f"LinearStructure(n_dof={self.n_dof}, contact={law}, "
+            f"contact_dof={self.contact_dof})"
+        )
