@@ -305,7 +305,7 @@ def _warn_truncation(branch: Branch, tolerance: float) -> None:
         f"{branch.harmonics_at(worst)}); {advice}, or raise harmonics; "
         "per-point estimates in Branch.truncation_error",
         AccuracyWarning,
-        stacklevel=3,
+        stacklevel=4,  # _warn/_covering < _frf_fixed/_frf_auto < frf < user
     )
 
 
@@ -348,7 +348,7 @@ def _covering(trace, sweep: str, retrace: bool) -> Branch:
         + ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in branch.gaps)
         + f"); stop: {branch.stop_reason}",
         CoverageWarning,
-        stacklevel=3,
+        stacklevel=4,  # _warn/_covering < _frf_fixed/_frf_auto < frf < user
     )
     return branch
 

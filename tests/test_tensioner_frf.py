@@ -176,3 +176,11 @@ def test_default_branch_against_the_reference_over_the_band(force):
         np.testing.assert_allclose(
             _hbm_values(branch, i), _reference_at(branch, i, force), rtol=1e-4
         )
+
+
+def test_warnings_point_at_the_callers_line():
+    """The engine's warnings name the user's call, not a line of api.py
+    (fixed H and "auto" go through one more helper than before)."""
+    with pytest.warns(hf.AccuracyWarning) as record:
+        hf.frf(RIG, 20.0, BAND, 7)
+    assert {w.filename for w in record} == {__file__}
