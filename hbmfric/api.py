@@ -36,8 +36,9 @@ def _omega_range(omega) -> tuple[float, float]:
     return lo, hi
 
 
-def _problem(system, force, harmonics, n_time, symmetry, aft, condense):
-    """The HBM discretisation: condensed onto the contact DOF or full."""
+def _problem(system, force, harmonics, n_time, symmetry, aft, condense, subharmonic=1):
+    """The HBM discretisation: condensed onto the contact DOF or full
+    (``subharmonic``: see :class:`~hbmfric.hbm.HBMProblem`)."""
     from .condensation import CondensedHBMProblem, can_condense
 
     data = check_system(system)  # before anything reads the system
@@ -52,6 +53,7 @@ def _problem(system, force, harmonics, n_time, symmetry, aft, condense):
             symmetry,
             aft,
             receptance=condense,
+            subharmonic=subharmonic,
             _checked=data,
         )
     if not isinstance(condense, bool | np.bool_):
@@ -59,7 +61,16 @@ def _problem(system, force, harmonics, n_time, symmetry, aft, condense):
             f"condense must be True, False, None, 'modal' or 'direct', got {condense!r}"
         )
     cls = CondensedHBMProblem if condense else HBMProblem
-    return cls(system, force, harmonics, n_time, symmetry, aft, _checked=data)
+    return cls(
+        system,
+        force,
+        harmonics,
+        n_time,
+        symmetry,
+        aft,
+        subharmonic=subharmonic,
+        _checked=data,
+    )
 
 
 def _describe(system, problem: HBMProblem, extra: dict) -> dict:
@@ -149,7 +160,8 @@ def frf(
     condense : bool or {"modal", "direct"}, optional
         Solve the HBM on the contact DOF only (linear DOFs eliminated per
         harmonic by the dynamic receptance, every DOF recovered at the
-        end); default: whenever the system has several DOFs and a contact.
+        end); default: whenever the system has several DOFs, a contact and
+        symmetric matrices with a regular ``K``.
         The receptance comes from modal superposition with all modes when
         the damping is classical, else from a direct solve per harmonic;
         ``"modal"`` or ``"direct"`` force one. ``False`` solves the full
@@ -220,10 +232,34 @@ def frf(
             condense,
             retrace,
         )
-    tolerance = finite_float(
-        "harmonic_tolerance", harmonic_tolerance, low=0.0, low_open=True, high=1.0
-    )
     problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
+    return _frf_fixed(
+        system,
+        problem,
+        (lo, hi),
+        sweep,
+        harmonic_tolerance,
+        options,
+        amplitude_scale,
+        retrace,
+    )
+
+
+def _frf_fixed(
+    system, problem, omega_range, sweep, tolerance, options, amplitude_scale, retrace
+) -> Branch:
+    """``frf`` with a fixed ``H`` on the discretisation ``problem``.
+
+    A subharmonic problem (``problem.subharmonic = ν > 1``) is traced over
+    ``omega_range`` of the fundamental ``Ω/ν`` (the branch's ``omega``) and
+    carries no truncation estimate (its first harmonic is zero)."""
+    tolerance = finite_float(
+        "harmonic_tolerance", tolerance, low=0.0, low_open=True, high=1.0
+    )
+    lo, hi = omega_range
+    extra = {"omega_range": [lo, hi], "harmonic_tolerance": tolerance}
+    if problem.subharmonic != 1:
+        extra["subharmonic"] = problem.subharmonic
 
     def trace(sweep: str) -> Branch:
         direction = 1 if sweep == "up" else -1
@@ -238,16 +274,10 @@ def frf(
             elapsed,
             pts[:, n].copy(),
             problem.full_coefficients(pts),
-            _describe(
-                system,
-                problem,
-                {
-                    "omega_range": [lo, hi],
-                    "sweep": sweep,
-                    "harmonic_tolerance": tolerance,
-                },
+            _describe(system, problem, {**extra, "sweep": sweep}),
+            truncation_error=(
+                truncation_errors(problem, pts) if problem.subharmonic == 1 else None
             ),
-            truncation_error=truncation_errors(problem, pts),
         )
 
     branch = _covering(trace, sweep, retrace)
@@ -275,7 +305,7 @@ def _warn_truncation(branch: Branch, tolerance: float) -> None:
         f"{branch.harmonics_at(worst)}); {advice}, or raise harmonics; "
         "per-point estimates in Branch.truncation_error",
         AccuracyWarning,
-        stacklevel=3,
+        stacklevel=4,  # _warn/_covering < _frf_fixed/_frf_auto < frf < user
     )
 
 
@@ -318,7 +348,7 @@ def _covering(trace, sweep: str, retrace: bool) -> Branch:
         + ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in branch.gaps)
         + f"); stop: {branch.stop_reason}",
         CoverageWarning,
-        stacklevel=3,
+        stacklevel=4,  # _warn/_covering < _frf_fixed/_frf_auto < frf < user
     )
     return branch
 

@@ -40,14 +40,18 @@ def system_modes(system) -> tuple[np.ndarray, np.ndarray]:
 
 
 def can_condense(system) -> bool:
-    """True when condensation pays and applies: several DOFs, a contact and
+    """True when condensation pays and applies: several DOFs, a contact,
     symmetric matrices (any contact law, a rigid Coulomb contact included:
-    the condensed residual runs the same DLFT scheme as the full one)."""
-    return (
-        system.contact is not None
-        and int(system.n_dof) >= 2
-        and _symmetric(system.matrices())
-    )
+    the condensed residual runs the same DLFT scheme as the full one) and a
+    regular stiffness matrix (a structure held only by its contact, such as
+    the belt-tensioner rig, has no static receptance: harmonic 0 cannot be
+    condensed)."""
+    if system.contact is None or int(system.n_dof) < 2:
+        return False
+    matrices = system.matrices()
+    if not _symmetric(matrices):
+        return False
+    return not _singular(matrices[2])
 
 
 def modal_damping(system) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
@@ -64,6 +68,13 @@ def modal_damping(system) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     if float(np.max(np.abs(off))) > _CLASSICAL_TOL * scale:
         return None
     return omega, shapes, diag
+
+
+def _singular(stiffness) -> bool:
+    """True when ``stiffness`` (shape (n, n), N/m) is singular to rounding:
+    a rigid-body mode of the structure without its contact."""
+    sv = np.linalg.svd(np.asarray(stiffness, dtype=float), compute_uv=False)
+    return not sv[-1] > 1e-12 * max(float(sv[0]), 1e-300)
 
 
 def _symmetric(matrices) -> bool:
@@ -130,6 +141,13 @@ class CondensedHBMProblem(HBMProblem):
             raise ValueError(
                 "condensation needs symmetric mass, damping and stiffness "
                 "matrices; use condense=False for this system"
+            )
+        if self.harmonic_numbers[0] == 0 and _singular(self._matrices[2]):
+            raise ValueError(
+                "condensation needs a regular stiffness matrix when harmonic 0 "
+                "is solved (the structure without its contact has a rigid-body "
+                "mode, so no static receptance); use condense=False for this "
+                "system"
             )
         modal = modal_damping(system)
         if receptance == "modal" and modal is None:

@@ -5,6 +5,7 @@ problem tuple that the kernels see."""
 from __future__ import annotations
 
 import copy
+import math
 
 import numpy as np
 
@@ -64,7 +65,8 @@ def default_n_time(harmonic_numbers: np.ndarray, aft: str) -> int:
     would go unseen, so take 8 samples per period of the highest harmonic
     (at least 32). ``samples``: ``16 H`` rounded to a
     multiple of 8, alias-free for a cubic law and keeping the friction
-    aliasing small.
+    aliasing small (the modified Dahl law's AFT locates the reversals of
+    the displacement between samples, :func:`hbmfric.kernels.dahl.aft_dahl`).
     """
     h_max = int(harmonic_numbers[-1])
     if aft == "events":
@@ -211,6 +213,11 @@ class HBMProblem:
         aft = self.aft
         if n_time is None:
             n_time = default_n_time(self.harmonic_numbers, aft)
+            if self.subharmonic > 1:
+                # samples invariant under the shift by T = νT/ν: a T-periodic
+                # response stays an exact solution of the sampled balance
+                step = math.lcm(8, self.subharmonic)
+                n_time = step * -(-n_time // step)
         n_time = positive_int("n_time", n_time, low=1)
         if n_time <= 2 * self.harmonics:
             raise ValueError(

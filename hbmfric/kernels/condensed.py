@@ -426,7 +426,16 @@ def _contact_force(x, problem, F, dF):
             dF,
         )
     if code == DAHL:
-        return aft_dahl(problem.law_params, x, problem.inverse, problem.forward, F, dF)
+        return aft_dahl(
+            problem.law_params,
+            problem.harmonic_numbers,
+            x,
+            problem.inverse,
+            problem.forward,
+            problem.derivative,
+            F,
+            dF,
+        )
     return aft_samples(
         code,
         problem.law_params,

@@ -27,7 +27,11 @@ through the stages (forward mode), so they are those of the discrete map.
 Periodic state (:func:`dahl_periodic`, :func:`aft_dahl`): marching one period
 of samples from a starting force ``F₀`` gives ``F_N(F₀)``, a contraction with
 slope ``A = Π ∂F_i/∂F_{i-1} = exp(−β TV(u))`` for μ = 1 (TV the total
-variation of ``u`` over the period). The periodic force is the fixed point
+variation of ``u`` over the period). In the AFT (:func:`aft_dahl`) the
+march also passes through every reversal of ``u`` between two samples,
+located on the Fourier series, so that for μ = 1 the force at the samples
+is exact (a march that turned at the samples would be off by O(h²)).
+The periodic force is the fixed point
 ``F_N(F₀) = F₀``, solved by Newton's method on ``F₀`` (one step for μ = 1,
 where ``F_N`` is affine in ``F₀``), and the Jacobian ``dF/dX`` follows from
 the implicit function theorem: ``dF₀/dX = (∂F_N/∂X) / (1 − A)``. A constant
@@ -244,18 +248,70 @@ def dahl_periodic(params, u, force):
     return status
 
 
+#: iterations of the safeguarded Newton search for a reversal of ``u``
+MAX_REVERSAL_ITERATIONS = 60
+
+
 @jit
-def aft_dahl(params, X, inverse, forward, F, dF):
-    """Sampled AFT of the modified Dahl law at its periodic state.
+def _reversal(harmonic_numbers, X, a, b, ga):
+    """``θ`` in ``(a, b)`` where ``u'(θ) = 0``, given that ``u'`` changes
+    sign on ``[a, b]`` (``ga = u'(a)``): Newton safeguarded by bisection,
+    at most ``MAX_REVERSAL_ITERATIONS`` steps."""
+    lo = a
+    hi = b
+    t = 0.5 * (a + b)
+    for _ in range(MAX_REVERSAL_ITERATIONS):
+        g = 0.0
+        dg = 0.0
+        col = 0
+        for k in harmonic_numbers:
+            if k == 0:
+                col += 1
+                continue
+            c = np.cos(k * t)
+            s = np.sin(k * t)
+            g += k * (X[col + 1] * c - X[col] * s)
+            dg -= k * k * (X[col] * c + X[col + 1] * s)
+            col += 2
+        if g == 0.0:
+            return t
+        if (g > 0.0) == (ga > 0.0):
+            lo = t
+        else:
+            hi = t
+        step_ok = dg != 0.0
+        t_new = t - g / dg if step_ok else 0.5 * (lo + hi)
+        if not (lo < t_new < hi):
+            t_new = 0.5 * (lo + hi)
+        if abs(t_new - t) <= 1e-15 * (1.0 + abs(t)) or hi - lo <= 1e-15:
+            return t_new
+        t = t_new
+    return t
+
+
+@jit
+def aft_dahl(params, harmonic_numbers, X, inverse, forward, derivative, F, dF):
+    """AFT of the modified Dahl law at its periodic state, with the
+    reversals of the displacement located.
+
+    The law is rate independent and integrated exactly along a monotone
+    path (μ = 1), so the force at the samples is exact once every reversal
+    of ``u`` between two samples is a node of the march: each sign change
+    of ``u'`` between neighbouring samples is located
+    (:func:`_reversal`) and inserted, with ``du(θ*)/dX`` the basis at
+    ``θ*`` (``u'(θ*) = 0``, so ``θ*`` moving with ``X`` does not count).
+    The coefficients are then the forward DFT of the force samples.
 
     Parameters
     ----------
     params : ndarray, shape (6,)
         ``[β, μ, a, b, d, e]``.
+    harmonic_numbers : ndarray of int, shape (n_harmonics,)
     X : ndarray, shape (n_coef,)
         Displacement coefficients, m.
     inverse : ndarray, shape (n_time, n_coef)
     forward : ndarray, shape (n_coef, n_time)
+    derivative : ndarray, shape (n_time, n_coef)
     F : ndarray, shape (n_coef,)
         Output: force coefficients, N.
     dF : ndarray, shape (n_coef, n_coef)
@@ -268,9 +324,41 @@ def aft_dahl(params, X, inverse, forward, F, dF):
     """
     n_time, n_coef = inverse.shape
     u = inverse @ X
-    force = np.empty(n_time)
-    grad = np.zeros((n_time, n_coef))
-    status, _ = _fixed_point(params, u, force)
+    du = derivative @ X
+    # the path: samples and located reversals in between
+    path_u = np.empty(2 * n_time)
+    path_basis = np.empty((2 * n_time, n_coef))
+    sample_at = np.empty(n_time, dtype=np.int64)
+    n_path = 0
+    h = 2.0 * np.pi / n_time
+    for i in range(n_time):
+        sample_at[i] = n_path
+        path_u[n_path] = u[i]
+        for c in range(n_coef):
+            path_basis[n_path, c] = inverse[i, c]
+        n_path += 1
+        j = (i + 1) % n_time
+        if (du[i] > 0.0 and du[j] < 0.0) or (du[i] < 0.0 and du[j] > 0.0):
+            t = _reversal(harmonic_numbers, X, i * h, (i + 1) * h, du[i])
+            value = 0.0
+            col = 0
+            for k in harmonic_numbers:
+                if k == 0:
+                    path_basis[n_path, col] = 1.0
+                    col += 1
+                else:
+                    path_basis[n_path, col] = np.cos(k * t)
+                    path_basis[n_path, col + 1] = np.sin(k * t)
+                    col += 2
+            for c in range(n_coef):
+                value += path_basis[n_path, c] * X[c]
+            path_u[n_path] = value
+            n_path += 1
+    pu = path_u[:n_path].copy()
+    basis = path_basis[:n_path]
+    force = np.empty(n_path)
+    grad = np.zeros((n_path, n_coef))
+    status, _ = _fixed_point(params, pu, force)
     if status == DAHL_STATIC:
         # vanishing loop: F = mid(ū) + k0 (u - ū)
         mean = np.zeros(n_coef)
@@ -279,35 +367,41 @@ def aft_dahl(params, X, inverse, forward, F, dF):
                 mean[c] += inverse[i, c] / n_time
         _, k0 = _mid_envelope(params, u[0])
         k_mid = 0.5 * (params[2] + params[4])
-        for i in range(n_time):
+        for i in range(n_path):
             for c in range(n_coef):
-                grad[i, c] = k_mid * mean[c] + k0 * (inverse[i, c] - mean[c])
+                grad[i, c] = k_mid * mean[c] + k0 * (basis[i, c] - mean[c])
     elif status == DAHL_CONVERGED:
         # partial derivatives with dF0/dX = 0, and products of ∂F_i/∂F_{i-1}
-        carry = np.empty(n_time + 1)
+        carry = np.empty(n_path + 1)
         carry[0] = 1.0
         last = np.zeros(n_coef)
         f = force[0]
-        for j in range(n_time):
-            i = (j + 1) % n_time
-            f, a, b, d = dahl_update(params, f, u[j], u[i])
+        for j in range(n_path):
+            i = (j + 1) % n_path
+            f, a, b, d = dahl_update(params, f, pu[j], pu[i])
             carry[j + 1] = carry[j] * a
             for c in range(n_coef):
                 prev = grad[j, c] if j > 0 else 0.0
-                value = a * prev + b * inverse[j, c] + d * inverse[i, c]
+                value = a * prev + b * basis[j, c] + d * basis[i, c]
                 if i == 0:
                     last[c] = value
                 else:
                     grad[i, c] = value
-        gain = 1.0 / (1.0 - carry[n_time])
+        gain = 1.0 / (1.0 - carry[n_path])
         for c in range(n_coef):
             dstart = last[c] * gain
             grad[0, c] = dstart
-            for i in range(1, n_time):
+            for i in range(1, n_path):
                 grad[i, c] += carry[i] * dstart
+    sample_force = np.empty(n_time)
+    sample_grad = np.empty((n_time, n_coef))
+    for i in range(n_time):
+        sample_force[i] = force[sample_at[i]]
+        for c in range(n_coef):
+            sample_grad[i, c] = grad[sample_at[i], c]
     F[:] = 0.0
     dF[:, :] = 0.0
-    project_samples(forward, force, grad, 0, n_time, 1.0, F, dF)
+    project_samples(forward, sample_force, sample_grad, 0, n_time, 1.0, F, dF)
     return status
 
 

@@ -177,7 +177,16 @@ def hbm_residual(y, problem, R, J):
                 dF,
             )
         elif law_code == DAHL:
-            status = aft_dahl(law_params, x_c, inverse, forward, F, dF)
+            status = aft_dahl(
+                law_params,
+                harmonic_numbers,
+                x_c,
+                inverse,
+                forward,
+                derivative,
+                F,
+                dF,
+            )
         else:
             status = aft_samples(law_code, law_params, x_c, inverse, forward, F, dF)
         for r in range(n_coef):

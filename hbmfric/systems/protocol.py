@@ -13,8 +13,9 @@
     be symmetric positive definite (every DOF carries mass). ``C`` and ``K``
     may be non-symmetric (gyroscopic or circulatory terms): the full HBM
     solves such systems; the condensation onto the contact DOF, the
-    default for several DOFs, needs all three symmetric and is skipped
-    otherwise.
+    default for several DOFs, needs all three symmetric and ``K`` regular
+    (a structure held only by its contact, like the belt tensioner, has no
+    static receptance) and is skipped otherwise.
 ``load_vector(force)`` -> p
     Amplitude per DOF of the forcing ``p cos Ωt`` for the forcing amplitude
     ``force`` (N), shape (n,), finite; complex for loads with their own

@@ -100,6 +100,12 @@ class BeltTensioner:
             )
 
     @property
+    def dof_names(self) -> dict[str, int]:
+        """Named DOFs: ``"shaker"`` (``u1``), ``"pulley"`` and ``"contact"``
+        (``u2``, where the tensioner acts)."""
+        return {"shaker": 0, "pulley": 1, "contact": 1}
+
+    @property
     def contact(self) -> ModifiedDahl:
         """The tensioner law (the contact of the generic system interface)."""
         return self.tensioner

@@ -9,8 +9,13 @@ forcing frequency, by three routes:
 * ``time_domain_frf(..., method="jit")``: the project's fixed-step Newmark
   integrator (:func:`hbmfric.validation.steady_state`), the Dahl force
   updated exactly per step through the law kernel;
-* ``hbm_frf``: harmonic balance with the Dahl AFT and pseudo-arclength
-  continuation, optionally subharmonic (fundamental ``Ω/ν``).
+* ``hbm_frf``: harmonic balance through the engine's one path,
+  :func:`hbmfric.frf` (defaults: ``harmonics="auto"``, coverage,
+  retrace, warnings), in hertz, with the tension range of every point;
+  optionally subharmonic (fundamental ``Ω/ν``, fixed ``H``).
+
+The independent reference of both is the shooting solution of
+:mod:`hbmfric.systems.tensioner_shooting` (``bench/tensioner_reference.py``).
 """
 
 from __future__ import annotations
@@ -22,8 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._validate import finite_float, positive_int
-from ..continuation import Continuation, ContinuationOptions
-from ..hbm import HBMProblem
+from ..continuation import ContinuationOptions
 from ..signals import sampled_peak_to_peak, synthesis_matrix
 from ..validation import steady_state
 from .tensioner import BeltTensioner, tension_coefficients
@@ -83,6 +87,40 @@ class TensionFRF:
         f = np.asarray(frequency, dtype=float)
         order = np.argsort(self.frequency, kind="stable")
         return np.interp(f, self.frequency[order], self.tension_range[order])
+
+
+def branch_tension_range(rig: BeltTensioner, branch) -> np.ndarray:
+    """``max T − min T`` (N) at every point of an HBM branch of the rig.
+
+    Parameters
+    ----------
+    rig : BeltTensioner
+    branch : Branch
+        From :func:`hbmfric.frf` (or a subharmonic run, whose ``omega`` is
+        the fundamental ``Ω/ν``), coefficients of shape (n, 2, n_coef), m.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+
+    Notes
+    -----
+    The tension is synthesised on ``64 H`` samples per period of the
+    fundamental and each extreme refined by a parabola (error of the order
+    of the cube of the step: below 1e-7 relative); vectorised, since a
+    per-point Newton refinement would cost more than the continuation.
+    """
+    hn = branch.harmonic_numbers
+    n_theta = 64 * max(int(hn[-1]), 1)
+    theta = 2.0 * math.pi * np.arange(n_theta) / n_theta
+    basis = synthesis_matrix(hn, theta)
+    tension = np.array(
+        [
+            tension_coefficients(rig, hn, c, w)
+            for c, w in zip(branch.coefficients, branch.omega, strict=True)
+        ]
+    ).reshape(len(branch), -1)
+    return np.array([sampled_peak_to_peak(row) for row in tension @ basis.T])
 
 
 def _frequencies(frequencies) -> np.ndarray:
@@ -296,14 +334,16 @@ def hbm_frf(
     rig: BeltTensioner,
     force: float,
     frequency_range: tuple[float, float],
-    harmonics: int = 15,
+    harmonics: int | str = "auto",
     *,
     subharmonic: int = 1,
     n_time: int | None = None,
     options: ContinuationOptions | None = None,
     sweep: str = "up",
+    harmonic_tolerance: float = 1e-4,
 ) -> TensionFRF:
-    """Tension FRF by harmonic balance and arc-length continuation.
+    """Tension FRF by harmonic balance: :func:`hbmfric.frf` in hertz, with
+    the tension range of every point.
 
     Parameters
     ----------
@@ -312,76 +352,105 @@ def hbm_frf(
         Forcing amplitude ``f1``, N.
     frequency_range : (float, float)
         Forcing frequencies ``(low, high)``, Hz.
-    harmonics : int
-        Highest harmonic of the fundamental ``Ω/ν``.
+    harmonics : int or "auto", default "auto"
+        Highest harmonic of the fundamental ``Ω/ν``; ``"auto"`` as in
+        :func:`hbmfric.frf` (``ν = 1`` only).
     subharmonic : int
-        ``ν``: solve for responses of period ``ν T``.
+        ``ν``: solve for responses of period ``ν T`` (fixed ``harmonics``
+        only; such a branch carries no truncation estimate).
     n_time : int, optional
-        AFT samples per period (default 16 H, from :class:`HBMProblem`).
+        AFT samples per period (fixed ``harmonics`` only; default from
+        :class:`~hbmfric.hbm.HBMProblem`).
     options : ContinuationOptions, optional
     sweep : {"up", "down"}
+    harmonic_tolerance : float
+        As in :func:`hbmfric.frf`.
 
     Returns
     -------
     TensionFRF
-        Points in path order; ``info["branch"]`` holds the coefficients
+        Points in path order; ``info["branch"]`` holds the
+        :class:`~hbmfric.Branch` (its ``omega`` is the fundamental
+        ``Ω/ν``, rad/s), ``info["coefficients"]`` the coefficients
         ``(n, 2, n_coef)``, ``info["harmonic_numbers"]`` and
         ``info["stop_reason"]``.
+
+    Warns
+    -----
+    CoverageWarning, AccuracyWarning
+        As :func:`hbmfric.frf`.
     """
-    lo, hi = (
-        finite_float("frequency_range", f, low=0.0, low_open=True)
-        for f in frequency_range
-    )
+    from ..api import _frf_fixed, _problem
+    from ..api import frf as _frf
+
+    try:
+        lo, hi = (
+            finite_float("frequency_range", f, low=0.0, low_open=True)
+            for f in frequency_range
+        )
+    except (TypeError, ValueError) as exc:
+        raise ValueError(
+            f"frequency_range must be a pair (low, high) in Hz, > 0: {exc}"
+        ) from None
     if not hi > lo:
         raise ValueError(f"frequency_range must be increasing, got ({lo}, {hi})")
+    nu = positive_int("subharmonic", subharmonic, low=1)
     if sweep not in ("up", "down"):
         raise ValueError(f"sweep must be 'up' or 'down', got {sweep!r}")
     start = time.perf_counter()
-    problem = HBMProblem(rig, force, harmonics, n_time, False, "samples", subharmonic)
-    nu = problem.subharmonic
     omega_range = (2.0 * math.pi * lo / nu, 2.0 * math.pi * hi / nu)
-    cont = Continuation(
-        problem,
-        omega_range,
-        1 if sweep == "up" else -1,
-        options or ContinuationOptions(),
-    )
-    state, _ = cont.run()
-    n = problem.n_unknowns
-    pts = np.array(state.points).reshape(-1, n + 1)
-    coefficients = pts[:, :n].reshape(-1, 2, problem.n_coef)
-    omega = pts[:, n]
-    # tension on a fine grid, extremes refined by parabolas (vectorised: a
-    # per-point Newton refinement costs more than the continuation itself)
-    hn = problem.harmonic_numbers
-    theta = 2.0 * math.pi * np.arange(64 * int(hn[-1])) / (64 * int(hn[-1]))
-    basis = synthesis_matrix(hn, theta)
-    tension = np.array(
-        [
-            tension_coefficients(rig, hn, c, w)
-            for c, w in zip(coefficients, omega, strict=True)
-        ]
-    )
-    ranges = np.array([sampled_peak_to_peak(row) for row in tension @ basis.T])
+    if nu == 1:
+        branch = _frf(
+            rig,
+            force,
+            omega_range,
+            harmonics,
+            n_time=n_time,
+            sweep=sweep,
+            options=options,
+            harmonic_tolerance=harmonic_tolerance,
+        )
+    else:
+        if isinstance(harmonics, str):
+            raise ValueError(
+                f"subharmonic = {nu} needs a fixed number of harmonics, got "
+                f"{harmonics!r}"
+            )
+        if not isinstance(options, ContinuationOptions | None):
+            raise TypeError(
+                f"options must be a ContinuationOptions, got {type(options).__name__}"
+            )
+        problem = _problem(rig, force, harmonics, n_time, False, "auto", None, nu)
+        branch = _frf_fixed(
+            rig,
+            problem,
+            omega_range,
+            sweep,
+            harmonic_tolerance,
+            options or ContinuationOptions(),
+            None,
+            True,
+        )
     return TensionFRF(
-        frequency=nu * omega / (2.0 * math.pi),
-        tension_range=ranges,
+        frequency=nu * branch.omega / (2.0 * math.pi),
+        tension_range=branch_tension_range(rig, branch),
         force=float(force),
         method="hbm" if nu == 1 else f"hbm/{nu}",
         elapsed=time.perf_counter() - start,
-        converged=np.ones(omega.size, dtype=bool),
+        converged=np.ones(len(branch), dtype=bool),
         work={
-            "steps": state.n_steps,
-            "rejected": state.n_rejected,
-            "newton_iterations": state.n_newton,
+            "steps": branch.n_steps,
+            "rejected": branch.n_rejected,
+            "newton_iterations": branch.newton_iterations,
         },
         info={
-            "stop_reason": state.stop_reason,
-            "harmonics": harmonics,
-            "n_time": problem.n_time,
+            "stop_reason": branch.stop_reason,
+            "harmonics": branch.info["harmonics"],
+            "n_time": branch.info["n_time"],
             "subharmonic": nu,
-            "harmonic_numbers": problem.harmonic_numbers.copy(),
-            "coefficients": coefficients.copy(),
-            "folds": list(state.folds),
+            "harmonic_numbers": branch.harmonic_numbers.copy(),
+            "coefficients": branch.coefficients.copy(),
+            "folds": [int(f) for f in branch.folds],
+            "branch": branch,
         },
     )

@@ -52,17 +52,6 @@ _COULOMB_GAP = (
     "no H = 15 solution in (0.3414, 0.3488): the tail DLFT falls back to the "
     "located scheme at a grazing velocity zero (residual jump 6.7e-2 N)"
 )
-#: modified Dahl kt/k = 1e4, F = 10 f_s: the up sweep folds at 0.3094 and
-#: leaves by 0.3; the retrace from 150 zigzags (7 folds) down to 0.3548 and
-#: stalls at a kink (Jacobian jump ≈ 100 scaled) at 0.378275, beyond which
-#: the branch leaves at 97° and runs less than 1e-4 (scaled) to the next
-#: seam: no step of the turn (1e-3, 1e-4) is accepted; with 1e-5 allowed
-#: the path gets past and turns back up to 150 rad/s (measured), so the gap
-#: [0.3094, 0.3548] stays.
-_DAHL_GAP = (
-    "gap [0.3094, 0.3548]: up sweep folds back to 0.3; the retrace stalls "
-    "at 0.378275 where the piece beyond a kink is shorter than 1e-4 (scaled)"
-)
 _DECAY = (
     "time-integration reference not settled in 100000 periods: ζ = 1e-4 "
     "far above ω_free (decay time 1e4 s)"
@@ -92,7 +81,8 @@ KNOWN = {
     "menq ratio=10 stiffness_ratio=10000": _RINGING,
     "coulomb ratio=10": _COULOMB_GAP,
     "coulomb ratio=10 sweep=down": _COULOMB_GAP,
-    "dahl ratio=10 stiffness_ratio=10000": _DAHL_GAP,
+    # "dahl ratio=10 stiffness_ratio=10000" stalled until the Dahl AFT
+    # located the reversals of u between samples (kernels/dahl.py)
 }
 
 
