@@ -227,12 +227,18 @@ class DenseBranch:
         h10 = u3 - 2 * u2 + u
         h01 = -2 * u3 + 3 * u2
         h11 = u3 - u2
-        return (
-            h00 * self.y[i]
-            + h10 * L * self.t[i]
-            + h01 * self.y[i + 1]
-            + h11 * L * self.t[i + 1]
-        )
+        with np.errstate(invalid="ignore"):
+            out = (
+                h00 * self.y[i]
+                + h10 * L * self.t[i]
+                + h01 * self.y[i + 1]
+                + h11 * L * self.t[i + 1]
+            )
+        # the points themselves exactly (also a lone point next to a seam)
+        at0, at1 = u[:, 0] == 0.0, u[:, 0] == 1.0
+        out[at0] = self.y[i[at0]]
+        out[at1] = self.y[i[at1] + 1]
+        return out
 
     def omega_cubic(self, i: int) -> np.ndarray:
         """Coefficients ``(a0, a1, a2, a3)`` of Ω(u) = Σ a_k u^k on interval ``i``."""
@@ -368,35 +374,36 @@ class DenseBranch:
             if m < 2:
                 continue
             for i in range(a, b - 1):
-                if m >= 4:
-                    lo = min(max(i - 1, a), b - 4)
-                    k = 4
+                if m >= 4:  # every four-point stencil holding the interval
+                    starts = sorted(
+                        {min(max(lo, a), b - 4) for lo in (i - 2, i - 1, i)}
+                    )
+                    stencils = [(lo, 4) for lo in starts]
                 else:
-                    lo, k = a, m
-                nodes = self.s[lo : lo + k]
+                    stencils = [(a, m)]
                 worst = 0.0
                 for u in _ESTIMATE_AT:
                     sv = self.s[i] + u * (self.s[i + 1] - self.s[i])
-                    uu = np.array([u - 1e-4, u, u + 1e-4])
-                    yh = self.hermite(np.full(3, i), uu)
-                    wl = _lagrange_weights(nodes, sv)
-                    yp = wl @ self.y[lo : lo + k]
-                    amps = self._amp(np.vstack((yh, yp[None, :])), dof, harmonic)
-                    ah, ap = amps[1], amps[3]
+                    yh = self.hermite(np.full(3, i), np.array([u - 1e-4, u, u + 1e-4]))
+                    amps = self._amp(yh, dof, harmonic)
+                    ah = amps[1]
                     dw = yh[2, -1] - yh[0, -1]
                     slope = (amps[2] - amps[0]) / dw if dw != 0.0 else math.inf
-                    d_om = yp[-1] - yh[1, -1]
-                    vert = (
-                        abs((ap - ah) - slope * d_om) if d_om != 0.0 else abs(ap - ah)
-                    )
-                    if k == 4:
-                        w_h = ((sv - self.s[i]) * (sv - self.s[i + 1])) ** 2
-                        w_p = float(np.prod(sv - nodes))
-                        den = w_h - w_p
-                        ratio = abs(w_h / den) if den != 0.0 else 1.0
-                        vert *= SAFETY * min(ratio, 1.0)
                     scale = abs(ah) if ah != 0.0 else 1.0
-                    worst = max(worst, vert / scale)
+                    for lo, k in stencils:
+                        nodes = self.s[lo : lo + k]
+                        yp = _lagrange_weights(nodes, sv) @ self.y[lo : lo + k]
+                        ap = self._amp(yp[None, :], dof, harmonic)[0]
+                        d_om = yp[-1] - yh[1, -1]
+                        vert = abs(ap - ah)
+                        if d_om != 0.0:
+                            vert = abs((ap - ah) - slope * d_om)
+                        if k == 4:
+                            w_h = ((sv - self.s[i]) * (sv - self.s[i + 1])) ** 2
+                            den = w_h - float(np.prod(sv - nodes))
+                            ratio = abs(w_h / den) if den != 0.0 else 1.0
+                            vert *= SAFETY * min(ratio, 1.0)
+                        worst = max(worst, vert / scale)
                 est[i] = worst
         return est
 

@@ -275,20 +275,45 @@ class Branch:
             method="branch point",
         )
 
-    def plot(self, ax=None, harmonic: int | None = None, dof=None, **kwargs):
+    def plot(
+        self,
+        ax=None,
+        harmonic: int | None = None,
+        dof=None,
+        curve: str = "dense",
+        per_interval: int = 8,
+        **kwargs,
+    ):
         """Draw amplitude against Ω (folds marked, each piece its own
-        line); returns the axes."""
+        line); returns the axes.
+
+        ``curve``: ``"dense"`` (default) draws the dense output
+        (:meth:`resample` with ``per_interval`` samples per interval),
+        ``"polyline"`` the points joined by straight lines, ``"points"``
+        the computed points alone (markers)."""
         import matplotlib.pyplot as plt
 
+        if curve not in ("dense", "polyline", "points"):
+            raise ValueError(
+                f"curve must be 'dense', 'polyline' or 'points', got {curve!r}"
+            )
         if ax is None:
             _, ax = plt.subplots()
         amp = self.amplitude(harmonic=harmonic, dof=dof)
+        if curve == "dense" and self.n_points >= 2:
+            samples, parts = self._resample(per_interval)
+            x, y = samples.omega, samples.amplitude(harmonic=harmonic, dof=dof)
+        else:
+            x, y = self.omega, amp
+            parts = self.piece_slices()
+        if curve == "points":
+            kwargs = {"ls": "", "marker": "o", "ms": 3, **kwargs}
         line = None
-        for piece in self.piece_slices():  # no line across the jump between
+        for piece in parts:  # no line across the jump between pieces
             if line is not None:
                 kwargs = {**kwargs, "color": line.get_color()}
                 kwargs.pop("label", None)
-            (line,) = ax.plot(self.omega[piece], amp[piece], **kwargs)
+            (line,) = ax.plot(x[piece], y[piece], **kwargs)
         if self.folds.size:
             ax.plot(
                 self.omega[self.folds], amp[self.folds], "x", color=line.get_color()
@@ -297,6 +322,177 @@ class Branch:
         label = "amplitude" if harmonic is None else f"harmonic {harmonic} amplitude"
         ax.set_ylabel(f"{label} (m)")
         return ax
+
+    # ------------------------------------------------------------------
+    # dense output: the branch between its points (hbmfric/dense.py)
+    def _dense(self):
+        from .dense import dense
+
+        return dense(self)
+
+    @property
+    def arclength(self) -> np.ndarray:
+        """Arc length of every point along the path, shape (n_points,),
+        dimensionless: the sum of the chords in a space where Ω is divided
+        by the width of the branch's Ω span and the coefficients by their
+        largest magnitude (the jump between two pieces counts as its chord,
+        but nothing is interpolated there). The parameter of
+        :meth:`evaluate`."""
+        return self._dense().s.copy()
+
+    def evaluate(self, arclength):
+        """The branch at arc-length parameters between its points.
+
+        Cubic Hermite interpolation in arc length from the tangents at the
+        points (``tangents`` when stored, else finite differences over the
+        neighbouring points of the same piece); see :mod:`hbmfric.dense`.
+
+        Parameters
+        ----------
+        arclength : array_like, shape (n_samples,)
+            Parameters on the scale of :attr:`arclength` (0 at the first
+            point, ``arclength[-1]`` at the last).
+
+        Returns
+        -------
+        DenseSamples
+            Ω (rad/s), coefficients (m) and ``amplitude()`` of every sample;
+            NaN for parameters off the branch (outside ``[0,
+            arclength[-1]]`` or in the jump between two pieces).
+        """
+        from ._validate import finite_array
+
+        s = np.asarray(arclength, dtype=float)
+        if s.ndim == 0:
+            s = s.reshape(1)
+        s = finite_array("arclength", s)
+        d = self._dense()
+        i, u = d.locate(s)
+        return d.samples(i, u)
+
+    def resample(self, per_interval: int = 8):
+        """The dense output at ``per_interval`` evenly spaced arc lengths
+        per interval between points (the points themselves included), in
+        path order: ``(n_points - n_pieces) * per_interval + n_pieces``
+        samples, no sample in the jump between pieces.
+
+        Returns
+        -------
+        DenseSamples
+        """
+        from ._validate import positive_int
+
+        per_interval = positive_int("per_interval", per_interval, low=1)
+        return self._resample(per_interval)[0]
+
+    def _resample(self, per_interval: int):
+        """:meth:`resample` and the slice of the samples of every piece."""
+        d = self._dense()
+        idx, uu, parts = [], [], []
+        count = 0
+        for sl in self.piece_slices():
+            n = sl.stop - sl.start
+            if n == 0:
+                continue
+            if n == 1:
+                # a lone point: the start of the (one-point) interval after
+                # it, or the end of the one before
+                i0, u0 = (
+                    (sl.start, 0.0)
+                    if sl.start < self.n_points - 1
+                    else (
+                        sl.start - 1,
+                        1.0,
+                    )
+                )
+                idx.append(np.array([i0]))
+                uu.append(np.array([u0]))
+            else:
+                k = np.arange(sl.start, sl.stop - 1)
+                u = np.arange(per_interval) / per_interval
+                idx.append(np.append(np.repeat(k, per_interval), sl.stop - 2))
+                uu.append(np.append(np.tile(u, k.size), 1.0))
+            parts.append(slice(count, count + idx[-1].size))
+            count += idx[-1].size
+        if not idx or self.n_points < 2:
+            single = np.zeros(self.n_points, dtype=np.int64)
+            return d.samples(single, np.zeros(self.n_points)), [slice(0, self.n_points)]
+        return d.samples(np.concatenate(idx), np.concatenate(uu)), parts
+
+    def amplitude_at(
+        self,
+        omega,
+        harmonic: int | None = 1,
+        dof=None,
+        *,
+        return_error: bool = False,
+    ):
+        """Amplitude of the dense output at given Ω, all its values where
+        the branch passes several times (past folds, or pieces overlapping).
+
+        Parameters
+        ----------
+        omega : array_like, shape (n_omega,)
+            Pulsations, rad/s.
+        harmonic : int or None, default 1
+            As in :meth:`amplitude`.
+        dof : int, str or None
+            As in :meth:`amplitude`.
+        return_error : bool
+            Also return the estimated relative error of every value
+            (:meth:`dense_error` of its interval).
+
+        Returns
+        -------
+        amplitude : ndarray, shape (n_omega, n_values)
+            ``amplitude[j, :]``: the values at ``omega[j]`` in path order,
+            padded with NaN; ``n_values`` is the largest number of passes
+            (at least 1). A row of NaN: the branch does not reach that Ω.
+        error : ndarray, shape (n_omega, n_values)
+            Only with ``return_error``.
+        """
+        from ._validate import finite_array
+
+        w = np.asarray(omega, dtype=float)
+        if w.ndim == 0:
+            w = w.reshape(1)
+        w = finite_array("omega", w)
+        d = self._dense()
+        k = _resolve_dof(dof, self.dof_names, self.coefficients.shape[1])
+        roots = d.solve_omega(w)
+        width = max([1] + [len(r) for r in roots])
+        amp = np.full((w.size, width), np.nan)
+        idx = np.array([i for r in roots for i, _ in r], dtype=np.int64)
+        uu = np.array([u for r in roots for _, u in r], dtype=float)
+        if idx.size:
+            values = d.samples(idx, uu).amplitude(harmonic=harmonic, dof=k)
+            rows = np.repeat(np.arange(w.size), [len(r) for r in roots])
+            cols = np.concatenate([np.arange(len(r)) for r in roots if r])
+            amp[rows, cols] = values
+        if not return_error:
+            return amp
+        err = np.full_like(amp, np.nan)
+        if idx.size:
+            est = d.error_estimate(k, harmonic)
+            err[rows, cols] = est[idx]
+        return amp, err
+
+    def dense_error(self, harmonic: int | None = 1, dof=None) -> np.ndarray:
+        """Estimated error of the dense output on every interval.
+
+        The largest relative error of the amplitude at fixed Ω between
+        points ``i`` and ``i + 1`` (interpolation only: the points' own
+        error is :attr:`truncation_error`), from the difference between the
+        Hermite cubic and the cubics through four neighbouring points
+        (:mod:`hbmfric.dense`).
+
+        Returns
+        -------
+        ndarray, shape (n_points - 1,)
+            NaN for the jump between two pieces.
+        """
+        k = _resolve_dof(dof, self.dof_names, self.coefficients.shape[1])
+        return self._dense().error_estimate(k, harmonic)
 
     # ------------------------------------------------------------------
     def save(self, path: str | Path) -> Path:
