@@ -136,6 +136,17 @@ class Branch:
         entry 0), when a run that stopped short was retraced from the other
         end of the range (:func:`hbmfric.frf`); None for one piece. Each
         piece is a continuous path; between pieces the path jumps.
+    tangents : ndarray, shape (n_points, n_dof * n_coef + 1), optional
+        Unit tangent of the branch at every point, in path direction, in
+        physical units: ``tangents[:, :-1].reshape(n_points, n_dof, n_coef)``
+        is ``d(coefficients)/ds`` (m) and ``tangents[:, -1]`` is ``dΩ/ds``
+        (rad/s), with ``s`` the arc length of the scaled variables
+        ``(X / info["amplitude_scale"], Ω / (high - low))`` (coefficients
+        of the solved unknowns: every DOF, or the contact DOF of a
+        condensed problem; ``high - low`` the width of ``omega_range``), so
+        that the solved unknowns' part has unit norm in those variables.
+        Harmonics a point did not use (``harmonics="auto"``) have zero
+        entries. None for branches saved before it existed.
 
     Notes
     -----
@@ -159,6 +170,7 @@ class Branch:
     dof_names: dict = field(default_factory=dict)
     truncation_error: np.ndarray | None = None
     pieces: np.ndarray | None = None
+    tangents: np.ndarray | None = None
 
     def __len__(self) -> int:
         return self.omega.size
@@ -522,6 +534,8 @@ class Branch:
             arrays["truncation_error"] = self.truncation_error
         if self.pieces is not None:
             arrays["pieces"] = self.pieces
+        if self.tangents is not None:
+            arrays["tangents"] = self.tangents
         np.savez(path, **arrays)
         return path if path.suffix == ".npz" else path.with_suffix(path.suffix + ".npz")
 
@@ -575,6 +589,11 @@ class Branch:
                     pieces=(
                         np.asarray(data["pieces"], dtype=np.int64).copy()
                         if "pieces" in data.files
+                        else None
+                    ),
+                    tangents=(
+                        np.asarray(data["tangents"], dtype=np.float64).copy()
+                        if "tangents" in data.files
                         else None
                     ),
                 )
@@ -678,6 +697,13 @@ def _check_branch_arrays(path, branch: Branch) -> None:
     ):
         raise bad("pieces", f"must be increasing point indices from 0, got {pc}")
     n_dof = c.shape[1]
+    tg = branch.tangents
+    if tg is not None and tg.shape != (n, n_dof * n_coef + 1):
+        raise bad(
+            "tangents", f"must have shape ({n}, {n_dof * n_coef + 1}), got {tg.shape}"
+        )
+    if tg is not None and not np.all(np.isfinite(tg)):
+        raise bad("tangents", "has non-finite values")
     for name, index in branch.dof_names.items():
         if not 0 <= index < n_dof:
             raise bad("dof_names", f"maps {name!r} to {index}, not in [0, {n_dof - 1}]")
@@ -725,6 +751,25 @@ def join_pieces(first: Branch, second: Branch, stop_reason: str) -> Branch:
             return b.point_harmonics
         return np.full(b.omega.size, int(b.harmonic_numbers[-1]), dtype=np.int64)
 
+    def padded_tangents(b: Branch, order, sign: float) -> np.ndarray:
+        out = np.zeros((b.omega.size, n_dof * n_coef + 1))
+        m = b.coefficients.shape[2]
+        t = b.tangents[order]
+        out[:, :-1].reshape(-1, n_dof, n_coef)[:, :, :m] = sign * t[:, :-1].reshape(
+            -1, n_dof, m
+        )
+        out[:, -1] = sign * t[:, -1]
+        return out
+
+    tangents = None
+    if first.tangents is not None and second.tangents is not None:
+        # the second piece runs backwards: its tangents turn round
+        tangents = np.concatenate(
+            (
+                padded_tangents(first, slice(None), 1.0),
+                padded_tangents(second, back, -1.0),
+            )
+        )
     truncation_error = None
     if first.truncation_error is not None and second.truncation_error is not None:
         truncation_error = np.concatenate(
@@ -769,4 +814,5 @@ def join_pieces(first: Branch, second: Branch, stop_reason: str) -> Branch:
         dof_names=dict(first.dof_names),
         pieces=np.array([0, n1], dtype=np.int64),
         truncation_error=truncation_error,
+        tangents=tangents,
     )

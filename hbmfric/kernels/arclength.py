@@ -356,7 +356,7 @@ def trace(
     max_attempts,
     watch,
     points,
-    tangents_omega,
+    tangents,
     flags,
     R,
     J,
@@ -386,8 +386,10 @@ def trace(
         also stops after an accepted point that does not :func:`stays`.
     points : ndarray, shape (capacity, n + 1)
         Out: accepted points.
-    tangents_omega : ndarray, shape (capacity,)
-        Out: Ω-component of the tangent at each accepted point.
+    tangents : ndarray, shape (capacity, n + 1)
+        Out: unit tangent at each accepted point in physical units
+        (``tangent * scale`` with the scale at that point: ``dX/ds`` in m,
+        ``dΩ/ds`` in rad/s per unit of the scaled arc length ``s``).
     flags : ndarray of int64, shape (capacity,)
         Out: ``CORNER``/``FOLD`` bits of each accepted point.
 
@@ -427,7 +429,7 @@ def trace(
             continue
         for i in range(n + 1):
             points[n_accepted, i] = y[i]
-        tangents_omega[n_accepted] = tangent[n]
+            tangents[n_accepted, i] = tangent[i] * scale[i]
         flags[n_accepted] = outcome
         n_accepted += 1
         if watch[WATCH_ACTIVE] != 0.0 and not stays(y, watch, calibration):
