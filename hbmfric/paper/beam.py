@@ -260,10 +260,11 @@ class BeamValidation(BeamFamily):
 
     reference: list = field(default_factory=list)
 
-    def write_csv(self, path: Path) -> Path:
-        """The curves (as :meth:`FigureResult.write_csv`) and, next to them,
-        ``<stem>_time_integration.csv`` with the reference points."""
-        path = super().write_csv(path)
+    def write_csv(self, path: Path, resample: int | None = None) -> Path:
+        """The curves (as :meth:`FigureResult.write_csv`, ``resample``
+        likewise) and, next to them, ``<stem>_time_integration.csv`` with
+        the reference points."""
+        path = super().write_csv(path, resample=resample)
         ti_path = Path(path).with_name(Path(path).stem + "_time_integration.csv")
         with open(ti_path, "w", newline="") as fh:
             w = csv.writer(fh)
