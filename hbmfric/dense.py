@@ -447,3 +447,49 @@ def dense(branch) -> DenseBranch:
     """The dense output of ``branch`` (its stored tangents when it has
     them, finite differences otherwise)."""
     return DenseBranch(branch, getattr(branch, "tangents", None))
+
+
+def dense_curve_error(branch, reference_omega, reference_amplitude, dof=None):
+    """The curve error (:mod:`hbmfric.validation.curve`) of a branch's
+    dense output: at each reference ``(Ω_r, a_r)`` the dense first-harmonic
+    amplitude at Ω_r closest to ``a_r`` (several where the branch passes
+    Ω_r more than once), relative error ``|a - a_r| / a_r``; infinite where
+    the branch does not reach Ω_r.
+
+    Parameters
+    ----------
+    branch : Branch
+    reference_omega, reference_amplitude : array_like, shape (n_ref,)
+        Reference pulsations (rad/s) and first-harmonic amplitudes (m, > 0).
+    dof : int, str or None
+        Output DOF (None: the contact DOF).
+
+    Returns
+    -------
+    hbmfric.validation.curve.CurveError
+    """
+    from .validation.curve import CurveError
+
+    wr = np.asarray(reference_omega, dtype=float).ravel()
+    ar = np.asarray(reference_amplitude, dtype=float).ravel()
+    if wr.shape != ar.shape:
+        raise ValueError("reference_omega and reference_amplitude differ in shape")
+    if not np.all(ar > 0):
+        raise ValueError("reference amplitudes must be > 0")
+    amp = branch.amplitude_at(wr, harmonic=1, dof=dof)
+    dist = np.abs(amp - ar[:, None])
+    value = np.full(wr.size, np.nan)
+    reached = np.any(np.isfinite(dist), axis=1)
+    if np.any(reached):
+        pick = np.nanargmin(
+            np.where(np.isfinite(dist[reached]), dist[reached], np.inf), axis=1
+        )
+        value[reached] = amp[reached][np.arange(pick.size), pick]
+    error = np.where(np.isnan(value), np.inf, np.abs(value - ar) / ar)
+    return CurveError(
+        omega=wr,
+        reference=ar,
+        value=value,
+        error=error,
+        uncovered=np.flatnonzero(np.isnan(value)),
+    )
