@@ -43,7 +43,6 @@ pieces of two points the straight chord.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -369,43 +368,77 @@ class DenseBranch:
         every interval, shape (n_points - 1,) (NaN across seams)."""
         n_int = self.s.size - 1
         est = np.full(max(n_int, 0), np.nan)
+        # only the DOF's coefficients and Ω enter
+        cols = np.append(np.arange(dof * self.n_coef, (dof + 1) * self.n_coef), -1)
+        y, t = self.y[:, cols], self.t[:, cols]
+
+        def amp(v):
+            return _amplitude(self.harmonic_numbers, v[..., :-1], harmonic)
+
         for a, b in self.pieces:
             m = b - a
             if m < 2:
                 continue
-            for i in range(a, b - 1):
-                if m >= 4:  # every four-point stencil holding the interval
-                    starts = sorted(
-                        {min(max(lo, a), b - 4) for lo in (i - 2, i - 1, i)}
-                    )
-                    stencils = [(lo, 4) for lo in starts]
-                else:
-                    stencils = [(a, m)]
-                worst = 0.0
-                for u in _ESTIMATE_AT:
-                    sv = self.s[i] + u * (self.s[i + 1] - self.s[i])
-                    yh = self.hermite(np.full(3, i), np.array([u - 1e-4, u, u + 1e-4]))
-                    amps = self._amp(yh, dof, harmonic)
-                    ah = amps[1]
-                    dw = yh[2, -1] - yh[0, -1]
-                    slope = (amps[2] - amps[0]) / dw if dw != 0.0 else math.inf
-                    scale = abs(ah) if ah != 0.0 else 1.0
-                    for lo, k in stencils:
-                        nodes = self.s[lo : lo + k]
-                        yp = _lagrange_weights(nodes, sv) @ self.y[lo : lo + k]
-                        ap = self._amp(yp[None, :], dof, harmonic)[0]
-                        d_om = yp[-1] - yh[1, -1]
-                        vert = abs(ap - ah)
-                        if d_om != 0.0:
-                            vert = abs((ap - ah) - slope * d_om)
-                        if k == 4:
-                            w_h = ((sv - self.s[i]) * (sv - self.s[i + 1])) ** 2
-                            den = w_h - float(np.prod(sv - nodes))
-                            ratio = abs(w_h / den) if den != 0.0 else 1.0
-                            vert *= SAFETY * min(ratio, 1.0)
-                        worst = max(worst, vert / scale)
-                est[i] = worst
+            i = np.arange(a, b - 1)
+            L = self.length[i][:, None]
+            k = min(m, 4)
+            # every k-point stencil holding the interval
+            offsets = (-2, -1, 0) if k == 4 else (0,)
+            starts = [np.clip(i + o, a, b - k) for o in offsets]
+            worst = np.zeros(i.size)
+            for u in _ESTIMATE_AT:
+                uu = np.array([u - 1e-4, u, u + 1e-4])[None, :, None]
+                h00 = 2 * uu**3 - 3 * uu**2 + 1
+                h10 = uu**3 - 2 * uu**2 + uu
+                h01 = -2 * uu**3 + 3 * uu**2
+                h11 = uu**3 - uu**2
+                yh = (
+                    h00 * y[i][:, None]
+                    + h10 * (L * t[i])[:, None]
+                    + h01 * y[i + 1][:, None]
+                    + h11 * (L * t[i + 1])[:, None]
+                )  # (n_int, 3, n_cols)
+                amps = amp(yh)
+                ah = amps[:, 1]
+                dw = yh[:, 2, -1] - yh[:, 0, -1]
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    slope = np.where(dw != 0.0, (amps[:, 2] - amps[:, 0]) / dw, np.inf)
+                scale = np.where(ah != 0.0, np.abs(ah), 1.0)
+                sv = self.s[i] + u * (self.s[i + 1] - self.s[i])
+                for lo in starts:
+                    idx = lo[:, None] + np.arange(k)
+                    nodes = self.s[idx]  # (n_int, k)
+                    w = _lagrange_weights_many(nodes, sv)
+                    yp = np.einsum("ij,ijc->ic", w, y[idx])
+                    ap = amp(yp)
+                    d_om = yp[:, -1] - yh[:, 1, -1]
+                    with np.errstate(invalid="ignore"):
+                        vert = np.where(
+                            d_om != 0.0,
+                            np.abs((ap - ah) - slope * d_om),
+                            np.abs(ap - ah),
+                        )
+                    if k == 4:
+                        w_h = ((sv - self.s[i]) * (sv - self.s[i + 1])) ** 2
+                        den = w_h - np.prod(sv[:, None] - nodes, axis=1)
+                        with np.errstate(divide="ignore", invalid="ignore"):
+                            ratio = np.where(den != 0.0, np.abs(w_h / den), 1.0)
+                        vert = vert * SAFETY * np.minimum(ratio, 1.0)
+                    worst = np.maximum(worst, vert / scale)
+            est[i] = worst
         return est
+
+
+def _lagrange_weights_many(nodes: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Row-wise :func:`_lagrange_weights`: ``nodes`` shape (n, k), ``x``
+    shape (n,); returns shape (n, k)."""
+    n, k = nodes.shape
+    w = np.ones((n, k))
+    for j in range(k):
+        for m in range(k):
+            if m != j:
+                w[:, j] *= (x - nodes[:, m]) / (nodes[:, j] - nodes[:, m])
+    return w
 
 
 def _lagrange_weights(nodes: np.ndarray, x: float) -> np.ndarray:
