@@ -744,7 +744,7 @@ def plot(rows: list[dict], refs: dict, path: Path) -> None:
 
     names = list(dict.fromkeys(r["problem"] for r in rows))
     fig, axes = plt.subplots(
-        1, len(names), figsize=(5.2 * len(names), 4.6), squeeze=False
+        1, len(names), figsize=(max(5.2 * len(names), 9.0), 5.6), squeeze=False
     )
     hs = sorted({r["harmonics"] for r in rows if isinstance(r["harmonics"], int)})
     cmap = plt.get_cmap("viridis")
@@ -848,6 +848,10 @@ def plot(rows: list[dict], refs: dict, path: Path) -> None:
                     label=f"{peer} (issue 18, P1)",
                 )
         ax.axhline(1e-4, color="crimson", ls=":", lw=1, label="1e-4")
+        ax.set_title(name)
+        ax.set_xlabel("branch run time (ms)")
+        ax.set_ylabel("curve error (max relative, first harmonic)")
+        ax.grid(True, which="major", alpha=0.3)
     handles = [
         plt.Line2D(
             [], [], ls="", marker=m, color="k", label=f"{a} {'odd' if o else 'all'}"
@@ -857,9 +861,13 @@ def plot(rows: list[dict], refs: dict, path: Path) -> None:
         plt.Line2D([], [], ls="", marker="o", color=color[h], label=f"H={h}")
         for h in hs
     ]
-    h0, l0 = axes[0][0].get_legend_handles_labels()
-    axes[0][-1].legend(handles=handles + h0, fontsize=7, loc="upper right", ncol=2)
-    fig.tight_layout()
+    seen = {}
+    for ax in axes[0]:
+        for h, label in zip(*ax.get_legend_handles_labels(), strict=True):
+            seen.setdefault(label, h)
+    extra = [h for label, h in seen.items() if not label.startswith("_")]
+    fig.legend(handles=handles + extra, fontsize=7, loc="lower center", ncol=6)
+    fig.tight_layout(rect=(0.0, 0.16, 1.0, 1.0))
     fig.savefig(path, dpi=120)
     plt.close(fig)
 

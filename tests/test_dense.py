@@ -309,3 +309,50 @@ def test_criterion_record_samples_dense_output():
     assert pts.omega.size == 161 and rec.omega.size == 160 * 8 + 1
     exact = np.abs(_linear_response(rec.omega)[0])
     assert np.max(np.abs(rec.amplitude - exact) / exact) < 1e-4
+
+
+# ---------------------------------------------------------------------------
+# slow: the paper beam (exact event-driven references) and a Menq oscillator
+# (time integration)
+# ---------------------------------------------------------------------------
+
+
+def _dense_check(branch, omega, reference, dof=None):
+    """Dense curve error and, at every reference pulsation, the estimate of
+    the interval used."""
+    from hbmfric.dense import dense_curve_error
+
+    err = dense_curve_error(branch, omega, reference, dof=dof)
+    return err
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("normal_load", [5.0, 1.0, 0.5])
+def test_beam_dense_output_within_1e4_of_exact(normal_load):
+    from hbmfric.paper.beam import HZ, paper_beam, paper_calibration
+    from hbmfric.validation.curve import curve_references
+
+    beam = paper_beam(normal_load, paper_calibration())
+    rng = (15.0 * HZ, 110.0 * HZ)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.HbmfricWarning)
+        branch = hf.frf(beam, 2.0, rng)
+    w, ref = curve_references(beam, 2.0, np.linspace(*rng, 101), method="exact")
+    err = _dense_check(branch, w, ref)
+    assert err.max <= 1e-4, (err.max, err.worst_omega)
+
+
+@pytest.mark.slow
+def test_menq_dense_output_within_1e4_of_time_integration():
+    from hbmfric.validation.curve import curve_references
+
+    law = hf.Menq.from_stiffness(3.0, 1.0, microslip_onset=0.5)
+    system = hf.Oscillator(1.0, 0.02, 1.0, law)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.HbmfricWarning)
+        branch = hf.frf(system, 0.5, (0.5, 3.0))
+    w, ref = curve_references(
+        system, 0.5, np.linspace(0.5, 3.0, 100), method="integrate"
+    )
+    err = _dense_check(branch, w, ref)
+    assert err.max <= 1e-4, (err.max, err.worst_omega)
