@@ -18,6 +18,12 @@ from .signals import half_peak_to_peak, harmonic_amplitude, synthesis_matrix
 #: relative tolerance (of the range width) of :attr:`Branch.complete` and
 #: :attr:`Branch.gaps`
 COVERAGE_RTOL = 1e-9
+#: fractions of a chord where :attr:`Branch.curve_errors` compares the
+#: cubic through its ends with it (the extremes of an S and of a bow)
+CHORD_FRACTIONS = (0.21132486540518713, 0.5, 0.7886751345948129)
+#: near a fold the vertical distance is bounded by this factor times the
+#: distance perpendicular to the chord
+FOLD_CAP = 1e3
 
 
 def _resolve_dof(dof, names: dict, n_dof: int) -> int:
@@ -266,6 +272,95 @@ class Branch:
         if harmonic is None:
             return half_peak_to_peak(self.harmonic_numbers, X)
         return harmonic_amplitude(self.harmonic_numbers, X, harmonic)
+
+    # ------------------------------------------------------------------
+    # the curve between the points
+    def _arc_metric(self) -> tuple[np.ndarray, float, float] | None:
+        """DOFs whose coefficients the arc length of :attr:`tangents`
+        measures, and its amplitude and Ω scales (None if unknown)."""
+        scale = self.info.get("amplitude_scale")
+        rng = self.omega_range
+        if self.tangents is None or scale is None or rng is None:
+            return None
+        n_dof = self.coefficients.shape[1]
+        if self.info.get("condensed") and n_dof > 1:
+            dofs = np.array([_resolve_dof(None, self.dof_names, n_dof)])
+        else:
+            dofs = np.arange(n_dof)
+        return dofs, float(scale), float(rng[1] - rng[0])
+
+    @property
+    def curve_errors(self) -> np.ndarray | None:
+        """Estimated largest distance between the branch and the straight
+        line joining each pair of consecutive points, shape
+        (n_points - 1,): relative error of the first-harmonic amplitude of
+        the contact DOF at equal Ω (log-log plane), from the points and
+        their :attr:`tangents` (the cubic Hermite curve through both
+        points against the chord, as
+        :func:`hbmfric.kernels.arclength.chord_error`). 0 between two
+        pieces (no line is drawn there). None without tangents."""
+        metric = self._arc_metric()
+        if metric is None:
+            return None
+        dofs, scale, width = metric
+        n = self.omega.size
+        if n < 2:
+            return np.zeros(0)
+        n_dof, n_coef = self.coefficients.shape[1:]
+        k = self.harmonic_numbers
+        if 1 not in k:
+            return np.zeros(n - 1)
+        col = int(np.sum(np.where(k[: int(np.flatnonzero(k == 1)[0])] == 0, 1, 2)))
+        dof = _resolve_dof(None, self.dof_names, n_dof)
+        dc = self.tangents[:, :-1].reshape(n, n_dof, n_coef)
+        w = self.omega
+        c, sn = self.coefficients[:, dof, col], self.coefficients[:, dof, col + 1]
+        amp = np.hypot(c, sn)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            da = np.where(
+                amp > 0.0, (c * dc[:, dof, col] + sn * dc[:, dof, col + 1]) / amp, 0.0
+            )
+        dw = self.tangents[:, -1]
+        d = np.diff(self.coefficients[:, dofs, :], axis=0) / scale
+        length = np.sqrt(
+            np.sum(d.reshape(n - 1, -1) ** 2, axis=1) + (np.diff(w) / width) ** 2
+        )
+        # relative units: Ω by the mean of the ends, a by the smaller one
+        rw = 0.5 * (w[:-1] + w[1:])
+        ra = np.minimum(amp[:-1], amp[1:])
+        rest = ~(ra > 0.0)
+        ra = np.where(rest, 1.0, ra)
+        ex, el = np.diff(w) / rw, np.diff(amp) / ra
+        ax, al = length * dw[:-1] / rw - ex, length * da[:-1] / ra - el
+        bx, bl = length * dw[1:] / rw - ex, length * da[1:] / ra - el
+        chord = np.hypot(ex, el)
+        run = np.maximum(np.abs(ex), chord / FOLD_CAP)
+        worst = np.zeros(n - 1)
+        for tau in CHORD_FRACTIONS:
+            f = tau * (1.0 - tau)
+            px = f * ((1.0 - tau) * ax - tau * bx)
+            pl = f * ((1.0 - tau) * al - tau * bl)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                e = np.abs(pl * ex - px * el) / run
+            worst = np.fmax(worst, e)
+        worst[rest] = 0.0
+        worst[chord == 0.0] = 0.0
+        worst = np.nan_to_num(worst, nan=0.0)
+        if self.pieces is not None:
+            for p in self.pieces:
+                if 0 < p < n:
+                    worst[p - 1] = 0.0
+        return worst
+
+    @property
+    def curve_error(self) -> float | None:
+        """Largest of :attr:`curve_errors` (estimated relative amplitude
+        error of the straight lines between the points); None without
+        tangents, 0 for fewer than two points."""
+        errors = self.curve_errors
+        if errors is None:
+            return None
+        return float(np.max(errors, initial=0.0))
 
     def harmonics_at(self, index: int) -> int:
         """Highest harmonic used at point ``index``."""

@@ -161,7 +161,27 @@ class Continuation:
         s[_arclength.BASE_SCALE] = self.base_scale
         s[_arclength.LOW] = self.low
         s[_arclength.HIGH] = self.high
+        s[_arclength.CURVE_TOL] = o.curve_tolerance or 0.0
+        s[_arclength.CURVE_COLUMN] = 0.0
+        column = self._curve_column()
+        if column < 0:
+            s[_arclength.CURVE_TOL] = 0.0
+        else:
+            s[_arclength.CURVE_COLUMN] = column
         return s
+
+    def _curve_column(self) -> int:
+        """Index among the unknowns of the first-harmonic cosine
+        coefficient of the contact DOF (the drawn DOF of the curve rule),
+        -1 without a first harmonic."""
+        p = self.problem
+        hn = [int(k) for k in p.harmonic_numbers]
+        if 1 not in hn:
+            return -1
+        column = sum(1 if k == 0 else 2 for k in hn[: hn.index(1)])
+        n_dof = p.n_unknowns // p.n_coef  # 1 for a problem condensed on a contact
+        dof = int(getattr(p.system, "contact_dof", 0) or 0) if n_dof > 1 else 0
+        return dof * p.n_coef + column
 
     # ------------------------------------------------------------------
     def _correct(self, y, y_pred, constraint, max_iter=None):
