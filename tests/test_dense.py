@@ -217,12 +217,17 @@ def test_p1_dense_output_within_1e4_of_exact(p1_cases, force):
 def test_p1_dense_estimate_never_below_half_the_interpolation_error(p1_cases, force):
     """The estimate of the interval holding each checked pulsation against
     the dense output's distance from the HBM solution of the branch's own
-    discretisation there (the interpolation error alone)."""
+    discretisation there (the interpolation error alone). Intervals whose
+    two points used different harmonics (``harmonics="auto"`` switching
+    level) are left out: there the branch itself jumps by the change of
+    truncation error, which is the points' error, not the interpolant's."""
     branch, _ = p1_cases[force]
     amp, est = branch.amplitude_at(P1_OMEGA, return_error=True)
     d = branch._dense()
     for j, w in enumerate(P1_OMEGA):
         ((i, _),) = d.solve_omega([w])[0][:1]
+        if branch.harmonics_at(i) != branch.harmonics_at(i + 1):
+            continue
         k = i if abs(branch.omega[i] - w) <= abs(branch.omega[i + 1] - w) else i + 1
         sol = hf.periodic_solution(
             P1, force, float(w), branch.harmonics_at(k), initial_guess=branch.point(k)
