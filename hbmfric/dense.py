@@ -161,6 +161,15 @@ class DenseBranch:
         self.scale = np.full(self.y.shape[1], cmax)
         self.scale[-1] = span
         self.pieces = [(sl.start, sl.stop) for sl in branch.piece_slices()]
+        # kind of every point: its harmonic level, negative where the
+        # contact is stuck (a linear point: zero truncation error)
+        kind = np.full(n, int(self.harmonic_numbers[-1]) if n else 0, dtype=np.int64)
+        if getattr(branch, "point_harmonics", None) is not None:
+            kind = np.asarray(branch.point_harmonics, dtype=np.int64).copy()
+        te = getattr(branch, "truncation_error", None)
+        if te is not None:
+            kind = np.where(np.asarray(te) == 0.0, -kind - 1, kind)
+        self.kind = kind
         z = self.y / self.scale
         chord = np.linalg.norm(np.diff(z, axis=0), axis=1)
         self.s = np.concatenate(([0.0], np.cumsum(chord)))
@@ -387,6 +396,21 @@ class DenseBranch:
             # every k-point stencil holding the interval
             offsets = (-2, -1, 0) if k == 4 else (0,)
             starts = [np.clip(i + o, a, b - k) for o in offsets]
+            # a stencil through points of one kind only (all stuck or all
+            # slipping, one harmonic level) where there is one: the branch
+            # has a corner where the contact starts to slip and a small jump
+            # where the level changes, which a cubic through them would
+            # take for curvature
+            uniform = [
+                np.all(
+                    self.kind[lo[:, None] + np.arange(k)] == self.kind[lo][:, None],
+                    axis=1,
+                )
+                for lo in starts
+            ]
+            any_uniform = np.any(uniform, axis=0)
+            corner = self.kind[i] != self.kind[i + 1]
+            usable = [u_ | ~any_uniform for u_ in uniform]
             worst = np.zeros(i.size)
             for u in _ESTIMATE_AT:
                 uu = np.array([u - 1e-4, u, u + 1e-4])[None, :, None]
@@ -407,7 +431,16 @@ class DenseBranch:
                     slope = np.where(dw != 0.0, (amps[:, 2] - amps[:, 0]) / dw, np.inf)
                 scale = np.where(ah != 0.0, np.abs(ah), 1.0)
                 sv = self.s[i] + u * (self.s[i + 1] - self.s[i])
-                for lo in starts:
+                # an interval where the kind changes holds the corner: the
+                # cubic's distance from the chord bounds its error there
+                yc = (1.0 - u) * y[i] + u * y[i + 1]
+                d_om = yc[:, -1] - yh[:, 1, -1]
+                with np.errstate(invalid="ignore"):
+                    vert = np.abs(
+                        (amp(yc) - ah) - np.where(d_om != 0.0, slope * d_om, 0.0)
+                    )
+                worst = np.maximum(worst, np.where(corner, vert / scale, 0.0))
+                for lo, use in zip(starts, usable, strict=True):
                     idx = lo[:, None] + np.arange(k)
                     nodes = self.s[idx]  # (n_int, k)
                     w = _lagrange_weights_many(nodes, sv)
@@ -426,7 +459,7 @@ class DenseBranch:
                         with np.errstate(divide="ignore", invalid="ignore"):
                             ratio = np.where(den != 0.0, np.abs(w_h / den), 1.0)
                         vert = vert * SAFETY * np.minimum(ratio, 1.0)
-                    worst = np.maximum(worst, vert / scale)
+                    worst = np.maximum(worst, np.where(use, vert / scale, 0.0))
             est[i] = worst
         return est
 
