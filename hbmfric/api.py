@@ -161,7 +161,11 @@ def frf(
         end of the range in the opposite direction with the same settings
         and join the two pieces (``Branch.pieces``).
     **option_overrides
-        Fields of :class:`ContinuationOptions` to override.
+        Fields of :class:`ContinuationOptions` to override, among them
+        ``curve_tolerance`` (default 1e-4; None or 0: off): the largest
+        estimated relative error of the first-harmonic amplitude at the
+        contact DOF of the straight lines between consecutive points, which
+        the step control keeps (``Branch.curve_errors``).
 
     Returns
     -------
@@ -175,6 +179,10 @@ def frf(
     -----
     CoverageWarning
         When the branch (after the retrace) does not cover the whole range.
+    AccuracyWarning
+        When a point's estimated truncation error exceeds
+        ``harmonic_tolerance``, or the estimated error of the straight
+        lines between the points exceeds ``curve_tolerance``.
     """
     lo, hi = _omega_range(omega)
     if sweep not in ("up", "down"):
@@ -257,6 +265,7 @@ def frf(
 
     branch = _covering(trace, sweep, retrace)
     _warn_truncation(branch, tolerance)
+    _warn_curve(branch, options.curve_tolerance)
     return branch
 
 
@@ -326,6 +335,29 @@ def _warn_truncation(branch: Branch, tolerance: float) -> None:
         f"(worst at omega={branch.omega[worst]:.6g} rad/s, H="
         f"{branch.harmonics_at(worst)}); {advice}, or raise harmonics; "
         "per-point estimates in Branch.truncation_error",
+        AccuracyWarning,
+        stacklevel=3,
+    )
+
+
+def _warn_curve(branch: Branch, tolerance: float | None) -> None:
+    """An :class:`~hbmfric.errors.AccuracyWarning` when the estimated
+    error of the straight lines between the points
+    (:attr:`Branch.curve_errors`) exceeds ``curve_tolerance`` (a corner
+    taken below the step floor, a seam the rule could not resolve)."""
+    if not tolerance:
+        return
+    errors = branch.curve_errors
+    if errors is None or errors.size == 0 or not np.max(errors) > tolerance:
+        return
+    worst = int(np.argmax(errors))
+    n_over = int(np.count_nonzero(errors > tolerance))
+    warnings.warn(
+        f"estimated curve error {errors[worst]:.2g} (straight lines between the "
+        f"points) exceeds curve_tolerance={tolerance:g} on {n_over} of "
+        f"{errors.size} intervals (worst between omega={branch.omega[worst]:.6g} "
+        f"and {branch.omega[worst + 1]:.6g} rad/s); per-interval estimates in "
+        "Branch.curve_errors",
         AccuracyWarning,
         stacklevel=3,
     )
@@ -489,4 +521,5 @@ def _frf_auto(
 
     branch = _covering(trace, sweep, retrace)
     _warn_truncation(branch, tolerance)
+    _warn_curve(branch, options.curve_tolerance)
     return branch

@@ -442,6 +442,9 @@ def advance(
         curve = chord_error(
             y, tangent, y_new, t_new, scale, int(settings[CURVE_COLUMN])
         )
+        if corner:
+            # a kink inside the step: up to twice the cubic's deviation
+            curve *= 2.0
         if curve > settings[CURVE_TOL]:
             # the chord would stray from the branch: shorter, as the
             # error goes with the square of the step (across a corner:
