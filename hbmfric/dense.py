@@ -25,20 +25,32 @@ path) or over a gap.
 
 Error estimate
 --------------
-On each interval the Hermite cubic ``H`` is compared with the cubic ``P``
-through four consecutive points around it (``i - 1 .. i + 2``, shifted inward
-at the ends of a piece). Both have an error proportional to the fourth
-derivative of the path, with node polynomials ``w_H(s) = (s - s_i)²
-(s - s_{i+1})²`` and ``w_P(s) = prod_j (s - s_j)``, so that
+On each interval the Hermite cubic ``H`` is compared with the cubics ``P``
+through four consecutive points holding it (``i - 2 .. i + 1``,
+``i - 1 .. i + 2`` and ``i .. i + 3``, shifted inward at the ends of a
+piece). Both have an error proportional to the fourth derivative of the
+path, with node polynomials ``w_H(s) = (s - s_i)² (s - s_{i+1})²`` and
+``w_P(s) = prod_j (s - s_j)``, so that
 
     error_H(s) ≈ (H - P)(s) · w_H(s) / (w_H(s) - w_P(s)).
 
-The estimate is the largest over ``u`` = 1/4, 1/2, 3/4 of this, taken on the
-measured quantity (an amplitude of one DOF) at fixed Ω: the vertical
-distance ``dA - (dA/dΩ) dΩ`` between the two interpolants, relative to the
-amplitude, times :data:`SAFETY`. In pieces of three points ``P`` is the
-parabola (its own error dominates: the difference is taken unscaled), in
-pieces of two points the straight chord.
+This is taken on the measured quantity (an amplitude of one DOF) at fixed
+Ω: the vertical distance ``dA - (dA/dΩ) dΩ`` between the two interpolants,
+relative to the amplitude, at ``u`` = 1/4, 1/2, 3/4; the estimate is the
+largest over ``u`` and stencils, times :data:`SAFETY`. Only stencils through
+points of one kind are used where the interval has one: a kind is a
+harmonic level, stuck (zero ``truncation_error``) or not, since the branch
+has a corner where the contact starts to slip and a small jump where
+``harmonics="auto"`` changes level, which a cubic through them would take
+for curvature. Where the kind changes between the two points of the
+interval (the corner lies inside), the distance between ``H`` and the chord
+is a floor of the estimate. In pieces of three points ``P`` is the parabola
+(its own error dominates: the difference is taken unscaled), in pieces of
+two points the straight chord.
+
+The estimate sees the path's smooth part only: structure below the step
+(e.g. the curvature ripple of a sampled Menq AFT, 1e-7 to 1e-6) is part of
+the points' discretisation error.
 """
 
 from __future__ import annotations
