@@ -163,7 +163,9 @@ class DenseBranch:
         self.n_dof, self.n_coef = coef.shape[1], coef.shape[2]
         self.harmonic_numbers = np.asarray(branch.harmonic_numbers)
         self.dof_names = dict(branch.dof_names)
-        self.y = np.concatenate((coef.reshape(n, -1), omega[:, None]), axis=1)
+        self.y = np.concatenate(
+            (coef.reshape(n, self.n_dof * self.n_coef), omega[:, None]), axis=1
+        )
         span = float(np.ptp(omega)) if n else 0.0
         if not span > 0.0:
             span = max(abs(float(omega[0])), 1.0) if n else 1.0
@@ -184,7 +186,7 @@ class DenseBranch:
         self.kind = kind
         z = self.y / self.scale
         chord = np.linalg.norm(np.diff(z, axis=0), axis=1)
-        self.s = np.concatenate(([0.0], np.cumsum(chord)))
+        self.s = np.concatenate(([0.0], np.cumsum(chord)))[:n]
         self.valid = np.zeros(max(n - 1, 0), dtype=bool)  # interval inside a piece
         for a, b in self.pieces:
             self.valid[a : b - 1] = True
@@ -361,8 +363,16 @@ class DenseBranch:
                     hi_u.append(ub)
                     rising.append(wb >= wa)
         out = [[] for _ in range(omega.size)]
+        # a piece of one point: the queries at its Ω exactly
+        for a, b in self.pieces:
+            if b - a == 1:
+                for j in np.flatnonzero(omega == self.y[a, -1]):
+                    i, u = (a, 0.0) if a < self.s.size - 1 else (max(a - 1, 0), 1.0)
+                    if self.s.size == 1:
+                        i, u = 0, 0.0
+                    out[j].append((i, u, float(self.s[a])))
         if not hits_seg:
-            return out
+            return [[(i, u) for i, u, _ in lst] for lst in out]
         seg = np.array(hits_seg)
         q = np.array(hits_q)
         ua = np.array(lo_u)
@@ -384,7 +394,7 @@ class DenseBranch:
             if lst and abs(lst[-1][2] - s[k]) <= tol:
                 continue  # the same root seen from both sides of a point
             lst.append((int(seg[k]), float(u[k]), float(s[k])))
-        return [[(i, u) for i, u, _ in lst] for lst in out]
+        return [[(i, u) for i, u, _ in sorted(lst, key=lambda r: r[2])] for lst in out]
 
     def error_estimate(self, dof: int, harmonic) -> np.ndarray:
         """Estimated largest relative error of the amplitude at fixed Ω on

@@ -157,6 +157,23 @@ def test_nothing_is_interpolated_across_pieces():
     assert np.all(np.isnan(b.evaluate([-1.0, s[-1] * 1.01]).omega))
 
 
+def test_dense_output_of_empty_single_point_and_lone_point_pieces():
+    empty = _branch(np.zeros(0), np.zeros((0, 2)))
+    assert empty.arclength.size == 0 and len(empty.resample(4)) == 0
+    assert np.isnan(empty.amplitude_at([1.0])).all()
+    assert empty.dense_error().size == 0
+    one = linear_branch(1)
+    assert one.amplitude_at([0.5])[0, 0] == pytest.approx(one.amplitude(1)[0])
+    assert np.isnan(one.amplitude_at([0.6])).all()
+    assert len(one.resample(4)) == 1
+    b = linear_branch(5)
+    b.pieces = np.array([0, 4])  # the last point is a piece of its own
+    r = b.resample(2)
+    assert len(r) == 3 * 2 + 1 + 1 and r.omega[-1] == b.omega[-1]
+    assert b.amplitude_at([b.omega[-1]])[0, 0] == pytest.approx(b.amplitude(1)[-1])
+    assert np.isnan(b.dense_error()[3])
+
+
 def test_dense_fallback_for_saved_branches_without_tangents(tmp_path):
     b = linear_branch(81)
     b.tangents = None
