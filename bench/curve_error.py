@@ -17,8 +17,6 @@ import argparse
 import time
 import warnings
 
-import numpy as np
-
 import hbmfric as hf
 from hbmfric.validation import branch_curve_error, curve_references, reference_omegas
 
@@ -28,6 +26,22 @@ SETTINGS = {"off": None, "on": 1e-4}
 
 def p1(force: float):
     law = hf.Jenkins(stiffness=3.0, slip_force=1.0)
+    return hf.Oscillator(contact=law, **P1), force, (0.5, 3.0)
+
+
+def beam(normal_load: float):
+    from hbmfric.paper.beam import HZ, paper_beam, paper_calibration
+
+    return paper_beam(normal_load, paper_calibration()), 2.0, (15.0 * HZ, 110.0 * HZ)
+
+
+def menq(force: float = 0.5):
+    law = hf.Menq.from_stiffness(stiffness=3.0, slip_force=1.0, microslip_onset=0.2)
+    return hf.Oscillator(contact=law, **P1), force, (0.5, 3.0)
+
+
+def iwan(force: float = 0.5):
+    law = hf.Iwan(stiffnesses=[1.0, 1.0, 1.0], slip_forces=[0.2, 0.5, 0.8])
     return hf.Oscillator(contact=law, **P1), force, (0.5, 3.0)
 
 
@@ -45,10 +59,10 @@ def measure(system, force, omega, repeats, method="exact", n_ref=100):
                 hf.frf(system, force, omega, curve_tolerance=tol)
                 times[k].append(time.perf_counter() - t)
     for k, b in branches.items():
-        w = reference_omegas(omega, n_ref, b)
-        if method == "integrate":
-            w = np.unique(np.concatenate((np.linspace(*omega, n_ref), b.omega)))
-            w = reference_omegas(omega, n_ref)
+        if k == "off" and method == "integrate":
+            w = reference_omegas(omega, n_ref)  # enough to show the error
+        else:
+            w = reference_omegas(omega, n_ref, b)
         w, a = curve_references(system, force, w, method=method)
         e = branch_curve_error(b, w, a)
         rows[k] = dict(
@@ -65,13 +79,24 @@ def measure(system, force, omega, repeats, method="exact", n_ref=100):
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=30)
-    ap.add_argument("--forces", default="0.1,0.5,2")
+    ap.add_argument("--cases", default="p1")
     args = ap.parse_args()
-    for f in (float(x) for x in args.forces.split(",")):
-        rows = measure(*p1(f), args.repeats)
+    cases = []
+    for name in args.cases.split(","):
+        if name == "p1":
+            cases += [(f"P1 F={f:g}", p1(f), "exact") for f in (0.1, 0.5, 2.0)]
+        elif name == "beam":
+            cases += [(f"beam Fn={f:g} N", beam(f), "exact") for f in (5.0, 1.0, 0.5)]
+        elif name == "menq":
+            cases.append(("Menq F=0.5", menq(), "integrate"))
+        elif name == "iwan":
+            cases.append(("Iwan F=0.5", iwan(), "integrate"))
+    for label, case, method in cases:
+        n_ref = 100 if method == "exact" else 40
+        rows = measure(*case, args.repeats, method=method, n_ref=n_ref)
         for k, r in rows.items():
             print(
-                f"P1 F={f:g} curve {k:3s}: {r['points']:4d} points "
+                f"{label} curve {k:3s}: {r['points']:4d} points "
                 f"({r['rejected']} rejected), curve error {r['curve_error']:.2e} "
                 f"at {r['worst_omega']:.4g} (estimate {r['estimate']:.2e}), "
                 f"{r['time_ms']:.2f} ms",

@@ -43,7 +43,14 @@ CURVE_TOL = 14
 #: index among the unknowns of the cosine coefficient of the first
 #: harmonic of the drawn (output) DOF; its sine follows
 CURVE_COLUMN = 15
-N_SETTINGS = 16
+#: written by the kernels: the chord error per squared scaled step of the
+#: last accepted step (0: none yet), for the kink test of :func:`advance`
+CURVE_LAST = 16
+N_SETTINGS = 17
+#: a step whose chord error per squared step exceeds the last one's this
+#: many times may hold a kink (a contact transition), where the cubic
+#: estimate falls short by up to 2x: it counts twice
+KINK_JUMP = 4.0
 
 #: fractions of a chord where :func:`chord_error` compares the cubic
 #: with the chord: the extremes of the two shapes of a cubic's deviation
@@ -442,7 +449,13 @@ def advance(
         curve = chord_error(
             y, tangent, y_new, t_new, scale, int(settings[CURVE_COLUMN])
         )
-        if corner:
+        length2 = 0.0
+        for i in range(y.size):
+            d = (y_new[i] - y[i]) / scale[i]
+            length2 += d * d
+        bend = curve / length2 if length2 > 0.0 else 0.0
+        last = settings[CURVE_LAST]
+        if corner or (last > 0.0 and bend > KINK_JUMP * last):
             # a kink inside the step: up to twice the cubic's deviation
             curve *= 2.0
         if curve > settings[CURVE_TOL]:
@@ -458,6 +471,7 @@ def advance(
                 if new_step < settings[MIN_STEP]:
                     return STEP_TOO_SMALL, new_step, evaluations
                 return REJECTED, new_step, evaluations
+        settings[CURVE_LAST] = 0.0 if corner else bend
         if corner:
             curve = 0.0
     outcome = ACCEPTED
