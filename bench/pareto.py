@@ -1,22 +1,41 @@
-"""Run time against error: which discretisation buys which accuracy.
+"""Run time against error: which discretisation buys which accuracy, in the
+error of the curve the user gets (issue 18).
 
 Run: ``python -m bench.pareto [--quick] [--out bench/results]`` from the
 repository root. Writes ``pareto.csv`` (one row per problem and setting),
-``reference.csv`` (the time-integration reference) and ``pareto.png`` (error
-against run time, one panel per problem, Pareto fronts drawn).
+``reference.csv`` (the time-integration point reference),
+``curve_reference.csv`` (the curve references) and ``pareto.png`` (curve
+error against run time, one panel per problem, Pareto fronts drawn, the
+peers' figures of issue 18 beside P1's).
 
 For every problem in :data:`PROBLEMS` and every setting in :func:`settings`
 (highest harmonic ``H``, AFT samples ``n_time`` as multiples of ``2H + 1``,
 event-located or sampled AFT, odd or all harmonics), the whole FRF branch is
 traced by :func:`hbmfric.frf` and timed (least of ``repeats`` warm runs).
-Its error is measured against the time-integration steady state
-(:func:`hbmfric.validation.steady_state`, Richardson-extrapolated from two
-step sizes) at the reference frequencies of the problem (ten spread over the
-range, the resonance peak and its neighbours): at each, the HBM solution of
-*the same discretisation* is solved from the nearest branch point, and the
-relative errors of the first-harmonic amplitude and of half the peak-to-peak
-displacement are taken; ``error`` is the largest over both measures and all
-frequencies.
+
+Errors (all relative, of the first-harmonic amplitude at the problem's DOF):
+
+* ``error`` -- the **curve error** of straight lines between the returned
+  points (:func:`hbmfric.validation.curve.branch_curve_error`), largest over
+  the curve reference: exact event-driven periodic solutions
+  (:func:`hbmfric.validation.exact_branch`) at :data:`N_CURVE_EXACT`
+  pulsations spread evenly over the range for a Jenkins contact, converged
+  time integration at :data:`N_CURVE_INTEGRATED` for the other laws
+  (:func:`hbmfric.validation.curve.curve_references`). This is what a user
+  who plots or exports the points sees; the fronts and the ``pareto`` and
+  ``dominated_by`` columns are on it.
+* ``dense_error`` -- the same measure for the branch's dense output
+  (:meth:`hbmfric.Branch.amplitude_at`, cubic Hermite in arc length), with
+  its own front (``pareto_dense``, ``dominated_by_dense``) and
+  ``dense_estimate``, the largest of the branch's own estimate
+  (:meth:`hbmfric.Branch.dense_error`) over its intervals.
+* ``point_error`` (with ``error_h1``, ``error_hpp``) -- the former measure:
+  the points alone. At the problem's check frequencies (ten spread over the
+  range, the resonance peak and its neighbours) the HBM solution of *the same
+  discretisation* is solved from the nearest branch point and compared with
+  the Richardson-extrapolated time-integration steady state
+  (:func:`hbmfric.validation.steady_state`): the first-harmonic amplitude and
+  half the peak-to-peak displacement.
 
 A new problem (another law, another system) is one more entry of
 :data:`PROBLEMS`.
@@ -40,6 +59,21 @@ HARMONICS = (1, 3, 5, 7, 11, 15, 21, 31)
 SAMPLE_MULTIPLES = (1, 2, 4, 8)
 #: time-integration reference: steps per period of the two runs
 REFERENCE_STEPS = (4096, 8192)
+#: curve references: pulsations of the exact (Jenkins) and of the
+#: time-integration (other laws) sets, evenly spread over the range
+N_CURVE_EXACT = 101
+N_CURVE_INTEGRATED = 41
+#: the peers' figures on the same measure (issue 18: P1 at F = 0.1, 0.5, 2,
+#: straight lines between their returned points against event-driven
+#: references): curve error range, run time per branch range (s), points
+PEERS = {
+    "pyHarm": {"error": (3.3e-4, 1.6e-3), "time_s": (0.7, 7.0), "points": (180, 1150)},
+    "tmdsimpy": {
+        "error": (1.6e-4, 3.6e-4),
+        "time_s": (0.7, 7.0),
+        "points": (180, 1150),
+    },
+}
 
 
 def sdof_jenkins() -> hf.Oscillator:
@@ -214,6 +248,56 @@ def reference(problem: Problem, omegas: np.ndarray) -> Reference:
     return Reference(omegas, ext1, extp, est, time.perf_counter() - start)
 
 
+@dataclass
+class CurveReference:
+    """Reference first-harmonic amplitudes for the curve error."""
+
+    omega: np.ndarray
+    amplitude: np.ndarray
+    method: str  # "exact" or "integrate"
+    elapsed: float
+
+
+def curve_reference(problem: Problem) -> CurveReference:
+    """Exact event-driven references (Jenkins contact) at
+    :data:`N_CURVE_EXACT` pulsations, else converged time integration at
+    :data:`N_CURVE_INTEGRATED`, evenly spread over the problem's range."""
+    from hbmfric.validation.curve import curve_references, reference_omegas
+
+    start = time.perf_counter()
+    system = problem.system()
+    exact = isinstance(getattr(system, "contact", None), hf.Jenkins)
+    n = N_CURVE_EXACT if exact else N_CURVE_INTEGRATED
+    w, a = curve_references(
+        system,
+        problem.force,
+        reference_omegas(problem.omega, n),
+        method="exact" if exact else "integrate",
+        dof=problem.dof,
+    )
+    return CurveReference(
+        w, a, "exact" if exact else "integrate", time.perf_counter() - start
+    )
+
+
+def curve_errors(problem: Problem, branch: hf.Branch, cref: CurveReference) -> dict:
+    """Curve errors of one branch: straight lines between its points and
+    its dense output, and the dense output's own estimate."""
+    from hbmfric.dense import dense_curve_error
+    from hbmfric.validation.curve import branch_curve_error
+
+    poly = branch_curve_error(branch, cref.omega, cref.amplitude, dof=problem.dof)
+    dense = dense_curve_error(branch, cref.omega, cref.amplitude, dof=problem.dof)
+    est = branch.dense_error(harmonic=1, dof=problem.dof)
+    return {
+        "error": poly.max,
+        "error_omega": poly.worst_omega,
+        "dense_error": dense.max,
+        "dense_error_omega": dense.worst_omega,
+        "dense_estimate": float(np.nanmax(est)) if est.size else 0.0,
+    }
+
+
 # ---------------------------------------------------------------------------
 # one setting
 # ---------------------------------------------------------------------------
@@ -248,8 +332,15 @@ def _solve_like(problem: Problem, branch: hf.Branch, kwargs: dict, omega: float)
     )
 
 
-def evaluate(problem: Problem, setting: Setting, ref: Reference, repeats: int) -> dict:
-    """Run time and error of one setting on one problem."""
+def evaluate(
+    problem: Problem,
+    setting: Setting,
+    ref: Reference,
+    repeats: int,
+    cref: CurveReference | None = None,
+) -> dict:
+    """Run time and errors of one setting on one problem (the curve errors
+    only with ``cref``)."""
     row = {"problem": problem.name, "setting": setting.label}
     row.update(
         harmonics=setting.kwargs.get("harmonics", 15),
@@ -263,6 +354,7 @@ def evaluate(problem: Problem, setting: Setting, ref: Reference, repeats: int) -
         branch, elapsed = _time_branch(problem, setting.kwargs, repeats)
     except ValueError as exc:  # e.g. n_time not > 2H for this scheme
         row.update(status=f"invalid: {exc}", time_s=math.nan, error=math.nan)
+        row.update(dense_error=math.nan, point_error=math.nan)
         return row
     row.update(
         time_s=elapsed,
@@ -285,7 +377,12 @@ def evaluate(problem: Problem, setting: Setting, ref: Reference, repeats: int) -
         )
     if not branch.stop_reason.startswith("end of frequency range"):
         row.update(error=math.inf, error_h1=math.inf, error_hpp=math.inf)
+        row.update(dense_error=math.inf, point_error=math.inf)
         return row
+    if cref is not None:
+        row.update(curve_errors(problem, branch, cref))
+    else:
+        row.update(error=math.nan, dense_error=math.nan)
     e1 = []
     epp = []
     for w, a_ref, p_ref in zip(
@@ -298,7 +395,7 @@ def evaluate(problem: Problem, setting: Setting, ref: Reference, repeats: int) -
             continue
         e1.append(abs(sol.amplitude(harmonic=1, dof=problem.dof) - a_ref) / a_ref)
         epp.append(abs(sol.amplitude(harmonic=None, dof=problem.dof) - p_ref) / p_ref)
-    row.update(error_h1=max(e1), error_hpp=max(epp), error=max(max(e1), max(epp)))
+    row.update(error_h1=max(e1), error_hpp=max(epp), point_error=max(max(e1), max(epp)))
     return row
 
 
@@ -321,38 +418,46 @@ def pareto_front(times: np.ndarray, errors: np.ndarray) -> np.ndarray:
 TIME_NOISE = 0.3
 
 
-def mark_front(rows: list[dict]) -> None:
+def mark_front(rows: list[dict], key: str = "error", suffix: str = "") -> None:
     """Set ``pareto`` (on the front of the fixed settings and the default)
     and ``dominated_by`` (the cheapest fixed setting that is at least as
     accurate and faster by more than the timing noise, or as fast and more
-    accurate) on every row of one problem."""
+    accurate) on every row of one problem, for the error column ``key``;
+    the columns get ``suffix`` (``pareto_dense`` for ``dense_error``)."""
     fixed = [r for r in rows if not r["adaptive"]]
     t = np.array([r.get("time_s", math.nan) for r in fixed], dtype=float)
-    e = np.array([r.get("error", math.nan) for r in fixed], dtype=float)
+    e = np.array([r.get(key, math.nan) for r in fixed], dtype=float)
     front = set(pareto_front(t, e).tolist())
     for i, r in enumerate(fixed):
-        r["pareto"] = i in front
+        r["pareto" + suffix] = i in front
     for r in rows:
         if r["adaptive"]:
-            r["pareto"] = ""
+            r["pareto" + suffix] = ""
         tr = float(r.get("time_s", math.nan))
-        er = float(r.get("error", math.nan))
+        er = float(r.get(key, math.nan))
         better = [
             f
             for f in fixed
             if f is not r
-            and float(f.get("error", math.inf)) <= er
+            and float(f.get(key, math.inf)) <= er
             and (
                 float(f.get("time_s", math.inf)) < (1.0 - TIME_NOISE) * tr
                 or (
                     float(f.get("time_s", math.inf)) <= tr
-                    and float(f.get("error", math.inf)) < 0.5 * er
+                    and float(f.get(key, math.inf)) < 0.5 * er
                 )
             )
         ]
-        r["dominated_by"] = (
+        r["dominated_by" + suffix] = (
             min(better, key=lambda f: float(f["time_s"]))["setting"] if better else ""
         )
+
+
+def mark_fronts(rows: list[dict]) -> None:
+    """:func:`mark_front` for the straight lines (``error``) and for the
+    dense output (``dense_error``)."""
+    mark_front(rows)
+    mark_front(rows, "dense_error", "_dense")
 
 
 def _interpolated_front_time(fixed: list[dict], error: float) -> float:
@@ -444,6 +549,7 @@ def uncondensed_beam(out: Path, repeats: int = 2) -> list[dict]:
     )
     _, refs = _read(out)
     ref = refs[beam_problem.name]
+    cref = curve_reference(beam_problem)
     system = problem.system()
     hf.frf(system, problem.force, (600.0, 610.0), 3, condense=False)  # compile
     grid = [Setting(f"H={h}", {"harmonics": h}) for h in (5, 7, 11, 15)] + [
@@ -456,7 +562,7 @@ def uncondensed_beam(out: Path, repeats: int = 2) -> list[dict]:
     ]
     rows = []
     for setting in grid:
-        row = evaluate(problem, setting, ref, 0)
+        row = evaluate(problem, setting, ref, 0, cref)
         rows.append(row)
         print(
             f"  {setting.label:<16} {row['time_s']:7.2f} s  error {row['error']:.2e}"
@@ -498,8 +604,16 @@ def _read(out: Path) -> tuple[list[dict], dict]:
     rows = []
     with open(out / "pareto.csv") as fh:
         for r in csv.DictReader(fh):
-            for k in ("time_s", "error", "error_h1", "error_hpp"):
-                r[k] = float(r[k]) if r[k] not in ("", None) else math.nan
+            for k in (
+                "time_s",
+                "error",
+                "error_h1",
+                "error_hpp",
+                "point_error",
+                "dense_error",
+                "dense_estimate",
+            ):
+                r[k] = float(r[k]) if r.get(k) not in ("", None) else math.nan
             r["default"] = r["default"] == "True"
             r["adaptive"] = r["adaptive"] == "True"
             r["odd"] = r["odd"] == "True"
@@ -533,7 +647,7 @@ def replot(out: Path, retime: bool = False, repeats: int = 7) -> list[dict]:
     rows, refs = _read(out)
     for name in refs:
         sub = [r for r in rows if r["problem"] == name]
-        mark_front(sub)
+        mark_fronts(sub)
         if retime:
             (problem,) = [p for p in PROBLEMS if p.name == name]
             compare_auto(problem, sub, repeats)
@@ -560,11 +674,18 @@ COLUMNS = [
     "evaluations",
     "rejected",
     "status",
+    "error",
+    "error_omega",
+    "dense_error",
+    "dense_error_omega",
+    "dense_estimate",
+    "point_error",
     "error_h1",
     "error_hpp",
-    "error",
     "pareto",
     "dominated_by",
+    "pareto_dense",
+    "dominated_by_dense",
     "levels",
     "fixed_at_error",
     "fixed_time_retimed_s",
@@ -606,6 +727,15 @@ def write_reference(refs: dict, path: Path) -> None:
                 w.writerow([name, *(f"{x:.12g}" for x in row)])
 
 
+def write_curve_reference(crefs: dict, path: Path) -> None:
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["problem", "method", "omega", "first_harmonic"])
+        for name, c in crefs.items():
+            for om, a in zip(c.omega, c.amplitude, strict=True):
+                w.writerow([name, c.method, f"{om:.12g}", f"{a:.12g}"])
+
+
 def plot(rows: list[dict], refs: dict, path: Path) -> None:
     import matplotlib
 
@@ -614,7 +744,7 @@ def plot(rows: list[dict], refs: dict, path: Path) -> None:
 
     names = list(dict.fromkeys(r["problem"] for r in rows))
     fig, axes = plt.subplots(
-        1, len(names), figsize=(5.2 * len(names), 4.6), squeeze=False
+        1, len(names), figsize=(max(5.2 * len(names), 9.0), 5.6), squeeze=False
     )
     hs = sorted({r["harmonics"] for r in rows if isinstance(r["harmonics"], int)})
     cmap = plt.get_cmap("viridis")
@@ -670,6 +800,19 @@ def plot(rows: list[dict], refs: dict, path: Path) -> None:
                 ms=5,
                 label=label,
             )
+        dense_fixed = [r for r in sub if not r["adaptive"] and r.get("pareto_dense")]
+        dense_fixed = [r for r in dense_fixed if r.get("pareto_dense") != "False"]
+        dense_fixed.sort(key=lambda r: r["time_s"])
+        if dense_fixed:
+            ax.step(
+                [1e3 * r["time_s"] for r in dense_fixed],
+                [max(r["dense_error"], 1e-12) for r in dense_fixed],
+                where="post",
+                color="tab:blue",
+                ls="--",
+                lw=1,
+                label="Pareto front, dense output",
+            )
         for r in sub:
             if r["default"] and np.isfinite(r.get("error", np.nan)):
                 ax.loglog(
@@ -679,13 +822,35 @@ def plot(rows: list[dict], refs: dict, path: Path) -> None:
                     color="orange",
                     ms=16,
                     mec="k",
-                    label="hf.frf default",
+                    label="hf.frf default (straight lines)",
                 )
-        floor = float(np.max(refs[name].error_estimate))
-        ax.axhline(floor, color="0.6", ls=":", lw=1, label="reference error")
+            if r["default"] and np.isfinite(r.get("dense_error", np.nan)):
+                ax.loglog(
+                    1e3 * r["time_s"],
+                    max(r["dense_error"], 1e-12),
+                    "*",
+                    color="white",
+                    ms=16,
+                    mec="tab:blue",
+                    label="hf.frf default (dense output)",
+                )
+        if name.startswith("sdof-jenkins"):
+            for (peer, figures), colour in zip(
+                PEERS.items(), ("tab:green", "tab:purple"), strict=True
+            ):
+                (e0, e1), (t0, t1) = figures["error"], figures["time_s"]
+                ax.fill_between(
+                    [1e3 * t0, 1e3 * t1],
+                    e0,
+                    e1,
+                    color=colour,
+                    alpha=0.25,
+                    label=f"{peer} (issue 18, P1)",
+                )
+        ax.axhline(1e-4, color="crimson", ls=":", lw=1, label="1e-4")
         ax.set_title(name)
         ax.set_xlabel("branch run time (ms)")
-        ax.set_ylabel("max relative error")
+        ax.set_ylabel("curve error (max relative, first harmonic)")
         ax.grid(True, which="major", alpha=0.3)
     handles = [
         plt.Line2D(
@@ -696,37 +861,54 @@ def plot(rows: list[dict], refs: dict, path: Path) -> None:
         plt.Line2D([], [], ls="", marker="o", color=color[h], label=f"H={h}")
         for h in hs
     ]
-    h0, l0 = axes[0][0].get_legend_handles_labels()
-    axes[0][-1].legend(handles=handles + h0, fontsize=7, loc="upper right", ncol=2)
-    fig.tight_layout()
+    seen = {}
+    for ax in axes[0]:
+        for h, label in zip(*ax.get_legend_handles_labels(), strict=True):
+            seen.setdefault(label, h)
+    extra = [h for label, h in seen.items() if not label.startswith("_")]
+    fig.legend(handles=handles + extra, fontsize=7, loc="lower center", ncol=6)
+    fig.tight_layout(rect=(0.0, 0.16, 1.0, 1.0))
     fig.savefig(path, dpi=120)
     plt.close(fig)
 
 
 def run(out: Path, quick: bool = False, repeats: int = 3, problems=None) -> list[dict]:
     """Run the whole benchmark; returns the rows written to ``pareto.csv``."""
+    import warnings
+
+    # the grid holds settings that are meant to be poor: their accuracy and
+    # coverage warnings are the measured errors of the CSV
+    warnings.simplefilter("ignore", hf.HbmfricWarning)
     out.mkdir(parents=True, exist_ok=True)
     problems = problems or PROBLEMS
     rows = []
     refs = {}
+    crefs = {}
     for problem in problems:
         omegas = check_frequencies(problem)
         refs[problem.name] = ref = reference(problem, omegas)
+        crefs[problem.name] = cref = curve_reference(problem)
         print(
-            f"{problem.name}: reference at {omegas.size} frequencies in "
-            f"{ref.elapsed:.1f} s (estimated error <= {ref.error_estimate.max():.1e})",
+            f"{problem.name}: point reference at {omegas.size} frequencies in "
+            f"{ref.elapsed:.1f} s (estimated error <= {ref.error_estimate.max():.1e}); "
+            f"curve reference ({cref.method}) at {cref.omega.size} in "
+            f"{cref.elapsed:.1f} s",
             flush=True,
         )
         sub = []
         for setting in settings(quick):
-            row = evaluate(problem, setting, ref, repeats)
+            row = evaluate(problem, setting, ref, repeats, cref)
             sub.append(row)
             print(
-                f"  {setting.label:<32} {1e3 * row.get('time_s', math.nan):9.2f} ms  "
-                f"error {row.get('error', math.nan):.2e}  {row.get('status', '')[:30]}",
+                f"  {setting.label:<32} {1e3 * row.get('time_s', math.nan):9.2f} ms "
+                f"{row.get('points', 0):5d} pts  curve error "
+                f"{row.get('error', math.nan):.2e}  dense "
+                f"{row.get('dense_error', math.nan):.2e}  points "
+                f"{row.get('point_error', math.nan):.2e}  "
+                f"{row.get('status', '')[:30]}",
                 flush=True,
             )
-        mark_front(sub)
+        mark_fronts(sub)
         compare_auto(problem, sub)
         for r in sub:
             if r["adaptive"] and r.get("ratio_to_fixed") is not None:
@@ -740,8 +922,33 @@ def run(out: Path, quick: bool = False, repeats: int = 3, problems=None) -> list
         rows += sub
     write_csv(rows, out / "pareto.csv")
     write_reference(refs, out / "reference.csv")
+    write_curve_reference(crefs, out / "curve_reference.csv")
     plot(rows, refs, out / "pareto.png")
     return rows
+
+
+def summary(rows: list[dict]) -> list[str]:
+    """One line per problem and measure: the default's curve error, time
+    and place on the front."""
+    lines = []
+    for name in dict.fromkeys(r["problem"] for r in rows):
+        (d,) = [r for r in rows if r["problem"] == name and r["default"]]
+        for key, suffix, what in (
+            ("error", "", "straight lines"),
+            ("dense_error", "_dense", "dense output"),
+        ):
+            dom = d.get("dominated_by" + suffix, "")
+            lines.append(
+                f"{name} [{what}]: default {float(d[key]):.2e} in "
+                f"{1e3 * float(d['time_s']):.1f} ms; strictly on the front: "
+                f"{d.get('pareto' + suffix) in (True, 'True')}; "
+                + (
+                    f"dominated beyond timing noise by {dom}"
+                    if dom
+                    else "not dominated beyond timing noise"
+                )
+            )
+    return lines
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -777,16 +984,8 @@ def main(argv: list[str] | None = None) -> int:
         rows = replot(Path(args.out), args.retime, args.retime_repeats)
     else:
         rows = run(Path(args.out), args.quick, args.repeats, problems)
-    for name in dict.fromkeys(r["problem"] for r in rows):
-        (d,) = [r for r in rows if r["problem"] == name and r["default"]]
-        print(
-            f"{name}: default strictly on the front: {bool(d['pareto'])}; "
-            + (
-                f"dominated beyond timing noise by {d['dominated_by']}"
-                if d["dominated_by"]
-                else "not dominated beyond timing noise"
-            )
-        )
+    for line in summary(rows):
+        print(line)
     return 0
 
 

@@ -173,7 +173,11 @@ def frf(
         end of the range in the opposite direction with the same settings
         and join the two pieces (``Branch.pieces``).
     **option_overrides
-        Fields of :class:`ContinuationOptions` to override.
+        Fields of :class:`ContinuationOptions` to override, among them
+        ``curve_tolerance`` (default 1e-4; None or 0: off): the largest
+        estimated relative error of the first-harmonic amplitude at the
+        contact DOF of the straight lines between consecutive points, which
+        the step control keeps (``Branch.curve_errors``).
 
     Returns
     -------
@@ -187,6 +191,10 @@ def frf(
     -----
     CoverageWarning
         When the branch (after the retrace) does not cover the whole range.
+    AccuracyWarning
+        When a point's estimated truncation error exceeds
+        ``harmonic_tolerance``, or the estimated error of the straight
+        lines between the points exceeds ``curve_tolerance``.
     """
     lo, hi = _omega_range(omega)
     if sweep not in ("up", "down"):
@@ -267,6 +275,11 @@ def _frf_fixed(
         state, elapsed = cont.run()
         n = problem.n_unknowns
         pts = np.array(state.points).reshape(-1, n + 1)
+        info = _describe(
+            system,
+            problem,
+            {**extra, "sweep": sweep, "amplitude_scale": cont.base_scale},
+        )
         return _branch(
             system,
             problem,
@@ -274,15 +287,66 @@ def _frf_fixed(
             elapsed,
             pts[:, n].copy(),
             problem.full_coefficients(pts),
-            _describe(system, problem, {**extra, "sweep": sweep}),
+            info,
             truncation_error=(
                 truncation_errors(problem, pts) if problem.subharmonic == 1 else None
+            ),
+            tangents=_branch_tangents(
+                problem, pts, state.tangents, cont.base_scale, hi - lo
             ),
         )
 
     branch = _covering(trace, sweep, retrace)
     _warn_truncation(branch, tolerance)
+    _warn_curve(branch, options.curve_tolerance)
     return branch
+
+
+#: arc-length step (scaled) of the central difference that carries the
+#: tangent of a condensed problem over to the recovered DOFs
+_RECOVERY_STEP = 1e-6
+
+
+def _branch_tangents(problem, points, tangents, amplitude_scale, width, n_coef=None):
+    """Tangents of :attr:`Branch.tangents` at solutions of ``problem``.
+
+    Parameters
+    ----------
+    problem : HBMProblem
+    points : ndarray, shape (k, n_unknowns + 1)
+        ``[X, Ω]`` per point.
+    tangents : ndarray, shape (k, n_unknowns + 1)
+        The continuation's tangents in physical units, any positive length.
+    amplitude_scale, width : float
+        Scales of the arc length ``s`` (m, rad/s), see ``Branch.tangents``.
+    n_coef : int, optional
+        Coefficients per DOF of the branch (>= the problem's; the extra
+        harmonics get zeros). Default: the problem's.
+
+    Returns
+    -------
+    ndarray, shape (k, n_dof * n_coef + 1)
+    """
+    n = problem.n_unknowns
+    t = np.array(tangents, dtype=float).reshape(-1, n + 1)
+    norm = np.sqrt(np.sum((t[:, :n] / amplitude_scale) ** 2, axis=1))
+    norm = np.hypot(norm, t[:, n] / width)
+    t /= np.where(norm > 0.0, norm, 1.0)[:, None]
+    k = t.shape[0]
+    if getattr(problem, "condensed", False):
+        # the eliminated DOFs depend on X and Ω through the contact force:
+        # their tangent by a central difference along the branch's tangent
+        h = _RECOVERY_STEP
+        up = problem.full_coefficients(points + h * t)
+        down = problem.full_coefficients(points - h * t)
+        d = (up - down) / (2.0 * h)
+    else:
+        d = t[:, :n].reshape(k, problem.n_dof, problem.n_coef)
+    m = problem.n_coef if n_coef is None else n_coef
+    out = np.zeros((k, problem.n_dof * m + 1))
+    out[:, :-1].reshape(k, problem.n_dof, m)[:, :, : problem.n_coef] = d
+    out[:, -1] = t[:, n]
+    return out
 
 
 def _warn_truncation(branch: Branch, tolerance: float) -> None:
@@ -306,6 +370,29 @@ def _warn_truncation(branch: Branch, tolerance: float) -> None:
         "per-point estimates in Branch.truncation_error",
         AccuracyWarning,
         stacklevel=4,  # _warn/_covering < _frf_fixed/_frf_auto < frf < user
+    )
+
+
+def _warn_curve(branch: Branch, tolerance: float | None) -> None:
+    """An :class:`~hbmfric.errors.AccuracyWarning` when the estimated
+    error of the straight lines between the points
+    (:attr:`Branch.curve_errors`) exceeds ``curve_tolerance`` (a corner
+    taken below the step floor, a seam the rule could not resolve)."""
+    if not tolerance:
+        return
+    errors = branch.curve_errors
+    if errors is None or errors.size == 0 or not np.max(errors) > tolerance:
+        return
+    worst = int(np.argmax(errors))
+    n_over = int(np.count_nonzero(errors > tolerance))
+    warnings.warn(
+        f"estimated curve error {errors[worst]:.2g} (straight lines between the "
+        f"points) exceeds curve_tolerance={tolerance:g} on {n_over} of "
+        f"{errors.size} intervals (worst between omega={branch.omega[worst]:.6g} "
+        f"and {branch.omega[worst + 1]:.6g} rad/s); per-interval estimates in "
+        "Branch.curve_errors",
+        AccuracyWarning,
+        stacklevel=3,
     )
 
 
@@ -416,12 +503,22 @@ def _frf_auto(
         coefficients = np.zeros((len(points), top.n_dof, top.n_coef))
         levels_array = np.array(levels, dtype=np.int64)
         omegas = np.empty(len(points))
+        tangents = np.zeros((len(points), top.n_dof * top.n_coef + 1))
+        scale = cont._cont(int(levels_array[0])).base_scale if levels else 1.0
         for h in np.unique(levels_array):
             idx = np.flatnonzero(levels_array == h)
             p = make_problem(int(h))
             pts = np.array([points[i] for i in idx])
             omegas[idx] = pts[:, -1]
             coefficients[idx, :, : p.n_coef] = p.full_coefficients(pts)
+            tangents[idx] = _branch_tangents(
+                p,
+                pts,
+                np.array([state.tangents[i] for i in idx]),
+                scale,
+                omega_range[1] - omega_range[0],
+                top.n_coef,
+            )
         info = _describe(
             system,
             top,
@@ -433,6 +530,7 @@ def _frf_auto(
                 "harmonic_switches": cont.n_switches,
                 "harmonic_resolves": cont.n_resolves,
                 "harmonic_calibrations": cont.n_calibrations,
+                "amplitude_scale": scale,
             },
         )
         errors = np.zeros(len(points))
@@ -451,8 +549,10 @@ def _frf_auto(
             info,
             point_harmonics=levels_array,
             truncation_error=errors,
+            tangents=tangents,
         )
 
     branch = _covering(trace, sweep, retrace)
     _warn_truncation(branch, tolerance)
+    _warn_curve(branch, options.curve_tolerance)
     return branch

@@ -50,7 +50,7 @@ def _paper(args: argparse.Namespace) -> int:
         figures.append(fig)
         verdict = _print_verdict(fig)
         try:
-            written = [fig.write_csv(out / f"{fig.name}.csv")]
+            written = [_write_csv(fig, out / f"{fig.name}.csv", args.resample)]
             if not args.no_plot:
                 written.append(fig.write_png(out / f"{fig.name}.png"))
         except OSError as exc:
@@ -177,6 +177,28 @@ def _run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _write_csv(fig, path, resample):
+    """A figure's CSV; the FRF families (branches) at ``resample`` dense
+    samples per interval when asked."""
+    from .paper.sdof import FigureResult
+
+    if resample is not None and isinstance(fig, FigureResult):
+        return fig.write_csv(path, resample=resample)
+    return fig.write_csv(path)
+
+
+def _resample_arg(value: str) -> int:
+    try:
+        k = int(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"must be a positive integer, got {value!r}"
+        ) from None
+    if k < 1:
+        raise argparse.ArgumentTypeError(f"must be a positive integer, got {k}")
+    return k
+
+
 def _combined(figures, prefixes, name):
     """One family made of the figures named ``prefixes…`` (None unless all
     are there)."""
@@ -249,6 +271,15 @@ def main(argv: list[str] | None = None) -> int:
         "for a relative truncation error below 1e-4)",
     )
     paper.add_argument("--no-plot", action="store_true", help="write CSV files only")
+    paper.add_argument(
+        "--resample",
+        type=_resample_arg,
+        default=None,
+        metavar="K",
+        help="write the FRF curves' dense output (K samples per interval "
+        "between computed points, a 'computed' column flags the points) "
+        "instead of the computed points alone",
+    )
     paper.set_defaults(func=_paper)
     run = sub.add_parser(
         "run",

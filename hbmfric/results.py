@@ -18,6 +18,12 @@ from .signals import half_peak_to_peak, harmonic_amplitude, synthesis_matrix
 #: relative tolerance (of the range width) of :attr:`Branch.complete` and
 #: :attr:`Branch.gaps`
 COVERAGE_RTOL = 1e-9
+#: fractions of a chord where :attr:`Branch.curve_errors` compares the
+#: cubic through its ends with it (the extremes of an S and of a bow)
+CHORD_FRACTIONS = (0.21132486540518713, 0.5, 0.7886751345948129)
+#: near a fold the vertical distance is bounded by this factor times the
+#: distance perpendicular to the chord
+FOLD_CAP = 1e3
 
 
 def _resolve_dof(dof, names: dict, n_dof: int) -> int:
@@ -136,6 +142,17 @@ class Branch:
         entry 0), when a run that stopped short was retraced from the other
         end of the range (:func:`hbmfric.frf`); None for one piece. Each
         piece is a continuous path; between pieces the path jumps.
+    tangents : ndarray, shape (n_points, n_dof * n_coef + 1), optional
+        Unit tangent of the branch at every point, in path direction, in
+        physical units: ``tangents[:, :-1].reshape(n_points, n_dof, n_coef)``
+        is ``d(coefficients)/ds`` (m) and ``tangents[:, -1]`` is ``dΩ/ds``
+        (rad/s), with ``s`` the arc length of the scaled variables
+        ``(X / info["amplitude_scale"], Ω / (high - low))`` (coefficients
+        of the solved unknowns: every DOF, or the contact DOF of a
+        condensed problem; ``high - low`` the width of ``omega_range``), so
+        that the solved unknowns' part has unit norm in those variables.
+        Harmonics a point did not use (``harmonics="auto"``) have zero
+        entries. None for branches saved before it existed.
 
     Notes
     -----
@@ -159,6 +176,7 @@ class Branch:
     dof_names: dict = field(default_factory=dict)
     truncation_error: np.ndarray | None = None
     pieces: np.ndarray | None = None
+    tangents: np.ndarray | None = None
 
     def __len__(self) -> int:
         return self.omega.size
@@ -255,6 +273,95 @@ class Branch:
             return half_peak_to_peak(self.harmonic_numbers, X)
         return harmonic_amplitude(self.harmonic_numbers, X, harmonic)
 
+    # ------------------------------------------------------------------
+    # the curve between the points
+    def _arc_metric(self) -> tuple[np.ndarray, float, float] | None:
+        """DOFs whose coefficients the arc length of :attr:`tangents`
+        measures, and its amplitude and Ω scales (None if unknown)."""
+        scale = self.info.get("amplitude_scale")
+        rng = self.omega_range
+        if self.tangents is None or scale is None or rng is None:
+            return None
+        n_dof = self.coefficients.shape[1]
+        if self.info.get("condensed") and n_dof > 1:
+            dofs = np.array([_resolve_dof(None, self.dof_names, n_dof)])
+        else:
+            dofs = np.arange(n_dof)
+        return dofs, float(scale), float(rng[1] - rng[0])
+
+    @property
+    def curve_errors(self) -> np.ndarray | None:
+        """Estimated largest distance between the branch and the straight
+        line joining each pair of consecutive points, shape
+        (n_points - 1,): relative error of the first-harmonic amplitude of
+        the contact DOF at equal Ω (log-log plane), from the points and
+        their :attr:`tangents` (the cubic Hermite curve through both
+        points against the chord, as
+        :func:`hbmfric.kernels.arclength.chord_error`). 0 between two
+        pieces (no line is drawn there). None without tangents."""
+        metric = self._arc_metric()
+        if metric is None:
+            return None
+        dofs, scale, width = metric
+        n = self.omega.size
+        if n < 2:
+            return np.zeros(0)
+        n_dof, n_coef = self.coefficients.shape[1:]
+        k = self.harmonic_numbers
+        if 1 not in k:
+            return np.zeros(n - 1)
+        col = int(np.sum(np.where(k[: int(np.flatnonzero(k == 1)[0])] == 0, 1, 2)))
+        dof = _resolve_dof(None, self.dof_names, n_dof)
+        dc = self.tangents[:, :-1].reshape(n, n_dof, n_coef)
+        w = self.omega
+        c, sn = self.coefficients[:, dof, col], self.coefficients[:, dof, col + 1]
+        amp = np.hypot(c, sn)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            da = np.where(
+                amp > 0.0, (c * dc[:, dof, col] + sn * dc[:, dof, col + 1]) / amp, 0.0
+            )
+        dw = self.tangents[:, -1]
+        d = np.diff(self.coefficients[:, dofs, :], axis=0) / scale
+        length = np.sqrt(
+            np.sum(d.reshape(n - 1, -1) ** 2, axis=1) + (np.diff(w) / width) ** 2
+        )
+        # relative units: Ω by the mean of the ends, a by the smaller one
+        rw = 0.5 * (w[:-1] + w[1:])
+        ra = np.minimum(amp[:-1], amp[1:])
+        rest = ~(ra > 0.0)
+        ra = np.where(rest, 1.0, ra)
+        ex, el = np.diff(w) / rw, np.diff(amp) / ra
+        ax, al = length * dw[:-1] / rw - ex, length * da[:-1] / ra - el
+        bx, bl = length * dw[1:] / rw - ex, length * da[1:] / ra - el
+        chord = np.hypot(ex, el)
+        run = np.maximum(np.abs(ex), chord / FOLD_CAP)
+        worst = np.zeros(n - 1)
+        for tau in CHORD_FRACTIONS:
+            f = tau * (1.0 - tau)
+            px = f * ((1.0 - tau) * ax - tau * bx)
+            pl = f * ((1.0 - tau) * al - tau * bl)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                e = np.abs(pl * ex - px * el) / run
+            worst = np.fmax(worst, e)
+        worst[rest] = 0.0
+        worst[chord == 0.0] = 0.0
+        worst = np.nan_to_num(worst, nan=0.0)
+        if self.pieces is not None:
+            for p in self.pieces:
+                if 0 < p < n:
+                    worst[p - 1] = 0.0
+        return worst
+
+    @property
+    def curve_error(self) -> float | None:
+        """Largest of :attr:`curve_errors` (estimated relative amplitude
+        error of the straight lines between the points); None without
+        tangents, 0 for fewer than two points."""
+        errors = self.curve_errors
+        if errors is None:
+            return None
+        return float(np.max(errors, initial=0.0))
+
     def harmonics_at(self, index: int) -> int:
         """Highest harmonic used at point ``index``."""
         if self.point_harmonics is not None:
@@ -275,20 +382,45 @@ class Branch:
             method="branch point",
         )
 
-    def plot(self, ax=None, harmonic: int | None = None, dof=None, **kwargs):
+    def plot(
+        self,
+        ax=None,
+        harmonic: int | None = None,
+        dof=None,
+        curve: str = "dense",
+        per_interval: int = 8,
+        **kwargs,
+    ):
         """Draw amplitude against Ω (folds marked, each piece its own
-        line); returns the axes."""
+        line); returns the axes.
+
+        ``curve``: ``"dense"`` (default) draws the dense output
+        (:meth:`resample` with ``per_interval`` samples per interval),
+        ``"polyline"`` the points joined by straight lines, ``"points"``
+        the computed points alone (markers)."""
         import matplotlib.pyplot as plt
 
+        if curve not in ("dense", "polyline", "points"):
+            raise ValueError(
+                f"curve must be 'dense', 'polyline' or 'points', got {curve!r}"
+            )
         if ax is None:
             _, ax = plt.subplots()
         amp = self.amplitude(harmonic=harmonic, dof=dof)
+        if curve == "dense" and self.n_points >= 2:
+            samples, parts = self._resample(per_interval)
+            x, y = samples.omega, samples.amplitude(harmonic=harmonic, dof=dof)
+        else:
+            x, y = self.omega, amp
+            parts = self.piece_slices()
+        if curve == "points":
+            kwargs = {"ls": "", "marker": "o", "ms": 3, **kwargs}
         line = None
-        for piece in self.piece_slices():  # no line across the jump between
+        for piece in parts:  # no line across the jump between pieces
             if line is not None:
                 kwargs = {**kwargs, "color": line.get_color()}
                 kwargs.pop("label", None)
-            (line,) = ax.plot(self.omega[piece], amp[piece], **kwargs)
+            (line,) = ax.plot(x[piece], y[piece], **kwargs)
         if self.folds.size:
             ax.plot(
                 self.omega[self.folds], amp[self.folds], "x", color=line.get_color()
@@ -297,6 +429,177 @@ class Branch:
         label = "amplitude" if harmonic is None else f"harmonic {harmonic} amplitude"
         ax.set_ylabel(f"{label} (m)")
         return ax
+
+    # ------------------------------------------------------------------
+    # dense output: the branch between its points (hbmfric/dense.py)
+    def _dense(self):
+        from .dense import dense
+
+        return dense(self)
+
+    @property
+    def arclength(self) -> np.ndarray:
+        """Arc length of every point along the path, shape (n_points,),
+        dimensionless: the sum of the chords in a space where Ω is divided
+        by the width of the branch's Ω span and the coefficients by their
+        largest magnitude (the jump between two pieces counts as its chord,
+        but nothing is interpolated there). The parameter of
+        :meth:`evaluate`."""
+        return self._dense().s.copy()
+
+    def evaluate(self, arclength):
+        """The branch at arc-length parameters between its points.
+
+        Cubic Hermite interpolation in arc length from the tangents at the
+        points (``tangents`` when stored, else finite differences over the
+        neighbouring points of the same piece); see :mod:`hbmfric.dense`.
+
+        Parameters
+        ----------
+        arclength : array_like, shape (n_samples,)
+            Parameters on the scale of :attr:`arclength` (0 at the first
+            point, ``arclength[-1]`` at the last).
+
+        Returns
+        -------
+        DenseSamples
+            Ω (rad/s), coefficients (m) and ``amplitude()`` of every sample;
+            NaN for parameters off the branch (outside ``[0,
+            arclength[-1]]`` or in the jump between two pieces).
+        """
+        from ._validate import finite_array
+
+        s = np.asarray(arclength, dtype=float)
+        if s.ndim == 0:
+            s = s.reshape(1)
+        s = finite_array("arclength", s)
+        d = self._dense()
+        i, u = d.locate(s)
+        return d.samples(i, u)
+
+    def resample(self, per_interval: int = 8):
+        """The dense output at ``per_interval`` evenly spaced arc lengths
+        per interval between points (the points themselves included), in
+        path order: ``(n_points - n_pieces) * per_interval + n_pieces``
+        samples, no sample in the jump between pieces.
+
+        Returns
+        -------
+        DenseSamples
+        """
+        from ._validate import positive_int
+
+        per_interval = positive_int("per_interval", per_interval, low=1)
+        return self._resample(per_interval)[0]
+
+    def _resample(self, per_interval: int):
+        """:meth:`resample` and the slice of the samples of every piece."""
+        d = self._dense()
+        idx, uu, parts = [], [], []
+        count = 0
+        for sl in self.piece_slices():
+            n = sl.stop - sl.start
+            if n == 0:
+                continue
+            if n == 1:
+                # a lone point: the start of the (one-point) interval after
+                # it, or the end of the one before
+                i0, u0 = (
+                    (sl.start, 0.0)
+                    if sl.start < self.n_points - 1
+                    else (
+                        sl.start - 1,
+                        1.0,
+                    )
+                )
+                idx.append(np.array([i0]))
+                uu.append(np.array([u0]))
+            else:
+                k = np.arange(sl.start, sl.stop - 1)
+                u = np.arange(per_interval) / per_interval
+                idx.append(np.append(np.repeat(k, per_interval), sl.stop - 2))
+                uu.append(np.append(np.tile(u, k.size), 1.0))
+            parts.append(slice(count, count + idx[-1].size))
+            count += idx[-1].size
+        if not idx or self.n_points < 2:
+            single = np.zeros(self.n_points, dtype=np.int64)
+            return d.samples(single, np.zeros(self.n_points)), [slice(0, self.n_points)]
+        return d.samples(np.concatenate(idx), np.concatenate(uu)), parts
+
+    def amplitude_at(
+        self,
+        omega,
+        harmonic: int | None = 1,
+        dof=None,
+        *,
+        return_error: bool = False,
+    ):
+        """Amplitude of the dense output at given Ω, all its values where
+        the branch passes several times (past folds, or pieces overlapping).
+
+        Parameters
+        ----------
+        omega : array_like, shape (n_omega,)
+            Pulsations, rad/s.
+        harmonic : int or None, default 1
+            As in :meth:`amplitude`.
+        dof : int, str or None
+            As in :meth:`amplitude`.
+        return_error : bool
+            Also return the estimated relative error of every value
+            (:meth:`dense_error` of its interval).
+
+        Returns
+        -------
+        amplitude : ndarray, shape (n_omega, n_values)
+            ``amplitude[j, :]``: the values at ``omega[j]`` in path order,
+            padded with NaN; ``n_values`` is the largest number of passes
+            (at least 1). A row of NaN: the branch does not reach that Ω.
+        error : ndarray, shape (n_omega, n_values)
+            Only with ``return_error``.
+        """
+        from ._validate import finite_array
+
+        w = np.asarray(omega, dtype=float)
+        if w.ndim == 0:
+            w = w.reshape(1)
+        w = finite_array("omega", w)
+        d = self._dense()
+        k = _resolve_dof(dof, self.dof_names, self.coefficients.shape[1])
+        roots = d.solve_omega(w)
+        width = max([1] + [len(r) for r in roots])
+        amp = np.full((w.size, width), np.nan)
+        idx = np.array([i for r in roots for i, _ in r], dtype=np.int64)
+        uu = np.array([u for r in roots for _, u in r], dtype=float)
+        if idx.size:
+            values = d.samples(idx, uu).amplitude(harmonic=harmonic, dof=k)
+            rows = np.repeat(np.arange(w.size), [len(r) for r in roots])
+            cols = np.concatenate([np.arange(len(r)) for r in roots if r])
+            amp[rows, cols] = values
+        if not return_error:
+            return amp
+        err = np.full_like(amp, np.nan)
+        if idx.size:
+            est = d.error_estimate(k, harmonic)
+            err[rows, cols] = est[idx]
+        return amp, err
+
+    def dense_error(self, harmonic: int | None = 1, dof=None) -> np.ndarray:
+        """Estimated error of the dense output on every interval.
+
+        The largest relative error of the amplitude at fixed Ω between
+        points ``i`` and ``i + 1`` (interpolation only: the points' own
+        error is :attr:`truncation_error`), from the difference between the
+        Hermite cubic and the cubics through four neighbouring points
+        (:mod:`hbmfric.dense`).
+
+        Returns
+        -------
+        ndarray, shape (n_points - 1,)
+            NaN for the jump between two pieces.
+        """
+        k = _resolve_dof(dof, self.dof_names, self.coefficients.shape[1])
+        return self._dense().error_estimate(k, harmonic)
 
     # ------------------------------------------------------------------
     def save(self, path: str | Path) -> Path:
@@ -326,6 +629,8 @@ class Branch:
             arrays["truncation_error"] = self.truncation_error
         if self.pieces is not None:
             arrays["pieces"] = self.pieces
+        if self.tangents is not None:
+            arrays["tangents"] = self.tangents
         np.savez(path, **arrays)
         return path if path.suffix == ".npz" else path.with_suffix(path.suffix + ".npz")
 
@@ -379,6 +684,11 @@ class Branch:
                     pieces=(
                         np.asarray(data["pieces"], dtype=np.int64).copy()
                         if "pieces" in data.files
+                        else None
+                    ),
+                    tangents=(
+                        np.asarray(data["tangents"], dtype=np.float64).copy()
+                        if "tangents" in data.files
                         else None
                     ),
                 )
@@ -482,6 +792,13 @@ def _check_branch_arrays(path, branch: Branch) -> None:
     ):
         raise bad("pieces", f"must be increasing point indices from 0, got {pc}")
     n_dof = c.shape[1]
+    tg = branch.tangents
+    if tg is not None and tg.shape != (n, n_dof * n_coef + 1):
+        raise bad(
+            "tangents", f"must have shape ({n}, {n_dof * n_coef + 1}), got {tg.shape}"
+        )
+    if tg is not None and not np.all(np.isfinite(tg)):
+        raise bad("tangents", "has non-finite values")
     for name, index in branch.dof_names.items():
         if not 0 <= index < n_dof:
             raise bad("dof_names", f"maps {name!r} to {index}, not in [0, {n_dof - 1}]")
@@ -529,6 +846,25 @@ def join_pieces(first: Branch, second: Branch, stop_reason: str) -> Branch:
             return b.point_harmonics
         return np.full(b.omega.size, int(b.harmonic_numbers[-1]), dtype=np.int64)
 
+    def padded_tangents(b: Branch, order, sign: float) -> np.ndarray:
+        out = np.zeros((b.omega.size, n_dof * n_coef + 1))
+        m = b.coefficients.shape[2]
+        t = b.tangents[order]
+        out[:, :-1].reshape(-1, n_dof, n_coef)[:, :, :m] = sign * t[:, :-1].reshape(
+            -1, n_dof, m
+        )
+        out[:, -1] = sign * t[:, -1]
+        return out
+
+    tangents = None
+    if first.tangents is not None and second.tangents is not None:
+        # the second piece runs backwards: its tangents turn round
+        tangents = np.concatenate(
+            (
+                padded_tangents(first, slice(None), 1.0),
+                padded_tangents(second, back, -1.0),
+            )
+        )
     truncation_error = None
     if first.truncation_error is not None and second.truncation_error is not None:
         truncation_error = np.concatenate(
@@ -573,4 +909,5 @@ def join_pieces(first: Branch, second: Branch, stop_reason: str) -> Branch:
         dof_names=dict(first.dof_names),
         pieces=np.array([0, n1], dtype=np.int64),
         truncation_error=truncation_error,
+        tangents=tangents,
     )

@@ -481,6 +481,7 @@ class AdaptiveContinuation:
             state.tangent = t
             state.J = dst._J
             state.points[-1] = y.copy()
+            state.tangents[-1] = t * dst.scale
             levels[-1] = h
             self.n_resolves += 1
         elif h < h_old:
@@ -512,6 +513,7 @@ class AdaptiveContinuation:
         state.tangent = t
         state.J = dst._J
         state.points[-1] = y.copy()
+        state.tangents[-1] = t * dst.scale
         self.n_switches += 1
         self.n_resolves += 1
         self._reset()
@@ -533,6 +535,7 @@ class AdaptiveContinuation:
                 # the dropped harmonics are zero: the point is the lowest
                 # level's solution too
                 state.points[-1] = state.y.copy()
+                state.tangents[-1] = self.pad(state.tangents[-1], h, lowest)
                 levels[-1] = lowest
                 return lowest
             return h

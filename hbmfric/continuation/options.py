@@ -46,6 +46,14 @@ class ContinuationOptions:
         within ``corner_step`` of the current point along the new tangent.
     growth, shrink : float
         Largest step growth factor after success; factor after rejection.
+    curve_tolerance : float or None
+        Largest estimated distance between the branch and the straight
+        line joining two consecutive points, in the plane users draw
+        (Ω against the first-harmonic amplitude of the contact DOF, both
+        on log axes: a relative amplitude error), from the points' tangents
+        (:func:`hbmfric.kernels.arclength.chord_error`); a longer step is
+        rejected and the next step is sized to keep below it. None or 0:
+        off (steps from the corrector's effort and the tangent turn alone).
     """
 
     initial_step: float = 0.02
@@ -61,6 +69,7 @@ class ContinuationOptions:
     corner_step: float = 1e-3
     growth: float = 2.0
     shrink: float = 0.5
+    curve_tolerance: float | None = 1e-4
 
     def __post_init__(self) -> None:
         for name in ("initial_step", "min_step", "max_step", "tol_residual"):
@@ -79,3 +88,5 @@ class ContinuationOptions:
         finite_float("corner_step", self.corner_step, low=0.0)
         finite_float("growth", self.growth, low=1.0)
         finite_float("shrink", self.shrink, low=0.0, low_open=True, high=0.99)
+        if self.curve_tolerance is not None:
+            finite_float("curve_tolerance", self.curve_tolerance, low=0.0)

@@ -89,6 +89,9 @@ class ContinuationState:
     J: np.ndarray
     points: list = field(default_factory=list)
     tangents_omega: list = field(default_factory=list)
+    #: unit tangent at each point in physical units (``tangent * scale``
+    #: with the scale at that point), shape (n + 1,) each
+    tangents: list = field(default_factory=list)
     folds: list = field(default_factory=list)
     corners: list = field(default_factory=list)
     n_steps: int = 0
@@ -182,7 +185,28 @@ class Continuation:
         s[_arclength.BASE_SCALE] = self.base_scale
         s[_arclength.LOW] = self.low
         s[_arclength.HIGH] = self.high
+        s[_arclength.CURVE_TOL] = o.curve_tolerance or 0.0
+        s[_arclength.CURVE_COLUMN] = 0.0
+        s[_arclength.CURVE_LAST] = 0.0
+        column = self._curve_column()
+        if column < 0:
+            s[_arclength.CURVE_TOL] = 0.0
+        else:
+            s[_arclength.CURVE_COLUMN] = column
         return s
+
+    def _curve_column(self) -> int:
+        """Index among the unknowns of the first-harmonic cosine
+        coefficient of the contact DOF (the drawn DOF of the curve rule),
+        -1 without a first harmonic."""
+        p = self.problem
+        hn = [int(k) for k in p.harmonic_numbers]
+        if 1 not in hn:
+            return -1
+        column = sum(1 if k == 0 else 2 for k in hn[: hn.index(1)])
+        n_dof = p.n_unknowns // p.n_coef  # 1 for a problem condensed on a contact
+        dof = int(getattr(p.system, "contact_dof", 0) or 0) if n_dof > 1 else 0
+        return dof * p.n_coef + column
 
     # ------------------------------------------------------------------
     def _correct(self, y, y_pred, constraint, max_iter=None):
@@ -255,6 +279,7 @@ class Continuation:
             state.tangent = self._tangent(t0)
             state.points.append(y.copy())
             state.tangents_omega.append(state.tangent[n])
+            state.tangents.append(state.tangent * self.scale)
             return state
         state.finished = True
         state.stop_reason = NO_START
@@ -514,7 +539,13 @@ class Continuation:
                     return state
                 return self._finish(state, MIN_STEP)
             return state
-        self._record(state, y[None, :].copy(), tangent[-1:], np.array([outcome]))
+        self._record(
+            state,
+            y[None, :].copy(),
+            (tangent * self.scale)[None, :],
+            np.array([outcome]),
+            self.scale[-1],
+        )
         state.y = y
         state.tangent = tangent
         return state
@@ -538,7 +569,7 @@ class Continuation:
         capacity = min(budget, capacity)
         n = self.problem.n_unknowns
         points = np.empty((capacity, n + 1))
-        tangents_omega = np.empty(capacity)
+        tangents = np.empty((capacity, n + 1))
         flags = np.zeros(capacity, dtype=np.int64)
         y = state.y.copy()
         tangent = state.tangent.copy()
@@ -552,7 +583,7 @@ class Continuation:
             budget,
             self._no_watch if watch is None else watch,
             points,
-            tangents_omega,
+            tangents,
             flags,
             *self._work,
             self._placeholder_calibration() if calibration is None else calibration,
@@ -561,7 +592,9 @@ class Continuation:
         state.n_newton += evaluations
         state.n_rejected += rejected
         state.step = new_step
-        self._record(state, points[:accepted], tangents_omega[:accepted], flags)
+        self._record(
+            state, points[:accepted], tangents[:accepted], flags, self.scale[n]
+        )
         state.y = y
         state.tangent = tangent
         if outcome == _arclength.RANGE_LEFT:
@@ -629,7 +662,13 @@ class Continuation:
             flag = _arclength.ACCEPTED | _arclength.CORNER
             if (tangent[n] > 0.0) != (slope > 0.0):
                 flag |= _arclength.FOLD
-            self._record(state, y_new[None, :].copy(), tangent[-1:], np.array([flag]))
+            self._record(
+                state,
+                y_new[None, :].copy(),
+                (tangent * self.scale)[None, :],
+                np.array([flag]),
+                self.scale[n],
+            )
             state.y = y_new
             state.tangent = tangent
             state.step = self.options.initial_step
@@ -752,8 +791,9 @@ class Continuation:
         return self._no_calibration
 
     @staticmethod
-    def _record(state, points, tangents_omega, flags) -> None:
-        """Append accepted points with their corner and fold marks."""
+    def _record(state, points, tangents, flags, omega_scale) -> None:
+        """Append accepted points with their physical tangents (shape
+        (k, n + 1)) and their corner and fold marks."""
         first = len(state.points)
         for j in range(points.shape[0]):
             if flags[j] & _arclength.CORNER:
@@ -761,7 +801,8 @@ class Continuation:
             if flags[j] & _arclength.FOLD:
                 state.folds.append(first + j)
         state.points.extend(points)
-        state.tangents_omega.extend(tangents_omega.tolist())
+        state.tangents.extend(tangents.copy())
+        state.tangents_omega.extend((tangents[:, -1] / omega_scale).tolist())
         state.n_steps += points.shape[0]
 
     def _land_on_boundary(self, state: ContinuationState, y_out: np.ndarray):
@@ -784,6 +825,12 @@ class Continuation:
         if status == _newton.CONVERGED and np.all(np.isfinite(y)):
             state.points.append(y.copy())
             state.tangents_omega.append(state.tangent[n])
+            # the tangent at the boundary point itself (Jacobian of its
+            # last Newton iterate), the previous one if that fails
+            t = self._tangent(state.tangent)
+            if not np.all(np.isfinite(t)):
+                t = state.tangent
+            state.tangents.append(t * self.scale)
             state.y = y
             state.n_steps += 1
         else:

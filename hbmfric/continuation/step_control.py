@@ -35,7 +35,7 @@ class StepController:
         """Next step after success with ``iterations`` Newton iterations and a
         tangent turn of ``angle`` rad."""
         new = _arclength.next_step(
-            float(step), int(iterations), float(angle), self._settings
+            float(step), int(iterations), float(angle), 0.0, self._settings
         )
         return float(new)
 

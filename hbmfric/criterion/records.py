@@ -106,7 +106,12 @@ class FRFRecord:
 
     @classmethod
     def from_branch(
-        cls, branch, normal_load: float, harmonic: int | None = 1, dof=None
+        cls,
+        branch,
+        normal_load: float,
+        harmonic: int | None = 1,
+        dof=None,
+        resample: int | None = 8,
     ) -> FRFRecord:
         """A record from a computed :class:`hbmfric.Branch`.
 
@@ -120,9 +125,20 @@ class FRFRecord:
             Amplitude measure (see :meth:`Branch.amplitude`).
         dof : int, str or None
             Response DOF (index or name); default: the contact DOF.
+        resample : int or None, default 8
+            The record samples the branch's dense output
+            (:meth:`Branch.resample`) at this many arc lengths per interval
+            between computed points, so that the criterion, which joins a
+            record's samples by straight lines, follows the branch between
+            its points; None: the computed points alone.
         """
-        omega = np.asarray(branch.omega, dtype=np.float64)
-        amp = branch.amplitude(harmonic=harmonic, dof=dof)
+        if resample is None:
+            omega = np.asarray(branch.omega, dtype=np.float64)
+            amp = branch.amplitude(harmonic=harmonic, dof=dof)
+        else:
+            dense = branch.resample(resample)
+            omega = np.asarray(dense.omega, dtype=np.float64)
+            amp = dense.amplitude(harmonic=harmonic, dof=dof)
         # a branch through folds has repeated abscissae: keep the first point
         _, keep = np.unique(omega, return_index=True)
         return cls(branch.force, normal_load, omega[keep], amp[keep])

@@ -37,7 +37,31 @@ MAX_NEWTON = 10
 BASE_SCALE = 11
 LOW = 12
 HIGH = 13
-N_SETTINGS = 14
+#: largest estimated chord error allowed (relative amplitude, see
+#: :func:`chord_error`); 0 turns the rule off
+CURVE_TOL = 14
+#: index among the unknowns of the cosine coefficient of the first
+#: harmonic of the drawn (output) DOF; its sine follows
+CURVE_COLUMN = 15
+#: written by the kernels: the chord error per squared scaled step of the
+#: last accepted step (0: none yet), for the kink test of :func:`advance`
+CURVE_LAST = 16
+N_SETTINGS = 17
+#: a step whose chord error per squared step exceeds the last one's this
+#: many times may hold a kink (a contact transition), where the cubic
+#: estimate falls short by up to 2x: it counts twice
+KINK_JUMP = 4.0
+
+#: fractions of a chord where :func:`chord_error` compares the cubic
+#: with the chord: the extremes of the two shapes of a cubic's deviation
+#: (``(3 ∓ √3)/6``, an S) and the middle (a bow)
+_TAU = (0.21132486540518713, 0.5, 0.7886751345948129)
+#: a step across a corner is not shortened by the curve rule below this
+#: many ``min_step``
+CORNER_FLOOR = 100.0
+#: the vertical distance near a fold is bounded by this factor times the
+#: distance perpendicular to the chord
+_FOLD_CAP = 1e3
 
 # outcome of a step (bit flags on ACCEPTED)
 REJECTED = 0
@@ -93,17 +117,108 @@ N_WATCH = 24
 
 
 @jit
-def next_step(step, iterations, angle, settings):
+def next_step(step, iterations, angle, curve, settings):
     """Step after an accepted corrector run of ``iterations`` Newton
-    iterations whose tangent turned by ``angle`` rad: grow towards
-    ``target_newton`` iterations per step, by at most ``growth``, keep the
-    turn below 0.8 ``max_angle``, shrink at most by ``shrink``, never above
-    ``max_step``."""
+    iterations whose tangent turned by ``angle`` rad and whose chord has
+    the estimated error ``curve`` (:func:`chord_error`, 0 if none): grow
+    towards ``target_newton`` iterations per step, by at most ``growth``,
+    keep the turn below 0.8 ``max_angle`` and (with ``curve_tol > 0``) the
+    chord error, which grows as the square of the step, below 0.8
+    ``curve_tol``; shrink at most by ``shrink``, never above ``max_step``."""
     factor = min(settings[GROWTH], settings[TARGET_NEWTON] / max(iterations, 1))
     if angle > 0.0:
         factor = min(factor, 0.8 * settings[MAX_ANGLE] / angle)
     factor = max(factor, settings[SHRINK])
+    tol = settings[CURVE_TOL]
+    if tol > 0.0 and curve > 0.0:
+        factor = min(factor, np.sqrt(0.8 * tol / curve))
     return min(step * factor, settings[MAX_STEP])
+
+
+@jit
+def _drawn(y, t, scale, column):
+    """Ω and the first-harmonic amplitude ``a₁`` (at ``column``) of the
+    point ``y``, and their derivatives along the scaled arc length (unit
+    tangent ``t``); NaN amplitude parts for a DOF at rest."""
+    n = y.size - 1
+    c = y[column]
+    s = y[column + 1]
+    a = np.hypot(c, s)
+    dx = t[n] * scale[n]
+    if not a > 0.0:
+        return y[n], dx, np.nan, np.nan
+    da = (c * t[column] * scale[column] + s * t[column + 1] * scale[column + 1]) / a
+    return y[n], dx, a, da
+
+
+@jit
+def chord_error(y0, t0, y1, t1, scale, column):
+    """Estimated largest distance between the branch and the chord
+    joining two of its points, in the drawn plane.
+
+    The branch between ``y0`` and ``y1`` is modelled by the cubic Hermite
+    curve through both points with their tangents (parameter scaled by the
+    chord length ``L`` in the scaled variables), in the plane ``(Ω, a₁)``
+    (``a₁``: first-harmonic amplitude of the drawn DOF) where the chord is
+    the straight line a plot or a linear interpolation draws. The cubic's
+    deviation from the chord is ``τ(1-τ)[(1-τ)(m₀-Δ) - τ(m₁-Δ)]`` (``m = L
+    dP/ds``, ``Δ = P₁ - P₀``); it is taken at ``τ = (3-√3)/6, 1/2,
+    (3+√3)/6`` (the extremes of its S and bow parts), measured vertically
+    (in ``a₁`` at equal Ω) relative to the smaller amplitude of the two
+    ends (as read off a log axis), and near a fold bounded by ``1e3``
+    times the distance perpendicular to the chord in the plane of relative
+    Ω and relative amplitude. Its error is of order ``L⁴``, the estimate's
+    own ``L²``.
+
+    Parameters
+    ----------
+    y0, y1 : ndarray, shape (n + 1,)
+        ``[X, Ω]`` of both points, physical units (m, rad/s).
+    t0, t1 : ndarray, shape (n + 1,)
+        Unit tangents in the scaled variables (same direction of travel).
+    scale : ndarray, shape (n + 1,)
+        Scales of the variables (m, rad/s).
+    column : int
+        Index of the first-harmonic cosine coefficient of the drawn DOF.
+
+    Returns
+    -------
+    float
+        Estimated relative amplitude error, >= 0; 0 for a DOF at rest at
+        either point.
+    """
+    length = 0.0
+    for i in range(y0.size):
+        d = (y1[i] - y0[i]) / scale[i]
+        length += d * d
+    length = np.sqrt(length)
+    w0, dw0, a0, da0 = _drawn(y0, t0, scale, column)
+    w1, dw1, a1, da1 = _drawn(y1, t1, scale, column)
+    if not (np.isfinite(a0) and np.isfinite(a1)):
+        return 0.0
+    # relative units: Ω by the mean of the ends, a by the smaller one
+    rw = 0.5 * (w0 + w1)
+    ra = min(a0, a1)
+    ex = (w1 - w0) / rw
+    el = (a1 - a0) / ra
+    ax = (length * dw0) / rw - ex
+    al = (length * da0) / ra - el
+    bx = (length * dw1) / rw - ex
+    bl = (length * da1) / ra - el
+    chord = np.hypot(ex, el)
+    if chord == 0.0:
+        return 0.0
+    run = max(abs(ex), chord / _FOLD_CAP)
+    worst = 0.0
+    for tau in _TAU:
+        w = tau * (1.0 - tau)
+        dx = w * ((1.0 - tau) * ax - tau * bx)
+        dl = w * ((1.0 - tau) * al - tau * bl)
+        # distance along a at equal Ω from the chord line
+        e = abs(dl * ex - dx * el) / run
+        if e > worst:
+            worst = e
+    return worst
 
 
 @jit
@@ -329,6 +444,36 @@ def advance(
     omega = y_new[n]
     if omega > settings[HIGH] or omega < settings[LOW]:
         return LEFT_RANGE, step, evaluations
+    curve = 0.0
+    if settings[CURVE_TOL] > 0.0:
+        curve = chord_error(
+            y, tangent, y_new, t_new, scale, int(settings[CURVE_COLUMN])
+        )
+        length2 = 0.0
+        for i in range(y.size):
+            d = (y_new[i] - y[i]) / scale[i]
+            length2 += d * d
+        bend = curve / length2 if length2 > 0.0 else 0.0
+        last = settings[CURVE_LAST]
+        if corner or (last > 0.0 and bend > KINK_JUMP * last):
+            # a kink inside the step: up to twice the cubic's deviation
+            curve *= 2.0
+        if curve > settings[CURVE_TOL]:
+            # the chord would stray from the branch: shorter, as the
+            # error goes with the square of the step (across a corner:
+            # linearly, and only down to CORNER_FLOOR min_step, below
+            # which a corner is taken as it is)
+            factor = max(np.sqrt(0.8 * settings[CURVE_TOL] / curve), 0.1)
+            if corner:
+                factor = max(0.8 * settings[CURVE_TOL] / curve, 0.1)
+            new_step = step * min(factor, settings[SHRINK])
+            if not corner or new_step >= CORNER_FLOOR * settings[MIN_STEP]:
+                if new_step < settings[MIN_STEP]:
+                    return STEP_TOO_SMALL, new_step, evaluations
+                return REJECTED, new_step, evaluations
+        settings[CURVE_LAST] = 0.0 if corner else bend
+        if corner:
+            curve = 0.0
     outcome = ACCEPTED
     if corner:
         outcome |= CORNER
@@ -340,7 +485,7 @@ def advance(
     for i in range(n + 1):
         y[i] = y_new[i]
         tangent[i] = t_new[i]
-    new_step = next_step(step, effort, angle, settings)
+    new_step = next_step(step, effort, angle, curve, settings)
     follow_amplitude(y, tangent, scale, settings[BASE_SCALE])
     return outcome, new_step, evaluations
 
@@ -356,7 +501,7 @@ def trace(
     max_attempts,
     watch,
     points,
-    tangents_omega,
+    tangents,
     flags,
     R,
     J,
@@ -386,8 +531,10 @@ def trace(
         also stops after an accepted point that does not :func:`stays`.
     points : ndarray, shape (capacity, n + 1)
         Out: accepted points.
-    tangents_omega : ndarray, shape (capacity,)
-        Out: Ω-component of the tangent at each accepted point.
+    tangents : ndarray, shape (capacity, n + 1)
+        Out: unit tangent at each accepted point in physical units
+        (``tangent * scale`` with the scale at that point: ``dX/ds`` in m,
+        ``dΩ/ds`` in rad/s per unit of the scaled arc length ``s``).
     flags : ndarray of int64, shape (capacity,)
         Out: ``CORNER``/``FOLD`` bits of each accepted point.
 
@@ -427,7 +574,7 @@ def trace(
             continue
         for i in range(n + 1):
             points[n_accepted, i] = y[i]
-        tangents_omega[n_accepted] = tangent[n]
+            tangents[n_accepted, i] = tangent[i] * scale[i]
         flags[n_accepted] = outcome
         n_accepted += 1
         if watch[WATCH_ACTIVE] != 0.0 and not stays(y, watch, calibration):

@@ -226,7 +226,9 @@ def beam_criterion_family(harmonics: int | str = "auto", **overrides):
 def ratio_collapse(figure: FigureResult, n_grid: int = 400) -> dict[float, float]:
     """Largest spread of the FRFs per unit force within each Fex/Fn group,
     relative to the group's peak, on a common frequency grid (ratio →
-    spread). Zero for a law without roughness, up to the HBM tolerance."""
+    spread), each FRF read off its dense output
+    (:meth:`hbmfric.Branch.amplitude_at`, first pass where it folds). Zero
+    for a law without roughness, up to the HBM tolerance."""
     groups: dict[float, list] = {}
     for b, par in zip(figure.branches, figure.parameters, strict=True):
         groups.setdefault(round(par["ratio"], 12), []).append((b, par["force"]))
@@ -237,12 +239,10 @@ def ratio_collapse(figure: FigureResult, n_grid: int = 400) -> dict[float, float
         grid = np.linspace(lo, hi, n_grid)
         curves = []
         for b, force in members:
-            order = np.argsort(b.omega)
-            curves.append(
-                np.interp(grid, b.omega[order], b.amplitude(1, "tip")[order] / force)
-            )
+            curves.append(b.amplitude_at(grid, 1, "tip")[:, 0] / force)
         curves = np.array(curves)
-        out[ratio] = float(np.max(np.ptp(curves, axis=0)) / np.max(curves))
+        spread = np.nanmax(curves, axis=0) - np.nanmin(curves, axis=0)
+        out[ratio] = float(np.nanmax(spread) / np.nanmax(curves))
     return out
 
 
@@ -260,10 +260,11 @@ class BeamValidation(BeamFamily):
 
     reference: list = field(default_factory=list)
 
-    def write_csv(self, path: Path) -> Path:
-        """The curves (as :meth:`FigureResult.write_csv`) and, next to them,
-        ``<stem>_time_integration.csv`` with the reference points."""
-        path = super().write_csv(path)
+    def write_csv(self, path: Path, resample: int | None = None) -> Path:
+        """The curves (as :meth:`FigureResult.write_csv`, ``resample``
+        likewise) and, next to them, ``<stem>_time_integration.csv`` with
+        the reference points."""
+        path = super().write_csv(path, resample=resample)
         ti_path = Path(path).with_name(Path(path).stem + "_time_integration.csv")
         with open(ti_path, "w", newline="") as fh:
             w = csv.writer(fh)

@@ -62,32 +62,47 @@ class FigureResult:
 
         return choose_contact_model(self.records(), **options)
 
-    def write_csv(self, path: Path) -> Path:
+    def write_csv(self, path: Path, resample: int | None = None) -> Path:
         """Long-format CSV: one row per point of every curve.
 
         Columns: ``curve, force_N, normal_load_N, ratio, omega_rad_s,
         amplitude_h1_m, amplitude_m, amplitude_h1_per_force_m_per_N``.
+
+        ``resample``: None writes the computed points; an integer ``k``
+        writes the dense output (:meth:`hbmfric.Branch.resample`) at ``k``
+        arc-length samples per interval between points instead, with a
+        last column ``computed`` (1 on a computed point, 0 between).
         """
+        if resample is not None:
+            from .._validate import positive_int
+
+            resample = positive_int("resample", resample, low=1)
         with open(path, "w", newline="") as fh:
             w = csv.writer(fh)
-            w.writerow(
-                [
-                    "curve",
-                    "force_N",
-                    "normal_load_N",
-                    "ratio",
-                    "omega_rad_s",
-                    "amplitude_h1_m",
-                    "amplitude_m",
-                    "amplitude_h1_per_force_m_per_N",
-                ]
-            )
+            header = [
+                "curve",
+                "force_N",
+                "normal_load_N",
+                "ratio",
+                "omega_rad_s",
+                "amplitude_h1_m",
+                "amplitude_m",
+                "amplitude_h1_per_force_m_per_N",
+            ]
+            w.writerow(header + (["computed"] if resample is not None else []))
             for label, b, par in zip(
                 self.labels, self.branches, self.parameters, strict=True
             ):
-                a1 = b.amplitude(harmonic=1)
-                a = b.amplitude()
-                for om, x1, x in zip(b.omega, a1, a, strict=True):
+                if resample is None:
+                    omega, a1, a = b.omega, b.amplitude(harmonic=1), b.amplitude()
+                    extra = [[]] * omega.size
+                else:
+                    dense = b.resample(resample)
+                    omega = dense.omega
+                    a1, a = dense.amplitude(harmonic=1), dense.amplitude()
+                    on_point = np.isin(dense.arclength, b.arclength)
+                    extra = [[str(int(k))] for k in on_point]
+                for om, x1, x, more in zip(omega, a1, a, extra, strict=True):
                     w.writerow(
                         [
                             label,
@@ -98,6 +113,7 @@ class FigureResult:
                             f"{x1:.12g}",
                             f"{x:.12g}",
                             f"{x1 / par['force']:.12g}",
+                            *more,
                         ]
                     )
         self.files.append(Path(path))

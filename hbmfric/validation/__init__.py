@@ -1,6 +1,14 @@
 """References for validating HBM results: time integration, and exact
 event-driven periodic solutions for one Jenkins contact."""
 
+from .curve import (
+    CurveError,
+    branch_curve_error,
+    chord_midpoints,
+    curve_references,
+    polyline_error,
+    reference_omegas,
+)
 from .exact import (
     BranchErrors,
     ExactSolution,
@@ -12,6 +20,12 @@ from .steady_state import SteadyState, steady_state
 
 __all__ = [
     "BranchErrors",
+    "CurveError",
+    "branch_curve_error",
+    "chord_midpoints",
+    "curve_references",
+    "polyline_error",
+    "reference_omegas",
     "ExactSolution",
     "branch_errors",
     "SteadyState",
