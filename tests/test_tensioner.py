@@ -82,7 +82,6 @@ def test_jit_integrator_agrees_with_scipy_bdf():
     bdf = time_domain_frf(RIG, 40.0, freqs, "bdf")
     assert jit.converged.all() and bdf.converged.all()
     np.testing.assert_allclose(jit.tension_range, bdf.tension_range, rtol=2e-3)
-    assert bdf.elapsed > jit.elapsed
 
 
 @pytest.mark.parametrize("force", [2.0, 40.0])
