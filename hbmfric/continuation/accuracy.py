@@ -9,40 +9,33 @@ DOF,
     ``max(CHANGE_FACTOR * change, TOP_FLOOR * m)``
 
 where ``change`` is the first-order change of those two measures when the
-basis grows to the next level of the ladder
-(:func:`hbmfric.kernels.truncation.truncation_change`, one residual and one
-LU in the larger basis: about one Newton iteration) and ``m`` the free
-measure ``H max(|X_H|, (K'/H)^4 |X_K'|) / |X_1|`` of the point.
+basis grows to the probe level (:func:`~hbmfric.continuation.adaptive.probe_level`,
+about ``2 H``; :func:`hbmfric.kernels.truncation.truncation_change`, one
+residual and one LU in the larger basis) and ``m`` the free measure
+``H max(|X_H|, (K'/H)^4 |X_K'|) / |X_1|`` of the point.
 
 Cost. ``change`` is computed at every ``EVERY``-th point whose response is
-not linear and at the ``N_WORST`` points of largest free measure; between
-them the estimate is the free measure times the larger of the ratios
-``estimate / m`` at the two neighbouring calibrated points (the ratio drifts
-slowly along a branch; the free measure alone does not, see
-:mod:`hbmfric.continuation.adaptive`). A point whose response is linear
-(stuck contact: no higher harmonic) has estimate 0.
+not linear and at the ``N_WORST`` points of largest free measure (one
+compiled call for all of them); between them the estimate is the free
+measure times the larger of the ratios ``estimate / m`` at the two
+neighbouring calibrated points (the ratio drifts slowly along a branch; the
+free measure alone does not, see :mod:`hbmfric.continuation.adaptive`). A
+point whose response is linear (stuck contact: no higher harmonic) has
+estimate 0. The problem's own level and its probe level (problem, work
+arrays) are built once per problem.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .adaptive import CHANGE_FACTOR, LADDER, LINEAR, TOP_FLOOR, _Level
+from ..kernels.truncation import truncation_changes
+from .adaptive import CHANGE_FACTOR, LINEAR, TOP_FLOOR, _Level, next_level, probe_level
 
 #: calibrate the free measure at every this many non-linear points
 EVERY = 32
 #: ... and at this many points of largest free measure
 N_WORST = 2
-
-
-def next_level(harmonics: int) -> int:
-    """The level of the ladder above ``harmonics`` (``1.4 H`` rounded up to
-    odd beyond the ladder's top)."""
-    for h in LADDER:
-        if h > harmonics:
-            return h
-    h = int(np.ceil(1.4 * harmonics))
-    return h + 1 if h % 2 == 0 else h
 
 
 def _free_measure(level: _Level, points: np.ndarray) -> np.ndarray:
@@ -85,31 +78,47 @@ def truncation_errors(problem, points: np.ndarray) -> np.ndarray:
     errors = np.zeros(n_points)
     if n_points == 0:
         return errors
-    level = _Level(problem, None)
-    if not level.top:
+    cached = getattr(problem, "_accuracy_levels", None)
+    if cached is None:
+        level = _Level(problem, None)
+        probe = None
+        if level.top:
+            probe = _Level(problem.with_harmonics(probe_level(level.h)), None)
+        cached = problem._accuracy_levels = (level, probe)
+    level, probe = cached
+    if probe is None:
         errors[:] = np.inf
         return errors
     measure = _free_measure(level, points)
     nonlinear = np.flatnonzero(measure > LINEAR * 1e-4)
     if nonlinear.size == 0:
         return errors
-    # the next level (its problem and work arrays) is built once per problem
-    larger = getattr(problem, "_accuracy_level", None)
-    if larger is None:
-        larger = _Level(problem.with_harmonics(next_level(level.h)), None)
-        problem._accuracy_level = larger
     chosen = np.zeros(n_points, dtype=bool)
     chosen[nonlinear[::EVERY]] = True
     chosen[nonlinear[-1]] = True
     worst = nonlinear[np.argsort(measure[nonlinear])[-N_WORST:]]
     chosen[worst] = True
     calibrated = np.flatnonzero(chosen)
-    ratio = np.empty(calibrated.size)
-    for q, i in enumerate(calibrated):
-        change = larger.change(points[i])
-        estimate = max(CHANGE_FACTOR * change, TOP_FLOOR * measure[i])
-        errors[i] = estimate
-        ratio[q] = estimate / measure[i]
+    change = np.empty(calibrated.size)
+    kp, synthesis, y, R, J, A, dX = probe.work()
+    truncation_changes(
+        points,
+        calibrated,
+        kp,
+        probe.n_dof,
+        probe.dof,
+        probe.first_column,
+        synthesis,
+        y,
+        R,
+        J,
+        A,
+        dX,
+        change,
+    )
+    estimate = np.maximum(CHANGE_FACTOR * change, TOP_FLOOR * measure[calibrated])
+    errors[calibrated] = estimate
+    ratio = estimate / measure[calibrated]
     others = nonlinear[~chosen[nonlinear]]
     if others.size:
         right = np.searchsorted(calibrated, others)

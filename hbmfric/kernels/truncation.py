@@ -95,3 +95,27 @@ def truncation_change(x, problem, n_dof, dof, first, synthesis, y, R, J, A, dX):
     if not np.isfinite(worst):
         return np.inf
     return worst
+
+
+@jit
+def truncation_changes(
+    points, rows, problem, n_dof, dof, first, synthesis, y, R, J, A, dX, out
+):
+    """:func:`truncation_change` of several points of one branch in one
+    call (one dispatch instead of one per point).
+
+    Parameters
+    ----------
+    points : ndarray, shape (n_points, n_dof * n_coef_small + 1)
+        ``[X, Ω]`` per point in the smaller basis.
+    rows : ndarray of int64, shape (n_rows,)
+        The points to evaluate.
+    problem, n_dof, dof, first, synthesis, y, R, J, A, dX
+        As in :func:`truncation_change`.
+    out : ndarray, shape (n_rows,)
+        The change of each point of ``rows`` on return.
+    """
+    for q in range(rows.size):
+        out[q] = truncation_change(
+            points[rows[q]], problem, n_dof, dof, first, synthesis, y, R, J, A, dX
+        )
