@@ -247,7 +247,7 @@ def frf(
                     "harmonic_tolerance": tolerance,
                 },
             ),
-            truncation_error=truncation_errors(problem, pts),
+            truncation_error=truncation_errors(problem, pts, tolerance),
         )
 
     branch = _covering(trace, sweep, retrace)
@@ -409,7 +409,7 @@ def _frf_auto(
         for h in np.unique(levels_array):
             idx = np.flatnonzero(levels_array == h)
             errors[idx] = truncation_errors(
-                make_problem(int(h)), np.array([points[i] for i in idx])
+                make_problem(int(h)), np.array([points[i] for i in idx]), tolerance
             )
         return _branch(
             system,

@@ -6,7 +6,7 @@ same estimate the adaptive-harmonics run keeps below its tolerance
 first-harmonic amplitude and of half the peak-to-peak value at the contact
 DOF,
 
-    ``max(CHANGE_FACTOR * change, TOP_FLOOR * m)``
+    ``CHANGE_FACTOR * change``
 
 where ``change`` is the first-order change of those two measures when the
 basis grows to the probe level (:func:`~hbmfric.continuation.adaptive.probe_level`,
@@ -18,8 +18,11 @@ Cost. ``change`` is computed at every ``EVERY``-th point whose response is
 not linear and at the ``N_WORST`` points of largest free measure (one
 compiled call for all of them); between them the estimate is the free
 measure times the larger of the ratios ``estimate / m`` at the two
-neighbouring calibrated points (the ratio drifts slowly along a branch; the
-free measure alone does not, see :mod:`hbmfric.continuation.adaptive`). A
+neighbouring calibrated points, at least ``CARRY_FLOOR`` (the ratio drifts
+slowly along a branch; the free measure alone does not, see
+:mod:`hbmfric.continuation.adaptive`). With a ``tolerance``, every point
+whose carried estimate exceeds it is calibrated too, so that no warning
+rests on a carried estimate. A
 point whose response is linear (stuck contact: no higher harmonic) has
 estimate 0. The problem's own level and its probe level (problem, work
 arrays) are built once per problem.
@@ -30,7 +33,14 @@ from __future__ import annotations
 import numpy as np
 
 from ..kernels.truncation import truncation_changes
-from .adaptive import CHANGE_FACTOR, LINEAR, TOP_FLOOR, _Level, next_level, probe_level
+from .adaptive import (
+    CARRY_FLOOR,
+    CHANGE_FACTOR,
+    LINEAR,
+    _Level,
+    next_level,
+    probe_level,
+)
 
 #: calibrate the free measure at every this many non-linear points
 EVERY = 32
@@ -55,7 +65,9 @@ def _free_measure(level: _Level, points: np.ndarray) -> np.ndarray:
     return measure
 
 
-def truncation_errors(problem, points: np.ndarray) -> np.ndarray:
+def truncation_errors(
+    problem, points: np.ndarray, tolerance: float | None = None
+) -> np.ndarray:
     """Estimated relative truncation error of each point of a branch.
 
     Parameters
@@ -64,6 +76,8 @@ def truncation_errors(problem, points: np.ndarray) -> np.ndarray:
         The discretisation the points solve.
     points : ndarray, shape (n_points, n_unknowns + 1)
         ``[X, Ω]`` per point, in the layout of ``problem``.
+    tolerance : float, optional
+        Points whose carried estimate exceeds it are calibrated as well.
 
     Returns
     -------
@@ -99,11 +113,30 @@ def truncation_errors(problem, points: np.ndarray) -> np.ndarray:
     worst = nonlinear[np.argsort(measure[nonlinear])[-N_WORST:]]
     chosen[worst] = True
     calibrated = np.flatnonzero(chosen)
-    change = np.empty(calibrated.size)
+    estimate = _calibrated(probe, points, calibrated)
+    errors[calibrated] = estimate
+    ratio = np.maximum(estimate / measure[calibrated], CARRY_FLOOR)
+    others = nonlinear[~chosen[nonlinear]]
+    if others.size:
+        right = np.searchsorted(calibrated, others)
+        left = np.clip(right - 1, 0, calibrated.size - 1)
+        right = np.clip(right, 0, calibrated.size - 1)
+        errors[others] = np.maximum(ratio[left], ratio[right]) * measure[others]
+        if tolerance is not None:
+            over = others[errors[others] > tolerance]
+            if over.size:
+                errors[over] = _calibrated(probe, points, over)
+    return errors
+
+
+def _calibrated(probe: _Level, points: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """``CHANGE_FACTOR`` times the first-order change to ``probe`` of the
+    points ``rows`` (one compiled call)."""
+    change = np.empty(rows.size)
     kp, synthesis, y, R, J, A, dX = probe.work()
     truncation_changes(
         points,
-        calibrated,
+        rows,
         kp,
         probe.n_dof,
         probe.dof,
@@ -116,17 +149,7 @@ def truncation_errors(problem, points: np.ndarray) -> np.ndarray:
         dX,
         change,
     )
-    estimate = np.maximum(CHANGE_FACTOR * change, TOP_FLOOR * measure[calibrated])
-    errors[calibrated] = estimate
-    ratio = estimate / measure[calibrated]
-    others = nonlinear[~chosen[nonlinear]]
-    if others.size:
-        right = np.searchsorted(calibrated, others)
-        left = np.clip(right - 1, 0, calibrated.size - 1)
-        right = np.clip(right, 0, calibrated.size - 1)
-        factor = np.maximum(ratio[left], ratio[right])
-        errors[others] = np.maximum(factor, TOP_FLOOR) * measure[others]
-    return errors
+    return CHANGE_FACTOR * change
 
 
 __all__ = ["truncation_errors", "next_level"]
