@@ -121,12 +121,13 @@ SAFETY = 2.0
 CHANGE_FACTOR = SAFETY
 #: between calibrations the estimate is the free measure times the ratio
 #: ``estimate / measure`` of the last calibration, but at least this times
-#: the measure. A point at the onset of slip has a ratio 100 times below
-#: the points a few steps further into slip (0.1-0.2 there on the SDOF
-#: Jenkins scenes, 0.01-0.03 on the Fex/Fn = 10 scene); carried without a
-#: floor it kept H = 3 over a stretch 6 times over the tolerance. A
-#: calibrated point's own estimate has no floor.
-CARRY_FLOOR = 0.05
+#: the measure (the floor the former estimate had on its whole value). A
+#: point at the onset of slip has a ratio 100 times below the points a
+#: step or two further into slip (0.1-1.5 there on the SDOF Jenkins
+#: scenes); carried without a floor, or with 0.05, it kept H = 3 over
+#: stretches up to 6 times over the tolerance (SDOF F = 0.5, tolerance
+#: 1e-3). A calibrated point's own estimate has no floor.
+CARRY_FLOOR = 0.125
 #: decay exponent of the estimate with ``H`` used to predict other levels
 DECAY = 3.5
 #: raise when the estimate ahead exceeds this fraction of the tolerance
