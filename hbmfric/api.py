@@ -379,6 +379,7 @@ def _frf_auto(
             make_problem, omega_range, direction, options, amplitude_scale, tolerance
         )
         state, points, levels, elapsed = cont.run()
+        errors = cont.settle(points, levels, truncation_errors)
         top = make_problem(max(levels) if levels else LADDER[0])
         # the harmonics of a level are a prefix of the top level's, in the
         # same column layout: each level fills the leading columns of its
@@ -405,12 +406,6 @@ def _frf_auto(
                 "harmonic_calibrations": cont.n_calibrations,
             },
         )
-        errors = np.zeros(len(points))
-        for h in np.unique(levels_array):
-            idx = np.flatnonzero(levels_array == h)
-            errors[idx] = truncation_errors(
-                make_problem(int(h)), np.array([points[i] for i in idx]), tolerance
-            )
         return _branch(
             system,
             top,

@@ -602,9 +602,10 @@ class AdaptiveContinuation:
                 self._low = 0
                 return h
         est = None
-        if self._age < MIN_GAP and stale <= tol:
-            # calibrated a moment ago: decide on the carried one, unless it
-            # asks for a raise. Then this point's own estimate is computed:
+        if self._age < MIN_GAP and stale <= tol and math.isnan(self._pending_change):
+            # calibrated a moment ago (and no fresh change from the compiled
+            # stretch): decide on the carried one, unless it asks for a
+            # raise. Then this point's own estimate is computed:
             # the ratio carried from a point at the onset of slip (tiny
             # change, small free measure) can be 100 times below the one a
             # point a step further into slip has, and the point must meet
@@ -734,6 +735,48 @@ class AdaptiveContinuation:
         if h_new > h:
             return h_new
         return min((lv for lv in self.ladder if lv > h), default=h)
+
+    def settle(
+        self, points: list[np.ndarray], levels: list[int], estimate: Callable
+    ) -> np.ndarray:
+        """Per-point estimates of the finished branch, each point over the
+        tolerance solved again one rung higher (in place in ``points`` and
+        ``levels``) until it meets it or the ladder ends.
+
+        Between calibrations the run decides on a carried estimate; the
+        final estimate (``estimate(problem, points, tolerance)``,
+        :func:`hbmfric.continuation.accuracy.truncation_errors`, which
+        calibrates every point whose carried estimate exceeds the
+        tolerance) can find a point the run let through just over it (the
+        point before a raise, about once a branch). Such a point is solved
+        at fixed Ω from its zero-padded self (a few Newton iterations).
+
+        Returns
+        -------
+        ndarray, shape (n_points,)
+            The estimate of every point at its (final) level.
+        """
+        tol = self.tolerance
+        errors = np.zeros(len(points))
+        levels_array = np.array(levels, dtype=np.int64)
+        for h in np.unique(levels_array):
+            idx = np.flatnonzero(levels_array == h)
+            errors[idx] = estimate(
+                self._level(int(h)).problem, np.array([points[i] for i in idx]), tol
+            )
+        for i in np.flatnonzero(errors > tol):
+            h = levels[i]
+            while errors[i] > tol and h < self.ladder[-1]:
+                h_new = min(lv for lv in self.ladder if lv > h)
+                dst = self._cont(h_new)
+                guess = self.pad(points[i], h, h_new)
+                y, status, _ = dst.solve_at(float(points[i][-1]), guess[:-1])
+                if status != _newton.CONVERGED or not np.all(np.isfinite(y)):
+                    break
+                points[i], levels[i], h = y, h_new, h_new
+                errors[i] = estimate(dst.problem, y[None, :], tol)[0]
+                self.n_resolves += 1
+        return errors
 
     def run(self) -> tuple[ContinuationState, list[np.ndarray], list[int], float]:
         """Trace the branch.
