@@ -147,3 +147,65 @@ def test_compiled_changes_equal_one_call_per_point():
     one = [truncation_change(points[i], *args, y, R, J, A, dX) for i in rows]
     np.testing.assert_array_equal(out, one)
     assert out.max() > 0.0
+
+
+def _estimate_in_numpy(problem, points, tolerance):
+    """The rule of ``truncation_errors`` written out in NumPy (the compiled
+    kernel must give the same numbers)."""
+    from hbmfric.continuation import accuracy
+    from hbmfric.continuation.adaptive import (
+        CARRY_FLOOR,
+        CHANGE_FACTOR,
+        LINEAR,
+        _Level,
+        probe_level,
+    )
+
+    level = _Level(problem, None)
+    probe = _Level(problem.with_harmonics(probe_level(level.h)), None)
+
+    def amp(c):
+        return np.hypot(points[:, c], points[:, c + 1])
+
+    a1 = amp(level.first[0])
+    top = np.maximum(amp(level.top[0]), level.prev_weight * amp(level.prev[0]))
+    measure = level.h * top / a1
+    errors = np.zeros(len(points))
+    nonlinear = np.flatnonzero(measure > LINEAR * 1e-4)
+    chosen = np.zeros(len(points), dtype=bool)
+    chosen[nonlinear[:: accuracy.EVERY]] = True
+    chosen[nonlinear[-1]] = True
+    chosen[nonlinear[np.argsort(measure[nonlinear])[-accuracy.N_WORST :]]] = True
+    calibrated = np.flatnonzero(chosen)
+    for i in calibrated:
+        errors[i] = CHANGE_FACTOR * probe.change(points[i])
+    ratio = np.maximum(errors[calibrated] / measure[calibrated], CARRY_FLOOR)
+    for i in nonlinear[~chosen[nonlinear]]:
+        right = np.searchsorted(calibrated, i)
+        left = max(right - 1, 0)
+        right = min(right, calibrated.size - 1)
+        errors[i] = max(ratio[left], ratio[right]) * measure[i]
+        if errors[i] > tolerance:
+            errors[i] = CHANGE_FACTOR * probe.change(points[i])
+    return errors
+
+
+@pytest.mark.parametrize(
+    "harmonics, force, tolerance", [(7, 0.5, 1e-4), (15, 2.0, 1e-6)]
+)
+def test_compiled_estimate_follows_the_rule(harmonics, force, tolerance):
+    """The compiled per-branch estimate equals the rule written in NumPy
+    (calibrations every 32nd non-linear point, at the last and the two of
+    largest free measure; carried ratios floored; carried estimates over
+    the tolerance calibrated)."""
+    from hbmfric.api import _problem
+    from hbmfric.continuation.accuracy import truncation_errors
+    from hbmfric.continuation.palc import Continuation
+
+    p = _problem(oscillator(), force, harmonics, None, None, "auto", None)
+    state, _ = Continuation(p, (0.5, 3.0)).run()
+    points = np.array(state.points)
+    expected = _estimate_in_numpy(p, points, tolerance)
+    got = truncation_errors(p, points, tolerance)
+    np.testing.assert_allclose(got, expected, rtol=1e-12, atol=0.0)
+    assert np.count_nonzero(got) > 10

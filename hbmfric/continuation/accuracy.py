@@ -22,7 +22,8 @@ neighbouring calibrated points, at least ``CARRY_FLOOR`` (the ratio drifts
 slowly along a branch; the free measure alone does not, see
 :mod:`hbmfric.continuation.adaptive`). With a ``tolerance``, every point
 whose carried estimate exceeds it is calibrated too, so that no warning
-rests on a carried estimate. A
+rests on a carried estimate. The whole rule runs in one compiled call
+(:func:`hbmfric.kernels.truncation.branch_truncation`). A
 point whose response is linear (stuck contact: no higher harmonic) has
 estimate 0. The problem's own level and its probe level (problem, work
 arrays) are built once per problem.
@@ -32,7 +33,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernels.truncation import truncation_changes
+from ..kernels.truncation import branch_truncation
 from .adaptive import (
     CARRY_FLOOR,
     CHANGE_FACTOR,
@@ -46,23 +47,6 @@ from .adaptive import (
 EVERY = 32
 #: ... and at this many points of largest free measure
 N_WORST = 2
-
-
-def _free_measure(level: _Level, points: np.ndarray) -> np.ndarray:
-    """:meth:`_Level.measure` of every point at once, shape (n_points,)."""
-
-    def largest(columns: list[int]) -> np.ndarray:
-        if not columns:
-            return np.zeros(points.shape[0])
-        cols = np.array(columns)
-        return np.hypot(points[:, cols], points[:, cols + 1]).max(axis=1)
-
-    a1 = largest(level.first)
-    top = np.maximum(largest(level.top), level.prev_weight * largest(level.prev))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        measure = level.h * top / a1
-    measure[a1 == 0.0] = np.where(top[a1 == 0.0] == 0.0, 0.0, np.inf)
-    return measure
 
 
 def truncation_errors(
@@ -94,49 +78,19 @@ def truncation_errors(
         return errors
     cached = getattr(problem, "_accuracy_levels", None)
     if cached is None:
-        level = _Level(problem, None)
-        probe = None
-        if level.top:
-            probe = _Level(problem.with_harmonics(probe_level(level.h)), None)
-        cached = problem._accuracy_levels = (level, probe)
-    level, probe = cached
+        cached = problem._accuracy_levels = _levels(problem)
+    level, probe, columns, weights = cached
     if probe is None:
         errors[:] = np.inf
         return errors
-    measure = _free_measure(level, points)
-    nonlinear = np.flatnonzero(measure > LINEAR * 1e-4)
-    if nonlinear.size == 0:
-        return errors
-    chosen = np.zeros(n_points, dtype=bool)
-    chosen[nonlinear[::EVERY]] = True
-    chosen[nonlinear[-1]] = True
-    worst = nonlinear[np.argsort(measure[nonlinear])[-N_WORST:]]
-    chosen[worst] = True
-    calibrated = np.flatnonzero(chosen)
-    estimate = _calibrated(probe, points, calibrated)
-    errors[calibrated] = estimate
-    ratio = np.maximum(estimate / measure[calibrated], CARRY_FLOOR)
-    others = nonlinear[~chosen[nonlinear]]
-    if others.size:
-        right = np.searchsorted(calibrated, others)
-        left = np.clip(right - 1, 0, calibrated.size - 1)
-        right = np.clip(right, 0, calibrated.size - 1)
-        errors[others] = np.maximum(ratio[left], ratio[right]) * measure[others]
-        if tolerance is not None:
-            over = others[errors[others] > tolerance]
-            if over.size:
-                errors[over] = _calibrated(probe, points, over)
-    return errors
-
-
-def _calibrated(probe: _Level, points: np.ndarray, rows: np.ndarray) -> np.ndarray:
-    """``CHANGE_FACTOR`` times the first-order change to ``probe`` of the
-    points ``rows`` (one compiled call)."""
-    change = np.empty(rows.size)
     kp, synthesis, y, R, J, A, dX = probe.work()
-    truncation_changes(
+    branch_truncation(
         points,
-        rows,
+        columns,
+        weights,
+        EVERY,
+        N_WORST,
+        np.inf if tolerance is None else float(tolerance),
         kp,
         probe.n_dof,
         probe.dof,
@@ -147,9 +101,27 @@ def _calibrated(probe: _Level, points: np.ndarray, rows: np.ndarray) -> np.ndarr
         J,
         A,
         dX,
-        change,
+        errors,
     )
-    return CHANGE_FACTOR * change
+    return errors
+
+
+def _levels(problem) -> tuple:
+    """The problem's own level, its probe level (None for ``H = 1``) and
+    the column and weight arguments of
+    :func:`~hbmfric.kernels.truncation.branch_truncation`."""
+    level = _Level(problem, None)
+    if not level.top:
+        return level, None, None, None
+    probe = _Level(problem.with_harmonics(probe_level(level.h)), None)
+    columns = np.array(
+        [level.first[0], level.top[0], level.prev[0] if level.prev else -1],
+        dtype=np.int64,
+    )
+    weights = np.array(
+        [level.h, level.prev_weight, LINEAR * 1e-4, CHANGE_FACTOR, CARRY_FLOOR]
+    )
+    return level, probe, columns, weights
 
 
 __all__ = ["truncation_errors", "next_level"]
