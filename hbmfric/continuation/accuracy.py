@@ -18,7 +18,7 @@ Cost. ``change`` is computed at every ``EVERY``-th point whose response is
 not linear and at the ``N_WORST`` points of largest free measure (one
 compiled call for all of them); between them the estimate is the free
 measure times the larger of the ratios ``estimate / m`` at the two
-neighbouring calibrated points, at least ``CARRY_FLOOR`` (the ratio drifts
+neighbouring calibrated points (at least ``CARRY_FLOOR``; the ratio drifts
 slowly along a branch; the free measure alone does not, see
 :mod:`hbmfric.continuation.adaptive`). With a ``tolerance``, every point
 whose carried estimate exceeds it is calibrated too, so that no warning

@@ -19,8 +19,8 @@ of the spectrum), times their ratio at the last calibration. The estimate is
     ``CHANGE_FACTOR * change``
 
 (``CHANGE_FACTOR`` is the safety factor ``SAFETY = 2`` measured against
-exact references, see the constants); the ratio carried to the next
-points is at least ``CARRY_FLOOR``.
+exact references, see the constants); an estimate below ``ONSET`` times
+the tolerance is not carried (the next point calibrates).
 
 Why ``2 H``. The truncation error of a friction contact does not fall
 monotonically with ``H``: the change to the next rung (``1.4 H``) nearly
@@ -120,14 +120,19 @@ SAFETY = 2.0
 #: the error estimate per first-order change to the probe level
 CHANGE_FACTOR = SAFETY
 #: between calibrations the estimate is the free measure times the ratio
-#: ``estimate / measure`` of the last calibration, but at least this times
-#: the measure (the floor the former estimate had on its whole value). A
-#: point at the onset of slip has a ratio 100 times below the points a
-#: step or two further into slip (0.1-1.5 there on the SDOF Jenkins
-#: scenes); carried without a floor, or with 0.05, it kept H = 3 over
-#: stretches up to 6 times over the tolerance (SDOF F = 0.5, tolerance
-#: 1e-3). A calibrated point's own estimate has no floor.
-CARRY_FLOOR = 0.125
+#: ``estimate / measure`` of the last calibration, unless that estimate was
+#: below this fraction of the tolerance: then the next point calibrates. A
+#: point at the onset of slip has a ratio 100 times below the points a step
+#: or two further into slip; carried, it kept H = 3 over stretches up to 6
+#: times over the tolerance (SDOF F = 0.5, tolerance 1e-3). (A floor of
+#: 0.125 on the carried ratio, as the former estimate had, also caught it
+#: but sent every point of the Fex/Fn = 10 scene, where the ratio is
+#: 0.01-0.03, to a calibration in Python: auto 2-4 times slower.)
+ONSET = 0.05
+#: least carried ratio in the estimate of a fixed-``H`` branch
+#: (:mod:`hbmfric.continuation.accuracy`; its carried estimates over the
+#: tolerance are calibrated anyway)
+CARRY_FLOOR = 0.0
 #: decay exponent of the estimate with ``H`` used to predict other levels
 DECAY = 3.5
 #: raise when the estimate ahead exceeds this fraction of the tolerance
@@ -477,7 +482,11 @@ class AdaptiveContinuation:
             change = self._probe(h).change(y)
         self._pending_change = math.nan
         est = CHANGE_FACTOR * change
-        self._factor = max(est / max(measure, 1e-300), CARRY_FLOOR)
+        # not carried from the onset of slip (:data:`ONSET`)
+        if est >= ONSET * self.tolerance:
+            self._factor = est / max(measure, 1e-300)
+        else:
+            self._factor = math.inf
         return est
 
     def _linear(self, h: int, y: np.ndarray) -> bool:
@@ -700,7 +709,7 @@ class AdaptiveContinuation:
         w[a.W_LOWEST] = float(level.h == self.ladder[0])
         w[a.W_CALIBRATE] = 1.0  # every level has a probe level
         w[a.W_CHANGE_FACTOR] = CHANGE_FACTOR
-        w[a.W_TOP_FLOOR] = CARRY_FLOOR
+        w[a.W_TOP_FLOOR] = ONSET * tol
         w[a.W_CALIBRATIONS] = 0.0
         w[a.W_CHANGE] = math.nan
         probe = self._probe(level.h)
