@@ -121,7 +121,9 @@ SAFETY = 2.0
 CHANGE_FACTOR = SAFETY
 #: between calibrations the estimate is the free measure times the ratio
 #: ``estimate / measure`` of the last calibration, unless that estimate was
-#: below this fraction of the tolerance: then the next point calibrates. A
+#: below this fraction of the tolerance at the lowest level (where a
+#: response that stops being linear starts): then the next point
+#: calibrates. A
 #: point at the onset of slip has a ratio 100 times below the points a step
 #: or two further into slip; carried, it kept H = 3 over stretches up to 6
 #: times over the tolerance (SDOF F = 0.5, tolerance 1e-3). (A floor of
@@ -135,6 +137,11 @@ ONSET = 0.05
 CARRY_FLOOR = 0.0
 #: decay exponent of the estimate with ``H`` used to predict other levels
 DECAY = 3.5
+#: ... and to decide a lowering (more cautious: between rungs the error of
+#: the condensed beam and of the Fex/Fn = 10 scene fell as H^-2 to H^-2.5
+#: only, and a lowering predicted by H^-3.5 was undone at once by a raise,
+#: which then blocked lowering for ``COOLDOWN`` points)
+LOWER_DECAY = 2.0
 #: raise when the estimate ahead exceeds this fraction of the tolerance
 RAISE_AT = 1.0
 #: a raise aims at this fraction of the tolerance
@@ -434,7 +441,7 @@ class AdaptiveContinuation:
             below = [lv for lv in self.ladder if lv < h]
             # the estimate (per tolerance) under which a lower level would do
             level.lower_below = (
-                LOWER_AT * (below[-1] / h) ** DECAY if below else -math.inf
+                LOWER_AT * (below[-1] / h) ** LOWER_DECAY if below else -math.inf
             )
             self._levels[h] = level
         return self._levels[h]
@@ -483,7 +490,7 @@ class AdaptiveContinuation:
         self._pending_change = math.nan
         est = CHANGE_FACTOR * change
         # not carried from the onset of slip (:data:`ONSET`)
-        if est >= ONSET * self.tolerance:
+        if est >= ONSET * self.tolerance or h != self.ladder[0]:
             self._factor = est / max(measure, 1e-300)
         else:
             self._factor = math.inf
@@ -653,7 +660,11 @@ class AdaptiveContinuation:
         if est < level.lower_below * tol and len(levels) >= self._no_lower_before:
             self._low += 1
             if self._low >= LOWER_PATIENCE:
-                h_new = level_for(est, h, LOWER_AT * tol, self.ladder)
+                # one rung at a time (each checked by the next decisions): a
+                # jump of several rungs by a decay law was undone at once on
+                # the gross-slip SDOF branch (its error falls faster than
+                # H^-3.5 there, the beam's as H^-2)
+                h_new = max((lv for lv in self.ladder if lv < h), default=h)
                 if h_new < h:
                     self._move(state, h, h_new)
                     self._lowered = (h, len(levels))
@@ -709,7 +720,9 @@ class AdaptiveContinuation:
         w[a.W_LOWEST] = float(level.h == self.ladder[0])
         w[a.W_CALIBRATE] = 1.0  # every level has a probe level
         w[a.W_CHANGE_FACTOR] = CHANGE_FACTOR
-        w[a.W_TOP_FLOOR] = ONSET * tol
+        # the onset of slip is met at the lowest level (a linear response
+        # drops there at once); elsewhere a small estimate is carried
+        w[a.W_TOP_FLOOR] = ONSET * tol if level.h == self.ladder[0] else 0.0
         w[a.W_CALIBRATIONS] = 0.0
         w[a.W_CHANGE] = math.nan
         probe = self._probe(level.h)
