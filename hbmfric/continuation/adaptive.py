@@ -47,17 +47,20 @@ does (the same rule as ``_adapt`` after a calibration), so the run returns
 to Python only for a raise, a lowering or a threshold near (6-9 times on
 a branch of 130-220 points):
 
-* raise when the estimate ahead exceeds ``RAISE_AT`` times the tolerance, to
-  the smallest level at which a ``H^-DECAY`` law predicts ``TARGET`` times
-  it. The next step starts at the new level from the zero-padded point and
-  tangent (the corrector adds the new harmonics); only if the current point
-  itself exceeds the tolerance is it solved again at the new level, so every
-  stored point meets its estimate;
-* lower after ``LOWER_PATIENCE`` points in a row whose estimate, moved to a
-  lower level by the same law, stays below ``LOWER_AT`` times the tolerance
-  (the gap to ``RAISE_AT`` keeps ``H`` from flapping), by truncation; a
-  linear (stuck) response drops to the lowest level at once (the point
-  itself too: its dropped harmonics are zero).
+* raise when the estimate ahead exceeds ``RAISE_AT`` times the tolerance,
+  one rung up. The next step starts at the new level from the zero-padded
+  point and tangent (the corrector adds the new harmonics); only if the
+  current point itself exceeds the tolerance is it solved again, at the
+  smallest level at which a ``H^-DECAY`` law predicts ``TARGET`` times
+  it, so every stored point meets its estimate;
+* lower one rung after ``LOWER_PATIENCE`` points in a row whose estimate,
+  moved to the rung below by a ``H^-LOWER_DECAY`` law, stays below
+  ``LOWER_AT`` times the tolerance (the gap to ``RAISE_AT`` keeps ``H``
+  from flapping), by truncation; a linear (stuck) response drops to the
+  lowest level at once (the point itself too: its dropped harmonics are
+  zero);
+* at the end (:meth:`AdaptiveContinuation.settle`) every point whose final
+  estimate exceeds the tolerance is solved again one rung higher.
 
 The lowest level is ``H = 3``, not 1: a stuck point costs about as much
 at both (SDOF Jenkins, compiled continuation: 9.7 µs at H = 1, 10.9 µs at
