@@ -21,8 +21,9 @@ measure times the larger of the ratios ``estimate / m`` at the two
 neighbouring calibrated points (at least ``CARRY_FLOOR``; the ratio drifts
 slowly along a branch; the free measure alone does not, see
 :mod:`hbmfric.continuation.adaptive`). With a ``tolerance``, every point
-whose carried estimate exceeds it is calibrated too, so that no warning
-rests on a carried estimate. The whole rule runs in one compiled call
+whose carried estimate exceeds it is calibrated too (until ``MAX_CONFIRMED``
+of them exceed it: the branch then misses it for sure), so that no warning
+rests on a carried estimate alone. The whole rule runs in one compiled call
 (:func:`hbmfric.kernels.truncation.branch_truncation`). A
 point whose response is linear (stuck contact: no higher harmonic) has
 estimate 0. The problem's own level and its probe level (problem, work

@@ -121,6 +121,11 @@ def truncation_changes(
         )
 
 
+#: calibrations of carried estimates over the tolerance that confirm it
+#: before the rest keep their carried value
+MAX_CONFIRMED = 8
+
+
 @jit
 def branch_truncation(
     points,
@@ -161,7 +166,9 @@ def branch_truncation(
         ``n_worst`` of largest free measure.
     tolerance : float
         A point whose carried estimate exceeds it is calibrated too
-        (``inf``: none).
+        (``inf``: none), until ``MAX_CONFIRMED`` calibrations have exceeded
+        it (the branch is then known to miss it; the rest keep their
+        carried estimate, a bound on the cost of a branch far above it).
     problem, n_dof, dof, first, synthesis, y, R, J, A, dX
         The probe level, as in :func:`truncation_change`.
     errors : ndarray, shape (n_points,)
@@ -199,14 +206,14 @@ def branch_truncation(
     for q in range(0, n_nl, every):
         chosen[nonlinear[q]] = True
     chosen[nonlinear[n_nl - 1]] = True
+    picked = np.zeros(n_points, dtype=np.bool_)
     for _ in range(min(n_worst, n_nl)):
         best = -1
         for q in range(n_nl):
             i = nonlinear[q]
-            if not chosen[i] and (best < 0 or measure[i] > measure[best]):
+            if not picked[i] and (best < 0 or measure[i] > measure[best]):
                 best = i
-        if best < 0:
-            break
+        picked[best] = True
         chosen[best] = True
     ratio = np.zeros(n_points)
     for q in range(n_nl):
@@ -219,6 +226,7 @@ def branch_truncation(
             ratio[i] = max(errors[i] / max(measure[i], 1e-300), floor)
     # carried: the larger ratio of the calibrated neighbours on either side
     left = -1
+    confirmed = 0
     for q in range(n_nl):
         i = nonlinear[q]
         if chosen[i]:
@@ -235,8 +243,10 @@ def branch_truncation(
         if right >= 0 and ratio[right] > carried:
             carried = ratio[right]
         errors[i] = carried * measure[i]
-        if errors[i] > tolerance:
+        if errors[i] > tolerance and confirmed < MAX_CONFIRMED:
             change = truncation_change(
                 points[i], problem, n_dof, dof, first, synthesis, y, R, J, A, dX
             )
             errors[i] = factor * change
+            if errors[i] > tolerance:
+                confirmed += 1
