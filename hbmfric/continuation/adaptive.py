@@ -47,12 +47,13 @@ does (the same rule as ``_adapt`` after a calibration), so the run returns
 to Python only for a raise, a lowering or a threshold near (6-9 times on
 a branch of 130-220 points):
 
-* raise when the estimate ahead exceeds ``RAISE_AT`` times the tolerance,
-  one rung up. The next step starts at the new level from the zero-padded
-  point and tangent (the corrector adds the new harmonics); only if the
-  current point itself exceeds the tolerance is it solved again, at the
-  smallest level at which a ``H^-DECAY`` law predicts ``TARGET`` times
-  it, so every stored point meets its estimate;
+* raise when the estimate ahead exceeds ``RAISE_AT`` times the tolerance, to
+  the smallest level at which a ``H^-DECAY`` law predicts ``TARGET`` times
+  it (one rung up instead broke the stiff Menq branch of
+  ``tests/test_coverage.py``). The next step starts at the new level from
+  the zero-padded point and tangent (the corrector adds the new
+  harmonics); only if the current point itself exceeds the tolerance is it
+  solved again at the new level, so every stored point meets its estimate;
 * lower one rung after ``LOWER_PATIENCE`` points in a row whose estimate,
   moved to the rung below by a ``H^-LOWER_DECAY`` law, stays below
   ``LOWER_AT`` times the tolerance (the gap to ``RAISE_AT`` keeps ``H``
@@ -656,10 +657,7 @@ class AdaptiveContinuation:
             ahead = est * min(est / last, MAX_GROWTH)
         self._last = est
         if ahead > RAISE_AT * tol:
-            # the point meets the tolerance: one rung up is enough ahead of
-            # it (the estimate ahead is an extrapolation; a jump it asked
-            # for by the H^-3.5 law overshot on the Fex/Fn = 10 scene)
-            h_new = self._raise_to(ahead, h, len(levels), one_rung=True)
+            h_new = self._raise_to(ahead, h, len(levels))
             if h_new > h:
                 self._move(state, h, h_new)
             return max(h_new, h)
@@ -749,9 +747,7 @@ class AdaptiveContinuation:
             return -math.inf
         return level.lower_below * self.tolerance
 
-    def _raise_to(
-        self, est: float, h: int, n_points: int, one_rung: bool = False
-    ) -> int:
+    def _raise_to(self, est: float, h: int, n_points: int) -> int:
         """Level to raise to from ``h``. Soon after lowering from a level
         (the ``H^-DECAY`` law was wrong: a cubic spring's harmonics decay
         geometrically), go back to it and do not lower again for
@@ -762,7 +758,7 @@ class AdaptiveContinuation:
             self._lowered = (0, 0)
             return left
         h_new = level_for(est, h, TARGET * self.tolerance, self.ladder)
-        if h_new > h and not one_rung:
+        if h_new > h:
             return h_new
         return min((lv for lv in self.ladder if lv > h), default=h)
 
