@@ -289,7 +289,9 @@ def _frf_fixed(
             problem.full_coefficients(pts),
             info,
             truncation_error=(
-                truncation_errors(problem, pts) if problem.subharmonic == 1 else None
+                truncation_errors(problem, pts, tolerance)
+                if problem.subharmonic == 1
+                else None
             ),
             tangents=_branch_tangents(
                 problem, pts, state.tangents, cont.base_scale, hi - lo
@@ -496,6 +498,7 @@ def _frf_auto(
             make_problem, omega_range, direction, options, amplitude_scale, tolerance
         )
         state, points, levels, elapsed = cont.run()
+        errors = cont.settle(points, levels, truncation_errors)
         top = make_problem(max(levels) if levels else LADDER[0])
         # the harmonics of a level are a prefix of the top level's, in the
         # same column layout: each level fills the leading columns of its
@@ -533,12 +536,6 @@ def _frf_auto(
                 "amplitude_scale": scale,
             },
         )
-        errors = np.zeros(len(points))
-        for h in np.unique(levels_array):
-            idx = np.flatnonzero(levels_array == h)
-            errors[idx] = truncation_errors(
-                make_problem(int(h)), np.array([points[i] for i in idx])
-            )
         return _branch(
             system,
             top,

@@ -6,28 +6,43 @@ same estimate the adaptive-harmonics run keeps below its tolerance
 first-harmonic amplitude and of half the peak-to-peak value at the contact
 DOF,
 
-    ``max(CHANGE_FACTOR * change, TOP_FLOOR * m)``
+    ``CHANGE_FACTOR * change``
 
 where ``change`` is the first-order change of those two measures when the
-basis grows to the next level of the ladder
-(:func:`hbmfric.kernels.truncation.truncation_change`, one residual and one
-LU in the larger basis: about one Newton iteration) and ``m`` the free
-measure ``H max(|X_H|, (K'/H)^4 |X_K'|) / |X_1|`` of the point.
+basis grows to the probe level (:func:`~hbmfric.continuation.adaptive.probe_level`,
+about ``2 H``; :func:`hbmfric.kernels.truncation.truncation_change`, one
+residual and one LU in the larger basis) and ``m`` the free measure
+``H max(|X_H|, (K'/H)^4 |X_K'|) / |X_1|`` of the point.
 
 Cost. ``change`` is computed at every ``EVERY``-th point whose response is
-not linear and at the ``N_WORST`` points of largest free measure; between
-them the estimate is the free measure times the larger of the ratios
-``estimate / m`` at the two neighbouring calibrated points (the ratio drifts
+not linear and at the ``N_WORST`` points of largest free measure (one
+compiled call for all of them); between them the estimate is the free
+measure times the larger of the ratios ``estimate / m`` at the two
+neighbouring calibrated points (at least ``CARRY_FLOOR``; the ratio drifts
 slowly along a branch; the free measure alone does not, see
-:mod:`hbmfric.continuation.adaptive`). A point whose response is linear
-(stuck contact: no higher harmonic) has estimate 0.
+:mod:`hbmfric.continuation.adaptive`). With a ``tolerance``, every point
+whose carried estimate exceeds it is calibrated too (until ``MAX_CONFIRMED``
+of them exceed it: the branch then misses it for sure), so that no warning
+rests on a carried estimate alone. The whole rule runs in one compiled call
+(:func:`hbmfric.kernels.truncation.branch_truncation`). A
+point whose response is linear (stuck contact: no higher harmonic) has
+estimate 0. The problem's own level and its probe level (problem, work
+arrays) are built once per problem.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .adaptive import CHANGE_FACTOR, LADDER, LINEAR, TOP_FLOOR, _Level
+from ..kernels.truncation import branch_truncation
+from .adaptive import (
+    CARRY_FLOOR,
+    CHANGE_FACTOR,
+    LINEAR,
+    _Level,
+    next_level,
+    probe_level,
+)
 
 #: calibrate the free measure at every this many non-linear points
 EVERY = 32
@@ -35,34 +50,9 @@ EVERY = 32
 N_WORST = 2
 
 
-def next_level(harmonics: int) -> int:
-    """The level of the ladder above ``harmonics`` (``1.4 H`` rounded up to
-    odd beyond the ladder's top)."""
-    for h in LADDER:
-        if h > harmonics:
-            return h
-    h = int(np.ceil(1.4 * harmonics))
-    return h + 1 if h % 2 == 0 else h
-
-
-def _free_measure(level: _Level, points: np.ndarray) -> np.ndarray:
-    """:meth:`_Level.measure` of every point at once, shape (n_points,)."""
-
-    def largest(columns: list[int]) -> np.ndarray:
-        if not columns:
-            return np.zeros(points.shape[0])
-        cols = np.array(columns)
-        return np.hypot(points[:, cols], points[:, cols + 1]).max(axis=1)
-
-    a1 = largest(level.first)
-    top = np.maximum(largest(level.top), level.prev_weight * largest(level.prev))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        measure = level.h * top / a1
-    measure[a1 == 0.0] = np.where(top[a1 == 0.0] == 0.0, 0.0, np.inf)
-    return measure
-
-
-def truncation_errors(problem, points: np.ndarray) -> np.ndarray:
+def truncation_errors(
+    problem, points: np.ndarray, tolerance: float | None = None
+) -> np.ndarray:
     """Estimated relative truncation error of each point of a branch.
 
     Parameters
@@ -71,6 +61,8 @@ def truncation_errors(problem, points: np.ndarray) -> np.ndarray:
         The discretisation the points solve.
     points : ndarray, shape (n_points, n_unknowns + 1)
         ``[X, Ω]`` per point, in the layout of ``problem``.
+    tolerance : float, optional
+        Points whose carried estimate exceeds it are calibrated as well.
 
     Returns
     -------
@@ -85,39 +77,52 @@ def truncation_errors(problem, points: np.ndarray) -> np.ndarray:
     errors = np.zeros(n_points)
     if n_points == 0:
         return errors
-    level = _Level(problem, None)
-    if not level.top:
+    cached = getattr(problem, "_accuracy_levels", None)
+    if cached is None:
+        cached = problem._accuracy_levels = _levels(problem)
+    level, probe, columns, weights = cached
+    if probe is None:
         errors[:] = np.inf
         return errors
-    measure = _free_measure(level, points)
-    nonlinear = np.flatnonzero(measure > LINEAR * 1e-4)
-    if nonlinear.size == 0:
-        return errors
-    # the next level (its problem and work arrays) is built once per problem
-    larger = getattr(problem, "_accuracy_level", None)
-    if larger is None:
-        larger = _Level(problem.with_harmonics(next_level(level.h)), None)
-        problem._accuracy_level = larger
-    chosen = np.zeros(n_points, dtype=bool)
-    chosen[nonlinear[::EVERY]] = True
-    chosen[nonlinear[-1]] = True
-    worst = nonlinear[np.argsort(measure[nonlinear])[-N_WORST:]]
-    chosen[worst] = True
-    calibrated = np.flatnonzero(chosen)
-    ratio = np.empty(calibrated.size)
-    for q, i in enumerate(calibrated):
-        change = larger.change(points[i])
-        estimate = max(CHANGE_FACTOR * change, TOP_FLOOR * measure[i])
-        errors[i] = estimate
-        ratio[q] = estimate / measure[i]
-    others = nonlinear[~chosen[nonlinear]]
-    if others.size:
-        right = np.searchsorted(calibrated, others)
-        left = np.clip(right - 1, 0, calibrated.size - 1)
-        right = np.clip(right, 0, calibrated.size - 1)
-        factor = np.maximum(ratio[left], ratio[right])
-        errors[others] = np.maximum(factor, TOP_FLOOR) * measure[others]
+    kp, synthesis, y, R, J, A, dX = probe.work()
+    branch_truncation(
+        points,
+        columns,
+        weights,
+        EVERY,
+        N_WORST,
+        np.inf if tolerance is None else float(tolerance),
+        kp,
+        probe.n_dof,
+        probe.dof,
+        probe.first_column,
+        synthesis,
+        y,
+        R,
+        J,
+        A,
+        dX,
+        errors,
+    )
     return errors
+
+
+def _levels(problem) -> tuple:
+    """The problem's own level, its probe level (None for ``H = 1``) and
+    the column and weight arguments of
+    :func:`~hbmfric.kernels.truncation.branch_truncation`."""
+    level = _Level(problem, None)
+    if not level.top:
+        return level, None, None, None
+    probe = _Level(problem.with_harmonics(probe_level(level.h)), None)
+    columns = np.array(
+        [level.first[0], level.top[0], level.prev[0] if level.prev else -1],
+        dtype=np.int64,
+    )
+    weights = np.array(
+        [level.h, level.prev_weight, LINEAR * 1e-4, CHANGE_FACTOR, CARRY_FLOOR]
+    )
+    return level, probe, columns, weights
 
 
 __all__ = ["truncation_errors", "next_level"]

@@ -103,6 +103,8 @@ W_LOWEST = 15
 #: != 0: a due calibration runs inside the trace (there is a next level)
 W_CALIBRATE = 16
 W_CHANGE_FACTOR = 17
+#: a calibrated estimate below this is not carried to the next points
+#: (``adaptive.ONSET`` times the tolerance)
 W_TOP_FLOOR = 18
 #: DOFs among the unknowns, measured DOF, column of the first harmonic
 W_N_DOF = 19
@@ -345,12 +347,17 @@ def stays(y, watch, calibration):
             cA,
             cdX,
         )
-        est = max(watch[W_CHANGE_FACTOR] * change, watch[W_TOP_FLOOR] * measure)
+        est = watch[W_CHANGE_FACTOR] * change
         ahead = est
         if last > 0.0 and est > last:
             ahead = est * min(est / last, watch[W_MAX_GROWTH])
         if ahead <= watch[W_RAISE] and est >= watch[W_LOWER]:
-            watch[W_FACTOR] = est / max(measure, 1e-300)
+            # an estimate this small (the onset of slip: its ratio is far
+            # below the ones a step later) is not carried: the next point
+            # calibrates
+            watch[W_FACTOR] = (
+                est / max(measure, 1e-300) if est >= watch[W_TOP_FLOOR] else np.inf
+            )
             watch[W_LAST] = est
             watch[W_AGE] = 0.0
             watch[W_CALIBRATIONS] += 1.0

@@ -95,3 +95,158 @@ def truncation_change(x, problem, n_dof, dof, first, synthesis, y, R, J, A, dX):
     if not np.isfinite(worst):
         return np.inf
     return worst
+
+
+@jit
+def truncation_changes(
+    points, rows, problem, n_dof, dof, first, synthesis, y, R, J, A, dX, out
+):
+    """:func:`truncation_change` of several points of one branch in one
+    call (one dispatch instead of one per point).
+
+    Parameters
+    ----------
+    points : ndarray, shape (n_points, n_dof * n_coef_small + 1)
+        ``[X, Ω]`` per point in the smaller basis.
+    rows : ndarray of int64, shape (n_rows,)
+        The points to evaluate.
+    problem, n_dof, dof, first, synthesis, y, R, J, A, dX
+        As in :func:`truncation_change`.
+    out : ndarray, shape (n_rows,)
+        The change of each point of ``rows`` on return.
+    """
+    for q in range(rows.size):
+        out[q] = truncation_change(
+            points[rows[q]], problem, n_dof, dof, first, synthesis, y, R, J, A, dX
+        )
+
+
+#: calibrations of carried estimates over the tolerance that confirm it
+#: before the rest keep their carried value
+MAX_CONFIRMED = 8
+
+
+@jit
+def branch_truncation(
+    points,
+    columns,
+    weights,
+    every,
+    n_worst,
+    tolerance,
+    problem,
+    n_dof,
+    dof,
+    first,
+    synthesis,
+    y,
+    R,
+    J,
+    A,
+    dX,
+    errors,
+):
+    """Truncation estimate of every point of a fixed-``H`` branch
+    (:func:`hbmfric.continuation.accuracy.truncation_errors`, whose rule
+    this is, compiled in one call).
+
+    Parameters
+    ----------
+    points : ndarray, shape (n_points, n + 1)
+        ``[X, Ω]`` per point in the branch's basis.
+    columns : ndarray of int64, shape (3,)
+        Columns of the cosine coefficient of the first, the highest and the
+        second-highest harmonic at the measured DOF (-1: none).
+    weights : ndarray, shape (5,)
+        ``H``, the weight ``(K'/H)^4`` of the second-highest harmonic, the
+        free measure under which a point is linear, the estimate per change
+        (``CHANGE_FACTOR``) and the least carried ratio (``CARRY_FLOOR``).
+    every, n_worst : int
+        Calibrate every ``every``-th non-linear point, the last one and the
+        ``n_worst`` of largest free measure.
+    tolerance : float
+        A point whose carried estimate exceeds it is calibrated too
+        (``inf``: none), until ``MAX_CONFIRMED`` calibrations have exceeded
+        it (the branch is then known to miss it; the rest keep their
+        carried estimate, a bound on the cost of a branch far above it).
+    problem, n_dof, dof, first, synthesis, y, R, J, A, dX
+        The probe level, as in :func:`truncation_change`.
+    errors : ndarray, shape (n_points,)
+        The estimate of each point on return (0 for a linear point).
+    """
+    n_points = points.shape[0]
+    c1, ct, cp = columns[0], columns[1], columns[2]
+    h, w, linear, factor, floor = (
+        weights[0],
+        weights[1],
+        weights[2],
+        weights[3],
+        weights[4],
+    )
+    measure = np.empty(n_points)
+    nonlinear = np.empty(n_points, dtype=np.int64)
+    n_nl = 0
+    for i in range(n_points):
+        a1 = np.hypot(points[i, c1], points[i, c1 + 1])
+        top = np.hypot(points[i, ct], points[i, ct + 1])
+        if cp >= 0:
+            top = max(top, w * np.hypot(points[i, cp], points[i, cp + 1]))
+        if a1 == 0.0:
+            m = 0.0 if top == 0.0 else np.inf
+        else:
+            m = h * top / a1
+        measure[i] = m
+        errors[i] = 0.0
+        if m > linear:
+            nonlinear[n_nl] = i
+            n_nl += 1
+    if n_nl == 0:
+        return
+    chosen = np.zeros(n_points, dtype=np.bool_)
+    for q in range(0, n_nl, every):
+        chosen[nonlinear[q]] = True
+    chosen[nonlinear[n_nl - 1]] = True
+    picked = np.zeros(n_points, dtype=np.bool_)
+    for _ in range(min(n_worst, n_nl)):
+        best = -1
+        for q in range(n_nl):
+            i = nonlinear[q]
+            if not picked[i] and (best < 0 or measure[i] > measure[best]):
+                best = i
+        picked[best] = True
+        chosen[best] = True
+    ratio = np.zeros(n_points)
+    for q in range(n_nl):
+        i = nonlinear[q]
+        if chosen[i]:
+            change = truncation_change(
+                points[i], problem, n_dof, dof, first, synthesis, y, R, J, A, dX
+            )
+            errors[i] = factor * change
+            ratio[i] = max(errors[i] / max(measure[i], 1e-300), floor)
+    # carried: the larger ratio of the calibrated neighbours on either side
+    left = -1
+    confirmed = 0
+    for q in range(n_nl):
+        i = nonlinear[q]
+        if chosen[i]:
+            left = i
+            continue
+        right = -1
+        for r in range(q + 1, n_nl):
+            if chosen[nonlinear[r]]:
+                right = nonlinear[r]
+                break
+        carried = 0.0
+        if left >= 0:
+            carried = ratio[left]
+        if right >= 0 and ratio[right] > carried:
+            carried = ratio[right]
+        errors[i] = carried * measure[i]
+        if errors[i] > tolerance and confirmed < MAX_CONFIRMED:
+            change = truncation_change(
+                points[i], problem, n_dof, dof, first, synthesis, y, R, J, A, dX
+            )
+            errors[i] = factor * change
+            if errors[i] > tolerance:
+                confirmed += 1

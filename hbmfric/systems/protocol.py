@@ -185,10 +185,18 @@ def check_system(system) -> SystemData:
     mass = _matrix("system.mass (M of system.matrices())", m, n)
     damping = _matrix("system.damping (C of system.matrices())", d, n)
     stiffness = _matrix("system.stiffness (K of system.matrices())", k, n)
-    _check_symmetric("system.mass (M of system.matrices())", mass)
-    try:
-        np.linalg.cholesky(mass)
-    except np.linalg.LinAlgError:
+    if n == 1:
+        # one DOF (the common SDOF case): symmetric, and positive definite
+        # iff the mass is positive (a tenth of the cost of the general test)
+        positive = bool(mass[0, 0] > 0.0)
+    else:
+        _check_symmetric("system.mass (M of system.matrices())", mass)
+        try:
+            np.linalg.cholesky(mass)
+            positive = True
+        except np.linalg.LinAlgError:
+            positive = False
+    if not positive:
         low = float(np.linalg.eigvalsh(mass)[0])
         raise ValueError(
             "system.mass (M of system.matrices()) must be positive definite "
