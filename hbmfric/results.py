@@ -23,7 +23,7 @@ COVERAGE_RTOL = 1e-9
 CHORD_FRACTIONS = (0.21132486540518713, 0.5, 0.7886751345948129)
 #: near a fold the vertical distance is bounded by this factor times the
 #: distance perpendicular to the chord
-FOLD_CAP = 1e3
+FOLD_CAP = 10.0
 
 
 def _resolve_dof(dof, names: dict, n_dof: int) -> int:
