@@ -23,7 +23,7 @@ COVERAGE_RTOL = 1e-9
 CHORD_FRACTIONS = (0.21132486540518713, 0.5, 0.7886751345948129)
 #: near a fold the vertical distance is bounded by this factor times the
 #: distance perpendicular to the chord
-FOLD_CAP = 10.0
+FOLD_CAP = 1e3
 
 
 def _resolve_dof(dof, names: dict, n_dof: int) -> int:
@@ -335,6 +335,7 @@ class Branch:
         bx, bl = length * dw[1:] / rw - ex, length * da[1:] / ra - el
         chord = np.hypot(ex, el)
         run = np.maximum(np.abs(ex), chord / FOLD_CAP)
+        run = np.where((dw[:-1] > 0.0) != (dw[1:] > 0.0), chord, run)
         worst = np.zeros(n - 1)
         for tau in CHORD_FRACTIONS:
             f = tau * (1.0 - tau)
