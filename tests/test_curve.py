@@ -187,7 +187,10 @@ def test_curve_estimate_never_below_the_true_chord_error_by_2x(law):
         b = frf(osc, 0.5, harmonics=7, curve_tolerance=tol)
         truth = _chord_truth(osc, b, 7)
         est = b.curve_errors
-        big = truth > 1e-6  # below: rounding of the solves
+        # chords that matter at the tolerance (below 1e-5 the independent
+        # solves' own differences, ~1e-6, blur the ratio)
+        big = truth > 1e-5
+        assert np.count_nonzero(big) >= 10
         assert np.all(est[big] >= 0.5 * truth[big]), np.max(truth[big] / est[big])
 
 
