@@ -335,6 +335,7 @@ class Branch:
         bx, bl = length * dw[1:] / rw - ex, length * da[1:] / ra - el
         chord = np.hypot(ex, el)
         run = np.maximum(np.abs(ex), chord / FOLD_CAP)
+        run = np.where((dw[:-1] > 0.0) != (dw[1:] > 0.0), chord, run)
         worst = np.zeros(n - 1)
         for tau in CHORD_FRACTIONS:
             f = tau * (1.0 - tau)

@@ -187,7 +187,10 @@ def test_curve_estimate_never_below_the_true_chord_error_by_2x(law):
         b = frf(osc, 0.5, harmonics=7, curve_tolerance=tol)
         truth = _chord_truth(osc, b, 7)
         est = b.curve_errors
-        big = truth > 1e-6  # below: rounding of the solves
+        # chords that matter at the tolerance (below 1e-5 the independent
+        # solves' own differences, ~1e-6, blur the ratio)
+        big = truth > 1e-5
+        assert np.count_nonzero(big) >= 10
         assert np.all(est[big] >= 0.5 * truth[big]), np.max(truth[big] / est[big])
 
 
@@ -231,3 +234,50 @@ def test_chord_error_kernel_closed_form():
     # the kernel looks at three fractions only: within 5 % of the maximum
     assert e == pytest.approx(np.max(np.abs(curve[:, 1] - chord_at)) / 2.0, rel=0.05)
     assert 0.08 < e < 0.16  # the parabola's 0.25 / 2, roughly
+
+
+# ----------------------------------------------------------------------
+# other systems at defaults against independent references (long)
+def _worst_midpoints(branch, count):
+    """Ω at the middle of the ``count`` chords of largest estimated error."""
+    worst = np.argsort(branch.curve_errors)[::-1][:count]
+    return 0.5 * (branch.omega[worst] + branch.omega[worst + 1])
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("normal_load", [5.0, 1.0, 0.5])
+def test_beam_curve_error_within_tolerance(normal_load):
+    """The paper beam (condensed on its Jenkins tip) at defaults against the
+    exact event-driven beam integration at 100 pulsations and every chord
+    midpoint."""
+    from hbmfric.paper.beam import HZ, paper_beam, paper_calibration
+
+    beam = paper_beam(normal_load, paper_calibration())
+    omega = (15.0 * HZ, 110.0 * HZ)
+    b = frf(beam, 2.0, omega)
+    w, a = curve_references(beam, 2.0, reference_omegas(omega, 100, b))
+    e = branch_curve_error(b, w, a)
+    assert e.max <= 1e-4, (e.max, e.worst_omega)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "law",
+    [
+        hf.Menq.from_stiffness(stiffness=3.0, slip_force=1.0, microslip_onset=0.2),
+        hf.Iwan(stiffnesses=[1.0, 1.0, 1.0], slip_forces=[0.2, 0.5, 0.8]),
+    ],
+    ids=["menq", "iwan"],
+)
+def test_menq_iwan_curve_error_within_tolerance(law):
+    """Menq and Iwan oscillators at defaults against converged time
+    integration at 40 evenly spaced pulsations and the middles of the 40
+    chords of largest estimated error."""
+    osc = hf.Oscillator(mass=1.0, damping=0.02, stiffness=1.0, contact=law)
+    b = frf(osc, 0.5)
+    w = np.unique(
+        np.concatenate((reference_omegas(P1_RANGE, 40), _worst_midpoints(b, 40)))
+    )
+    w, a = curve_references(osc, 0.5, w, method="integrate")
+    e = branch_curve_error(b, w, a)
+    assert e.max <= 1e-4, (e.max, e.worst_omega)

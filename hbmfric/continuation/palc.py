@@ -196,14 +196,16 @@ class Continuation:
         return s
 
     def _curve_column(self) -> int:
-        """Index among the unknowns of the first-harmonic cosine
-        coefficient of the contact DOF (the drawn DOF of the curve rule),
-        -1 without a first harmonic."""
+        """Index among the unknowns of the cosine coefficient of the
+        forced harmonic (the first; ``ν`` for a subharmonic balance, whose
+        unknowns are harmonics of ``Ω/ν``) of the contact DOF (the drawn
+        DOF of the curve rule), -1 without it."""
         p = self.problem
         hn = [int(k) for k in p.harmonic_numbers]
-        if 1 not in hn:
+        forced = int(getattr(p, "subharmonic", 1) or 1)
+        if forced not in hn:
             return -1
-        column = sum(1 if k == 0 else 2 for k in hn[: hn.index(1)])
+        column = sum(1 if k == 0 else 2 for k in hn[: hn.index(forced)])
         n_dof = p.n_unknowns // p.n_coef  # 1 for a problem condensed on a contact
         dof = int(getattr(p.system, "contact_dof", 0) or 0) if n_dof > 1 else 0
         return dof * p.n_coef + column

@@ -167,9 +167,10 @@ def chord_error(y0, t0, y1, t1, scale, column):
     dP/ds``, ``Δ = P₁ - P₀``); it is taken at ``τ = (3-√3)/6, 1/2,
     (3+√3)/6`` (the extremes of its S and bow parts), measured vertically
     (in ``a₁`` at equal Ω) relative to the smaller amplitude of the two
-    ends (as read off a log axis), and near a fold bounded by ``1e3``
-    times the distance perpendicular to the chord in the plane of relative
-    Ω and relative amplitude. Its error is of order ``L⁴``, the estimate's
+    ends (as read off a log axis), at most ``1e3`` times the distance
+    perpendicular to the chord in the plane of relative Ω and relative
+    amplitude, and that distance itself across a fold (the Ω components of
+    the tangents differ in sign). Its error is of order ``L⁴``, the estimate's
     own ``L²``.
 
     Parameters
@@ -211,6 +212,10 @@ def chord_error(y0, t0, y1, t1, scale, column):
     if chord == 0.0:
         return 0.0
     run = max(abs(ex), chord / _FOLD_CAP)
+    if (dw0 > 0.0) != (dw1 > 0.0):
+        # a fold inside: the two sides are drawn over the same Ω, the
+        # distance across the chord is what shows
+        run = chord
     worst = 0.0
     for tau in _TAU:
         w = tau * (1.0 - tau)
