@@ -117,7 +117,10 @@ OLD_P1 = {
 }  # fmt: skip
 
 
-@pytest.mark.parametrize("harmonics", [15, "auto"])
+# "auto" is left out: the truncation estimate that decides its levels
+# changed after these values were taken (issue 14), so its points differ
+# for a reason other than the curve rule
+@pytest.mark.parametrize("harmonics", [15])
 def test_curve_tolerance_none_reproduces_the_old_points(harmonics):
     b = frf(p1(), 0.5, harmonics=harmonics, curve_tolerance=None)
     n, omegas, total = OLD_P1[harmonics]

@@ -775,7 +775,11 @@ class Continuation:
                     flag |= _arclength.FOLD
                 tangent = t_new.copy()
                 self._record(
-                    state, y_new[None, :].copy(), tangent[-1:], np.array([flag])
+                    state,
+                    y_new[None, :].copy(),
+                    (tangent * self.scale)[None, :],
+                    np.array([flag]),
+                    self.scale[n],
                 )
                 state.y = y_new.copy()
                 state.tangent = tangent
