@@ -184,14 +184,33 @@ def covered(branch: hf.Branch, omega: tuple[float, float]) -> bool:
     )
 
 
+def single_valued(branch: hf.Branch, i: int) -> bool:
+    """True if no part of the branch other than the two segments at point
+    ``i`` passes over its Ω: there the periodic solution is unique, and time
+    integration started on it cannot settle on another one."""
+    w = branch.omega
+    lo = np.minimum(w[:-1], w[1:])
+    hi = np.maximum(w[:-1], w[1:])
+    return int(np.count_nonzero((lo <= w[i]) & (w[i] <= hi))) <= 2
+
+
 def spot_indices(branch: hf.Branch, dof: int = 0) -> list[int]:
     """Three points on the stable part of the branch: first, peak, last; on
     a branch with folds (where a stretch is unstable and time integration
-    would leave it), the first point and two before the first fold."""
+    would leave it), the first point and two before the first fold, each
+    moved back to where the branch is single-valued in Ω (a curve-resolved
+    branch also shows the small superharmonic loops below the main
+    resonance, whose stretches can be unstable: without a stability
+    analysis only a unique solution is a fair check)."""
     n = len(branch)
     if branch.folds.size:
         f = int(branch.folds[0])
-        return sorted({0, max(0, f // 2), max(0, f - 3)})
+        picks = set()
+        for i in (0, max(0, f // 2), max(0, f - 3)):
+            while i > 0 and not single_valued(branch, i):
+                i -= 1
+            picks.add(i)
+        return sorted(picks)
     amp = branch.amplitude(harmonic=1, dof=dof)
     return sorted({0, int(np.argmax(amp)), n - 1})
 

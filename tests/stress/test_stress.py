@@ -29,25 +29,7 @@ from .cases import (
     spot_check,
 )
 
-#: fast cases that miss, with the reason
-FAST_KNOWN = {
-    "cubic ratio=1 stiffness_ratio=1": (
-        "new with the curve-controlled branch (issue 18): the spot check at "
-        "Ω = 0.4785 starts time integration from a point of the steep 3:1 "
-        "superharmonic stretch (amplitude 1.08-1.44 there) and it settles on "
-        "another solution (0.66); without stability analysis (issue 16) not "
-        "yet explained"
-    ),
-}
-
-
-def _fast_param(case):
-    reason = FAST_KNOWN.get(case.name)
-    marks = [pytest.mark.xfail(strict=True, reason=reason)] if reason else []
-    return pytest.param(case, id=case.name, marks=marks)
-
-
-@pytest.mark.parametrize("case", [_fast_param(c) for c in FAST])
+@pytest.mark.parametrize("case", FAST, ids=lambda c: c.name)
 def test_stress_fast(case):
     out = run_case(case)
     assert not failures(out), failures(out)
