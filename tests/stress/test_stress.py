@@ -29,6 +29,7 @@ from .cases import (
     spot_check,
 )
 
+
 @pytest.mark.parametrize("case", FAST, ids=lambda c: c.name)
 def test_stress_fast(case):
     out = run_case(case)
