@@ -644,7 +644,13 @@ def test_frf_branch_stop_regime_against_event_driven_integration():
     c, fs = 0.02, 0.3
     branch = _default_branch(c, fs)
     stop = [i for i, w in enumerate(branch.omega) if not is_non_stop(c, fs, 1.0, w)]
-    for i in (stop[len(stop) // 2], stop[-1]):
+    # the last stop-regime point at least 1 % below the regime boundary: at
+    # the boundary itself the stick phases shrink to nothing and the
+    # event-driven reference chatters for minutes (the curve-controlled
+    # branch has a point at 0.48655, 1e-3 below it)
+    edge = min(w for w in branch.omega if is_non_stop(c, fs, 1.0, w) and w > 0.4)
+    last = max(i for i in stop if branch.omega[i] <= 0.99 * edge)
+    for i in (stop[len(stop) // 2], last):
         w = branch.omega[i]
         ref = _measures(event_driven_steady_state(c, fs, 1.0, w))
         point = branch.point(i)
