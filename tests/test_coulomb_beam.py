@@ -225,6 +225,9 @@ def test_beam_coulomb_matches_stiff_jenkins(cal, slip_force, tol_stuck, tol_slip
                 FORCE,
                 RANGE,
                 63,
+                # the reference is read at FREQS only; the curve rule's
+                # steps on these very stiff tips exhaust the step budget
+                curve_tolerance=None,
             ),
             dof,
             FREQS,

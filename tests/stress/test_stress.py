@@ -81,12 +81,6 @@ KNOWN = {
     "menq ratio=10 stiffness_ratio=10000": _RINGING,
     "coulomb ratio=10": _COULOMB_GAP,
     "coulomb ratio=10 sweep=down": _COULOMB_GAP,
-    # the same residual jump at ζ = 1e-4, at (0.3332, 0.3385) for H = 15
-    # (H = 13: (0.3265, 0.3350), H = 17: (0.3249, 0.3297)); the step control
-    # before the curve rule of issue 18 stepped over it with one long chord
-    "coulomb ratio=10 zeta=0.0001": _COULOMB_GAP.replace(
-        "(0.3414, 0.3488)", "(0.3332, 0.3385), ζ = 1e-4"
-    ),
     # "dahl ratio=10 stiffness_ratio=10000" stalled until the Dahl AFT
     # located the reversals of u between samples (kernels/dahl.py)
 }
