@@ -22,6 +22,7 @@ from .errors import (
     StudyWarning,
 )
 from .laws import (
+    Contact2D,
     ContactLaw,
     Cubic,
     Iwan,
@@ -58,6 +59,7 @@ __all__ = [
     "BeltTensioner",
     "Branch",
     "CantileverBeam",
+    "Contact2D",
     "ContactLaw",
     "ContinuationOptions",
     "Coulomb",

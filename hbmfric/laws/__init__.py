@@ -5,16 +5,21 @@ parameter array to the kernels (:mod:`hbmfric.kernels.laws`).
 * :class:`Menq` — microslip of an elastic bar on an elastic shear layer;
 * :class:`Iwan` — Jenkins elements in parallel (Segalman's distribution);
 * :class:`Roughness` — any of them with a normal-load-dependent stiffness;
-* :class:`Cubic` — a smooth, memoryless cubic spring.
+* :class:`Cubic` — a smooth, memoryless cubic spring;
+* :class:`Contact2D` — a 2D element: Jenkins friction under a unilateral
+  normal contact with preload (AFT building block, not yet in ``hf.frf``).
 """
 
 from .base import ContactLaw
+from .contact2d import Contact2D, Contact2DForces
 from .iwan import Iwan
 from .jenkins import Cubic, Jenkins
 from .menq import Menq
 from .roughness import Roughness, hertz_mindlin_stiffness
 
 __all__ = [
+    "Contact2D",
+    "Contact2DForces",
     "ContactLaw",
     "Cubic",
     "Iwan",
