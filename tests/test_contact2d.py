@@ -322,9 +322,10 @@ def test_compiled_once():
         nc = 2 * len(h) - (1 if h[0] == 0 else 0)
         element.harmonic_forces(np.full((2, nc), 1e-3), h, 16)
         element.periodic_forces(np.linspace(-1, 1, 9), np.linspace(0, 1e-3, 9))
-    assert len(k2.aft_contact2d.signatures) == 1
-    assert len(k2.contact2d_march.signatures) == 1
-    assert len(k2.contact2d_step.signatures) == 1
+    assert len(k2.aft_contact2d.signatures) == 1, k2.aft_contact2d.signatures
+    assert len(k2.contact2d_march.signatures) == 1, k2.contact2d_march.signatures
+    # the step is compiled into its callers (none when they come from the cache)
+    assert len(k2.contact2d_step.signatures) <= 1
 
 
 # ----------------------------------------------------------------------------
