@@ -502,3 +502,10 @@ def test_second_order_in_n_time(seed):
     ]
     slope = np.polyfit(np.log(ns), np.log(errs), 1)[0]
     assert slope < -1.6, (slope, errs)
+
+
+def test_not_yet_accepted_by_the_systems():
+    """The engine takes one scalar contact: a system given the element says
+    so instead of running it wrongly."""
+    with pytest.raises(ValueError, match="Contact2D"):
+        hf.Oscillator(1.0, 4.0, 1e4, contact=ELEMENT)
