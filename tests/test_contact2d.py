@@ -55,7 +55,6 @@ def test_constant_load_is_jenkins(harmonics, amplitude, offset):
     """v = 0, a stiff normal spring: the tangential force and its Jacobian
     are those of the Jenkins AFT with f_s = μ N0, stuck (also with a shifted
     slider) and in gross slip; the normal force is the preload."""
-    element = ELEMENT.with_preload(N0)
     element = hf.Contact2D(
         tangential_stiffness=KT,
         normal_stiffness=1e9,
@@ -303,7 +302,17 @@ def test_pass_budget_status():
         k2.NOT_PERIODIC
     )
     assert k2.aft_contact2d(ELEMENT.params, X, inverse, forward, F, dF, 2) > 0
-    assert ConvergenceError  # the Python edge raises it on a negative code
+
+
+def test_failed_march_raises(monkeypatch):
+    """The Python edge turns a failure code into ConvergenceError."""
+    import hbmfric.laws.contact2d as law_module
+
+    monkeypatch.setattr(law_module, "MAX_PASSES", 1)
+    h = np.arange(4)
+    X = _coefs(h, np.random.default_rng(7), 3e-3, 1e-3)
+    with pytest.raises(ConvergenceError, match="pass budget"):
+        ELEMENT.harmonic_forces(X, h, 32)
 
 
 def test_compiled_once():
