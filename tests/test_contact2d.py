@@ -302,6 +302,17 @@ def test_pass_budget_status():
         k2.NOT_PERIODIC
     )
     assert k2.aft_contact2d(ELEMENT.params, X, inverse, forward, F, dF, 2) > 0
+    # and in every regime, over many random motions (the period map of the
+    # slider is a clamp, so it is idempotent)
+    rng = np.random.default_rng(8)
+    seen = set()
+    for _ in range(200):
+        su, sv, mv, _state = STATES[rng.choice(list(STATES))]
+        X = _coefs(h, rng, su * rng.uniform(0.2, 5), sv * rng.uniform(0.2, 5), mv)
+        state = k2.aft_contact2d(ELEMENT.params, X, inverse, forward, F, dF, 2)
+        assert state > 0
+        seen.add(state)
+    assert seen == {k2.STUCK, k2.GROSS_SLIP, k2.SEPARATES, k2.OPEN}
 
 
 def test_failed_march_raises(monkeypatch):
