@@ -20,6 +20,7 @@ from .kernels.condensed import (
 )
 from .kernels.dlft import COULOMB
 from .signals import coefficient_columns
+from .systems.contacts import check_contacts
 
 #: largest off-diagonal term of Φᵀ C Φ, relative to its diagonal, accepted
 #: as classical (modal) damping
@@ -47,6 +48,9 @@ def can_condense(system) -> bool:
     the belt-tensioner rig, has no static receptance: harmonic 0 cannot be
     condensed)."""
     if system.contact is None or int(system.n_dof) < 2:
+        return False
+    if len(check_contacts(system, int(system.n_dof))) != 1:
+        # several contacts (or one between two DOFs): solved uncondensed
         return False
     matrices = system.matrices()
     if not _symmetric(matrices):
@@ -133,6 +137,11 @@ class CondensedHBMProblem(HBMProblem):
         )
         if system.contact is None:
             raise ValueError("condensation needs a contact law on the system")
+        if len(self._contacts) != 1 or self._contacts[0][2] >= 0:
+            raise ValueError(
+                "condensation onto several contacts (or a contact between two "
+                "DOFs) is not available yet; use condense=False for this system"
+            )
         if receptance not in RECEPTANCE_METHODS:
             raise ValueError(
                 f"receptance must be one of {RECEPTANCE_METHODS}, got {receptance!r}"
@@ -176,7 +185,10 @@ class CondensedHBMProblem(HBMProblem):
         self.full_kernel_problem = full = self.kernel_problem
         hn = full[0]
         mass, damping, stiffness = self._matrices
-        law_code, law_params, aft_code = full[6:9]
+        codes, rows, aft_code = full[6:9]
+        # one contact to ground (can_condense): its code and parameters
+        law_code = int(codes[0])
+        law_params = np.ascontiguousarray(rows[0])
         inverse, forward, derivative = full[9:12]
         load = np.ascontiguousarray(self.load.reshape(self.n_dof, self.n_coef))
         empty = np.zeros((0, 0))

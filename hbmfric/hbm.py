@@ -13,10 +13,11 @@ from ._validate import finite_float, positive_int
 from .kernels.dft import fourier_matrices
 from .kernels.dlft import COULOMB
 from .kernels.dlft_tail import tail_length
-from .kernels.hbm import AFT_EVENTS, AFT_SAMPLES, NO_CONTACT, hbm_residual
+from .kernels.hbm import AFT_EVENTS, AFT_SAMPLES, hbm_residual
 from .kernels.laws import JENKINS, MASING
 from .kernels.linear import first_harmonic_response
 from .signals import coefficient_columns
+from .systems.contacts import contact_arrays
 from .systems.protocol import check_load, check_system
 
 AFT_SCHEMES = ("auto", "events", "samples")
@@ -152,11 +153,13 @@ class HBMProblem:
         self.odd = bool(symmetry)
         if aft not in AFT_SCHEMES:
             raise ValueError(f"aft must be one of {AFT_SCHEMES}, got {aft!r}")
+        contacts = data.contacts
+        self._contacts = contacts
         law = data.contact
-        rigid = law is not None and law.code == COULOMB
+        rigid = any(c[0].code == COULOMB for c in contacts)
         self._rigid = rigid
-        located = law is not None and (
-            law.code in (JENKINS, COULOMB) or law.code in MASING
+        located = bool(contacts) and all(
+            c[0].code in (JENKINS, COULOMB) or c[0].code in MASING for c in contacts
         )
         if rigid:
             aft = "samples" if aft == "samples" else "events"
@@ -170,20 +173,12 @@ class HBMProblem:
         self._matrices = (mass, damping, stiffness)
         self._static = static
         self._amplitude = check_load(system, self.force, self.n_dof, data.load_phase)
-        if law is None:
-            self._law = (NO_CONTACT, np.zeros(1))
-        elif rigid:
+        if rigid:
             eps = self._penalty(law, stiffness)
             m_cc = float(mass[system.contact_dof, system.contact_dof])
             # damping of the penalty oscillator (M_cc, η, ε): critical
-            self._law = (
-                COULOMB,
-                np.array([law.slip_force, eps, 2.0 * np.sqrt(eps * m_cc)]),
-            )
-        else:
-            self._law = (
-                law.code,
-                np.ascontiguousarray(law.params, dtype=np.float64),
+            self._dlft_params = np.array(
+                [law.slip_force, eps, 2.0 * np.sqrt(eps * m_cc)]
             )
         self._discretise(harmonics, n_time)
 
@@ -239,20 +234,21 @@ class HBMProblem:
         if self._static is not None:
             load[:, columns[0]] = self._static
         self.load = load.reshape(-1)
-        code, params = self._law
+        params = None
         if self._rigid:
             mu, n_tail = self._tail(system.contact, mass, aft)
-            params = np.append(params, [mu, n_tail])
-            self._coulomb_params = params
+            params = [np.append(self._dlft_params, [mu, n_tail])]
+            self._coulomb_params = params[0]
+        pairs, codes, law_params = contact_arrays(self._contacts, params)
         self.kernel_problem = (
             self.harmonic_numbers,
             mass,
             damping,
             stiffness,
             self.load,
-            np.int64(system.contact_dof),
-            np.int64(code),
-            params,
+            pairs,
+            codes,
+            law_params,
             np.int64(AFT_EVENTS if aft == "events" else AFT_SAMPLES),
             inverse,
             forward,
@@ -357,11 +353,16 @@ class HBMProblem:
         w = self.subharmonic * np.atleast_1d(np.asarray(omega, dtype=float))
         mass, damping, stiffness = self.kernel_problem[1:4]
         K = stiffness.copy()
-        law = self.system.contact
         c = self.system.contact_dof
-        pinned = contact == "stuck" and law is not None and law.code == COULOMB
-        if contact == "stuck" and law is not None and not pinned:
-            K[c, c] += law.stuck_stiffness
+        pinned = contact == "stuck" and self._rigid
+        if contact == "stuck" and not pinned:
+            for law, a, b in self._contacts:
+                k = law.stuck_stiffness
+                K[a, a] += k
+                if b >= 0:
+                    K[b, b] += k
+                    K[a, b] -= k
+                    K[b, a] -= k
         col1 = coefficient_columns(self.harmonic_numbers)[self.subharmonic]
         load = self.load.reshape(self.n_dof, self.n_coef)
         p_cos = load[:, col1].copy()

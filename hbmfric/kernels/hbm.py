@@ -1,8 +1,9 @@
-"""Harmonic-balance residual and Jacobian of a linear structure with one
-contact to ground.
+"""Harmonic-balance residual and Jacobian of a linear structure with
+friction contacts.
 
-System: ``M ẍ + C ẋ + K x + e_c f_c(x_c) = p(t)``, with ``f_c`` a contact law
-acting on DOF ``c``. Unknowns ``y = [X, Ω]`` with ``X`` stored DOF by DOF,
+System: ``M ẍ + C ẋ + K x + Σ_i (e_a - e_b) f_i(x_a - x_b) = p(t)``, with
+``f_i`` the law of contact ``i`` acting between DOFs ``a`` and ``b`` (or
+on ``a`` against ground). Unknowns ``y = [X, Ω]`` with ``X`` stored DOF by DOF,
 ``X[d * n_coef:(d + 1) * n_coef]`` the coefficients of DOF ``d`` (layout of
 :mod:`hbmfric.kernels.dft`).
 
@@ -13,7 +14,14 @@ The problem travels to the kernels as one flat tuple (see
 import numpy as np
 
 from .._jit import jit
-from .aft import aft_jenkins_events, aft_samples
+from .aft import (
+    GROSS_SLIP,
+    MARCHED,
+    MICROSLIP,
+    STUCK,
+    aft_jenkins_events,
+    aft_samples,
+)
 from .dahl import aft_dahl
 from .dlft import COULOMB, dlft_contact, dlft_located
 from .dlft_tail import SINGULAR_RECEPTANCE, contact_receptance, dlft_tail
@@ -35,13 +43,20 @@ def hbm_residual(y, problem, R, J):
     y : ndarray, shape (n_dof * n_coef + 1,)
         Coefficients of all DOFs (m), then Ω (rad/s).
     problem : tuple
-        ``(harmonic_numbers, mass, damping, stiffness, load, contact_dof,
-        law_code, law_params, aft_scheme, inverse, forward, derivative)``
+        ``(harmonic_numbers, mass, damping, stiffness, load, contact_pairs,
+        law_codes, law_params, aft_scheme, inverse, forward, derivative)``
         with ``mass``, ``damping``, ``stiffness`` of shape (n_dof, n_dof),
         ``load`` of shape (n_dof * n_coef,) (coefficients of ``p(t)``, N),
-        ``law_code = -1`` for no contact; ``law_code = COULOMB`` (rigid
-        Coulomb, ``law_params = [slip_force, penalty, penalty_damping,
-        (M⁻¹)_cc, K]``) is solved by DLFT (:mod:`hbmfric.kernels.dlft`)
+        and per contact ``i`` (``n_contacts >= 0`` of them):
+        ``contact_pairs[i] = (a, b)`` (int64, shape (n_contacts, 2)), the
+        law acting on ``x_a - x_b`` (on ``x_a`` against ground for
+        ``b = -1``, the force ``+f`` on ``a`` and ``-f`` on ``b``),
+        ``law_codes[i]`` (int64, shape (n_contacts,)) and its parameters
+        ``law_params[i]`` (float64, shape (n_contacts, n_params), rows
+        padded). ``law_codes[0] = COULOMB`` (rigid Coulomb, the only
+        contact, on ``a`` to ground, ``law_params[0] = [slip_force,
+        penalty, penalty_damping, (M⁻¹)_cc, K]``) is solved by DLFT
+        (:mod:`hbmfric.kernels.dlft`)
         instead of an AFT: for ``aft_scheme = AFT_EVENTS`` with located
         reversals, plus the linear tail of the response summed to ``K``
         when ``K > 0`` (:mod:`hbmfric.kernels.dlft_tail`); the classic
@@ -62,8 +77,8 @@ def hbm_residual(y, problem, R, J):
         damping,
         stiffness,
         load,
-        contact_dof,
-        law_code,
+        contact_pairs,
+        law_codes,
         law_params,
         aft_scheme,
         inverse,
@@ -104,8 +119,137 @@ def hbm_residual(y, problem, R, J):
                     J[rp, n] += ddiag * xc + cpq * k * xs
                     J[rp + 1, n] += ddiag * xs - cpq * k * xc
         col += 1 if k == 0 else 2
+    n_contacts = law_codes.size
+    if n_contacts == 0:
+        return 0
+    if law_codes[0] == COULOMB:
+        # a rigid Coulomb contact is solved alone (checked at the edge)
+        return _coulomb(
+            y,
+            harmonic_numbers,
+            mass,
+            damping,
+            stiffness,
+            contact_pairs[0, 0],
+            law_params[0],
+            aft_scheme,
+            inverse,
+            forward,
+            derivative,
+            R,
+            J,
+        )
+    F = np.empty(n_coef)
+    dF = np.empty((n_coef, n_coef))
+    x_c = np.empty(n_coef)
     status = 0
-    if law_code == COULOMB and aft_scheme == AFT_EVENTS and law_params[4] > 0.0:
+    for i in range(n_contacts):
+        a = contact_pairs[i, 0]
+        b = contact_pairs[i, 1]
+        base_a = a * n_coef
+        base_b = b * n_coef
+        # relative displacement of the contact (to ground when b < 0)
+        for r in range(n_coef):
+            x_c[r] = y[base_a + r] - (y[base_b + r] if b >= 0 else 0.0)
+        s_i = _aft(
+            law_codes[i],
+            law_params[i],
+            aft_scheme,
+            harmonic_numbers,
+            x_c,
+            inverse,
+            forward,
+            derivative,
+            F,
+            dF,
+        )
+        if s_i < 0:
+            return s_i
+        status = s_i if i == 0 else _combined_state(status, s_i)
+        for r in range(n_coef):
+            R[base_a + r] += F[r]
+            for c in range(n_coef):
+                J[base_a + r, base_a + c] += dF[r, c]
+            if b >= 0:
+                R[base_b + r] -= F[r]
+                for c in range(n_coef):
+                    J[base_a + r, base_b + c] -= dF[r, c]
+                    J[base_b + r, base_a + c] -= dF[r, c]
+                    J[base_b + r, base_b + c] += dF[r, c]
+    return status
+
+
+@jit
+def _combined_state(a, b):
+    """Contact-state code of two contacts together: the more slipping one
+    (gross slip, then microslip, then a marched law, then stuck)."""
+    for code in (GROSS_SLIP, MICROSLIP, MARCHED, STUCK):
+        if a == code or b == code:
+            return code
+    return a
+
+
+@jit
+def _aft(
+    law_code,
+    law_params,
+    aft_scheme,
+    harmonic_numbers,
+    x_c,
+    inverse,
+    forward,
+    derivative,
+    F,
+    dF,
+):
+    """Force coefficients ``F`` and ``dF/dx_c`` of one contact law at the
+    displacement coefficients ``x_c``; the AFT's contact-state code."""
+    if law_code == JENKINS and aft_scheme == AFT_EVENTS:
+        return aft_jenkins_events(
+            law_params, harmonic_numbers, x_c, inverse, derivative, F, dF
+        )
+    if is_masing(law_code) and aft_scheme == AFT_EVENTS:
+        return aft_masing(
+            law_code,
+            law_params,
+            harmonic_numbers,
+            x_c,
+            inverse,
+            forward,
+            derivative,
+            F,
+            dF,
+        )
+    if law_code == DAHL:
+        return aft_dahl(
+            law_params, harmonic_numbers, x_c, inverse, forward, derivative, F, dF
+        )
+    return aft_samples(law_code, law_params, x_c, inverse, forward, F, dF)
+
+
+@jit
+def _coulomb(
+    y,
+    harmonic_numbers,
+    mass,
+    damping,
+    stiffness,
+    contact_dof,
+    law_params,
+    aft_scheme,
+    inverse,
+    forward,
+    derivative,
+    R,
+    J,
+):
+    """The rigid Coulomb contact on ``contact_dof`` by DLFT, added to ``R``
+    and ``J``: with located reversals (``AFT_EVENTS``), plus the linear
+    tail of the response when ``law_params[4] = K > 0``; the classic
+    sampled DLFT otherwise."""
+    n_coef = inverse.shape[1]
+    omega = y[y.size - 1]
+    if aft_scheme == AFT_EVENTS and law_params[4] > 0.0:
         n_tail = int(law_params[4])
         q = np.zeros(n_tail + 1, dtype=np.complex128)
         dq = np.zeros(n_tail + 1, dtype=np.complex128)
@@ -122,7 +266,7 @@ def hbm_residual(y, problem, R, J):
         )
         if not ok:
             return SINGULAR_RECEPTANCE
-        status = dlft_tail(
+        return dlft_tail(
             law_params,
             harmonic_numbers,
             contact_dof * n_coef,
@@ -138,8 +282,8 @@ def hbm_residual(y, problem, R, J):
             R,
             J,
         )
-    elif law_code == COULOMB and aft_scheme == AFT_EVENTS:
-        status = dlft_located(
+    if aft_scheme == AFT_EVENTS:
+        return dlft_located(
             law_params,
             harmonic_numbers,
             contact_dof * n_coef,
@@ -151,46 +295,4 @@ def hbm_residual(y, problem, R, J):
             R,
             J,
         )
-    elif law_code == COULOMB:
-        status = dlft_contact(
-            law_params, contact_dof * n_coef, y, inverse, forward, R, J
-        )
-    elif law_code != NO_CONTACT:
-        F = np.empty(n_coef)
-        dF = np.empty((n_coef, n_coef))
-        base = contact_dof * n_coef
-        x_c = y[base : base + n_coef].copy()
-        if law_code == JENKINS and aft_scheme == AFT_EVENTS:
-            status = aft_jenkins_events(
-                law_params, harmonic_numbers, x_c, inverse, derivative, F, dF
-            )
-        elif is_masing(law_code) and aft_scheme == AFT_EVENTS:
-            status = aft_masing(
-                law_code,
-                law_params,
-                harmonic_numbers,
-                x_c,
-                inverse,
-                forward,
-                derivative,
-                F,
-                dF,
-            )
-        elif law_code == DAHL:
-            status = aft_dahl(
-                law_params,
-                harmonic_numbers,
-                x_c,
-                inverse,
-                forward,
-                derivative,
-                F,
-                dF,
-            )
-        else:
-            status = aft_samples(law_code, law_params, x_c, inverse, forward, F, dF)
-        for r in range(n_coef):
-            R[base + r] += F[r]
-            for c in range(n_coef):
-                J[base + r, base + c] += dF[r, c]
-    return status
+    return dlft_contact(law_params, contact_dof * n_coef, y, inverse, forward, R, J)

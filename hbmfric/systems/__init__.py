@@ -2,6 +2,7 @@
 
 from .beam import CantileverBeam
 from .calibration import BeamCalibration
+from .contacts import Contact
 from .craig_bampton import ReducedStructure, craig_bampton
 from .matrix_files import read_matrices, read_matrix
 from .oscillator import Oscillator
@@ -12,6 +13,7 @@ __all__ = [
     "BeamCalibration",
     "BeltTensioner",
     "CantileverBeam",
+    "Contact",
     "LinearStructure",
     "Oscillator",
     "ReducedStructure",

@@ -13,6 +13,7 @@ import scipy.linalg
 
 from .._validate import finite_float, positive_int
 from ..laws import ContactLaw
+from .calibration import BeamCalibration, calibrate_beam
 from .frame import AXIAL, DOFS_PER_NODE, ROTATION, TRANSVERSE, clamped_beam_matrices
 
 #: the paper's steel beam (SPEC §2, §6)
@@ -238,14 +239,18 @@ class CantileverBeam:
         slip_frequency: float = 24.0,
         stuck_frequency: float = 87.0,
         **beam_parameters,
-    ):
+    ) -> BeamCalibration:
         """Tip mass and stuck contact stiffness from two measured resonances.
 
-        See :func:`hbmfric.systems.calibration.calibrate_beam`.
+        ``**beam_parameters`` are the other fields of the beam (geometry,
+        material, mesh, damping, force DOF); ``tip_mass`` and ``contact``
+        are found here. See
+        :func:`hbmfric.systems.calibration.calibrate_beam`.
         """
-        from .calibration import calibrate_beam
-
-        return calibrate_beam(slip_frequency, stuck_frequency, **beam_parameters)
+        for name in ("tip_mass", "contact"):
+            if name in beam_parameters:
+                raise ValueError(f"{name} is found by the calibration; do not pass it")
+        return calibrate_beam(cls(**beam_parameters), slip_frequency, stuck_frequency)
 
     # -- cached linear algebra ----------------------------------------------------
     @cached_property

@@ -12,12 +12,15 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.linalg
 
 from .._validate import finite_float
-from .beam import CantileverBeam
+
+if TYPE_CHECKING:  # the beam imports this module, not the other way round
+    from .beam import CantileverBeam
 
 
 @dataclass(frozen=True)
@@ -63,23 +66,24 @@ def _first_frequency(M: np.ndarray, K: np.ndarray) -> float:
 
 
 def calibrate_beam(
+    base: CantileverBeam,
     slip_frequency: float = 24.0,
     stuck_frequency: float = 87.0,
-    **beam_parameters,
 ) -> BeamCalibration:
     """Tip mass and stuck contact stiffness that reproduce two resonances.
 
     Parameters
     ----------
+    base : CantileverBeam
+        The beam whose ``tip_mass`` is sought (its own ``tip_mass`` and
+        ``contact`` are ignored); :meth:`CantileverBeam.calibrate` builds it
+        from the other fields.
     slip_frequency : float
         First resonance in full slip (no contact stiffness), Hz; must lie
         below the first frequency of the beam without tip mass.
     stuck_frequency : float
         First resonance with the contact stuck, Hz; above the slipping one
         and below the clamped–pinned limit (infinitely stiff contact).
-    **beam_parameters
-        Other :class:`CantileverBeam` fields (geometry, material, mesh,
-        damping, force DOF); ``tip_mass`` and ``contact`` are set here.
 
     Returns
     -------
@@ -89,10 +93,7 @@ def calibrate_beam(
 
     f_slip = finite_float("slip_frequency", slip_frequency, low=0.0, low_open=True)
     f_stuck = finite_float("stuck_frequency", stuck_frequency, low=0.0, low_open=True)
-    for name in ("tip_mass", "contact"):
-        if name in beam_parameters:
-            raise ValueError(f"{name} is found by the calibration; do not pass it")
-    base = CantileverBeam(**beam_parameters)
+    base = dataclasses.replace(base, tip_mass=0.0, contact=None)
     M0, K = base._structure
     tip = base.contact_dof
     axial = tip - 1

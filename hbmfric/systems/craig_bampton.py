@@ -23,6 +23,7 @@ import math
 
 import numpy as np
 
+from .contacts import Contact
 from .structure import LinearStructure
 
 
@@ -118,11 +119,18 @@ def craig_bampton(
         raise ValueError("boundary must hold at least one DOF")
     if np.unique(b).size != b.size:
         raise ValueError(f"boundary has repeated DOFs: {items!r}")
-    if structure.contact is not None and structure.contact_dof not in b:
-        raise ValueError(
-            f"the contact DOF {structure.contact_dof} must be a boundary DOF "
-            "(friction acts on physical DOFs only)"
-        )
+    contacts = structure.contacts
+    contact_dofs = (
+        [d for c in contacts for d in (c.dof, c.other) if d is not None]
+        if contacts is not None
+        else ([structure.contact_dof] if structure.contact is not None else [])
+    )
+    for d in contact_dofs:
+        if d not in b:
+            raise ValueError(
+                f"the contact DOF {d} must be a boundary DOF "
+                "(friction acts on physical DOFs only)"
+            )
     interior = np.setdiff1d(np.arange(n), b)
     if isinstance(n_modes, bool) or not isinstance(n_modes, int | np.integer):
         raise ValueError(f"n_modes must be an integer, got {n_modes!r}")
@@ -173,14 +181,33 @@ def craig_bampton(
         reduce(K),
         reduce(C) if np.any(C) else None,
         load=load,
-        contact=structure.contact,
-        contact_dof=position[structure.contact_dof]
-        if structure.contact is not None
-        else None,
         dof_names=names,
+        **_reduced_contacts(structure, position),
     )
     reduced.full = structure
     reduced.boundary = b
     reduced.transformation = T
     reduced.cutoff_frequency = cutoff
     return reduced
+
+
+def _reduced_contacts(structure, position: dict[int, int]) -> dict:
+    """The contact arguments of the reduced structure (DOFs renumbered by
+    ``position``)."""
+    if structure.contacts is not None:
+        return {
+            "contacts": [
+                Contact(
+                    c.law,
+                    position[c.dof],
+                    None if c.other is None else position[c.other],
+                )
+                for c in structure.contacts
+            ]
+        }
+    if structure.contact is None:
+        return {}
+    return {
+        "contact": structure.contact,
+        "contact_dof": position[structure.contact_dof],
+    }

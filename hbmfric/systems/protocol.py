@@ -28,6 +28,10 @@
 
 and optionally
 
+``contacts`` : sequence of :class:`~hbmfric.Contact`
+    Several contacts (each a law on one DOF or between two DOFs, integer
+    indices); ``contact`` and ``contact_dof`` then name the first (the DOF
+    that results report by default).
 ``symmetric`` : bool, default False
     True if the response to ``F cos Ωt`` has odd harmonics only (a contact
     law that is odd and no constant load); halves the unknowns.
@@ -57,6 +61,7 @@ import numpy as np
 
 from .._validate import finite_float, positive_int
 from ..laws import ContactLaw
+from .contacts import check_contacts
 
 REQUIRED = ("n_dof", "matrices", "load_vector", "contact", "contact_dof")
 """Attributes every system must have."""
@@ -80,6 +85,9 @@ class SystemData:
         N; None without the hook.
     load_phase : float
         rad.
+    contacts : tuple of (ContactLaw, int, int)
+        Every contact as ``(law, a, b)``, ``b = -1`` against ground
+        (:func:`hbmfric.systems.contacts.check_contacts`).
     """
 
     n_dof: int
@@ -90,6 +98,7 @@ class SystemData:
     stiffness: np.ndarray
     static_load: np.ndarray | None
     load_phase: float
+    contacts: tuple = ()
 
 
 def _vector(label: str, value, n: int) -> np.ndarray:
@@ -206,7 +215,8 @@ def check_system(system) -> SystemData:
     if static is not None:
         static = _vector("system.static_load()", static(), n)
     phase = finite_float("system.load_phase", getattr(system, "load_phase", 0.0))
-    return SystemData(n, law, int(c), mass, damping, stiffness, static, phase)
+    contacts = check_contacts(system, n)
+    return SystemData(n, law, int(c), mass, damping, stiffness, static, phase, contacts)
 
 
 def check_load(system, force: float, n_dof: int, phase: float = 0.0) -> np.ndarray:

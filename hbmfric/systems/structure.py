@@ -1,9 +1,10 @@
-"""A linear structure given by its matrices, with one friction contact.
+"""A linear structure given by its matrices, with friction contacts.
 
 This is how a structure from a finite-element code enters hbmfric: mass and
 stiffness matrices (full or reduced, e.g. by :func:`craig_bampton`), a
-damping model, named DOFs, loads on any DOFs with any phase, and a contact
-law acting on one DOF. :class:`LinearStructure` follows the system protocol
+damping model, named DOFs, loads on any DOFs with any phase, and contact
+laws acting on one DOF each or between two DOFs (:class:`Contact`).
+:class:`LinearStructure` follows the system protocol
 (:mod:`hbmfric.systems.protocol`), so :func:`hbmfric.frf`,
 :func:`hbmfric.periodic_solution` and the time-integration reference accept
 it like the built-in systems.
@@ -17,12 +18,13 @@ cosine load, ``p_j = |p_j| e^{-iφ_j}`` the load ``|p_j| cos(Ωt − φ_j)``.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 
 from .._validate import finite_float
 from ..laws import ContactLaw
+from .contacts import Contact
 
 #: relative tolerance of the symmetry checks of M, C and K
 SYMMETRY_TOL = 1e-10
@@ -77,7 +79,7 @@ def _semidefinite(label: str, a: np.ndarray, strict: bool) -> np.ndarray:
 
 
 class LinearStructure:
-    """A linear structure from its matrices, with at most one contact.
+    """A linear structure from its matrices, with friction contacts.
 
     Parameters
     ----------
@@ -106,6 +108,11 @@ class LinearStructure:
     contact_dof : int or str, optional
         The DOF the contact acts on (index or name); required with a
         contact.
+    contacts : sequence of Contact, optional
+        Several contacts instead of ``contact``/``contact_dof``: each a law
+        on one DOF or between two DOFs (:class:`~hbmfric.Contact`, DOFs by
+        index or name). ``contact`` and ``contact_dof`` then name the first
+        one. Several contacts are solved without condensation.
     dof_names : mapping of str to int, optional
         Names of DOFs, accepted wherever a DOF is asked for. ``"contact"``
         is added for the contact DOF.
@@ -138,6 +145,7 @@ class LinearStructure:
         load=None,
         contact: ContactLaw | None = None,
         contact_dof: int | str | None = None,
+        contacts: Sequence[Contact] | None = None,
         dof_names: Mapping[str, int] | None = None,
     ) -> None:
         M = _square("mass", mass)
@@ -185,6 +193,16 @@ class LinearStructure:
                 "contact must be a contact law such as hf.Jenkins, or None, got "
                 f"{type(contact).__name__}"
             )
+        self.contacts = None
+        if contacts is not None:
+            if contact is not None or contact_dof is not None:
+                raise ValueError(
+                    "give either contacts or contact/contact_dof, not both"
+                )
+            self.contacts = self._check_contacts(contacts)
+            if self.contacts:
+                contact = self.contacts[0].law
+                contact_dof = self.contacts[0].dof
         self.contact = contact
         if contact_dof is None:
             if contact is not None:
@@ -281,6 +299,27 @@ class LinearStructure:
             return self._names[which]
         return self._index(which, label)
 
+    def _check_contacts(self, contacts) -> tuple[Contact, ...]:
+        """``contacts`` with DOF names resolved to indices."""
+        if isinstance(contacts, Contact) or not isinstance(contacts, Sequence):
+            raise ValueError(
+                "contacts must be a list of hf.Contact(law, dof, other=None), got "
+                f"{type(contacts).__name__}"
+            )
+        out = []
+        for i, c in enumerate(contacts):
+            if not isinstance(c, Contact):
+                raise ValueError(
+                    f"contacts[{i}] must be an hf.Contact(law, dof, other=None), "
+                    f"got {type(c).__name__}"
+                )
+            a = self.dof(c.dof, f"contacts[{i}].dof")
+            b = None if c.other is None else self.dof(c.other, f"contacts[{i}].other")
+            if a == b:
+                raise ValueError(f"contacts[{i}] acts between DOF {a} and itself")
+            out.append(Contact(c.law, a, b))
+        return tuple(out)
+
     def _check_load(self, load) -> np.ndarray:
         n = self.n_dof
         p = np.zeros(n, dtype=complex)
@@ -347,6 +386,8 @@ class LinearStructure:
     @property
     def symmetric(self) -> bool:
         """True when the response has odd harmonics only (odd law)."""
+        if self.contacts is not None:
+            return all(c.law.odd for c in self.contacts)
         return self.contact is None or self.contact.odd
 
     @property
@@ -384,12 +425,15 @@ class LinearStructure:
                 f"{type(contact).__name__}"
             )
         new.contact = contact
+        new.contacts = None
         if contact_dof is not None:
             new.contact_dof = self.dof(contact_dof, "contact_dof")
             new._names["contact"] = new.contact_dof
         return new
 
     def __repr__(self) -> str:
+        if self.contacts is not None and len(self.contacts) != 1:
+            return f"LinearStructure(n_dof={self.n_dof}, contacts={len(self.contacts)})"
         law = type(self.contact).__name__ if self.contact is not None else None
         return (
             f"LinearStructure(n_dof={self.n_dof}, contact={law}, "

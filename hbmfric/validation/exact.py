@@ -616,6 +616,14 @@ def _check_system(system):
             "the exact reference needs a system with one hf.Jenkins contact, got "
             f"{type(getattr(system, 'contact', None)).__name__}"
         )
+    contacts = getattr(system, "contacts", None)
+    if contacts is not None and (
+        len(contacts) != 1 or getattr(contacts[0], "other", None) is not None
+    ):
+        raise ValueError(
+            "the exact reference needs a system with one hf.Jenkins contact to "
+            f"ground, got {len(contacts)} contact(s)"
+        )
     M, _, K = system.matrices()
     if scipy.linalg.eigvalsh(K, M)[0] <= 0.0:
         raise ValueError(

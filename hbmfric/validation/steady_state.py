@@ -366,6 +366,15 @@ class _Problem:
         force = finite_float("force", force)
         law = data.contact
         load = check_load(system, force, data.n_dof, data.load_phase)
+        if len(data.contacts) > 1 or any(b >= 0 for _, _, b in data.contacts):
+            raise NotImplementedError(
+                "the time-integration reference of this release has one contact "
+                "to ground; this system has "
+                f"{len(data.contacts)} contact(s), some between two DOFs"
+                if any(b >= 0 for _, _, b in data.contacts)
+                else "the time-integration reference of this release has one "
+                f"contact to ground; this system has {len(data.contacts)}"
+            )
         if law is None:
             code, params, k_stuck = NO_CONTACT, np.zeros(1), 0.0
         elif law.code == COULOMB:

@@ -1,0 +1,158 @@
+"""Friction contacts of a structure: which law acts between which DOFs.
+
+A structure from matrices (:class:`~hbmfric.LinearStructure`) may carry
+any number of contacts, each a law (:class:`~hbmfric.Jenkins`,
+:class:`~hbmfric.Menq`, :class:`~hbmfric.Iwan`, ...) acting on one DOF
+against ground or on the relative displacement of two DOFs (the two sides
+of a joint). The engine solves them all in one harmonic balance.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..laws import ContactLaw
+
+
+@dataclass(frozen=True)
+class Contact:
+    """A contact law acting at one DOF or between two DOFs.
+
+    Parameters
+    ----------
+    law : ContactLaw
+        The friction law, e.g. ``hf.Jenkins(stiffness=..., slip_force=...)``.
+    dof : int or str
+        The DOF ``a`` the law acts on (index, or a name of the structure's
+        ``dof_names``).
+    other : int or str or None
+        The DOF ``b`` on the other side of the joint: the law acts on the
+        relative displacement ``x_a - x_b``, with the force ``+f`` on ``a``
+        and ``-f`` on ``b``. None (default): against ground, on ``x_a``.
+
+    Examples
+    --------
+    >>> import hbmfric as hf
+    >>> hf.Contact(hf.Jenkins(stiffness=3.0, slip_force=1.0), dof=4, other=9)
+    Contact(law=Jenkins(stiffness=3.0, slip_force=1.0), dof=4, other=9)
+    """
+
+    law: ContactLaw
+    dof: int | str
+    other: int | str | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.law, ContactLaw):
+            raise TypeError(
+                "Contact.law must be a contact law such as hf.Jenkins, got "
+                f"{type(self.law).__name__}"
+            )
+        for label, v in (("dof", self.dof), ("other", self.other)):
+            if v is None and label == "other":
+                continue
+            if isinstance(v, bool) or not isinstance(v, int | np.integer | str):
+                raise TypeError(
+                    f"Contact.{label} must be a DOF index or name, got {v!r}"
+                )
+
+
+def check_contacts(system, n_dof: int) -> tuple[tuple[ContactLaw, int, int], ...]:
+    """The contacts of ``system`` as ``(law, a, b)`` triples (``b = -1``
+    against ground), checked.
+
+    A system lists them in ``contacts`` (a sequence of objects with
+    ``law``, ``dof`` and ``other`` as integer indices); without that
+    attribute its single ``contact`` law acts on ``contact_dof``.
+
+    Raises
+    ------
+    TypeError
+        A contact that is not a law.
+    ValueError
+        A DOF out of range, a contact between a DOF and itself, or a rigid
+        :class:`~hbmfric.Coulomb` law that is not the only contact or acts
+        between two DOFs (the DLFT of this release solves one rigid
+        contact to ground).
+    """
+    listed = getattr(system, "contacts", None)
+    if listed is None:
+        law = system.contact
+        if law is None:
+            return ()
+        return ((law, int(system.contact_dof), -1),)
+    out = []
+    for i, c in enumerate(listed):
+        law = getattr(c, "law", None)
+        if not isinstance(law, ContactLaw):
+            raise TypeError(
+                f"system.contacts[{i}].law must be a contact law such as "
+                f"hf.Jenkins, got {type(law).__name__}"
+            )
+        a = c.dof
+        b = -1 if c.other is None else c.other
+        for label, v, low in (("dof", a, 0), ("other", b, -1)):
+            if (
+                isinstance(v, bool)
+                or not isinstance(v, int | np.integer)
+                or not low <= v < n_dof
+            ):
+                raise ValueError(
+                    f"system.contacts[{i}].{label} must be a DOF index in "
+                    f"[0, {n_dof - 1}] (n_dof = {n_dof}), got {v!r}"
+                )
+        if a == b:
+            raise ValueError(f"system.contacts[{i}] acts between DOF {a} and itself")
+        out.append((law, int(a), int(b)))
+    for i, (law, _, b) in enumerate(out):
+        if law.code == _coulomb_code() and (len(out) > 1 or b >= 0):
+            raise ValueError(
+                f"system.contacts[{i}] is a rigid hf.Coulomb law: it must be the "
+                "only contact and act against ground (other=None); use "
+                "hf.Jenkins with a large stiffness for rigid contacts among "
+                "several"
+            )
+    return tuple(out)
+
+
+def _coulomb_code() -> int:
+    from ..kernels.dlft import COULOMB
+
+    return int(COULOMB)
+
+
+def contact_arrays(
+    contacts, params: list[np.ndarray] | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The kernel arrays of ``contacts`` (``(law, a, b)`` triples).
+
+    Parameters
+    ----------
+    contacts : sequence of (ContactLaw, int, int)
+    params : list of ndarray, optional
+        Parameters per contact replacing the laws' own (the rigid Coulomb
+        contact's DLFT parameters).
+
+    Returns
+    -------
+    pairs : ndarray of int64, shape (n_contacts, 2)
+    codes : ndarray of int64, shape (n_contacts,)
+    law_params : ndarray, shape (n_contacts, n_params)
+        Rows padded with zeros to the longest (at least one column).
+    """
+    n = len(contacts)
+    rows = [
+        np.asarray(p if params is not None else law.params, dtype=np.float64)
+        for (law, _, _), p in zip(contacts, params or [None] * n, strict=True)
+    ]
+    width = max([1] + [r.size for r in rows])
+    law_params = np.zeros((n, width))
+    for i, r in enumerate(rows):
+        law_params[i, : r.size] = r
+    pairs = np.array([[a, b] for _, a, b in contacts], dtype=np.int64).reshape(n, 2)
+    codes = np.array([law.code for law, _, _ in contacts], dtype=np.int64)
+    return np.ascontiguousarray(pairs), codes, law_params
+
+
+__all__ = ["Contact", "check_contacts", "contact_arrays"]
