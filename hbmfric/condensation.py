@@ -49,8 +49,10 @@ def can_condense(system) -> bool:
     condensed)."""
     if system.contact is None or int(system.n_dof) < 2:
         return False
-    if len(check_contacts(system, int(system.n_dof))) != 1:
-        # several contacts (or one between two DOFs): solved uncondensed
+    contacts = check_contacts(system, int(system.n_dof))
+    if len(contacts) != 1 or max(contacts[0][2:]) >= 0:
+        # several contacts, or one between two DOFs or with a normal DOF:
+        # solved uncondensed
         return False
     matrices = system.matrices()
     if not _symmetric(matrices):
@@ -137,7 +139,7 @@ class CondensedHBMProblem(HBMProblem):
         )
         if system.contact is None:
             raise ValueError("condensation needs a contact law on the system")
-        if len(self._contacts) != 1 or self._contacts[0][2] >= 0:
+        if len(self._contacts) != 1 or max(self._contacts[0][2:]) >= 0:
             raise ValueError(
                 "condensation onto several contacts (or a contact between two "
                 "DOFs) is not available yet; use condense=False for this system"

@@ -16,6 +16,7 @@ from .kernels.dlft_tail import tail_length
 from .kernels.hbm import AFT_EVENTS, AFT_SAMPLES, hbm_residual
 from .kernels.laws import JENKINS, MASING
 from .kernels.linear import first_harmonic_response
+from .laws import Contact2D
 from .signals import coefficient_columns
 from .systems.contacts import contact_arrays
 from .systems.protocol import check_load, check_system
@@ -73,6 +74,18 @@ def default_n_time(harmonic_numbers: np.ndarray, aft: str) -> int:
     if aft == "events":
         return max(32, 8 * h_max)
     return max(32, 8 * ((16 * h_max + 7) // 8))
+
+
+def _stuck_stiffnesses(law) -> tuple[float, ...]:
+    """Stiffness of a stuck contact, N/m: the law's, or for the 2D element
+    the tangential and the normal one (0 when open at rest)."""
+    if isinstance(law, Contact2D):
+        closed = law.preload > 0.0
+        return (
+            law.tangential_stiffness if closed else 0.0,
+            law.normal_stiffness if closed else 0.0,
+        )
+    return (law.stuck_stiffness,)
 
 
 class HBMProblem:
@@ -356,13 +369,15 @@ class HBMProblem:
         c = self.system.contact_dof
         pinned = contact == "stuck" and self._rigid
         if contact == "stuck" and not pinned:
-            for law, a, b in self._contacts:
-                k = law.stuck_stiffness
-                K[a, a] += k
-                if b >= 0:
-                    K[b, b] += k
-                    K[a, b] -= k
-                    K[b, a] -= k
+            for law, a, b, a_n, b_n in self._contacts:
+                for k, (p, q) in zip(
+                    _stuck_stiffnesses(law), ((a, b), (a_n, b_n)), strict=False
+                ):
+                    K[p, p] += k
+                    if q >= 0:
+                        K[q, q] += k
+                        K[p, q] -= k
+                        K[q, p] -= k
         col1 = coefficient_columns(self.harmonic_numbers)[self.subharmonic]
         load = self.load.reshape(self.n_dof, self.n_coef)
         p_cos = load[:, col1].copy()

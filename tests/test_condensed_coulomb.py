@@ -322,7 +322,7 @@ def test_samples_scheme_and_penalty_reach_the_condensed_kernel():
     cond = CondensedHBMProblem(system, 1.0, 7)
     full = HBMProblem(system, 1.0, 7)
     np.testing.assert_array_equal(
-        cond.kernel_problem.law_params, full.kernel_problem[7]
+        cond.kernel_problem.law_params, full.kernel_problem[7][0]
     )
     assert cond.kernel_problem.contact_mass == 0.5
     assert cond.penalty == full.penalty

@@ -524,8 +524,107 @@ def test_second_order_in_n_time(seed):
     assert slope < -1.6, (slope, errs)
 
 
-def test_not_yet_accepted_by_the_systems():
-    """The engine takes one scalar contact: a system given the element says
-    so instead of running it wrongly."""
+def test_a_single_dof_oscillator_refuses_the_element():
+    """The oscillator has one DOF: the element needs two (tangential and
+    normal), so it is refused there instead of run wrongly."""
     with pytest.raises(ValueError, match="Contact2D"):
         hf.Oscillator(1.0, 4.0, 1e4, contact=ELEMENT)
+
+
+class _TwoDofRig:
+    """The 2-DOF oscillator of the time-domain reference as a system of the
+    protocol (a user's own object): x tangential, y normal, the element
+    between them and ground, the static load P0 = N0 on y."""
+
+    n_dof = 2
+    symmetric = False
+
+    def __init__(self, element):
+        self.contacts = [hf.Contact(element, 0, normal=1)]
+        self.contact = element
+        self.contact_dof = 0
+
+    def matrices(self):
+        o = OSC
+        return (
+            np.diag([o["m"], o["my"]]),
+            np.diag([o["c"], o["cy"]]),
+            np.diag([o["k"], o["ky"]]),
+        )
+
+    def load_vector(self, force):
+        return force * np.array([OSC["fx"], OSC["py"]])
+
+    def static_load(self):
+        return np.array([0.0, self.contact.preload])
+
+
+def test_hf_periodic_solution_against_time_integration():
+    """The element in the engine (``hf.periodic_solution`` on a system that
+    lists it in ``contacts``) against the time integration of this module at
+    frequencies where the contact sticks, slips and separates: first-harmonic
+    amplitudes of both DOFs within 1e-3."""
+    rig = _TwoDofRig(OSC_ELEMENT)
+    p = OSC_ELEMENT.params
+    osc = np.array([OSC[k] for k in ("m", "k", "c", "my", "ky", "cy", "fx", "py")])
+    steps = 8192
+    for omega in (50.0, 110.0, 150.0, 220.0):
+        sol = hf.periodic_solution(rig, 1.0, omega, harmonics=24, n_time=1024)
+        assert sol.converged, omega
+        n_periods = int(np.ceil(15.0 * omega / (2 * np.pi)))
+        rec = _integrate(p, osc, omega, steps, n_periods)
+        for dof in range(2):
+            amp_ref = np.hypot(*_first_harmonic(rec[dof, steps:]))
+            amp = sol.amplitude(harmonic=1, dof=dof)
+            assert abs(amp - amp_ref) <= 1e-3 * amp_ref, (omega, dof, amp, amp_ref)
+
+
+def test_hf_frf_through_separation_against_time_integration():
+    """A whole branch over 40-250 rad/s (through the normal resonance, where
+    the contact separates) by ``hf.frf``: complete, and its curve at six
+    frequencies within 2e-3 of the time integration."""
+    rig = _TwoDofRig(OSC_ELEMENT)
+    branch = hf.frf(rig, 1.0, (40.0, 250.0), harmonics=24)
+    assert branch.complete, branch.stop_reason
+    p = OSC_ELEMENT.params
+    osc = np.array([OSC[k] for k in ("m", "k", "c", "my", "ky", "cy", "fx", "py")])
+    steps = 8192
+    for omega in (60.0, 100.0, 126.0, 141.0, 180.0, 240.0):
+        n_periods = int(np.ceil(15.0 * omega / (2 * np.pi)))
+        rec = _integrate(p, osc, omega, steps, n_periods)
+        for dof in range(2):
+            amp_ref = np.hypot(*_first_harmonic(rec[dof, steps:]))
+            # all the values where the branch passes (past a fold, several):
+            # the integration lands on one of them
+            amps = np.ravel(branch.amplitude_at(omega, dof=dof, harmonic=1))
+            err = np.min(np.abs(amps - amp_ref)) / amp_ref
+            assert err <= 2e-3, (omega, dof, amps, amp_ref)
+
+
+def test_linear_structure_with_the_element_and_a_static_load():
+    """The same rig as a LinearStructure (``contacts`` with a normal DOF,
+    ``static_load`` for the preload) gives the solution of the protocol
+    object checked against time integration above."""
+    o = OSC
+    structure = hf.LinearStructure(
+        np.diag([o["m"], o["my"]]),
+        np.diag([o["k"], o["ky"]]),
+        np.diag([o["c"], o["cy"]]),
+        load={"x": o["fx"], "y": o["py"]},
+        static_load={"y": OSC_ELEMENT.preload},
+        contacts=[hf.Contact(OSC_ELEMENT, "x", normal="y")],
+        dof_names={"x": 0, "y": 1},
+    )
+    assert not structure.symmetric
+    a = hf.periodic_solution(_TwoDofRig(OSC_ELEMENT), 1.0, 110.0, harmonics=24)
+    b = hf.periodic_solution(structure, 1.0, 110.0, harmonics=24)
+    for dof in (0, 1):
+        assert b.amplitude(harmonic=1, dof=dof) == pytest.approx(
+            a.amplitude(harmonic=1, dof=dof), rel=1e-9
+        )
+    with pytest.raises(ValueError, match="normal DOF"):
+        hf.Contact(OSC_ELEMENT, 0)
+    with pytest.raises(ValueError, match="Contact2D only"):
+        hf.Contact(hf.Jenkins(1.0, 1.0), 0, normal=1)
+    with pytest.raises(ValueError, match="static_load must be real"):
+        hf.LinearStructure(np.eye(2), np.eye(2), static_load=[1j, 0.0])

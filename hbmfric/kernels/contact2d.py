@@ -81,6 +81,10 @@ STATE_NAMES = {
 
 #: relative tolerance on the slider position for the periodicity check
 REPEAT_RTOL = 1e-12
+#: law code of the element in the HBM kernels' contact arrays
+CONTACT2D = 200
+#: pass budget of the march inside the HBM residual
+MAX_PASSES = 4
 
 
 @jit

@@ -22,6 +22,7 @@ from .aft import (
     aft_jenkins_events,
     aft_samples,
 )
+from .contact2d import CONTACT2D, MAX_PASSES, aft_contact2d
 from .dahl import aft_dahl
 from .dlft import COULOMB, dlft_contact, dlft_located
 from .dlft_tail import SINGULAR_RECEPTANCE, contact_receptance, dlft_tail
@@ -48,9 +49,11 @@ def hbm_residual(y, problem, R, J):
         with ``mass``, ``damping``, ``stiffness`` of shape (n_dof, n_dof),
         ``load`` of shape (n_dof * n_coef,) (coefficients of ``p(t)``, N),
         and per contact ``i`` (``n_contacts >= 0`` of them):
-        ``contact_pairs[i] = (a, b)`` (int64, shape (n_contacts, 2)), the
-        law acting on ``x_a - x_b`` (on ``x_a`` against ground for
-        ``b = -1``, the force ``+f`` on ``a`` and ``-f`` on ``b``),
+        ``contact_pairs[i] = (a, b, a_n, b_n)`` (int64, shape
+        (n_contacts, 4)), the law acting on ``x_a - x_b`` (on ``x_a``
+        against ground for ``b = -1``, the force ``+f`` on ``a`` and ``-f``
+        on ``b``); the 2D element (``CONTACT2D``) also on the normal pair
+        ``x_{a_n} - x_{b_n}`` (``-1`` for the 1D laws),
         ``law_codes[i]`` (int64, shape (n_contacts,)) and its parameters
         ``law_params[i]`` (float64, shape (n_contacts, n_params), rows
         padded). ``law_codes[0] = COULOMB`` (rigid Coulomb, the only
@@ -144,6 +147,14 @@ def hbm_residual(y, problem, R, J):
     x_c = np.empty(n_coef)
     status = 0
     for i in range(n_contacts):
+        if law_codes[i] == CONTACT2D:
+            s_i = _contact2d(
+                y, contact_pairs[i], law_params[i], inverse, forward, n_coef, R, J
+            )
+            if s_i < 0:
+                return s_i
+            status = s_i if i == 0 else _combined_state(status, s_i)
+            continue
         a = contact_pairs[i, 0]
         b = contact_pairs[i, 1]
         base_a = a * n_coef
@@ -177,6 +188,45 @@ def hbm_residual(y, problem, R, J):
                     J[base_b + r, base_a + c] -= dF[r, c]
                     J[base_b + r, base_b + c] += dF[r, c]
     return status
+
+
+@jit
+def _contact2d(y, dofs, params, inverse, forward, n_coef, R, J):
+    """The 2D element (:mod:`hbmfric.kernels.contact2d`) on the tangential
+    pair ``dofs[0] - dofs[1]`` and the normal pair ``dofs[2] - dofs[3]``
+    (``-1``: ground), added to ``R`` and ``J``; its state code."""
+    X = np.empty((2, n_coef))
+    for r in range(n_coef):
+        for row in range(2):
+            a = dofs[2 * row]
+            b = dofs[2 * row + 1]
+            X[row, r] = y[a * n_coef + r] - (y[b * n_coef + r] if b >= 0 else 0.0)
+    F = np.empty((2, n_coef))
+    dF = np.empty((2 * n_coef, 2 * n_coef))
+    status = aft_contact2d(params, X, inverse, forward, F, dF, MAX_PASSES)
+    if status < 0:
+        return status
+    for row in range(2):
+        for side in range(2):
+            d = dofs[2 * row + side]
+            if d < 0:
+                continue
+            sign = 1.0 if side == 0 else -1.0
+            for r in range(n_coef):
+                R[d * n_coef + r] += sign * F[row, r]
+            for col in range(2):
+                for side2 in range(2):
+                    e = dofs[2 * col + side2]
+                    if e < 0:
+                        continue
+                    s2 = sign * (1.0 if side2 == 0 else -1.0)
+                    for r in range(n_coef):
+                        for c in range(n_coef):
+                            J[d * n_coef + r, e * n_coef + c] += (
+                                s2 * dF[row * n_coef + r, col * n_coef + c]
+                            )
+    # the element's own codes: a contact that opens counts as slipping
+    return STUCK if status == STUCK else GROSS_SLIP
 
 
 @jit

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import ClassVar, NamedTuple
 
 import numpy as np
 
@@ -62,8 +62,10 @@ class Contact2D:
     (as for :class:`Jenkins`). With a constant normal load (no separation,
     ``v = 0``) the element is :meth:`tangential_law`.
 
-    Not yet usable in :func:`hbmfric.frf` (the engine takes one scalar
-    contact); :meth:`harmonic_forces` is the AFT building block.
+    In a structure: ``hf.Contact(element, dof=tangential, normal=normal)``
+    in :class:`~hbmfric.LinearStructure` ``contacts`` (or a system of your
+    own listing it in ``contacts``); :meth:`harmonic_forces` is the AFT
+    building block alone.
 
     Parameters
     ----------
@@ -82,6 +84,18 @@ class Contact2D:
     normal_stiffness: float
     friction_coefficient: float
     preload: float
+    #: law code in the HBM kernels' contact arrays
+    code: ClassVar[int] = _k.CONTACT2D
+
+    @property
+    def odd(self) -> bool:
+        """False: the preload makes the response carry a mean (harmonic 0)."""
+        return False
+
+    @property
+    def stuck_stiffness(self) -> float:
+        """Tangential stiffness of the stuck, closed contact, N/m."""
+        return self.tangential_stiffness
 
     def __post_init__(self) -> None:
         for name in ("tangential_stiffness", "normal_stiffness"):

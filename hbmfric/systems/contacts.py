@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..laws import ContactLaw
+from ..laws import Contact2D, ContactLaw
 
 
 @dataclass(frozen=True)
@@ -22,45 +22,65 @@ class Contact:
 
     Parameters
     ----------
-    law : ContactLaw
-        The friction law, e.g. ``hf.Jenkins(stiffness=..., slip_force=...)``.
+    law : ContactLaw or Contact2D
+        The friction law, e.g. ``hf.Jenkins(stiffness=..., slip_force=...)``,
+        or the 2D element :class:`~hbmfric.Contact2D` (friction under a
+        varying normal load that may open).
     dof : int or str
         The DOF ``a`` the law acts on (index, or a name of the structure's
-        ``dof_names``).
+        ``dof_names``); the tangential DOF of a 2D element.
     other : int or str or None
         The DOF ``b`` on the other side of the joint: the law acts on the
         relative displacement ``x_a - x_b``, with the force ``+f`` on ``a``
         and ``-f`` on ``b``. None (default): against ground, on ``x_a``.
+    normal : int or str or None
+        The normal DOF of a 2D element (its displacement positive closing
+        the contact); required for :class:`~hbmfric.Contact2D`, refused for
+        the other laws.
+    normal_other : int or str or None
+        The normal DOF on the other side of the joint (relative normal
+        displacement ``x_normal - x_normal_other``); None: against ground.
 
     Examples
     --------
     >>> import hbmfric as hf
     >>> hf.Contact(hf.Jenkins(stiffness=3.0, slip_force=1.0), dof=4, other=9)
-    Contact(law=Jenkins(stiffness=3.0, slip_force=1.0), dof=4, other=9)
+    Contact(law=Jenkins(stiffness=3.0, slip_force=1.0), dof=4, other=9, \
+normal=None, normal_other=None)
     """
 
-    law: ContactLaw
+    law: ContactLaw | Contact2D
     dof: int | str
     other: int | str | None = None
+    normal: int | str | None = None
+    normal_other: int | str | None = None
 
     def __post_init__(self) -> None:
-        if not isinstance(self.law, ContactLaw):
+        if not isinstance(self.law, ContactLaw | Contact2D):
             raise TypeError(
-                "Contact.law must be a contact law such as hf.Jenkins, got "
-                f"{type(self.law).__name__}"
+                "Contact.law must be a contact law such as hf.Jenkins or "
+                f"hf.Contact2D, got {type(self.law).__name__}"
             )
-        for label, v in (("dof", self.dof), ("other", self.other)):
-            if v is None and label == "other":
+        for label in ("dof", "other", "normal", "normal_other"):
+            v = getattr(self, label)
+            if v is None and label != "dof":
                 continue
             if isinstance(v, bool) or not isinstance(v, int | np.integer | str):
                 raise TypeError(
                     f"Contact.{label} must be a DOF index or name, got {v!r}"
                 )
+        two_d = isinstance(self.law, Contact2D)
+        if two_d and self.normal is None:
+            raise ValueError("a Contact2D element needs its normal DOF (normal=...)")
+        if not two_d and (self.normal is not None or self.normal_other is not None):
+            raise ValueError(
+                f"normal DOFs are for hf.Contact2D only, not {type(self.law).__name__}"
+            )
 
 
 def check_contacts(system, n_dof: int) -> tuple[tuple[ContactLaw, int, int], ...]:
-    """The contacts of ``system`` as ``(law, a, b)`` triples (``b = -1``
-    against ground), checked.
+    """The contacts of ``system`` as ``(law, a, b, a_n, b_n)`` tuples
+    (``-1``: ground, or no normal DOF for the 1D laws), checked.
 
     A system lists them in ``contacts`` (a sequence of objects with
     ``law``, ``dof`` and ``other`` as integer indices); without that
@@ -81,18 +101,24 @@ def check_contacts(system, n_dof: int) -> tuple[tuple[ContactLaw, int, int], ...
         law = system.contact
         if law is None:
             return ()
-        return ((law, int(system.contact_dof), -1),)
+        return ((law, int(system.contact_dof), -1, -1, -1),)
     out = []
     for i, c in enumerate(listed):
         law = getattr(c, "law", None)
-        if not isinstance(law, ContactLaw):
+        if not isinstance(law, ContactLaw | Contact2D):
             raise TypeError(
                 f"system.contacts[{i}].law must be a contact law such as "
                 f"hf.Jenkins, got {type(law).__name__}"
             )
-        a = c.dof
-        b = -1 if c.other is None else c.other
-        for label, v, low in (("dof", a, 0), ("other", b, -1)):
+        dofs = []
+        for label, low in (
+            ("dof", 0),
+            ("other", -1),
+            ("normal", -1),
+            ("normal_other", -1),
+        ):
+            v = getattr(c, label, None)
+            v = -1 if v is None else v
             if (
                 isinstance(v, bool)
                 or not isinstance(v, int | np.integer)
@@ -102,10 +128,16 @@ def check_contacts(system, n_dof: int) -> tuple[tuple[ContactLaw, int, int], ...
                     f"system.contacts[{i}].{label} must be a DOF index in "
                     f"[0, {n_dof - 1}] (n_dof = {n_dof}), got {v!r}"
                 )
-        if a == b:
-            raise ValueError(f"system.contacts[{i}] acts between DOF {a} and itself")
-        out.append((law, int(a), int(b)))
-    for i, (law, _, b) in enumerate(out):
+            dofs.append(int(v))
+        a, b, a_n, b_n = dofs
+        if a == b or (a_n >= 0 and a_n == b_n):
+            raise ValueError(f"system.contacts[{i}] acts between a DOF and itself")
+        if isinstance(law, Contact2D) and a_n < 0:
+            raise ValueError(
+                f"system.contacts[{i}] is a Contact2D element without its normal DOF"
+            )
+        out.append((law, a, b, a_n, b_n))
+    for i, (law, _, b, _, _) in enumerate(out):
         if law.code == _coulomb_code() and (len(out) > 1 or b >= 0):
             raise ValueError(
                 f"system.contacts[{i}] is a rigid hf.Coulomb law: it must be the "
@@ -129,14 +161,14 @@ def contact_arrays(
 
     Parameters
     ----------
-    contacts : sequence of (ContactLaw, int, int)
+    contacts : sequence of (law, a, b, a_n, b_n)
     params : list of ndarray, optional
         Parameters per contact replacing the laws' own (the rigid Coulomb
         contact's DLFT parameters).
 
     Returns
     -------
-    pairs : ndarray of int64, shape (n_contacts, 2)
+    pairs : ndarray of int64, shape (n_contacts, 4)
     codes : ndarray of int64, shape (n_contacts,)
     law_params : ndarray, shape (n_contacts, n_params)
         Rows padded with zeros to the longest (at least one column).
@@ -144,14 +176,14 @@ def contact_arrays(
     n = len(contacts)
     rows = [
         np.asarray(p if params is not None else law.params, dtype=np.float64)
-        for (law, _, _), p in zip(contacts, params or [None] * n, strict=True)
+        for (law, *_), p in zip(contacts, params or [None] * n, strict=True)
     ]
     width = max([1] + [r.size for r in rows])
     law_params = np.zeros((n, width))
     for i, r in enumerate(rows):
         law_params[i, : r.size] = r
-    pairs = np.array([[a, b] for _, a, b in contacts], dtype=np.int64).reshape(n, 2)
-    codes = np.array([law.code for law, _, _ in contacts], dtype=np.int64)
+    pairs = np.array([c[1:] for c in contacts], dtype=np.int64).reshape(n, 4)
+    codes = np.array([c[0].code for c in contacts], dtype=np.int64)
     return np.ascontiguousarray(pairs), codes, law_params
 
 

@@ -121,7 +121,12 @@ def craig_bampton(
         raise ValueError(f"boundary has repeated DOFs: {items!r}")
     contacts = structure.contacts
     contact_dofs = (
-        [d for c in contacts for d in (c.dof, c.other) if d is not None]
+        [
+            d
+            for c in contacts
+            for d in (c.dof, c.other, c.normal, c.normal_other)
+            if d is not None
+        ]
         if contacts is not None
         else ([structure.contact_dof] if structure.contact is not None else [])
     )
@@ -181,6 +186,7 @@ def craig_bampton(
         reduce(K),
         reduce(C) if np.any(C) else None,
         load=load,
+        static_load=T.T @ structure.static_load(),
         dof_names=names,
         **_reduced_contacts(structure, position),
     )
@@ -199,8 +205,10 @@ def _reduced_contacts(structure, position: dict[int, int]) -> dict:
             "contacts": [
                 Contact(
                     c.law,
-                    position[c.dof],
-                    None if c.other is None else position[c.other],
+                    *(
+                        None if d is None else position[d]
+                        for d in (c.dof, c.other, c.normal, c.normal_other)
+                    ),
                 )
                 for c in structure.contacts
             ]

@@ -60,7 +60,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import finite_float, positive_int
-from ..laws import ContactLaw
+from ..laws import Contact2D, ContactLaw
 from .contacts import check_contacts
 
 REQUIRED = ("n_dof", "matrices", "load_vector", "contact", "contact_dof")
@@ -172,7 +172,7 @@ def check_system(system) -> SystemData:
         )
     n = positive_int("system.n_dof", system.n_dof, low=1)
     law = system.contact
-    if law is not None and not isinstance(law, ContactLaw):
+    if law is not None and not isinstance(law, ContactLaw | Contact2D):
         raise TypeError(
             f"system.contact must be a contact law such as hf.Jenkins, or None, "
             f"got {type(law).__name__}"

@@ -116,6 +116,11 @@ class LinearStructure:
     dof_names : mapping of str to int, optional
         Names of DOFs, accepted wherever a DOF is asked for. ``"contact"``
         is added for the contact DOF.
+    static_load : array_like or mapping, optional
+        A constant load (N), shape (n,) or ``{dof: value}``, e.g. the
+        preload that holds a :class:`~hbmfric.Contact2D` element closed; a
+        structure with one is solved with every harmonic (no odd-only
+        symmetry).
 
     Raises
     ------
@@ -147,6 +152,7 @@ class LinearStructure:
         contact_dof: int | str | None = None,
         contacts: Sequence[Contact] | None = None,
         dof_names: Mapping[str, int] | None = None,
+        static_load=None,
     ) -> None:
         M = _square("mass", mass)
         n = M.shape[0]
@@ -213,6 +219,12 @@ class LinearStructure:
         if contact is not None or contact_dof is not None:
             self._names.setdefault("contact", self.contact_dof)
         self._load = self._check_load(load)
+        self._static = np.zeros(n)
+        if static_load is not None:
+            p0 = self._check_load(static_load, "static_load")
+            if np.any(p0.imag):
+                raise ValueError("static_load must be real (a constant load), N")
+            self._static = p0.real.copy()
 
     @classmethod
     def from_files(cls, mass, stiffness, damping=None, **kwargs) -> LinearStructure:
@@ -314,13 +326,20 @@ class LinearStructure:
                     f"got {type(c).__name__}"
                 )
             a = self.dof(c.dof, f"contacts[{i}].dof")
-            b = None if c.other is None else self.dof(c.other, f"contacts[{i}].other")
-            if a == b:
-                raise ValueError(f"contacts[{i}] acts between DOF {a} and itself")
-            out.append(Contact(c.law, a, b))
+            rest = [
+                None if v is None else self.dof(v, f"contacts[{i}].{label}")
+                for label, v in (
+                    ("other", c.other),
+                    ("normal", c.normal),
+                    ("normal_other", c.normal_other),
+                )
+            ]
+            if a == rest[0] or (rest[1] is not None and rest[1] == rest[2]):
+                raise ValueError(f"contacts[{i}] acts between a DOF and itself")
+            out.append(Contact(c.law, a, *rest))
         return tuple(out)
 
-    def _check_load(self, load) -> np.ndarray:
+    def _check_load(self, load, label: str = "load") -> np.ndarray:
         n = self.n_dof
         p = np.zeros(n, dtype=complex)
         if load is None:
@@ -328,23 +347,24 @@ class LinearStructure:
             return p
         if isinstance(load, Mapping):
             for key, value in load.items():
-                j = self.dof(key, "load key")
+                j = self.dof(key, f"{label} key")
                 v = complex(value)
                 if not (math.isfinite(v.real) and math.isfinite(v.imag)):
-                    raise ValueError(f"load[{key!r}] must be finite, got {value!r}")
+                    raise ValueError(f"{label}[{key!r}] must be finite, got {value!r}")
                 p[j] += v
             return p
         try:
             a = np.array(load, dtype=complex)
         except (TypeError, ValueError):
             raise ValueError(
-                f"load must be a vector of shape ({n},) or a mapping {{dof: value}}, "
+                f"{label} must be a vector of shape ({n},) or a mapping "
+                "{dof: value}, "
                 f"got {type(load).__name__}"
             ) from None
         if a.shape != (n,):
-            raise ValueError(f"load must have shape ({n},) (n_dof), got {a.shape}")
+            raise ValueError(f"{label} must have shape ({n},) (n_dof), got {a.shape}")
         if not np.all(np.isfinite(a)):
-            raise ValueError("load must contain only finite values (no NaN or inf)")
+            raise ValueError(f"{label} must contain only finite values (no NaN or inf)")
         return a
 
     def _modal_damping(self, ratios) -> np.ndarray:
@@ -377,6 +397,10 @@ class LinearStructure:
         phase (force ``Re(p e^{iΩt})``), N."""
         p = force * self._load
         return p.real.copy() if not np.any(self._load.imag) else p
+
+    def static_load(self) -> np.ndarray:
+        """Constant load per DOF (e.g. a bolt preload), shape (n,), N."""
+        return self._static.copy()
 
     @property
     def load(self) -> np.ndarray:

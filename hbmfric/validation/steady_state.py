@@ -366,14 +366,11 @@ class _Problem:
         force = finite_float("force", force)
         law = data.contact
         load = check_load(system, force, data.n_dof, data.load_phase)
-        if len(data.contacts) > 1 or any(b >= 0 for _, _, b in data.contacts):
+        if len(data.contacts) > 1 or any(max(c[2:]) >= 0 for c in data.contacts):
             raise NotImplementedError(
                 "the time-integration reference of this release has one contact "
-                "to ground; this system has "
-                f"{len(data.contacts)} contact(s), some between two DOFs"
-                if any(b >= 0 for _, _, b in data.contacts)
-                else "the time-integration reference of this release has one "
-                f"contact to ground; this system has {len(data.contacts)}"
+                f"to ground on one DOF; this system has {len(data.contacts)} "
+                "contact(s), between two DOFs or with a normal DOF"
             )
         if law is None:
             code, params, k_stuck = NO_CONTACT, np.zeros(1), 0.0
