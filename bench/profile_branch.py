@@ -87,7 +87,8 @@ def split(force: float = 0.5, harmonics: int = 15, repeats: int = 20) -> dict:
     wall_wrapped, kernel = _kernel_time(force, harmonics, repeats)
     # replay the branch's points through the kernels
     problem = HBMProblem(OSC, force, harmonics)
-    hn, _, _, _, _, _, _, params, _, inverse, _, derivative = problem.kernel_problem
+    hn, _, _, _, _, _, _, rows, _, inverse, _, derivative = problem.kernel_problem
+    params = rows[0]
     n = problem.n_unknowns
     R = np.empty(n)
     J = np.empty((n, n + 1))

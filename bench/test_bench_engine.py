@@ -29,9 +29,10 @@ def _slipping_point(harmonics):
 def test_aft_with_jacobian(benchmark, harmonics, scheme):
     """One AFT evaluation (force coefficients and Jacobian) in gross slip."""
     problem = HBMProblem(OSC, 0.5, harmonics, aft=scheme)
-    hn, _, _, _, _, _, code, params, _, inverse, forward, derivative = (
+    hn, _, _, _, _, _, codes, rows, _, inverse, forward, derivative = (
         problem.kernel_problem
     )
+    code, params = codes[0], rows[0]
     X = _slipping_point(harmonics)
     F = np.empty(problem.n_coef)
     dF = np.empty((problem.n_coef, problem.n_coef))

@@ -45,9 +45,10 @@ def _setup(name, point, scheme):
     osc = hf.Oscillator(mass=1.0, damping=0.02, stiffness=1.0, contact=LAWS[name])
     X = hf.periodic_solution(osc, 0.5, OMEGA[point], harmonics=15).coefficients[0]
     problem = HBMProblem(osc, 0.5, 15, aft=scheme)
-    hn, _, _, _, _, _, code, params, _, inverse, forward, derivative = (
+    hn, _, _, _, _, _, codes, rows, _, inverse, forward, derivative = (
         problem.kernel_problem
     )
+    code, params = codes[0], rows[0]
     F = np.empty(problem.n_coef)
     dF = np.empty((problem.n_coef, problem.n_coef))
     X = np.ascontiguousarray(X)

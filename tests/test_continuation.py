@@ -335,7 +335,8 @@ def test_kernels_compile_once_and_no_eager_imports():
         def direct(law):
             # the AFT and law kernels called from Python, as the benchmarks do
             p = HBMProblem(hf.Oscillator(1.0, 0.02, 1.0, law), 0.5, 5)
-            hn, _, _, _, _, _, code, params, _, inv, fwd, der = p.kernel_problem
+            hn, _, _, _, _, _, codes, rows, _, inv, fwd, der = p.kernel_problem
+            code, params = codes[0], rows[0]
             X = np.linspace(0.1, 1.0, p.n_coef)
             F = np.empty(p.n_coef)
             dF = np.empty((p.n_coef, p.n_coef))

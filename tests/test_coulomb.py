@@ -552,9 +552,10 @@ def test_kernels_compile_once():
     for fs, eps, h in ((0.3, 1.0, 7), (0.5, 3.0, 9), (0.2, 0.5, 15), (0.9, 7.0, 3)):
         osc = hf.Oscillator(1.3, 0.02, 1.0, hf.Coulomb(slip_force=fs, penalty=eps))
         problem = HBMProblem(osc, 1.0, h)
-        hn, mass, _, _, _, c, _, params, _, inverse, forward, derivative = (
+        hn, mass, _, _, _, pairs, _, rows, _, inverse, forward, derivative = (
             problem.kernel_problem
         )
+        c, params = int(pairs[0, 0]), rows[0]
         y = np.append(problem.linear_response(0.8, "free"), 0.8)
         R, J, _ = HBMProblem(osc.with_contact(None), 1.0, h).residual(y)
         base = int(c) * problem.n_coef
@@ -564,7 +565,7 @@ def test_kernels_compile_once():
         dlft_contact(params, base, y, inverse, forward, R, J)
         tail = HBMProblem(osc.with_contact(replace(osc.contact, linear_tail=True)),
                           1.0, h)  # fmt: skip
-        tp = tail.kernel_problem[7]
+        tp = tail.kernel_problem[7][0]
         q = np.zeros(int(tp[4]) + 1, dtype=np.complex128)
         dq = np.zeros_like(q)
         a2, da2, _ = contact_receptance(
