@@ -458,6 +458,7 @@ def _branch(system, problem, state, elapsed, omega, coefficients, info, **extra)
         elapsed=elapsed,
         info=info,
         dof_names=dict(getattr(system, "dof_names", {})),
+        _source={"system": system},
         **extra,
     )
 

@@ -252,6 +252,12 @@ def _solution(
         contact_state=contact_state,
         dof_names=dict(getattr(system, "dof_names", {})),
         method=method,
+        _source={
+            "system": system,
+            "aft": problem.aft,
+            "n_time": problem.n_time,
+            "subharmonic": problem.subharmonic,
+        },
     )
 
 

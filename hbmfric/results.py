@@ -80,6 +80,10 @@ class PeriodicSolution:
     contact_state: str = ""
     dof_names: dict = field(default_factory=dict)
     method: str = ""
+    #: the system and discretisation it was solved with (for
+    #: :meth:`stability`; not saved)
+    _source: dict | None = field(default=None, repr=False, compare=False)
+    _stability: object = field(default=None, repr=False, compare=False)
 
     def amplitude(self, harmonic: int | None = None, dof=None) -> float:
         """Amplitude of ``x_dof``: of one harmonic (``sqrt(Xc² + Xs²)``), or
@@ -92,6 +96,46 @@ class PeriodicSolution:
         if harmonic is None:
             return float(half_peak_to_peak(self.harmonic_numbers, X))
         return float(harmonic_amplitude(self.harmonic_numbers, X, harmonic))
+
+    def stability(self, system=None):
+        """Floquet exponents of this solution by Hill's method
+        (:mod:`hbmfric.stability`), computed once and cached.
+
+        Parameters
+        ----------
+        system : Oscillator or compatible, optional
+            The system solved; default: the one
+            :func:`~hbmfric.periodic_solution` or the branch recorded.
+
+        Returns
+        -------
+        Stability
+            With one point: ``exponents`` of shape (1, 2 n_dof),
+            ``stable`` of shape (1,).
+        """
+        if self._stability is None or system is not None:
+            src = _stability_source(self._source, system)
+            from .stability import stability_of_points
+
+            h = int(self.harmonic_numbers[-1])
+            self._stability = stability_of_points(
+                src["system"],
+                self.force,
+                np.array([self.omega]),
+                self.harmonic_numbers,
+                self.coefficients[None],
+                np.array([h]),
+                n_time=src.get("n_time"),
+                aft=src.get("aft", "auto"),
+                subharmonic=src.get("subharmonic", 1),
+                symmetric=bool(self.harmonic_numbers[0] % 2 == 1),
+            )
+        return self._stability
+
+    @property
+    def stable(self) -> bool:
+        """Whether the solution is stable (:meth:`stability`)."""
+        return bool(self.stability().stable[0])
 
     def time_response(self, n: int = 256, dof=None) -> tuple[np.ndarray, np.ndarray]:
         """``(t, x)`` over one period at ``n`` equidistant instants (s, m)."""
@@ -177,6 +221,10 @@ class Branch:
     truncation_error: np.ndarray | None = None
     pieces: np.ndarray | None = None
     tangents: np.ndarray | None = None
+    #: the system and discretisation of the run (for :meth:`stability`;
+    #: not saved)
+    _source: dict | None = field(default=None, repr=False, compare=False)
+    _stability: object = field(default=None, repr=False, compare=False)
 
     def __len__(self) -> int:
         return self.omega.size
@@ -363,6 +411,67 @@ class Branch:
             return None
         return float(np.max(errors, initial=0.0))
 
+    # ------------------------------------------------------------------
+    # stability (hbmfric/stability.py)
+    def stability(self, system=None):
+        """Floquet exponents of every point by Hill's method
+        (:mod:`hbmfric.stability`), computed on the first call and cached
+        (nothing is computed while tracing).
+
+        Each point's stability problem uses the full harmonic basis
+        ``0 … H`` of its own ``H`` (symmetric branches: the odd and even
+        blocks separately) and every DOF (a condensed branch's recovered
+        coefficients with the full matrices).
+
+        Parameters
+        ----------
+        system : Oscillator or compatible, optional
+            The system traced; default: the one :func:`~hbmfric.frf`
+            recorded (a loaded branch needs it).
+
+        Returns
+        -------
+        Stability
+            ``exponents`` (n_points, 2 n_dof), ``multipliers``, ``stable``
+            (n_points,), ``max_real``.
+
+        Raises
+        ------
+        ValueError
+            Without a system, or for a rigid Coulomb contact.
+        """
+        if self._stability is None or system is not None:
+            src = _stability_source(self._source, system)
+            from .stability import stability_of_points
+
+            h = (
+                self.point_harmonics
+                if self.point_harmonics is not None
+                else np.full(self.n_points, int(self.harmonic_numbers[-1]))
+            )
+            n_time = self.info.get("n_time")
+            if self.point_harmonics is not None:
+                n_time = None  # each level's default, as the run used
+            self._stability = stability_of_points(
+                src["system"],
+                self.force,
+                self.omega,
+                self.harmonic_numbers,
+                self.coefficients,
+                h,
+                n_time=n_time,
+                aft=self.info.get("aft", "auto"),
+                subharmonic=int(self.info.get("subharmonic", 1)),
+                symmetric=bool(self.info.get("odd_only", False)),
+            )
+        return self._stability
+
+    @property
+    def stable(self) -> np.ndarray:
+        """Whether each point is stable, shape (n_points,) (computes
+        :meth:`stability` on first use)."""
+        return self.stability().stable
+
     def harmonics_at(self, index: int) -> int:
         """Highest harmonic used at point ``index``."""
         if self.point_harmonics is not None:
@@ -381,6 +490,20 @@ class Branch:
             residual_norm=float("nan"),
             dof_names=dict(self.dof_names),
             method="branch point",
+            _source=(
+                None
+                if self._source is None
+                else {
+                    **self._source,
+                    "aft": self.info.get("aft", "auto"),
+                    "n_time": (
+                        self.info.get("n_time")
+                        if self.point_harmonics is None
+                        else None
+                    ),
+                    "subharmonic": int(self.info.get("subharmonic", 1)),
+                }
+            ),
         )
 
     def plot(
@@ -710,6 +833,20 @@ class Branch:
         return branch
 
 
+def _stability_source(source: dict | None, system) -> dict:
+    """The system and discretisation for a stability computation:
+    ``source`` recorded by the run, ``system`` overriding its system."""
+    src = dict(source or {})
+    if system is not None:
+        src["system"] = system
+    if src.get("system") is None:
+        raise ValueError(
+            "stability needs the system: this result does not record it (a "
+            "loaded branch?); pass it, e.g. branch.stability(system)"
+        )
+    return src
+
+
 def _check_npz_sizes(path) -> None:
     """Check, from the array headers alone, that every array of the ``.npz``
     file ``path`` fits in the bytes stored for it (a damaged or forged
@@ -911,4 +1048,5 @@ def join_pieces(first: Branch, second: Branch, stop_reason: str) -> Branch:
         pieces=np.array([0, n1], dtype=np.int64),
         truncation_error=truncation_error,
         tangents=tangents,
+        _source=first._source,
     )

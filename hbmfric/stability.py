@@ -1,0 +1,380 @@
+"""Stability of periodic solutions by Hill's method on the HBM Jacobian.
+
+A periodic solution ``x_p(t)`` of ``M ẍ + C ẋ + K x + f_nl(x) = p(t)`` is
+perturbed by ``e^{λt} q(t)`` with ``q`` periodic of the same period. In the
+real Fourier basis of :mod:`hbmfric.kernels.dft` (per DOF ``[a0, a1, b1, a2,
+b2, …]``), the time derivative is the block-diagonal operator ``D``
+(``D[a_k, b_k] = kΩ``, ``D[b_k, a_k] = -kΩ``) and
+``d/dt (e^{λt} q) = e^{λt} (λ + D) q``, so the linearised balance of the
+perturbation's coefficients ``Q`` is the quadratic eigenproblem
+
+    (Δ0 + λ Δ1 + λ² Δ2) Q = 0,
+    Δ0 = ∂R/∂X (the HBM Jacobian at the solution),
+    Δ1 = C ⊗ I + 2 M ⊗ D,   Δ2 = M ⊗ I,
+
+since ``M (λ + D)² + C (λ + D) + K + ∂F/∂X = Δ0 + λ Δ1 + λ² Δ2``.
+
+What the contact part ``∂F/∂X`` (the AFT Jacobian) means here:
+
+* A memoryless law (``hf.Cubic``, the Duffing case): ``f_nl`` depends on
+  ``x(t)`` alone, its linearisation is ``f'(x_p(t)) y(t)`` and the Galerkin
+  projection of ``f'(x_p) e^{λt} q`` is ``e^{λt} ∂F/∂X Q`` for every λ:
+  Hill's problem is exact up to the truncation in ``H`` (and the AFT's
+  sampling).
+* A hysteretic law (Jenkins, Menq, Iwan, Dahl): the force depends on the
+  history. The AFT Jacobian is the derivative of the periodic force with
+  respect to a periodic displacement, the linearisation along the periodic
+  motion for ``λ = 0``. For ``λ ≠ 0`` the memory of a stick phase that
+  began at ``t_s`` weighs the perturbation at ``t_s`` by ``e^{λ t_s}``, not
+  ``e^{λ t}``, which the λ-independent ``∂F/∂X`` cannot represent; and at
+  the stick/slip transitions the law is not differentiable, the AFT
+  Jacobian being a one-sided linearisation. So for hysteretic laws the
+  exponents are exact where they cross zero (``Δ0`` singular: folds and
+  branch points) and an approximation elsewhere (a Neimark–Sacker or
+  period-doubling crossing is located approximately).
+* A rigid Coulomb contact (DLFT) has no force linearisation (its Jacobian
+  carries the penalty); it is refused.
+
+Selection of the Floquet exponents: the truncated problem has
+``2 n_dof n_coef`` eigenvalues; the exact ones come in families
+``λ_j + i m Ω`` (``m`` integer, the same perturbation with its harmonics
+shifted) and each family's Floquet multiplier ``exp(λ_j T)`` is the same.
+We keep the ``2 n_dof`` eigenvalues whose imaginary parts are closest to 0
+(the *imaginary-part sorting* criterion): the member of each family in the
+strip ``|Im λ| ≤ Ω/2``, which the truncation approximates best (the
+eigenvalues the truncation spoils belong to the highest harmonics, where
+``|Im λ| ≈ HΩ``). Its convergence with ``H`` is checked in
+``tests/test_stability.py``.
+
+Symmetric (odd-harmonic) solutions: the branch of a symmetric system is
+solved for odd harmonics only, but its perturbations may also carry even
+harmonics (a symmetry-breaking perturbation). The stability problem is
+always posed in the full basis ``0, 1, …, H``. Along an odd solution of an
+odd system, the Jacobian couples no odd to even harmonic (the linearisation
+is ``T/2``-periodic), so the full problem splits exactly into its odd block
+(symmetry-preserving perturbations) and its even block
+(symmetry-breaking); both are solved (each four times cheaper than the
+whole) and the union is sorted. The odd block alone contains every Floquet
+multiplier too (shifted by ``iΩ``), but a real exponent of an even
+(symmetry-breaking) perturbation sits there at ``Im λ = ±Ω``, on the edge
+of the sorting strip, where the selection is ambiguous; hence both.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+#: relative size (to the Jacobian's largest entry) below which the
+#: odd-even coupling of a symmetric solution counts as zero
+SPLIT_TOLERANCE = 1e-10
+
+
+@dataclass
+class Stability:
+    """Floquet exponents of the points of a branch (or of one solution).
+
+    Attributes
+    ----------
+    exponents : ndarray of complex, shape (n_points, 2 n_dof)
+        Floquet exponents λ (1/s), imaginary parts in ``[-Ω/2, Ω/2]``
+        (modulo ``iΩ``), sorted by decreasing real part.
+    multipliers : ndarray of complex, shape (n_points, 2 n_dof)
+        Floquet multipliers ``exp(λ T)``, ``T = 2π/Ω``.
+    stable : ndarray of bool, shape (n_points,)
+        Every exponent has a negative real part.
+    max_real : ndarray, shape (n_points,)
+        Largest real part of the exponents, 1/s.
+    omega : ndarray, shape (n_points,)
+        Ω of the points (the fundamental), rad/s.
+    harmonics : ndarray of int, shape (n_points,)
+        Highest harmonic ``H`` of the full basis of the stability problem.
+    elapsed : float
+        Wall time of the computation, s.
+    criterion : str
+        Selection of the exponents among the Hill eigenvalues
+        (``"imaginary"``: the ``2 n_dof`` whose imaginary parts are
+        closest to 0).
+    """
+
+    exponents: np.ndarray
+    multipliers: np.ndarray
+    stable: np.ndarray
+    max_real: np.ndarray
+    omega: np.ndarray
+    harmonics: np.ndarray
+    elapsed: float
+    criterion: str = "imaginary"
+
+    def changes(self) -> np.ndarray:
+        """Indices ``i`` where stability changes between points ``i - 1``
+        and ``i``."""
+        return np.flatnonzero(self.stable[1:] != self.stable[:-1]) + 1
+
+
+def derivative_operator(harmonic_numbers: np.ndarray, omega: float) -> np.ndarray:
+    """The time derivative in the real coefficient basis, shape (n_coef,
+    n_coef): ``d/dt`` of ``a cos kΩt + b sin kΩt`` has the coefficients
+    ``(kΩ b, -kΩ a)``."""
+    n_coef = int(np.sum(np.where(harmonic_numbers == 0, 1, 2)))
+    D = np.zeros((n_coef, n_coef))
+    col = 0
+    for k in harmonic_numbers:
+        if k == 0:
+            col += 1
+            continue
+        D[col, col + 1] = k * omega
+        D[col + 1, col] = -k * omega
+        col += 2
+    return D
+
+
+def hill_matrices(
+    jacobian: np.ndarray,
+    mass: np.ndarray,
+    damping: np.ndarray,
+    harmonic_numbers: np.ndarray,
+    omega: float,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``Δ0, Δ1, Δ2`` of Hill's quadratic eigenproblem.
+
+    Parameters
+    ----------
+    jacobian : ndarray, shape (n_dof * n_coef, n_dof * n_coef)
+        ``∂R/∂X`` of the HBM residual at the solution (DOF-major layout).
+    mass, damping : ndarray, shape (n_dof, n_dof)
+    harmonic_numbers : ndarray of int, shape (n_harmonics,)
+    omega : float
+        Fundamental pulsation Ω, rad/s.
+
+    Returns
+    -------
+    d0, d1, d2 : ndarray, shape (n_dof * n_coef, n_dof * n_coef)
+    """
+    n_coef = jacobian.shape[0] // mass.shape[0]
+    eye = np.eye(n_coef)
+    D = derivative_operator(harmonic_numbers, omega)
+    d1 = np.kron(damping, eye) + 2.0 * np.kron(mass, D)
+    d2 = np.kron(mass, eye)
+    return jacobian, d1, d2
+
+
+def _pencil_eigenvalues(d0, d1, d2, mass_inverse) -> np.ndarray:
+    """Eigenvalues of ``d0 + λ d1 + λ² d2`` by the companion linearisation
+    (standard form when ``d2`` is invertible, else generalised)."""
+    n = d0.shape[0]
+    if mass_inverse is not None:
+        A = np.zeros((2 * n, 2 * n))
+        A[:n, n:] = np.eye(n)
+        A[n:, :n] = -mass_inverse @ d0
+        A[n:, n:] = -mass_inverse @ d1
+        return np.linalg.eigvals(A)
+    import scipy.linalg
+
+    A = np.zeros((2 * n, 2 * n))
+    B = np.eye(2 * n)
+    A[:n, n:] = np.eye(n)
+    A[n:, :n] = -d0
+    A[n:, n:] = -d1
+    B[n:, n:] = d2
+    lam = scipy.linalg.eigvals(A, B)
+    return lam[np.isfinite(lam)]
+
+
+def select_exponents(eigenvalues: np.ndarray, count: int, omega: float) -> np.ndarray:
+    """The ``count`` Hill eigenvalues whose imaginary parts are closest to
+    0, imaginary parts folded into ``[-Ω/2, Ω/2]``, sorted by decreasing
+    real part."""
+    order = np.argsort(np.abs(eigenvalues.imag), kind="stable")
+    lam = eigenvalues[order[:count]]
+    im = lam.imag - omega * np.round(lam.imag / omega)
+    lam = lam.real + 1j * im
+    return lam[np.argsort(-lam.real, kind="stable")]
+
+
+def floquet_exponents(
+    jacobian: np.ndarray,
+    mass: np.ndarray,
+    damping: np.ndarray,
+    harmonic_numbers: np.ndarray,
+    omega: float,
+    split: bool = False,
+) -> np.ndarray:
+    """Floquet exponents of one periodic solution by Hill's method.
+
+    Parameters
+    ----------
+    jacobian : ndarray, shape (n_dof * n_coef, n_dof * n_coef)
+        ``∂R/∂X`` at the solution in the full basis ``0 … H``.
+    mass, damping : ndarray, shape (n_dof, n_dof)
+    harmonic_numbers : ndarray of int, shape (n_harmonics,)
+        ``0, 1, …, H``.
+    omega : float
+        Fundamental pulsation, rad/s.
+    split : bool
+        Solve the odd and even harmonic blocks separately (exact when the
+        Jacobian does not couple them: an odd solution of an odd system;
+        checked, else the whole problem is solved).
+
+    Returns
+    -------
+    ndarray of complex, shape (2 n_dof,)
+        Exponents (1/s), see :func:`select_exponents`.
+    """
+    n_dof = mass.shape[0]
+    n_coef = jacobian.shape[0] // n_dof
+    d0, d1, d2 = hill_matrices(jacobian, mass, damping, harmonic_numbers, omega)
+    try:
+        minv = np.linalg.inv(mass)
+        if not np.all(np.isfinite(minv)):
+            minv = None
+    except np.linalg.LinAlgError:
+        minv = None
+    groups = [np.arange(n_dof * n_coef)]
+    if split and harmonic_numbers.size > 1:
+        per = np.repeat(harmonic_numbers, np.where(harmonic_numbers == 0, 1, 2))
+        odd = np.concatenate(
+            [d * n_coef + np.flatnonzero(per % 2 == 1) for d in range(n_dof)]
+        )
+        even = np.concatenate(
+            [d * n_coef + np.flatnonzero(per % 2 == 0) for d in range(n_dof)]
+        )
+        coupling = max(
+            float(np.max(np.abs(d0[np.ix_(odd, even)]), initial=0.0)),
+            float(np.max(np.abs(d0[np.ix_(even, odd)]), initial=0.0)),
+        )
+        if coupling <= SPLIT_TOLERANCE * float(np.max(np.abs(d0))):
+            groups = [odd, even]
+    eigs = []
+    for idx in groups:
+        sub = np.ix_(idx, idx)
+        mi = None if minv is None else np.kron(minv, np.eye(n_coef))[sub]
+        eigs.append(_pencil_eigenvalues(d0[sub], d1[sub], d2[sub], mi))
+    return select_exponents(np.concatenate(eigs), 2 * n_dof, omega)
+
+
+def _stability_problem(system, force, harmonics, n_time, aft, subharmonic):
+    """The full-basis, uncondensed HBM problem whose Jacobian Hill's
+    method needs."""
+    from .hbm import HBMProblem
+    from .kernels.dlft import COULOMB
+
+    problem = HBMProblem(
+        system,
+        force,
+        harmonics,
+        n_time,
+        symmetry=False,
+        aft=aft,
+        subharmonic=subharmonic,
+    )
+    if any(c[0].code == COULOMB for c in problem._contacts):
+        raise ValueError(
+            "stability of a rigid Coulomb contact (DLFT) is not available: its "
+            "Jacobian carries the DLFT penalty, not a force linearisation; use "
+            "an elastic law (hf.Jenkins with a large stiffness)"
+        )
+    return problem
+
+
+def _jacobian(problem, coefficients: np.ndarray, omega: float) -> np.ndarray:
+    """``∂R/∂X`` of ``problem`` (full basis) at coefficients given on
+    the harmonics ``0 … H`` or a subset (padded with zeros)."""
+    y = np.zeros(problem.n_unknowns + 1)
+    y[:-1] = coefficients.reshape(-1)
+    y[-1] = omega
+    _, J, state = problem.residual(y)
+    if state < 0:
+        raise ValueError(f"the AFT failed at Ω = {omega:.6g} rad/s (code {state})")
+    return J[:, :-1]
+
+
+def _to_full_basis(
+    harmonic_numbers: np.ndarray, coefficients: np.ndarray, harmonics: int
+) -> np.ndarray:
+    """Coefficients (n_dof, n_coef) on ``harmonic_numbers`` placed in the
+    full basis ``0 … harmonics`` (shape (n_dof, 2 harmonics + 1)); higher
+    harmonics are dropped."""
+    n_dof = coefficients.shape[0]
+    out = np.zeros((n_dof, 2 * harmonics + 1))
+    col = 0
+    for k in harmonic_numbers:
+        width = 1 if k == 0 else 2
+        if k <= harmonics:
+            dst = 0 if k == 0 else 2 * k - 1
+            out[:, dst : dst + width] = coefficients[:, col : col + width]
+        col += width
+    return out
+
+
+def stability_of_points(
+    system,
+    force: float,
+    omega: np.ndarray,
+    harmonic_numbers: np.ndarray,
+    coefficients: np.ndarray,
+    point_harmonics: np.ndarray,
+    *,
+    n_time: int | None = None,
+    aft: str = "auto",
+    subharmonic: int = 1,
+    symmetric: bool = False,
+) -> Stability:
+    """Hill's stability of periodic solutions of ``system``.
+
+    Parameters
+    ----------
+    system : Oscillator or compatible
+    force : float
+        Forcing amplitude, N.
+    omega : ndarray, shape (n_points,)
+        Fundamental pulsations, rad/s.
+    harmonic_numbers : ndarray of int, shape (n_harmonics,)
+    coefficients : ndarray, shape (n_points, n_dof, n_coef)
+        Coefficients of every DOF, m.
+    point_harmonics : ndarray of int, shape (n_points,)
+        Highest harmonic ``H`` of each point (its stability basis is
+        ``0 … H``).
+    n_time : int, optional
+        AFT samples; default: the default for each ``H``.
+    aft : str
+        AFT scheme of :class:`~hbmfric.hbm.HBMProblem`.
+    subharmonic : int
+    symmetric : bool
+        The solutions have odd harmonics and the system is odd: solve the
+        odd and even blocks separately (checked point by point).
+
+    Returns
+    -------
+    Stability
+    """
+    start = time.perf_counter()
+    n_points = omega.size
+    problems: dict = {}
+    n_dof = coefficients.shape[1]
+    exps = np.zeros((n_points, 2 * n_dof), dtype=complex)
+    for i in range(n_points):
+        h = int(point_harmonics[i])
+        if h not in problems:
+            nt = n_time if n_time is not None and n_time > 2 * h else None
+            problems[h] = _stability_problem(system, force, h, nt, aft, subharmonic)
+        problem = problems[h]
+        full = _to_full_basis(harmonic_numbers, coefficients[i], h)
+        J = _jacobian(problem, full, float(omega[i]))
+        mass, damping = problem.kernel_problem[1], problem.kernel_problem[2]
+        exps[i] = floquet_exponents(
+            J, mass, damping, problem.harmonic_numbers, float(omega[i]), symmetric
+        )
+    period = 2.0 * np.pi / omega
+    max_real = exps.real.max(axis=1) if n_points else np.zeros(0)
+    return Stability(
+        exponents=exps,
+        multipliers=np.exp(exps * period[:, None]),
+        stable=max_real < 0.0,
+        max_real=max_real,
+        omega=omega.copy(),
+        harmonics=np.asarray(point_harmonics, dtype=np.int64).copy(),
+        elapsed=time.perf_counter() - start,
+    )
