@@ -1,0 +1,175 @@
+"""Stability of branch points by Hill's method (issue 16).
+
+Every test compares Hill's exponents with an independent result: the
+closed form of a linear oscillator, the Floquet multipliers of the
+time-domain monodromy matrix (variational equations of the Duffing ODE
+integrated by ``scipy.integrate.solve_ivp``), the folds located by the
+continuation's tangent, or the exponents at a much larger ``H``.
+"""
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import hbmfric as hf
+from hbmfric.stability import floquet_exponents, stability_of_points
+
+DUFFING = dict(mass=1.0, damping=0.05, stiffness=1.0, k3=0.1, force=0.2)
+
+
+@pytest.fixture(scope="module")
+def duffing_branch():
+    d = DUFFING
+    osc = hf.Oscillator(d["mass"], d["damping"], d["stiffness"], hf.Cubic(d["k3"]))
+    return osc, hf.frf(osc, d["force"], (0.5, 2.0), harmonics=9)
+
+
+def _fold_omega(branch, i):
+    """Ω of the fold between points i - 1 and i: where the Ω component of
+    the tangent vanishes (linear interpolation of dΩ/ds)."""
+    t0, t1 = branch.tangents[i - 1, -1], branch.tangents[i, -1]
+    w0, w1 = branch.omega[i - 1], branch.omega[i]
+    return w0 + (w1 - w0) * t0 / (t0 - t1)
+
+
+def _change_omega(branch, stab, i):
+    """Ω where the largest real part crosses 0 between points i - 1 and i
+    (linear interpolation)."""
+    r0, r1 = stab.max_real[i - 1], stab.max_real[i]
+    w0, w1 = branch.omega[i - 1], branch.omega[i]
+    return w0 + (w1 - w0) * r0 / (r0 - r1)
+
+
+def test_duffing_middle_branch_unstable(duffing_branch):
+    """Hardening Duffing with two folds: the stretch between the folds is
+    unstable, the outer ones stable, and stability changes exactly between
+    the two points that straddle each fold (where dΩ/ds changes sign)."""
+    _, branch = duffing_branch
+    assert branch.folds.size == 2
+    f0, f1 = branch.folds
+    stable = branch.stable
+    assert stable[:f0].all() and stable[f1:].all()
+    assert not stable[f0:f1].any()
+    stab = branch.stability()
+    np.testing.assert_array_equal(stab.changes(), branch.folds)
+    # the Ω-tangent sign change brackets the crossing of the exponent
+    dw = branch.tangents[:, -1]
+    for i in branch.folds:
+        assert np.sign(dw[i - 1]) != np.sign(dw[i])
+        spacing = abs(branch.omega[i] - branch.omega[i - 1])
+        gap = abs(_change_omega(branch, stab, i) - _fold_omega(branch, i))
+        assert gap <= spacing
+
+
+def _duffing_monodromy(branch, i):
+    """Floquet multipliers of point ``i`` of the Duffing branch from the
+    variational equations integrated over one period."""
+    d = DUFFING
+    m, c, k, k3, F = d["mass"], d["damping"], d["stiffness"], d["k3"], d["force"]
+    w = float(branch.omega[i])
+    hn, X = branch.harmonic_numbers, branch.coefficients[i, 0]
+    x0 = X[0::2].sum() if hn[0] != 0 else X[0] + X[1::2].sum()
+    cols = np.arange(hn.size) * 2 + (0 if hn[0] != 0 else 1)
+    kk = hn[hn > 0]
+    v0 = float(np.sum(kk * w * X[cols[hn > 0] + 1]))
+
+    def rhs(t, z):
+        x, v = z[0], z[1]
+        acc = (F * np.cos(w * t) - c * v - k * x - k3 * x**3) / m
+        P = z[2:].reshape(2, 2)
+        A = np.array([[0.0, 1.0], [-(k + 3.0 * k3 * x * x) / m, -c / m]])
+        return np.concatenate(([v, acc], (A @ P).ravel()))
+
+    z0 = np.concatenate(([x0, v0], np.eye(2).ravel()))
+    T = 2.0 * np.pi / w
+    sol = solve_ivp(rhs, (0.0, T), z0, method="DOP853", rtol=1e-11, atol=1e-12)
+    assert sol.success
+    # the HBM orbit closes (its truncation error is small)
+    assert abs(sol.y[0, -1] - x0) < 1e-5 * max(1.0, abs(x0))
+    return np.linalg.eigvals(sol.y[2:, -1].reshape(2, 2))
+
+
+def test_duffing_multipliers_against_monodromy(duffing_branch):
+    """Hill's multipliers exp(λT) against the eigenvalues of the monodromy
+    matrix of the variational equations, at 5 points of each of the three
+    stretches (lower stable, middle unstable, upper stable): magnitudes
+    within 1e-3."""
+    _, branch = duffing_branch
+    stab = branch.stability()
+    f0, f1 = branch.folds
+    worst = 0.0
+    for lo, hi in ((0, f0), (f0, f1), (f1, len(branch))):
+        for i in np.linspace(lo + 1, hi - 2, 5).round().astype(int):
+            ref = np.sort(np.abs(_duffing_monodromy(branch, i)))
+            hill = np.sort(np.abs(stab.multipliers[i]))
+            worst = max(worst, float(np.max(np.abs(hill - ref))))
+            assert (ref.max() < 1.0) == bool(stab.stable[i])
+    assert worst < 1e-3
+
+
+@pytest.mark.parametrize("omega", [0.7, 1.3, 2.9, 4.5])
+def test_linear_oscillator_closed_form(omega):
+    """No contact: the exponents are -ζω₀ ± iω_d modulo iΩ, exactly, in
+    the full basis (here the odd/even split of a symmetric system too)."""
+    m, c, k = 1.0, 0.1, 4.0
+    lin = hf.Oscillator(m, c, k)
+    sol = hf.periodic_solution(lin, 1.0, omega, harmonics=5)
+    lam = sol.stability().exponents[0]
+    w0 = np.sqrt(k / m)
+    zeta = c / (2.0 * np.sqrt(k * m))
+    wd = w0 * np.sqrt(1.0 - zeta**2)
+    folded = wd - omega * np.round(wd / omega)
+    expected = np.array([-zeta * w0 + 1j * folded, -zeta * w0 - 1j * folded])
+    np.testing.assert_allclose(
+        np.sort_complex(lam), np.sort_complex(expected), atol=1e-12
+    )
+    assert sol.stable
+
+
+def test_linear_two_dof_against_state_matrix():
+    """Two DOFs, no contact, non-classical damping: the exponents are the
+    eigenvalues of the first-order state matrix, modulo iΩ."""
+    M = np.diag([1.0, 2.0])
+    C = np.array([[0.3, -0.1], [-0.1, 0.05]])
+    K = np.array([[5.0, -2.0], [-2.0, 3.0]])
+    omega = 1.1
+    J = np.zeros((2 * 7, 2 * 7))  # H = 3: 7 coefficients per DOF
+    hn = np.arange(4)
+    for p in range(2):
+        for q in range(2):
+            J[p * 7, q * 7] = K[p, q]
+            for kk in (1, 2, 3):
+                w = kk * omega
+                r, s = p * 7 + 2 * kk - 1, q * 7 + 2 * kk - 1
+                J[r, s] = J[r + 1, s + 1] = K[p, q] - M[p, q] * w * w
+                J[r, s + 1] = C[p, q] * w
+                J[r + 1, s] = -C[p, q] * w
+    lam = floquet_exponents(J, M, C, hn, omega)
+    A = np.block(
+        [
+            [np.zeros((2, 2)), np.eye(2)],
+            [-np.linalg.solve(M, K), -np.linalg.solve(M, C)],
+        ]
+    )
+    ref = np.linalg.eigvals(A)
+    ref = ref.real + 1j * (ref.imag - omega * np.round(ref.imag / omega))
+    np.testing.assert_allclose(np.sort_complex(lam), np.sort_complex(ref), atol=1e-12)
+
+
+def test_symmetric_split_equals_full_basis(duffing_branch):
+    """The odd/even split of a symmetric branch gives the exponents of the
+    whole full-basis problem (the Jacobian couples no odd to even
+    harmonic)."""
+    osc, branch = duffing_branch
+    idx = np.array([10, branch.folds[0] + 5, branch.folds[1] + 5])
+    args = (
+        osc,
+        branch.force,
+        branch.omega[idx],
+        branch.harmonic_numbers,
+        branch.coefficients[idx],
+        np.full(idx.size, 9),
+    )
+    split = stability_of_points(*args, aft=branch.info["aft"], symmetric=True)
+    whole = stability_of_points(*args, aft=branch.info["aft"], symmetric=False)
+    np.testing.assert_allclose(split.exponents, whole.exponents, atol=1e-10)
