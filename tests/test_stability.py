@@ -104,7 +104,8 @@ def test_duffing_multipliers_against_monodromy(duffing_branch):
             hill = np.sort(np.abs(stab.multipliers[i]))
             worst = max(worst, float(np.max(np.abs(hill - ref))))
             assert (ref.max() < 1.0) == bool(stab.stable[i])
-    assert worst < 1e-3
+    # measured 1.9e-7 (the points next to the folds); the issue asks 1e-3
+    assert worst < 1e-5
 
 
 @pytest.mark.parametrize("omega", [0.7, 1.3, 2.9, 4.5])
@@ -173,3 +174,38 @@ def test_symmetric_split_equals_full_basis(duffing_branch):
     split = stability_of_points(*args, aft=branch.info["aft"], symmetric=True)
     whole = stability_of_points(*args, aft=branch.info["aft"], symmetric=False)
     np.testing.assert_allclose(split.exponents, whole.exponents, atol=1e-10)
+
+
+def _exponents(system, force, omega, harmonics, **kwargs):
+    sol = hf.periodic_solution(system, force, omega, harmonics=harmonics, **kwargs)
+    assert sol.converged
+    return sol.stability().exponents[0]
+
+
+def test_convergence_in_harmonics_duffing():
+    """The selected exponents of a smooth law converge spectrally in H:
+    each step of 2 harmonics gains at least two digits until rounding
+    (measured against H = 41: 1.3e-6, 1.0e-9, 5.7e-13 at H = 3, 5, 7)."""
+    duf = hf.Oscillator(1.0, 0.05, 1.0, hf.Cubic(0.1))
+    kw = dict(branch_side="below")
+    ref = _exponents(duf, 0.2, 1.2, 41, **kw)
+    errors = [
+        np.max(np.abs(_exponents(duf, 0.2, 1.2, h, **kw) - ref)) for h in (3, 5, 7)
+    ]
+    assert errors[0] > 1e-8  # H = 3 is visibly truncated
+    assert errors[1] < 1e-2 * errors[0] and errors[2] < 1e-2 * errors[1]
+    assert errors[2] < 1e-11
+
+
+def test_convergence_in_harmonics_jenkins():
+    """Jenkins P1 in stick-slip (Ω = 2.2, F = 0.5): the selected exponents
+    (the pair with |Im λ| <= Ω/2) converge in H towards those at H = 127
+    (measured 2.7e-4, 5.6e-5, 2.6e-6 at H = 5, 15, 45), while the other
+    Hill eigenvalues sit near ±kΩ."""
+    law = hf.Jenkins(stiffness=3.0, slip_force=1.0)
+    osc = hf.Oscillator(1.0, 0.02, 1.0, law)
+    ref = _exponents(osc, 0.5, 2.2, 127)
+    errors = [np.max(np.abs(_exponents(osc, 0.5, 2.2, h) - ref)) for h in (5, 15, 45)]
+    assert errors[0] > errors[1] > errors[2]
+    assert errors[2] < 1e-5
+    assert np.all(np.abs(ref.imag) <= 1.1 + 1e-12)
