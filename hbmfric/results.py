@@ -521,7 +521,11 @@ class Branch:
         ``curve``: ``"dense"`` (default) draws the dense output
         (:meth:`resample` with ``per_interval`` samples per interval),
         ``"polyline"`` the points joined by straight lines, ``"points"``
-        the computed points alone (markers)."""
+        the computed points alone (markers).
+
+        When :meth:`stability` has been computed, unstable stretches are
+        drawn dashed (``"points"``: hollow markers); each sample of the
+        curve takes the stability of the nearer of its interval's ends."""
         import matplotlib.pyplot as plt
 
         if curve not in ("dense", "polyline", "points"):
@@ -531,20 +535,30 @@ class Branch:
         if ax is None:
             _, ax = plt.subplots()
         amp = self.amplitude(harmonic=harmonic, dof=dof)
+        nearest = np.arange(self.n_points)
         if curve == "dense" and self.n_points >= 2:
             samples, parts = self._resample(per_interval)
             x, y = samples.omega, samples.amplitude(harmonic=harmonic, dof=dof)
+            idx, uu, _ = self._resample_indices(per_interval)
+            nearest = idx + (uu >= 0.5)
         else:
             x, y = self.omega, amp
             parts = self.piece_slices()
         if curve == "points":
             kwargs = {"ls": "", "marker": "o", "ms": 3, **kwargs}
+        stable = None
+        if self._stability is not None:
+            stable = np.asarray(self._stability.stable, dtype=bool)[nearest]
         line = None
         for piece in parts:  # no line across the jump between pieces
-            if line is not None:
-                kwargs = {**kwargs, "color": line.get_color()}
-                kwargs.pop("label", None)
-            (line,) = ax.plot(x[piece], y[piece], **kwargs)
+            for run, ok in _stability_runs(piece, stable, curve != "points"):
+                if line is not None:
+                    kwargs = {**kwargs, "color": line.get_color()}
+                    kwargs.pop("label", None)
+                style = {}
+                if not ok:
+                    style = {"mfc": "none"} if curve == "points" else {"ls": "--"}
+                (line,) = ax.plot(x[run], y[run], **{**kwargs, **style})
         if self.folds.size:
             ax.plot(
                 self.omega[self.folds], amp[self.folds], "x", color=line.get_color()
@@ -619,6 +633,16 @@ class Branch:
     def _resample(self, per_interval: int):
         """:meth:`resample` and the slice of the samples of every piece."""
         d = self._dense()
+        idx, uu, parts = self._resample_indices(per_interval)
+        if idx is None:
+            single = np.zeros(self.n_points, dtype=np.int64)
+            return d.samples(single, np.zeros(self.n_points)), parts
+        return d.samples(idx, uu), parts
+
+    def _resample_indices(self, per_interval: int):
+        """Interval index and parameter ``u`` in [0, 1] of every sample of
+        :meth:`resample`, and the slice of the samples of every piece;
+        ``(None, None, [all points])`` below two points."""
         idx, uu, parts = [], [], []
         count = 0
         for sl in self.piece_slices():
@@ -646,9 +670,8 @@ class Branch:
             parts.append(slice(count, count + idx[-1].size))
             count += idx[-1].size
         if not idx or self.n_points < 2:
-            single = np.zeros(self.n_points, dtype=np.int64)
-            return d.samples(single, np.zeros(self.n_points)), [slice(0, self.n_points)]
-        return d.samples(np.concatenate(idx), np.concatenate(uu)), parts
+            return None, None, [slice(0, self.n_points)]
+        return np.concatenate(idx), np.concatenate(uu), parts
 
     def amplitude_at(
         self,
@@ -831,6 +854,26 @@ class Branch:
             ) from None
         _check_branch_arrays(path, branch)
         return branch
+
+
+def _stability_runs(piece: slice, stable: np.ndarray | None, join: bool = True):
+    """Consecutive samples of ``piece`` with the same stability, as
+    ``(slice, stable)``; with ``join`` a run ends on the first sample of
+    the next one so that the drawn line has no gap. One stable run when
+    ``stable`` is None."""
+    if stable is None or piece.stop - piece.start < 1:
+        return [(piece, True)]
+    flags = stable[piece]
+    cuts = np.flatnonzero(flags[1:] != flags[:-1]) + 1
+    starts = np.concatenate(([0], cuts))
+    ends = np.concatenate((cuts, [flags.size]))
+    return [
+        (
+            slice(piece.start + a, piece.start + min(b + int(join), flags.size)),
+            bool(flags[a]),
+        )
+        for a, b in zip(starts, ends, strict=True)
+    ]
 
 
 def _stability_source(source: dict | None, system) -> dict:

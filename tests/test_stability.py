@@ -209,3 +209,68 @@ def test_convergence_in_harmonics_jenkins():
     assert errors[0] > errors[1] > errors[2]
     assert errors[2] < 1e-5
     assert np.all(np.abs(ref.imag) <= 1.1 + 1e-12)
+
+
+def test_plot_draws_unstable_stretches_dashed(duffing_branch):
+    """Before stability is computed every line is solid; afterwards the
+    middle stretch is dashed and its samples lie between the two folds."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    _, branch = duffing_branch
+    fresh = hf.Branch(
+        **{
+            f: getattr(branch, f)
+            for f in (
+                "omega",
+                "coefficients",
+                "harmonic_numbers",
+                "force",
+                "folds",
+                "stop_reason",
+                "n_steps",
+                "n_rejected",
+                "newton_iterations",
+                "elapsed",
+                "info",
+                "tangents",
+            )
+        }
+    )
+    ax = fresh.plot()
+    assert {ln.get_linestyle() for ln in ax.lines} == {"-", "None"}
+    plt.close(ax.figure)
+    branch.stability()
+    for curve in ("dense", "polyline"):
+        ax = branch.plot(curve=curve)
+        dashed = [ln for ln in ax.lines if ln.get_linestyle() == "--"]
+        solid = [ln for ln in ax.lines if ln.get_linestyle() == "-"]
+        assert len(dashed) == 1 and len(solid) == 2
+        colors = {ln.get_color() for ln in dashed + solid}
+        assert len(colors) == 1
+        w = dashed[0].get_xdata()
+        lo, hi = np.sort(branch.omega[branch.folds])
+        assert np.all(w >= lo - 1e-6) and np.all(w <= hi + 1e-6)
+        plt.close(ax.figure)
+    ax = branch.plot(curve="points")
+    hollow = [ln for ln in ax.lines if ln.get_markerfacecolor() == "none"]
+    f0, f1 = branch.folds
+    assert len(hollow) == 1 and hollow[0].get_xdata().size == f1 - f0
+    plt.close(ax.figure)
+
+
+def test_loaded_branch_needs_the_system(duffing_branch, tmp_path):
+    osc, branch = duffing_branch
+    loaded = hf.Branch.load(branch.save(tmp_path / "b.npz"))
+    with pytest.raises(ValueError, match="needs the system"):
+        loaded.stability()
+    np.testing.assert_array_equal(loaded.stability(osc).stable, branch.stable)
+
+
+def test_rigid_coulomb_is_refused():
+    osc = hf.Oscillator(1.0, 0.02, 1.0, hf.Coulomb(slip_force=0.3))
+    sol = hf.periodic_solution(osc, 0.5, 1.2, harmonics=5)
+    with pytest.raises(ValueError, match="rigid Coulomb"):
+        sol.stability()
