@@ -161,37 +161,71 @@ def hill_matrices(
     return jacobian, d1, d2
 
 
-def _pencil_eigenvalues(d0, d1, d2, mass_inverse) -> np.ndarray:
-    """Eigenvalues of ``d0 + λ d1 + λ² d2`` by the companion linearisation
-    (standard form when ``d2`` is invertible, else generalised)."""
-    n = d0.shape[0]
+def _companion_eigenvalues(d0, d1, d2, mass_inverse) -> np.ndarray:
+    """Eigenvalues of the pencils ``d0[i] + λ d1[i] + λ² d2`` (stacked,
+    shape (n_points, m, m)) by the companion linearisation: one stacked
+    standard eigenvalue call when ``d2`` is invertible (``mass_inverse``
+    its inverse), else generalised problems point by point. Returns shape
+    (n_points, 2 m); infinite eigenvalues (singular ``d2``) as ``inf``."""
+    p, m = d0.shape[0], d0.shape[1]
     if mass_inverse is not None:
-        A = np.zeros((2 * n, 2 * n))
-        A[:n, n:] = np.eye(n)
-        A[n:, :n] = -mass_inverse @ d0
-        A[n:, n:] = -mass_inverse @ d1
+        A = np.zeros((p, 2 * m, 2 * m))
+        A[:, :m, m:] = np.eye(m)
+        A[:, m:, :m] = -mass_inverse @ d0
+        A[:, m:, m:] = -mass_inverse @ d1
         return np.linalg.eigvals(A)
     import scipy.linalg
 
-    A = np.zeros((2 * n, 2 * n))
-    B = np.eye(2 * n)
-    A[:n, n:] = np.eye(n)
-    A[n:, :n] = -d0
-    A[n:, n:] = -d1
-    B[n:, n:] = d2
-    lam = scipy.linalg.eigvals(A, B)
-    return lam[np.isfinite(lam)]
+    out = np.empty((p, 2 * m), dtype=complex)
+    B = np.eye(2 * m)
+    B[m:, m:] = d2
+    for i in range(p):
+        A = np.zeros((2 * m, 2 * m))
+        A[:m, m:] = np.eye(m)
+        A[m:, :m] = -d0[i]
+        A[m:, m:] = -d1[i]
+        lam = scipy.linalg.eigvals(A, B)
+        out[i] = np.where(np.isfinite(lam), lam, np.inf)
+    return out
 
 
-def select_exponents(eigenvalues: np.ndarray, count: int, omega: float) -> np.ndarray:
+def select_exponents(eigenvalues: np.ndarray, count: int, omega) -> np.ndarray:
     """The ``count`` Hill eigenvalues whose imaginary parts are closest to
     0, imaginary parts folded into ``[-Ω/2, Ω/2]``, sorted by decreasing
-    real part."""
-    order = np.argsort(np.abs(eigenvalues.imag), kind="stable")
-    lam = eigenvalues[order[:count]]
-    im = lam.imag - omega * np.round(lam.imag / omega)
-    lam = lam.real + 1j * im
-    return lam[np.argsort(-lam.real, kind="stable")]
+    real part.
+
+    Parameters
+    ----------
+    eigenvalues : ndarray of complex, shape (n_eig,) or (n_points, n_eig)
+    count : int
+    omega : float or ndarray, shape (n_points,)
+
+    Returns
+    -------
+    ndarray of complex, shape (count,) or (n_points, count)
+    """
+    eig = np.atleast_2d(eigenvalues)
+    w = np.broadcast_to(np.asarray(omega, dtype=float), (eig.shape[0],))[:, None]
+    key = np.where(np.isfinite(eig), np.abs(eig.imag), np.inf)
+    order = np.argsort(key, axis=1, kind="stable")[:, :count]
+    lam = np.take_along_axis(eig, order, axis=1)
+    lam = lam.real + 1j * (lam.imag - w * np.round(lam.imag / w))
+    lam = np.take_along_axis(lam, np.argsort(-lam.real, axis=1, kind="stable"), 1)
+    return lam[0] if np.ndim(eigenvalues) == 1 else lam
+
+
+def _parity_blocks(harmonic_numbers: np.ndarray, n_dof: int):
+    """Indices (DOF-major layout) of the odd and of the even harmonics'
+    coefficients."""
+    n_coef = int(np.sum(np.where(harmonic_numbers == 0, 1, 2)))
+    per = np.repeat(harmonic_numbers, np.where(harmonic_numbers == 0, 1, 2))
+    odd = np.concatenate(
+        [d * n_coef + np.flatnonzero(per % 2 == 1) for d in range(n_dof)]
+    )
+    even = np.concatenate(
+        [d * n_coef + np.flatnonzero(per % 2 == 0) for d in range(n_dof)]
+    )
+    return odd, even
 
 
 def floquet_exponents(
@@ -199,20 +233,20 @@ def floquet_exponents(
     mass: np.ndarray,
     damping: np.ndarray,
     harmonic_numbers: np.ndarray,
-    omega: float,
+    omega,
     split: bool = False,
 ) -> np.ndarray:
-    """Floquet exponents of one periodic solution by Hill's method.
+    """Floquet exponents of periodic solutions by Hill's method.
 
     Parameters
     ----------
-    jacobian : ndarray, shape (n_dof * n_coef, n_dof * n_coef)
-        ``∂R/∂X`` at the solution in the full basis ``0 … H``.
+    jacobian : ndarray, shape (n_dof * n_coef, n_dof * n_coef) or (n_points, same)
+        ``∂R/∂X`` at the solution(s) in the full basis ``0 … H``.
     mass, damping : ndarray, shape (n_dof, n_dof)
     harmonic_numbers : ndarray of int, shape (n_harmonics,)
         ``0, 1, …, H``.
-    omega : float
-        Fundamental pulsation, rad/s.
+    omega : float or ndarray, shape (n_points,)
+        Fundamental pulsation(s), rad/s.
     split : bool
         Solve the odd and even harmonic blocks separately (exact when the
         Jacobian does not couple them: an odd solution of an odd system;
@@ -220,39 +254,49 @@ def floquet_exponents(
 
     Returns
     -------
-    ndarray of complex, shape (2 n_dof,)
+    ndarray of complex, shape (2 n_dof,) or (n_points, 2 n_dof)
         Exponents (1/s), see :func:`select_exponents`.
     """
+    single = np.ndim(jacobian) == 2
+    J = np.atleast_3d(jacobian) if not single else jacobian[None]
+    p = J.shape[0]
+    w = np.broadcast_to(np.asarray(omega, dtype=float), (p,))
     n_dof = mass.shape[0]
-    n_coef = jacobian.shape[0] // n_dof
-    d0, d1, d2 = hill_matrices(jacobian, mass, damping, harmonic_numbers, omega)
+    n = J.shape[1]
+    n_coef = n // n_dof
+    eye = np.eye(n_coef)
+    d1_damp = np.kron(damping, eye)
+    d1_mass = 2.0 * np.kron(mass, derivative_operator(harmonic_numbers, 1.0))
+    d1 = d1_damp[None] + w[:, None, None] * d1_mass[None]
+    d2 = np.kron(mass, eye)
     try:
         minv = np.linalg.inv(mass)
         if not np.all(np.isfinite(minv)):
             minv = None
     except np.linalg.LinAlgError:
         minv = None
-    groups = [np.arange(n_dof * n_coef)]
+    groups = [np.arange(n)]
     if split and harmonic_numbers.size > 1:
-        per = np.repeat(harmonic_numbers, np.where(harmonic_numbers == 0, 1, 2))
-        odd = np.concatenate(
-            [d * n_coef + np.flatnonzero(per % 2 == 1) for d in range(n_dof)]
-        )
-        even = np.concatenate(
-            [d * n_coef + np.flatnonzero(per % 2 == 0) for d in range(n_dof)]
-        )
+        odd, even = _parity_blocks(harmonic_numbers, n_dof)
         coupling = max(
-            float(np.max(np.abs(d0[np.ix_(odd, even)]), initial=0.0)),
-            float(np.max(np.abs(d0[np.ix_(even, odd)]), initial=0.0)),
+            float(np.max(np.abs(J[:, odd][:, :, even]), initial=0.0)),
+            float(np.max(np.abs(J[:, even][:, :, odd]), initial=0.0)),
         )
-        if coupling <= SPLIT_TOLERANCE * float(np.max(np.abs(d0))):
+        if coupling <= SPLIT_TOLERANCE * float(np.max(np.abs(J))):
             groups = [odd, even]
     eigs = []
     for idx in groups:
-        sub = np.ix_(idx, idx)
-        mi = None if minv is None else np.kron(minv, np.eye(n_coef))[sub]
-        eigs.append(_pencil_eigenvalues(d0[sub], d1[sub], d2[sub], mi))
-    return select_exponents(np.concatenate(eigs), 2 * n_dof, omega)
+        mi = None if minv is None else np.kron(minv, eye)[np.ix_(idx, idx)]
+        eigs.append(
+            _companion_eigenvalues(
+                J[:, idx][:, :, idx],
+                d1[:, idx][:, :, idx],
+                d2[np.ix_(idx, idx)],
+                mi,
+            )
+        )
+    lam = select_exponents(np.concatenate(eigs, axis=1), 2 * n_dof, w)
+    return lam[0] if single else lam
 
 
 def _stability_problem(system, force, harmonics, n_time, aft, subharmonic):
@@ -352,20 +396,21 @@ def stability_of_points(
     """
     start = time.perf_counter()
     n_points = omega.size
-    problems: dict = {}
     n_dof = coefficients.shape[1]
     exps = np.zeros((n_points, 2 * n_dof), dtype=complex)
-    for i in range(n_points):
-        h = int(point_harmonics[i])
-        if h not in problems:
-            nt = n_time if n_time is not None and n_time > 2 * h else None
-            problems[h] = _stability_problem(system, force, h, nt, aft, subharmonic)
-        problem = problems[h]
-        full = _to_full_basis(harmonic_numbers, coefficients[i], h)
-        J = _jacobian(problem, full, float(omega[i]))
+    levels = np.asarray(point_harmonics, dtype=np.int64)
+    for h in np.unique(levels):
+        h = int(h)
+        nt = n_time if n_time is not None and n_time > 2 * h else None
+        problem = _stability_problem(system, force, h, nt, aft, subharmonic)
+        idx = np.flatnonzero(levels == h)
+        J = np.empty((idx.size, problem.n_unknowns, problem.n_unknowns))
+        for j, i in enumerate(idx):
+            full = _to_full_basis(harmonic_numbers, coefficients[i], h)
+            J[j] = _jacobian(problem, full, float(omega[i]))
         mass, damping = problem.kernel_problem[1], problem.kernel_problem[2]
-        exps[i] = floquet_exponents(
-            J, mass, damping, problem.harmonic_numbers, float(omega[i]), symmetric
+        exps[idx] = floquet_exponents(
+            J, mass, damping, problem.harmonic_numbers, omega[idx], symmetric
         )
     period = 2.0 * np.pi / omega
     max_real = exps.real.max(axis=1) if n_points else np.zeros(0)
