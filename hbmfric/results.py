@@ -225,6 +225,7 @@ class Branch:
     #: not saved)
     _source: dict | None = field(default=None, repr=False, compare=False)
     _stability: object = field(default=None, repr=False, compare=False)
+    _hp: int | None = field(default=None, repr=False, compare=False)
 
     def __len__(self) -> int:
         return self.omega.size
@@ -413,7 +414,7 @@ class Branch:
 
     # ------------------------------------------------------------------
     # stability (hbmfric/stability.py)
-    def stability(self, system=None):
+    def stability(self, system=None, perturbation_harmonics: int | None = None):
         """Floquet exponents of every point by Hill's method
         (:mod:`hbmfric.stability`), computed on the first call and cached
         (nothing is computed while tracing).
@@ -428,6 +429,11 @@ class Branch:
         system : Oscillator or compatible, optional
             The system traced; default: the one :func:`~hbmfric.frf`
             recorded (a loaded branch needs it).
+        perturbation_harmonics : int, optional
+            Highest harmonic of the perturbation basis (the Jacobian still
+            sees every harmonic of the solution): cheaper, less accurate;
+            default each point's ``H``. See
+            :func:`hbmfric.stability.stability_of_points`.
 
         Returns
         -------
@@ -440,7 +446,12 @@ class Branch:
         ValueError
             Without a system, or for a rigid Coulomb contact.
         """
-        if self._stability is None or system is not None:
+        key = perturbation_harmonics
+        if self._stability is None or system is not None or key != self._hp:
+            from ._validate import positive_int
+
+            if key is not None:
+                key = positive_int("perturbation_harmonics", key, low=1)
             src = _stability_source(self._source, system)
             from .stability import stability_of_points
 
@@ -463,13 +474,17 @@ class Branch:
                 aft=self.info.get("aft", "auto"),
                 subharmonic=int(self.info.get("subharmonic", 1)),
                 symmetric=bool(self.info.get("odd_only", False)),
+                perturbation_harmonics=key,
             )
+            self._hp = key
         return self._stability
 
     @property
     def stable(self) -> np.ndarray:
         """Whether each point is stable, shape (n_points,) (computes
-        :meth:`stability` on first use)."""
+        :meth:`stability` on first use, or returns the last one computed)."""
+        if self._stability is not None:
+            return self._stability.stable
         return self.stability().stable
 
     def harmonics_at(self, index: int) -> int:

@@ -90,7 +90,8 @@ class Stability:
     omega : ndarray, shape (n_points,)
         Ω of the points (the fundamental), rad/s.
     harmonics : ndarray of int, shape (n_points,)
-        Highest harmonic ``H`` of the full basis of the stability problem.
+        Highest harmonic of the full basis of the perturbation (each
+        point's ``H``, or ``perturbation_harmonics`` when smaller).
     elapsed : float
         Wall time of the computation, s.
     criterion : str
@@ -365,6 +366,7 @@ def stability_of_points(
     aft: str = "auto",
     subharmonic: int = 1,
     symmetric: bool = False,
+    perturbation_harmonics: int | None = None,
 ) -> Stability:
     """Hill's stability of periodic solutions of ``system``.
 
@@ -389,6 +391,13 @@ def stability_of_points(
     symmetric : bool
         The solutions have odd harmonics and the system is odd: solve the
         odd and even blocks separately (checked point by point).
+    perturbation_harmonics : int, optional
+        Highest harmonic ``Hp`` of the perturbation: the Jacobian is
+        evaluated at the solution with all its harmonics, and Hill's
+        problem keeps the rows and columns of the harmonics ``0 … Hp``
+        (a Galerkin truncation of the perturbation alone). Default: each
+        point's ``H``. Smaller is cheaper (the eigenvalue solves grow like
+        ``Hp³``) and less accurate (``tests/test_stability.py``).
 
     Returns
     -------
@@ -399,6 +408,7 @@ def stability_of_points(
     n_dof = coefficients.shape[1]
     exps = np.zeros((n_points, 2 * n_dof), dtype=complex)
     levels = np.asarray(point_harmonics, dtype=np.int64)
+    used = levels.copy()
     for h in np.unique(levels):
         h = int(h)
         nt = n_time if n_time is not None and n_time > 2 * h else None
@@ -409,9 +419,15 @@ def stability_of_points(
             full = _to_full_basis(harmonic_numbers, coefficients[i], h)
             J[j] = _jacobian(problem, full, float(omega[i]))
         mass, damping = problem.kernel_problem[1], problem.kernel_problem[2]
-        exps[idx] = floquet_exponents(
-            J, mass, damping, problem.harmonic_numbers, omega[idx], symmetric
-        )
+        hn = problem.harmonic_numbers
+        if perturbation_harmonics is not None and perturbation_harmonics < h:
+            hn = hn[hn <= perturbation_harmonics]
+            keep = np.concatenate(
+                [d * problem.n_coef + np.arange(2 * hn[-1] + 1) for d in range(n_dof)]
+            )
+            J = J[:, keep][:, :, keep]
+        used[idx] = hn[-1]
+        exps[idx] = floquet_exponents(J, mass, damping, hn, omega[idx], symmetric)
     period = 2.0 * np.pi / omega
     max_real = exps.real.max(axis=1) if n_points else np.zeros(0)
     return Stability(
@@ -420,6 +436,6 @@ def stability_of_points(
         stable=max_real < 0.0,
         max_real=max_real,
         omega=omega.copy(),
-        harmonics=np.asarray(point_harmonics, dtype=np.int64).copy(),
+        harmonics=used,
         elapsed=time.perf_counter() - start,
     )

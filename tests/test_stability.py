@@ -334,3 +334,21 @@ def test_condensed_three_dof_chain_against_monodromy():
             hill = np.sort(np.abs(stab.multipliers[i]))
             # measured 2.9e-8 (H = 7: 2.3e-5, H = 15: 3.2e-11)
             np.testing.assert_allclose(hill, ref, atol=1e-6)
+
+
+def test_perturbation_harmonics_truncate_the_perturbation_only(duffing_branch):
+    """A smaller perturbation basis (the Jacobian still at the whole
+    solution) approaches the full one as it grows, keeps the stability of
+    every point of the Duffing branch at Hp = 5, and is recorded."""
+    osc, branch = duffing_branch
+    full = branch.stability().exponents.copy()
+    errors = []
+    for hp in (1, 3, 5):
+        s = branch.stability(perturbation_harmonics=hp)
+        assert np.all(s.harmonics == hp)
+        errors.append(float(np.max(np.abs(s.exponents - full))))
+    assert errors[0] > errors[1] > errors[2]
+    np.testing.assert_array_equal(s.stable, branch.stability().stable)
+    assert np.all(branch.stability().harmonics == 9)
+    with pytest.raises(ValueError, match="perturbation_harmonics"):
+        branch.stability(perturbation_harmonics=0)
