@@ -352,3 +352,27 @@ def test_perturbation_harmonics_truncate_the_perturbation_only(duffing_branch):
     assert np.all(branch.stability().harmonics == 9)
     with pytest.raises(ValueError, match="perturbation_harmonics"):
         branch.stability(perturbation_harmonics=0)
+
+
+def test_jenkins_against_the_exact_monodromy():
+    """Jenkins P1 in stick-slip: the exact monodromy matrix (closed-form
+    phases, located transitions and the saltation that locks the slider at
+    slip onset, hbmfric.validation.exact) against Hill's multipliers from
+    the AFT Jacobian at H = 31. The AFT linearisation is exact only at
+    λ = 0 (docs/stability.md): the verdict agrees and the largest
+    multiplier is close (measured 0.006, 0.028, 0.029 apart at Ω = 1.6,
+    1.9, 2.2), the other one is not (0.22 against 0.03 at Ω = 1.6)."""
+    from hbmfric.validation.exact import _simulate
+
+    osc = hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0))
+    for w in (1.6, 1.9, 2.2):
+        ex = hf.validation.exact_periodic_solution(osc, 0.5, w)
+        assert ex.kind == "stick-slip"
+        model, t0 = ex._model, ex._segments[0].ta
+        x, v, fc = ex.states([t0])
+        _, _, J = _simulate(model, t0, model.state(x[:, 0], v[:, 0], fc[0]), True)
+        exact = np.max(np.abs(np.linalg.eigvals(J)))
+        sol = hf.periodic_solution(osc, 0.5, w, harmonics=31)
+        hill = np.max(np.abs(sol.stability().multipliers))
+        assert (exact < 1.0) == sol.stable
+        assert abs(hill - exact) < 0.04
