@@ -85,6 +85,9 @@ class PeriodicSolution:
     _source: dict | None = field(default=None, repr=False, compare=False)
     _stability: object = field(default=None, repr=False, compare=False)
 
+    def __getstate__(self) -> dict:
+        return _picklable_state(self)
+
     def amplitude(self, harmonic: int | None = None, dof=None) -> float:
         """Amplitude of ``x_dof``: of one harmonic (``sqrt(Xc² + Xs²)``), or
         with ``harmonic=None`` half the peak-to-peak of ``x(t)``, m.
@@ -226,6 +229,9 @@ class Branch:
     _source: dict | None = field(default=None, repr=False, compare=False)
     _stability: object = field(default=None, repr=False, compare=False)
     _hp: int | None = field(default=None, repr=False, compare=False)
+
+    def __getstate__(self) -> dict:
+        return _picklable_state(self)
 
     def __len__(self) -> int:
         return self.omega.size
@@ -869,6 +875,21 @@ class Branch:
             ) from None
         _check_branch_arrays(path, branch)
         return branch
+
+
+def _picklable_state(obj) -> dict:
+    """``obj.__dict__`` for pickling, without the recorded system when that
+    cannot be pickled (a branch returned by a worker process then needs
+    the system passed to ``stability``)."""
+    import pickle
+
+    state = obj.__dict__.copy()
+    try:
+        pickle.dumps(state.get("_source"))
+    except Exception:  # noqa: BLE001 - any pickling failure drops it
+        state["_source"] = None
+        state["_stability"] = None
+    return state
 
 
 def _stability_runs(piece: slice, stable: np.ndarray | None, join: bool = True):

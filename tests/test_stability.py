@@ -376,3 +376,21 @@ def test_jenkins_against_the_exact_monodromy():
         hill = np.max(np.abs(sol.stability().multipliers))
         assert (exact < 1.0) == sol.stable
         assert abs(hill - exact) < 0.04
+
+
+def test_pickled_branch_keeps_a_picklable_system_only(duffing_branch):
+    """A branch crosses process boundaries (hf.study workers): its system
+    travels when it pickles, and is dropped (not an error) when not."""
+    import pickle
+
+    osc, branch = duffing_branch
+    back = pickle.loads(pickle.dumps(branch))
+    np.testing.assert_array_equal(back.stable, branch.stable)
+    branch._source = {"system": osc, "unpicklable": lambda: None}
+    try:
+        back = pickle.loads(pickle.dumps(branch))
+    finally:
+        branch._source = {"system": osc}
+    assert back._source is None
+    with pytest.raises(ValueError, match="needs the system"):
+        back.stability()
