@@ -394,3 +394,31 @@ def test_pickled_branch_keeps_a_picklable_system_only(duffing_branch):
     assert back._source is None
     with pytest.raises(ValueError, match="needs the system"):
         back.stability()
+
+
+def test_selected_exponents_make_the_hill_pencil_singular(duffing_branch):
+    """Δ0 + λΔ1 + λ²Δ2 (hill_matrices) is singular at every selected
+    exponent, unfolded (λ + i m Ω for any m is an eigenvalue too), and
+    regular half-way between two of them."""
+    from hbmfric.hbm import HBMProblem
+    from hbmfric.stability import _to_full_basis, hill_matrices
+
+    osc, branch = duffing_branch
+    problem = HBMProblem(osc, branch.force, 9, symmetry=False)
+    for i in (10, branch.folds[0] + 20):
+        w = float(branch.omega[i])
+        y = np.append(
+            _to_full_basis(branch.harmonic_numbers, branch.coefficients[i], 9), w
+        )
+        J = problem.residual(y)[1][:, :-1]
+        d0, d1, d2 = hill_matrices(
+            J, np.eye(1), 0.05 * np.eye(1), problem.harmonic_numbers, w
+        )
+        lams = branch.stability().exponents[i]
+        for lam in (*lams, lams[0] + 1j * w, 0.5 * (lams[0] + lams[1])):
+            s = np.linalg.svd(d0 + lam * d1 + lam**2 * d2, compute_uv=False)
+            ratio = s[-1] / s[0]
+            if lam == 0.5 * (lams[0] + lams[1]):
+                assert ratio > 1e-6
+            else:
+                assert ratio < 1e-12
