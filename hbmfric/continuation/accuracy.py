@@ -84,7 +84,7 @@ def truncation_errors(
     if probe is None:
         errors[:] = np.inf
         return errors
-    kp, synthesis, y, R, J, A, dX = probe.work()
+    kp, synthesis, output, rates, y, R, J, A, dX = probe.work()
     branch_truncation(
         points,
         columns,
@@ -93,8 +93,8 @@ def truncation_errors(
         N_WORST,
         np.inf if tolerance is None else float(tolerance),
         kp,
-        probe.n_dof,
-        probe.dof,
+        output,
+        rates,
         probe.first_column,
         synthesis,
         y,

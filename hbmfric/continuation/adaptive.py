@@ -91,6 +91,7 @@ import numpy as np
 from ..kernels import arclength as _arclength
 from ..kernels import newton as _newton
 from ..kernels.truncation import truncation_change
+from ..systems.protocol import output_weights
 from .options import ContinuationOptions
 from .palc import MIN_STEP, NO_START, Continuation, ContinuationState
 
@@ -280,9 +281,22 @@ class _Level:
         hn = p.harmonic_numbers
         self.h = int(hn[-1])
         self.n_dof = p.n_unknowns // p.n_coef  # 1 for a problem condensed on a contact
-        # the measured DOF: the contact's (1 DOF: the only one)
+        # the contact DOF (1 DOF: the only one): the free measure and the
+        # linear test read it
         self.dof = int(getattr(p.system, "contact_dof", 0)) if self.n_dof > 1 else 0
+        # the output whose change the calibration measures (the system's
+        # ``output_weights``; a problem condensed onto the contact watches it)
+        if self.n_dof == int(getattr(p.system, "n_dof", self.n_dof)):
+            self.output = output_weights(p.system, self.n_dof, self.dof)
+        else:
+            self.output = np.ones((2, 1))
+            self.output[1, 0] = 0.0
         first = 1 if hn[0] == 0 else 0  # column of the first harmonic
+        # harmonic number of each column (for the velocity weights)
+        self.rates = np.zeros(p.n_coef)
+        for j, k in enumerate(hn):
+            c = 0 if k == 0 else first + 2 * (j - first)
+            self.rates[c : c + (1 if k == 0 else 2)] = float(k)
         base = [self.dof * p.n_coef]
         self.first_column = first
         self.first = [b + first for b in base]
@@ -329,8 +343,8 @@ class _Level:
 
     def work(self) -> tuple:
         """The calibration arguments of this level (as the next level of
-        another): ``(kernel problem, synthesis, y, R, J, A, dX)`` of
-        :func:`truncation_change`, allocated once."""
+        another): ``(kernel problem, synthesis, weights, rates, y, R, J, A,
+        dX)`` of :func:`truncation_change`, allocated once."""
         if self._work is None:
             n = self.n
             # the AFT's own synthesis samples, thinned to about 4 H
@@ -342,6 +356,8 @@ class _Level:
             self._work = (
                 self.problem.kernel_problem,
                 np.ascontiguousarray(inverse[::every]),
+                self.output,
+                self.rates,
                 np.empty(n + 1),
                 np.empty(n),
                 np.empty((n, n + 1)),
@@ -352,13 +368,13 @@ class _Level:
 
     def change(self, x: np.ndarray) -> float:
         """:func:`truncation_change` of a point ``x`` of a lower level."""
-        problem, synthesis, y, R, J, A, dX = self.work()
+        problem, synthesis, weights, rates, y, R, J, A, dX = self.work()
         return float(
             truncation_change(
                 x,
                 problem,
-                self.n_dof,
-                self.dof,
+                weights,
+                rates,
                 self.first_column,
                 synthesis,
                 y,

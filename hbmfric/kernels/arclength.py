@@ -106,7 +106,8 @@ W_CHANGE_FACTOR = 17
 #: a calibrated estimate below this is not carried to the next points
 #: (``adaptive.ONSET`` times the tolerance)
 W_TOP_FLOOR = 18
-#: DOFs among the unknowns, measured DOF, column of the first harmonic
+#: DOFs among the unknowns, contact DOF (informative: the calibration
+#: reads the watched output's weights), column of the first harmonic
 W_N_DOF = 19
 W_DOF = 20
 W_FIRST_COLUMN = 21
@@ -318,8 +319,8 @@ def stays(y, watch, calibration):
 
     A due calibration (``watch[W_CALIBRATE] != 0``) runs here:
     :func:`~hbmfric.kernels.truncation.truncation_change` on the next
-    level's problem and work arrays ``calibration = (problem, synthesis,
-    y, R, J, A, dX)``; the level is kept when the fresh estimate ahead is
+    level's problem, watched output and work arrays ``calibration =
+    (problem, synthesis, weights, rates, y, R, J, A, dX)``; the level is kept when the fresh estimate ahead is
     at most the raise threshold and the estimate not below the lower one
     (the rule of ``_adapt`` after a calibration, without margin), updating
     the ratio, the last estimate, the age and the count of calibrations in
@@ -338,12 +339,12 @@ def stays(y, watch, calibration):
     if not age < watch[W_RECALIBRATE]:
         if watch[W_CALIBRATE] == 0.0:
             return False
-        problem, synthesis, cy, cR, cJ, cA, cdX = calibration
+        problem, synthesis, weights, rates, cy, cR, cJ, cA, cdX = calibration
         change = truncation_change(
             y,
             problem,
-            int(watch[W_N_DOF]),
-            int(watch[W_DOF]),
+            weights,
+            rates,
             int(watch[W_FIRST_COLUMN]),
             synthesis,
             cy,
