@@ -320,12 +320,12 @@ def stays(y, watch, calibration):
     A due calibration (``watch[W_CALIBRATE] != 0``) runs here:
     :func:`~hbmfric.kernels.truncation.truncation_change` on the next
     level's problem, watched output and work arrays ``calibration =
-    (problem, synthesis, weights, rates, y, R, J, A, dX)``; the level is kept when the fresh estimate ahead is
-    at most the raise threshold and the estimate not below the lower one
-    (the rule of ``_adapt`` after a calibration, without margin), updating
-    the ratio, the last estimate, the age and the count of calibrations in
-    ``watch``. Otherwise the change is left in ``watch[W_CHANGE]`` for the
-    caller's decision."""
+    (problem, synthesis, weights, rates, y, R, J, A, dX)``; the level is
+    kept when the fresh estimate ahead is at most the raise threshold and
+    the estimate not below the lower one (the rule of ``_adapt`` after a
+    calibration, without margin), updating the ratio, the last estimate,
+    the age and the count of calibrations in ``watch``. Otherwise the
+    change is left in ``watch[W_CHANGE]`` for the caller's decision."""
     measure = top_measure(y, watch)
     if measure <= watch[W_LINEAR]:
         # a linear response: stays only at the lowest level, where it is
