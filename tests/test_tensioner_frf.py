@@ -104,13 +104,6 @@ def test_shooting_reference_agrees_with_the_jit_integrator():
     assert errors[1] < 1e-5 and errors[1] < errors[0] / 3.0
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="the truncation estimate watches the pulley displacement, not the "
-    "tension: with the sharper estimate (issue 14, estimator) auto drops to H = 3 "
-    "at 92 Hz, where the displacement is within 1.2e-5 but the tension range "
-    "4.2e-4 off (measured after the merge)",
-)
 def test_default_branch_matches_the_reference(default_branch):
     """Default ``hf.frf`` within 1e-4 of the shooting reference (tension
     range, first harmonic of both DOFs) where the sampled Dahl AFT at the
@@ -165,13 +158,6 @@ def test_subharmonic_hbm_frf_against_the_reference():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(
-    strict=True,
-    reason="the truncation estimate watches the pulley displacement, not the "
-    "tension: with the sharper estimate (issue 14) auto runs too few harmonics "
-    "for the tension range at some points of every force (e.g. H = 3 at 92 Hz, "
-    "20 N: 4.2e-4)",
-)
 @pytest.mark.parametrize("force", [2.0, 5.0, 20.0, 50.0])
 def test_default_branch_against_the_reference_over_the_band(force):
     """The paper's Fig. 5 amplitudes at default settings: every 4th point of
