@@ -3,8 +3,8 @@
 A branch traced with a fixed highest harmonic ``H`` carries, per point, the
 same estimate the adaptive-harmonics run keeps below its tolerance
 (:mod:`hbmfric.continuation.adaptive`): the relative error of the
-first-harmonic amplitude and of half the peak-to-peak value at the contact
-DOF,
+first-harmonic amplitude and of half the peak-to-peak value of the watched
+output (the contact DOF's displacement, or the system's ``output_weights``),
 
     ``CHANGE_FACTOR * change``
 
@@ -68,9 +68,10 @@ def truncation_errors(
     -------
     ndarray, shape (n_points,)
         Estimated relative error of the first-harmonic amplitude and of half
-        the peak-to-peak value at the contact DOF (dimensionless); 0 for a
-        linear (stuck) point; inf where the estimate could not be formed
-        (``H = 1``, or a failed evaluation in the larger basis).
+        the peak-to-peak value of the watched output (the contact DOF by
+        default; dimensionless); 0 for a linear (stuck) point; inf where
+        the estimate could not be formed (``H = 1``, or a failed evaluation
+        in the larger basis).
     """
     points = np.asarray(points, dtype=np.float64)
     n_points = points.shape[0]

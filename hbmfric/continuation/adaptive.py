@@ -2,9 +2,16 @@
 along the branch from an estimate of the truncation error.
 
 Estimate. The error is that of the first-harmonic amplitude and of half the
-peak-to-peak value at the contact DOF (where the higher harmonics are made;
-the linear structure filters them elsewhere: on the beam the error at the
-tip is at most 0.12 times the one at the contact). Their change when the
+peak-to-peak value of the watched output: by default the contact DOF's
+displacement (where the higher harmonics are made; the linear structure
+filters them elsewhere: on the beam the error at the tip is at most 0.12
+times the one at the contact), or the linear combination of displacements
+and velocities a system names (``output_weights``, see
+:mod:`hbmfric.systems.protocol`; the belt tensioner's tension, whose
+relative change near 92 Hz at H = 5 was 30-250 times the pulley's). A
+problem condensed onto the contact watches the contact. The free measure
+below reads the contact DOF; the calibration carries its ratio to the
+output's change. Their change when the
 basis grows to the probe level (:func:`probe_level`: two rungs of the
 ladder up, about ``2 H``) is computed to first order by
 :func:`hbmfric.kernels.truncation.truncation_change` (one residual and one
@@ -518,7 +525,7 @@ class AdaptiveContinuation:
 
     def _linear(self, h: int, y: np.ndarray) -> bool:
         """Whether every harmonic above the lowest level vanishes at the
-        measured DOF (a stuck contact, a linear response): then the lowest
+        contact DOF (a stuck contact, a linear response): then the lowest
         level is exact. A vanishing top harmonic alone is not enough (a
         cubic spring's harmonics decay geometrically)."""
         level, lowest = self._levels[h], self._level(self.ladder[0])

@@ -1,5 +1,7 @@
 """Truncation-error estimate of a harmonic-balance solution: the first-order
-change of the response when more harmonics are admitted.
+change of the response when more harmonics are admitted, measured on one
+output, a linear combination of the DOFs' displacements and velocities
+(the system's ``output_weights``; by default the contact DOF).
 
 Used by the adaptive-harmonics continuation
 (:mod:`hbmfric.continuation.adaptive`).
