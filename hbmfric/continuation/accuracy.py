@@ -116,10 +116,7 @@ def _levels(problem) -> tuple:
     if not level.top:
         return level, None, None, None
     probe = _Level(problem.with_harmonics(probe_level(level.h)), None)
-    columns = np.array(
-        [level.first[0], level.top[0], level.prev[0] if level.prev else -1],
-        dtype=np.int64,
-    )
+    columns = np.array(level.columns, dtype=np.int64)
     weights = np.array(
         [level.h, level.prev_weight, LINEAR * 1e-4, CHANGE_FACTOR, CARRY_FLOOR]
     )

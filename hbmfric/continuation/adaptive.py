@@ -10,10 +10,11 @@ and velocities a system names (``output_weights``, see
 :mod:`hbmfric.systems.protocol`; the belt tensioner's tension, whose
 relative change near 92 Hz at H = 5 was 30-250 times the pulley's). A
 problem condensed onto the contact watches the contact. The free measure
-below reads the contact DOF; the calibration carries its ratio to the
-output's change. Their change when the
-basis grows to the probe level (:func:`probe_level`: two rungs of the
-ladder up, about ``2 H``) is computed to first order by
+below is the output's too (read from the contact DOF alone, the ratio it
+carries drifted 8-fold within 32 points where the tension's first harmonic
+nearly vanishes, 93 Hz at f1 = 2 N). Their change when the basis grows
+to the probe level (:func:`probe_level`: two rungs of the ladder up, about
+``2 H``) is computed to first order by
 :func:`hbmfric.kernels.truncation.truncation_change` (one residual and one
 LU in the larger basis at the zero-padded point: about one Newton
 iteration there). That calibration runs every ``RECALIBRATE`` points and
@@ -97,7 +98,7 @@ import numpy as np
 
 from ..kernels import arclength as _arclength
 from ..kernels import newton as _newton
-from ..kernels.truncation import truncation_change
+from ..kernels.truncation import output_measure, truncation_change
 from ..systems.protocol import output_weights
 from .options import ContinuationOptions
 from .palc import MIN_STEP, NO_START, Continuation, ContinuationState
@@ -312,6 +313,13 @@ class _Level:
         k_prev = int(hn[-2]) if hn.size >= 2 else 0
         self.prev = [b + prev for b in base] if k_prev > 1 else []
         self.prev_weight = (k_prev / self.h) ** 4 if k_prev > 1 else 0.0
+        #: columns within a DOF of the first, the highest and the
+        #: second-highest harmonic (-1: none) for the free measure
+        self.columns = (
+            first,
+            top if self.h > 1 else -1,
+            prev if k_prev > 1 else -1,
+        )
         self._work = None
         #: level-only part of the watch array and the next level's
         #: calibration arguments (:meth:`AdaptiveContinuation._watch`)
@@ -325,28 +333,22 @@ class _Level:
         return self._cont
 
     def measure(self, y: np.ndarray) -> float:
-        """Free measure at ``y`` (this level's layout); inf for ``H = 1``."""
-        if not self.top:
-            return math.inf
-        hypot = math.hypot
-        a1 = 0.0
-        for i in self.first:
-            a = hypot(y[i], y[i + 1])
-            if a > a1:
-                a1 = a
-        top = 0.0
-        for i in self.top:
-            a = hypot(y[i], y[i + 1])
-            if a > top:
-                top = a
-        w = self.prev_weight
-        for i in self.prev:
-            a = w * hypot(y[i], y[i + 1])
-            if a > top:
-                top = a
-        if a1 == 0.0:
-            return 0.0 if top == 0.0 else math.inf
-        return self.h * top / a1
+        """Free measure of the watched output at ``y`` (this level's
+        layout; :func:`~hbmfric.kernels.truncation.output_measure`, the
+        compiled run's own arithmetic); inf for ``H = 1``."""
+        first, top, prev = self.columns
+        return float(
+            output_measure(
+                y,
+                self.output,
+                self.rates,
+                first,
+                top,
+                prev,
+                float(self.h),
+                self.prev_weight,
+            )
+        )
 
     def work(self) -> tuple:
         """The calibration arguments of this level (as the next level of
@@ -744,9 +746,7 @@ class AdaptiveContinuation:
         w[a.W_LINEAR] = LINEAR * tol
         w[a.W_H] = level.h
         w[a.W_PREV_WEIGHT] = level.prev_weight
-        w[a.W_FIRST] = level.first[0]
-        w[a.W_TOP] = level.top[0] if level.top else -1
-        w[a.W_PREV] = level.prev[0] if level.prev else -1
+        w[a.W_FIRST], w[a.W_TOP], w[a.W_PREV] = level.columns
         w[a.W_LOWEST] = float(level.h == self.ladder[0])
         w[a.W_CALIBRATE] = 1.0  # every level has a probe level
         w[a.W_CHANGE_FACTOR] = CHANGE_FACTOR

@@ -58,6 +58,84 @@ def output_coefficients(X, base_stride, weights, rates, omega, first, out):
 
 
 @jit
+def output_amplitude(y, weights, rates, column):
+    """Amplitude of one harmonic of the watched output at the point ``y``.
+
+    Parameters
+    ----------
+    y : ndarray, shape (n_dof * n_coef + 1,)
+        ``[X, Ω]``.
+    weights : ndarray, shape (2, n_dof)
+        Displacement and velocity weights (:func:`output_coefficients`).
+    rates : ndarray, shape (n_coef_rates,)
+        Harmonic number per column (of this basis or of a larger one whose
+        harmonics extend it: the columns coincide).
+    column : int
+        Column of the harmonic's cosine coefficient within a DOF.
+
+    Returns
+    -------
+    float
+        ``sqrt(c² + s²)`` of the output's coefficients of that harmonic.
+    """
+    n_dof = weights.shape[1]
+    n_coef = (y.size - 1) // n_dof
+    w = rates[column] * y[y.size - 1]
+    c = 0.0
+    s = 0.0
+    for d in range(n_dof):
+        i = d * n_coef + column
+        a = weights[0, d]
+        if a != 0.0:
+            c += a * y[i]
+            s += a * y[i + 1]
+        b = weights[1, d]
+        if b != 0.0:
+            c += b * w * y[i + 1]
+            s -= b * w * y[i]
+    return np.hypot(c, s)
+
+
+@jit
+def output_measure(y, weights, rates, first, top, prev, h, prev_weight):
+    """Free truncation measure ``H max(|Z_H|, w |Z_K'|) / |Z_1|`` of the
+    watched output ``Z`` at the point ``y`` (``K'`` the harmonic below
+    ``H``, ``w = (K'/H)^4``).
+
+    Parameters
+    ----------
+    y : ndarray, shape (n_dof * n_coef + 1,)
+        ``[X, Ω]``.
+    weights, rates
+        As in :func:`output_amplitude`.
+    first, top, prev : int
+        Columns within a DOF of the first, the highest and the
+        second-highest harmonic (``top < 0``: none above the first;
+        ``prev < 0``: no ``K' > 1``).
+    h : float
+        ``H``.
+    prev_weight : float
+        ``w``.
+
+    Returns
+    -------
+    float
+        inf without a harmonic above the first; 0 for an output at rest.
+    """
+    if top < 0:
+        return np.inf
+    a1 = output_amplitude(y, weights, rates, first)
+    t = output_amplitude(y, weights, rates, top)
+    if prev >= 0:
+        a = prev_weight * output_amplitude(y, weights, rates, prev)
+        if a > t:
+            t = a
+    if a1 == 0.0:
+        return 0.0 if t == 0.0 else np.inf
+    return h * t / a1
+
+
+@jit
 def truncation_change(x, problem, weights, rates, first, synthesis, y, R, J, A, dX):
     """Relative change of the first-harmonic amplitude and of half the
     peak-to-peak value of the watched output when a solution gains
@@ -218,9 +296,9 @@ def branch_truncation(
     points : ndarray, shape (n_points, n + 1)
         ``[X, Ω]`` per point in the branch's basis.
     columns : ndarray of int64, shape (3,)
-        Columns of the cosine coefficient of the first, the highest and the
-        second-highest harmonic at the contact DOF (-1: none), for the free
-        measure.
+        Columns within a DOF of the cosine coefficient of the first, the
+        highest and the second-highest harmonic (-1: none), for the free
+        measure of the output (:func:`output_measure`).
     weights : ndarray, shape (5,)
         ``H``, the weight ``(K'/H)^4`` of the second-highest harmonic, the
         free measure under which a point is linear, the estimate per change
@@ -252,14 +330,7 @@ def branch_truncation(
     nonlinear = np.empty(n_points, dtype=np.int64)
     n_nl = 0
     for i in range(n_points):
-        a1 = np.hypot(points[i, c1], points[i, c1 + 1])
-        top = np.hypot(points[i, ct], points[i, ct + 1])
-        if cp >= 0:
-            top = max(top, w * np.hypot(points[i, cp], points[i, cp + 1]))
-        if a1 == 0.0:
-            m = 0.0 if top == 0.0 else np.inf
-        else:
-            m = h * top / a1
+        m = output_measure(points[i], output, rates, c1, ct, cp, h, w)
         measure[i] = m
         errors[i] = 0.0
         if m > linear:
