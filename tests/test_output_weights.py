@@ -172,3 +172,19 @@ class _Weighted:
 def test_invalid_output_weights_are_named(weights, match):
     with pytest.raises(ValueError, match=match):
         check_system(_Weighted(weights))
+
+
+def test_free_measure_is_the_tensions():
+    """The free measure ``H max(|Z_H|, (K'/H)^4 |Z_K'|) / |Z_1|`` the
+    estimate carries between calibrations is that of the tension, formed
+    in NumPy by :func:`tension_coefficients` (its ratio to the change then
+    stays put where the tension's first harmonic nearly vanishes)."""
+    p, points = _points(RIG)
+    level = _Level(p, None)
+    hn = p.harmonic_numbers
+    assert hn[-1] == 5 and hn[-2] == 4
+    for y in points[:: max(1, len(points) // 8)]:
+        z = tension_coefficients(RIG, hn, y[:-1].reshape(2, p.n_coef), y[-1])
+        amp = np.hypot(z[1::2], z[2::2])  # harmonics 1..5
+        expected = 5 * max(amp[4], (4 / 5) ** 4 * amp[3]) / amp[0]
+        assert level.measure(y) == pytest.approx(expected, rel=1e-12)
