@@ -181,8 +181,9 @@ class Branch:
         Named DOFs of the system (e.g. ``"tip"``, ``"force"``) → index.
     truncation_error : ndarray, shape (n_points,), optional
         Estimated relative truncation error of each point: of the
-        first-harmonic amplitude and of half the peak-to-peak value at the
-        contact DOF (:mod:`hbmfric.continuation.accuracy`); 0 at a linear
+        first-harmonic amplitude and of half the peak-to-peak value of the
+        watched output (the contact DOF, or the system's ``output_weights``;
+        :mod:`hbmfric.continuation.accuracy`); 0 at a linear
         (stuck) point. None for branches saved before it existed.
     pieces : ndarray of int, shape (n_pieces,), optional
         Index of the first point of each separately traced piece (the first

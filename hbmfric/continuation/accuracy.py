@@ -3,8 +3,8 @@
 A branch traced with a fixed highest harmonic ``H`` carries, per point, the
 same estimate the adaptive-harmonics run keeps below its tolerance
 (:mod:`hbmfric.continuation.adaptive`): the relative error of the
-first-harmonic amplitude and of half the peak-to-peak value at the contact
-DOF,
+first-harmonic amplitude and of half the peak-to-peak value of the watched
+output (the contact DOF's displacement, or the system's ``output_weights``),
 
     ``CHANGE_FACTOR * change``
 
@@ -68,9 +68,10 @@ def truncation_errors(
     -------
     ndarray, shape (n_points,)
         Estimated relative error of the first-harmonic amplitude and of half
-        the peak-to-peak value at the contact DOF (dimensionless); 0 for a
-        linear (stuck) point; inf where the estimate could not be formed
-        (``H = 1``, or a failed evaluation in the larger basis).
+        the peak-to-peak value of the watched output (the contact DOF by
+        default; dimensionless); 0 for a linear (stuck) point; inf where
+        the estimate could not be formed (``H = 1``, or a failed evaluation
+        in the larger basis).
     """
     points = np.asarray(points, dtype=np.float64)
     n_points = points.shape[0]
@@ -84,7 +85,7 @@ def truncation_errors(
     if probe is None:
         errors[:] = np.inf
         return errors
-    kp, synthesis, y, R, J, A, dX = probe.work()
+    kp, synthesis, output, rates, y, R, J, A, dX = probe.work()
     branch_truncation(
         points,
         columns,
@@ -93,8 +94,8 @@ def truncation_errors(
         N_WORST,
         np.inf if tolerance is None else float(tolerance),
         kp,
-        probe.n_dof,
-        probe.dof,
+        output,
+        rates,
         probe.first_column,
         synthesis,
         y,
@@ -115,10 +116,7 @@ def _levels(problem) -> tuple:
     if not level.top:
         return level, None, None, None
     probe = _Level(problem.with_harmonics(probe_level(level.h)), None)
-    columns = np.array(
-        [level.first[0], level.top[0], level.prev[0] if level.prev else -1],
-        dtype=np.int64,
-    )
+    columns = np.array(level.columns, dtype=np.int64)
     weights = np.array(
         [level.h, level.prev_weight, LINEAR * 1e-4, CHANGE_FACTOR, CARRY_FLOOR]
     )

@@ -2,11 +2,19 @@
 along the branch from an estimate of the truncation error.
 
 Estimate. The error is that of the first-harmonic amplitude and of half the
-peak-to-peak value at the contact DOF (where the higher harmonics are made;
-the linear structure filters them elsewhere: on the beam the error at the
-tip is at most 0.12 times the one at the contact). Their change when the
-basis grows to the probe level (:func:`probe_level`: two rungs of the
-ladder up, about ``2 H``) is computed to first order by
+peak-to-peak value of the watched output: by default the contact DOF's
+displacement (where the higher harmonics are made; the linear structure
+filters them elsewhere: on the beam the error at the tip is at most 0.12
+times the one at the contact), or the linear combination of displacements
+and velocities a system names (``output_weights``, see
+:mod:`hbmfric.systems.protocol`; the belt tensioner's tension, whose
+relative change near 92 Hz at H = 5 was 30-250 times the pulley's). A
+problem condensed onto the contact watches the contact. The free measure
+below is the output's too (read from the contact DOF alone, the ratio it
+carries drifted 8-fold within 32 points where the tension's first harmonic
+nearly vanishes, 93 Hz at f1 = 2 N). Their change when the basis grows
+to the probe level (:func:`probe_level`: two rungs of the ladder up, about
+``2 H``) is computed to first order by
 :func:`hbmfric.kernels.truncation.truncation_change` (one residual and one
 LU in the larger basis at the zero-padded point: about one Newton
 iteration there). That calibration runs every ``RECALIBRATE`` points and
@@ -90,7 +98,8 @@ import numpy as np
 
 from ..kernels import arclength as _arclength
 from ..kernels import newton as _newton
-from ..kernels.truncation import truncation_change
+from ..kernels.truncation import output_measure, truncation_change
+from ..systems.protocol import output_weights
 from .options import ContinuationOptions
 from .palc import MIN_STEP, NO_START, Continuation, ContinuationState
 
@@ -280,9 +289,22 @@ class _Level:
         hn = p.harmonic_numbers
         self.h = int(hn[-1])
         self.n_dof = p.n_unknowns // p.n_coef  # 1 for a problem condensed on a contact
-        # the measured DOF: the contact's (1 DOF: the only one)
+        # the contact DOF (1 DOF: the only one): the free measure and the
+        # linear test read it
         self.dof = int(getattr(p.system, "contact_dof", 0)) if self.n_dof > 1 else 0
+        # the output whose change the calibration measures (the system's
+        # ``output_weights``; a problem condensed onto the contact watches it)
+        if self.n_dof == int(getattr(p.system, "n_dof", self.n_dof)):
+            self.output = output_weights(p.system, self.n_dof, self.dof)
+        else:
+            self.output = np.ones((2, 1))
+            self.output[1, 0] = 0.0
         first = 1 if hn[0] == 0 else 0  # column of the first harmonic
+        # harmonic number of each column (for the velocity weights)
+        self.rates = np.zeros(p.n_coef)
+        for j, k in enumerate(hn):
+            c = 0 if k == 0 else first + 2 * (j - first)
+            self.rates[c : c + (1 if k == 0 else 2)] = float(k)
         base = [self.dof * p.n_coef]
         self.first_column = first
         self.first = [b + first for b in base]
@@ -291,6 +313,13 @@ class _Level:
         k_prev = int(hn[-2]) if hn.size >= 2 else 0
         self.prev = [b + prev for b in base] if k_prev > 1 else []
         self.prev_weight = (k_prev / self.h) ** 4 if k_prev > 1 else 0.0
+        #: columns within a DOF of the first, the highest and the
+        #: second-highest harmonic (-1: none) for the free measure
+        self.columns = (
+            first,
+            top if self.h > 1 else -1,
+            prev if k_prev > 1 else -1,
+        )
         self._work = None
         #: level-only part of the watch array and the next level's
         #: calibration arguments (:meth:`AdaptiveContinuation._watch`)
@@ -304,33 +333,27 @@ class _Level:
         return self._cont
 
     def measure(self, y: np.ndarray) -> float:
-        """Free measure at ``y`` (this level's layout); inf for ``H = 1``."""
-        if not self.top:
-            return math.inf
-        hypot = math.hypot
-        a1 = 0.0
-        for i in self.first:
-            a = hypot(y[i], y[i + 1])
-            if a > a1:
-                a1 = a
-        top = 0.0
-        for i in self.top:
-            a = hypot(y[i], y[i + 1])
-            if a > top:
-                top = a
-        w = self.prev_weight
-        for i in self.prev:
-            a = w * hypot(y[i], y[i + 1])
-            if a > top:
-                top = a
-        if a1 == 0.0:
-            return 0.0 if top == 0.0 else math.inf
-        return self.h * top / a1
+        """Free measure of the watched output at ``y`` (this level's
+        layout; :func:`~hbmfric.kernels.truncation.output_measure`, the
+        compiled run's own arithmetic); inf for ``H = 1``."""
+        first, top, prev = self.columns
+        return float(
+            output_measure(
+                y,
+                self.output,
+                self.rates,
+                first,
+                top,
+                prev,
+                float(self.h),
+                self.prev_weight,
+            )
+        )
 
     def work(self) -> tuple:
         """The calibration arguments of this level (as the next level of
-        another): ``(kernel problem, synthesis, y, R, J, A, dX)`` of
-        :func:`truncation_change`, allocated once."""
+        another): ``(kernel problem, synthesis, weights, rates, y, R, J, A,
+        dX)`` of :func:`truncation_change`, allocated once."""
         if self._work is None:
             n = self.n
             # the AFT's own synthesis samples, thinned to about 4 H
@@ -342,6 +365,8 @@ class _Level:
             self._work = (
                 self.problem.kernel_problem,
                 np.ascontiguousarray(inverse[::every]),
+                self.output,
+                self.rates,
                 np.empty(n + 1),
                 np.empty(n),
                 np.empty((n, n + 1)),
@@ -352,13 +377,13 @@ class _Level:
 
     def change(self, x: np.ndarray) -> float:
         """:func:`truncation_change` of a point ``x`` of a lower level."""
-        problem, synthesis, y, R, J, A, dX = self.work()
+        problem, synthesis, weights, rates, y, R, J, A, dX = self.work()
         return float(
             truncation_change(
                 x,
                 problem,
-                self.n_dof,
-                self.dof,
+                weights,
+                rates,
                 self.first_column,
                 synthesis,
                 y,
@@ -502,7 +527,7 @@ class AdaptiveContinuation:
 
     def _linear(self, h: int, y: np.ndarray) -> bool:
         """Whether every harmonic above the lowest level vanishes at the
-        measured DOF (a stuck contact, a linear response): then the lowest
+        contact DOF (a stuck contact, a linear response): then the lowest
         level is exact. A vanishing top harmonic alone is not enough (a
         cubic spring's harmonics decay geometrically)."""
         level, lowest = self._levels[h], self._level(self.ladder[0])
@@ -721,9 +746,7 @@ class AdaptiveContinuation:
         w[a.W_LINEAR] = LINEAR * tol
         w[a.W_H] = level.h
         w[a.W_PREV_WEIGHT] = level.prev_weight
-        w[a.W_FIRST] = level.first[0]
-        w[a.W_TOP] = level.top[0] if level.top else -1
-        w[a.W_PREV] = level.prev[0] if level.prev else -1
+        w[a.W_FIRST], w[a.W_TOP], w[a.W_PREV] = level.columns
         w[a.W_LOWEST] = float(level.h == self.ladder[0])
         w[a.W_CALIBRATE] = 1.0  # every level has a probe level
         w[a.W_CHANGE_FACTOR] = CHANGE_FACTOR

@@ -800,7 +800,8 @@ class Continuation:
         adaptive harmonics (never used)."""
         if self._no_calibration is None:
             e1, e2 = np.zeros(1), np.zeros((1, 1))
-            self._no_calibration = (self.problem.kernel_problem, e2, e1, e1, e2, e2, e1)
+            kp = self.problem.kernel_problem
+            self._no_calibration = (kp, e2, e2, e1, e1, e1, e2, e2, e1)
         return self._no_calibration
 
     @staticmethod

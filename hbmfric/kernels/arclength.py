@@ -20,7 +20,7 @@ import numpy as np
 
 from .._jit import jit
 from .newton import CONVERGED, _norm_inf, palc_step
-from .truncation import truncation_change
+from .truncation import output_measure, truncation_change
 
 # indices into the settings array
 MIN_STEP = 0
@@ -106,7 +106,8 @@ W_CHANGE_FACTOR = 17
 #: a calibrated estimate below this is not carried to the next points
 #: (``adaptive.ONSET`` times the tolerance)
 W_TOP_FLOOR = 18
-#: DOFs among the unknowns, measured DOF, column of the first harmonic
+#: DOFs among the unknowns, contact DOF (informative: the calibration
+#: reads the watched output's weights), column of the first harmonic
 W_N_DOF = 19
 W_DOF = 20
 W_FIRST_COLUMN = 21
@@ -284,25 +285,23 @@ def follow_amplitude(y, tangent, scale, base_scale):
 
 
 @jit
-def top_measure(y, watch):
-    """Free truncation measure ``H max(|X_H|, w |X_K'|) / |X_1|`` of the
-    point ``y`` at the measured DOF (indices and ``w`` from ``watch``, see
+def top_measure(y, watch, weights, rates):
+    """Free truncation measure ``H max(|Z_H|, w |Z_K'|) / |Z_1|`` of the
+    watched output ``Z`` (``weights``, ``rates``: see
+    :func:`~hbmfric.kernels.truncation.output_measure`) at the point ``y``
+    (columns and ``w`` from ``watch``, see
     :meth:`hbmfric.continuation.adaptive._Level.measure`): inf without a
-    retained harmonic above the first, 0 for a DOF at rest."""
-    i_top = int(watch[W_TOP])
-    if i_top < 0:
-        return np.inf
-    i = int(watch[W_FIRST])
-    a1 = np.hypot(y[i], y[i + 1])
-    top = np.hypot(y[i_top], y[i_top + 1])
-    i_prev = int(watch[W_PREV])
-    if i_prev >= 0:
-        a = watch[W_PREV_WEIGHT] * np.hypot(y[i_prev], y[i_prev + 1])
-        if a > top:
-            top = a
-    if a1 == 0.0:
-        return 0.0 if top == 0.0 else np.inf
-    return watch[W_H] * top / a1
+    retained harmonic above the first, 0 for an output at rest."""
+    return output_measure(
+        y,
+        weights,
+        rates,
+        int(watch[W_FIRST]),
+        int(watch[W_TOP]),
+        int(watch[W_PREV]),
+        watch[W_H],
+        watch[W_PREV_WEIGHT],
+    )
 
 
 @jit
@@ -318,14 +317,14 @@ def stays(y, watch, calibration):
 
     A due calibration (``watch[W_CALIBRATE] != 0``) runs here:
     :func:`~hbmfric.kernels.truncation.truncation_change` on the next
-    level's problem and work arrays ``calibration = (problem, synthesis,
-    y, R, J, A, dX)``; the level is kept when the fresh estimate ahead is
-    at most the raise threshold and the estimate not below the lower one
-    (the rule of ``_adapt`` after a calibration, without margin), updating
-    the ratio, the last estimate, the age and the count of calibrations in
-    ``watch``. Otherwise the change is left in ``watch[W_CHANGE]`` for the
-    caller's decision."""
-    measure = top_measure(y, watch)
+    level's problem, watched output and work arrays ``calibration =
+    (problem, synthesis, weights, rates, y, R, J, A, dX)``; the level is
+    kept when the fresh estimate ahead is at most the raise threshold and
+    the estimate not below the lower one (the rule of ``_adapt`` after a
+    calibration, without margin), updating the ratio, the last estimate,
+    the age and the count of calibrations in ``watch``. Otherwise the
+    change is left in ``watch[W_CHANGE]`` for the caller's decision."""
+    measure = top_measure(y, watch, calibration[2], calibration[3])
     if measure <= watch[W_LINEAR]:
         # a linear response: stays only at the lowest level, where it is
         # exact (the estimate is then 0)
@@ -338,12 +337,12 @@ def stays(y, watch, calibration):
     if not age < watch[W_RECALIBRATE]:
         if watch[W_CALIBRATE] == 0.0:
             return False
-        problem, synthesis, cy, cR, cJ, cA, cdX = calibration
+        problem, synthesis, weights, rates, cy, cR, cJ, cA, cdX = calibration
         change = truncation_change(
             y,
             problem,
-            int(watch[W_N_DOF]),
-            int(watch[W_DOF]),
+            weights,
+            rates,
             int(watch[W_FIRST_COLUMN]),
             synthesis,
             cy,

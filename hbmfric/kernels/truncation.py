@@ -1,5 +1,7 @@
 """Truncation-error estimate of a harmonic-balance solution: the first-order
-change of the response when more harmonics are admitted.
+change of the response when more harmonics are admitted, measured on one
+output, a linear combination of the DOFs' displacements and velocities
+(the system's ``output_weights``; by default the contact DOF).
 
 Used by the adaptive-harmonics continuation
 (:mod:`hbmfric.continuation.adaptive`).
@@ -13,15 +15,140 @@ from .residual import residual
 
 
 @jit
-def truncation_change(x, problem, n_dof, dof, first, synthesis, y, R, J, A, dX):
+def output_coefficients(X, base_stride, weights, rates, omega, first, out):
+    """Fourier coefficients of the watched output ``sum_d a_d x_d + b_d ẋ_d``.
+
+    Parameters
+    ----------
+    X : ndarray, shape (n_dof * n_coef (+ 1),)
+        Coefficients per DOF (``X[d * base_stride + k]``), m; a trailing
+        ``Ω`` is ignored.
+    base_stride : int
+        ``n_coef``, the columns per DOF.
+    weights : ndarray, shape (2, n_dof)
+        Displacement weights ``a`` (row 0) and velocity weights ``b`` (row
+        1, s) of the output.
+    rates : ndarray, shape (n_coef,)
+        Harmonic number of each column (0 for the constant).
+    omega : float
+        Fundamental pulsation of the basis, rad/s.
+    first : int
+        Column of the first cosine coefficient (1 with a constant, else 0).
+    out : ndarray, shape (n_coef,)
+        The output's coefficients on return. In the cos/sin basis the pair
+        ``(c, s)`` of harmonic ``h`` differentiates to ``h Ω (s, −c)``.
+    """
+    n_coef = base_stride
+    n_dof = weights.shape[1]
+    for k in range(n_coef):
+        out[k] = 0.0
+    for d in range(n_dof):
+        a = weights[0, d]
+        if a != 0.0:
+            for k in range(n_coef):
+                out[k] += a * X[d * n_coef + k]
+        b = weights[1, d]
+        if b != 0.0:
+            for k in range(first, n_coef - 1, 2):
+                w = b * rates[k] * omega
+                c = X[d * n_coef + k]
+                s = X[d * n_coef + k + 1]
+                out[k] += w * s
+                out[k + 1] -= w * c
+
+
+@jit
+def output_amplitude(y, weights, rates, column):
+    """Amplitude of one harmonic of the watched output at the point ``y``.
+
+    Parameters
+    ----------
+    y : ndarray, shape (n_dof * n_coef + 1,)
+        ``[X, Ω]``.
+    weights : ndarray, shape (2, n_dof)
+        Displacement and velocity weights (:func:`output_coefficients`).
+    rates : ndarray, shape (n_coef_rates,)
+        Harmonic number per column (of this basis or of a larger one whose
+        harmonics extend it: the columns coincide).
+    column : int
+        Column of the harmonic's cosine coefficient within a DOF.
+
+    Returns
+    -------
+    float
+        ``sqrt(c² + s²)`` of the output's coefficients of that harmonic.
+    """
+    n_dof = weights.shape[1]
+    n_coef = (y.size - 1) // n_dof
+    w = rates[column] * y[y.size - 1]
+    c = 0.0
+    s = 0.0
+    for d in range(n_dof):
+        i = d * n_coef + column
+        a = weights[0, d]
+        if a != 0.0:
+            c += a * y[i]
+            s += a * y[i + 1]
+        b = weights[1, d]
+        if b != 0.0:
+            c += b * w * y[i + 1]
+            s -= b * w * y[i]
+    return np.hypot(c, s)
+
+
+@jit
+def output_measure(y, weights, rates, first, top, prev, h, prev_weight):
+    """Free truncation measure ``H max(|Z_H|, w |Z_K'|) / |Z_1|`` of the
+    watched output ``Z`` at the point ``y`` (``K'`` the harmonic below
+    ``H``, ``w = (K'/H)^4``).
+
+    Parameters
+    ----------
+    y : ndarray, shape (n_dof * n_coef + 1,)
+        ``[X, Ω]``.
+    weights, rates
+        As in :func:`output_amplitude`.
+    first, top, prev : int
+        Columns within a DOF of the first, the highest and the
+        second-highest harmonic (``top < 0``: none above the first;
+        ``prev < 0``: no ``K' > 1``).
+    h : float
+        ``H``.
+    prev_weight : float
+        ``w``.
+
+    Returns
+    -------
+    float
+        inf without a harmonic above the first; 0 for an output at rest.
+    """
+    if top < 0:
+        return np.inf
+    a1 = output_amplitude(y, weights, rates, first)
+    t = output_amplitude(y, weights, rates, top)
+    if prev >= 0:
+        a = prev_weight * output_amplitude(y, weights, rates, prev)
+        if a > t:
+            t = a
+    if a1 == 0.0:
+        return 0.0 if t == 0.0 else np.inf
+    return h * t / a1
+
+
+@jit
+def truncation_change(x, problem, weights, rates, first, synthesis, y, R, J, A, dX):
     """Relative change of the first-harmonic amplitude and of half the
-    peak-to-peak value of one DOF when a solution gains harmonics.
+    peak-to-peak value of the watched output when a solution gains
+    harmonics.
 
     ``x`` is a solution of a smaller basis; zero-padded into the basis of
     ``problem`` (whose harmonics extend those of ``x``), one Newton step at
     fixed Ω in that basis gives the change ``dX`` to first order. The
-    change of an extreme of ``x(t)`` is ``dx`` at the instant of the
-    extreme (located on the samples of ``synthesis``).
+    output is a linear combination of the DOFs' displacements and
+    velocities (``weights``; by default the contact DOF's displacement,
+    where the higher harmonics are made). The change of an extreme of the
+    output is its change at the instant of the extreme (located on the
+    samples of ``synthesis``).
 
     Parameters
     ----------
@@ -30,11 +157,11 @@ def truncation_change(x, problem, n_dof, dof, first, synthesis, y, R, J, A, dX):
     problem : tuple or CondensedProblem
         Kernel problem of the larger basis
         (:func:`hbmfric.kernels.residual.residual`).
-    n_dof : int
-        DOFs among the unknowns (``n = n_dof * n_coef``).
-    dof : int
-        The DOF measured (the contact DOF: the higher harmonics are made
-        there and filtered by the linear structure elsewhere).
+    weights : ndarray, shape (2, n_dof)
+        Displacement (row 0) and velocity (row 1, s) weights of the output
+        per DOF among the unknowns (``n = n_dof * n_coef``).
+    rates : ndarray, shape (n_coef,)
+        Harmonic number of each column of the larger basis.
     first : int
         Column of the first-harmonic cosine coefficient within a DOF.
     synthesis : ndarray, shape (n_samples, n_coef)
@@ -46,10 +173,11 @@ def truncation_change(x, problem, n_dof, dof, first, synthesis, y, R, J, A, dX):
     Returns
     -------
     float
-        The larger of the two relative changes (0 for a DOF at rest); inf
-        if the residual or the solve fails.
+        The larger of the two relative changes (0 for an output at rest);
+        inf if the residual or the solve fails.
     """
     n = y.size - 1
+    n_dof = weights.shape[1]
     n_coef = n // n_dof
     n_small = (x.size - 1) // n_dof
     for d in range(n_dof):
@@ -65,12 +193,15 @@ def truncation_change(x, problem, n_dof, dof, first, synthesis, y, R, J, A, dX):
             A[i, j] = J[i, j]
     if not solve_inplace(A, dX):
         return np.inf
-    base = dof * n_coef
-    c = base + first
-    a1 = np.hypot(y[c], y[c + 1])
+    z = np.empty(n_coef)
+    dz = np.empty(n_coef)
+    output_coefficients(y, n_coef, weights, rates, y[n], first, z)
+    output_coefficients(dX, n_coef, weights, rates, y[n], first, dz)
+    c = first
+    a1 = np.hypot(z[c], z[c + 1])
     if a1 == 0.0:
         return 0.0
-    a1_new = np.hypot(y[c] + dX[c], y[c + 1] + dX[c + 1])
+    a1_new = np.hypot(z[c] + dz[c], z[c + 1] + dz[c + 1])
     worst = abs(a1_new - a1) / a1
     x_max = -np.inf
     x_min = np.inf
@@ -80,8 +211,8 @@ def truncation_change(x, problem, n_dof, dof, first, synthesis, y, R, J, A, dX):
         xs = 0.0
         dxs = 0.0
         for k in range(n_coef):
-            xs += synthesis[s, k] * y[base + k]
-            dxs += synthesis[s, k] * dX[base + k]
+            xs += synthesis[s, k] * z[k]
+            dxs += synthesis[s, k] * dz[k]
         if xs > x_max:
             x_max = xs
             dx_max = dxs
@@ -99,7 +230,7 @@ def truncation_change(x, problem, n_dof, dof, first, synthesis, y, R, J, A, dX):
 
 @jit
 def truncation_changes(
-    points, rows, problem, n_dof, dof, first, synthesis, y, R, J, A, dX, out
+    points, rows, problem, weights, rates, first, synthesis, y, R, J, A, dX, out
 ):
     """:func:`truncation_change` of several points of one branch in one
     call (one dispatch instead of one per point).
@@ -110,14 +241,24 @@ def truncation_changes(
         ``[X, Ω]`` per point in the smaller basis.
     rows : ndarray of int64, shape (n_rows,)
         The points to evaluate.
-    problem, n_dof, dof, first, synthesis, y, R, J, A, dX
+    problem, weights, rates, first, synthesis, y, R, J, A, dX
         As in :func:`truncation_change`.
     out : ndarray, shape (n_rows,)
         The change of each point of ``rows`` on return.
     """
     for q in range(rows.size):
         out[q] = truncation_change(
-            points[rows[q]], problem, n_dof, dof, first, synthesis, y, R, J, A, dX
+            points[rows[q]],
+            problem,
+            weights,
+            rates,
+            first,
+            synthesis,
+            y,
+            R,
+            J,
+            A,
+            dX,
         )
 
 
@@ -135,8 +276,8 @@ def branch_truncation(
     n_worst,
     tolerance,
     problem,
-    n_dof,
-    dof,
+    output,
+    rates,
     first,
     synthesis,
     y,
@@ -155,8 +296,9 @@ def branch_truncation(
     points : ndarray, shape (n_points, n + 1)
         ``[X, Ω]`` per point in the branch's basis.
     columns : ndarray of int64, shape (3,)
-        Columns of the cosine coefficient of the first, the highest and the
-        second-highest harmonic at the measured DOF (-1: none).
+        Columns within a DOF of the cosine coefficient of the first, the
+        highest and the second-highest harmonic (-1: none), for the free
+        measure of the output (:func:`output_measure`).
     weights : ndarray, shape (5,)
         ``H``, the weight ``(K'/H)^4`` of the second-highest harmonic, the
         free measure under which a point is linear, the estimate per change
@@ -169,8 +311,9 @@ def branch_truncation(
         (``inf``: none), until ``MAX_CONFIRMED`` calibrations have exceeded
         it (the branch is then known to miss it; the rest keep their
         carried estimate, a bound on the cost of a branch far above it).
-    problem, n_dof, dof, first, synthesis, y, R, J, A, dX
-        The probe level, as in :func:`truncation_change`.
+    problem, output, rates, first, synthesis, y, R, J, A, dX
+        The probe level, as in :func:`truncation_change` (``output`` is
+        its ``weights``).
     errors : ndarray, shape (n_points,)
         The estimate of each point on return (0 for a linear point).
     """
@@ -187,14 +330,7 @@ def branch_truncation(
     nonlinear = np.empty(n_points, dtype=np.int64)
     n_nl = 0
     for i in range(n_points):
-        a1 = np.hypot(points[i, c1], points[i, c1 + 1])
-        top = np.hypot(points[i, ct], points[i, ct + 1])
-        if cp >= 0:
-            top = max(top, w * np.hypot(points[i, cp], points[i, cp + 1]))
-        if a1 == 0.0:
-            m = 0.0 if top == 0.0 else np.inf
-        else:
-            m = h * top / a1
+        m = output_measure(points[i], output, rates, c1, ct, cp, h, w)
         measure[i] = m
         errors[i] = 0.0
         if m > linear:
@@ -220,7 +356,7 @@ def branch_truncation(
         i = nonlinear[q]
         if chosen[i]:
             change = truncation_change(
-                points[i], problem, n_dof, dof, first, synthesis, y, R, J, A, dX
+                points[i], problem, output, rates, first, synthesis, y, R, J, A, dX
             )
             errors[i] = factor * change
             ratio[i] = max(errors[i] / max(measure[i], 1e-300), floor)
@@ -245,7 +381,7 @@ def branch_truncation(
         errors[i] = carried * measure[i]
         if errors[i] > tolerance and confirmed < MAX_CONFIRMED:
             change = truncation_change(
-                points[i], problem, n_dof, dof, first, synthesis, y, R, J, A, dX
+                points[i], problem, output, rates, first, synthesis, y, R, J, A, dX
             )
             errors[i] = factor * change
             if errors[i] > tolerance:

@@ -47,6 +47,16 @@ and optionally
 ``modes()`` -> (ω, Φ)
     Natural pulsations and mass-normalised mode shapes, if known in closed
     form (else computed from ``M`` and ``K``).
+``output_weights`` -> (a, b)
+    The output whose truncation error ``harmonics="auto"`` and the
+    per-point estimate (``Branch.truncation_error``) watch: ``sum_d a_d
+    x_d + b_d ẋ_d``, ``a`` (output unit per m) and ``b`` (per m/s) each
+    of shape (n,), finite, not both zero (default: the contact DOF's displacement,
+    where the higher harmonics are made; the belt tensioner names its
+    belt tension). A constant added to the output changes nothing (the
+    estimate is relative to the first harmonic and to half the
+    peak-to-peak value). A problem condensed onto the contact DOF watches
+    that DOF.
 
 :func:`check_system` checks all of this on entry and raises ``TypeError``
 or ``ValueError`` naming the offending attribute, instead of an error from
@@ -216,7 +226,53 @@ def check_system(system) -> SystemData:
         static = _vector("system.static_load()", static(), n)
     phase = finite_float("system.load_phase", getattr(system, "load_phase", 0.0))
     contacts = check_contacts(system, n)
+    output_weights(system, n, int(c))
     return SystemData(n, law, int(c), mass, damping, stiffness, static, phase, contacts)
+
+
+def output_weights(system, n_dof: int, contact_dof: int) -> np.ndarray:
+    """The watched output of ``system`` (its ``output_weights``, see the
+    module docstring), checked.
+
+    Parameters
+    ----------
+    system : object
+        A system following the protocol.
+    n_dof : int
+        Its number of DOFs.
+    contact_dof : int
+        Its contact DOF (the default output).
+
+    Returns
+    -------
+    ndarray, shape (2, n_dof)
+        Displacement weights (row 0, output unit per m) and velocity
+        weights (row 1, per m/s).
+
+    Raises
+    ------
+    ValueError
+        If the weights are not a pair of finite vectors of shape (n_dof,)
+        or are all zero.
+    """
+    label = "system.output_weights"
+    value = getattr(system, "output_weights", None)
+    out = np.zeros((2, n_dof))
+    if value is None:
+        out[0, contact_dof] = 1.0
+        return out
+    try:
+        a, b = value
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"{label} must be a pair (displacement weights, velocity weights), "
+            f"got {value!r}"
+        ) from None
+    out[0] = _vector(f"{label}[0] (displacement weights)", a, n_dof)
+    out[1] = _vector(f"{label}[1] (velocity weights)", b, n_dof)
+    if not np.any(out):
+        raise ValueError(f"{label} must not be all zero (no output to watch)")
+    return out
 
 
 def check_load(system, force: float, n_dof: int, phase: float = 0.0) -> np.ndarray:
@@ -248,4 +304,4 @@ def check_load(system, force: float, n_dof: int, phase: float = 0.0) -> np.ndarr
     return a * np.exp(-1j * phase) if phase else a
 
 
-__all__ = ["REQUIRED", "SystemData", "check_load", "check_system"]
+__all__ = ["REQUIRED", "SystemData", "check_load", "check_system", "output_weights"]

@@ -110,6 +110,17 @@ class BeltTensioner:
         """The tensioner law (the contact of the generic system interface)."""
         return self.tensioner
 
+    @property
+    def output_weights(self) -> tuple[np.ndarray, np.ndarray]:
+        """The watched output of the truncation estimate: the belt tension
+        without ``T0`` (:meth:`tension`), displacement weights ``(K, −K)``
+        (N/m) and velocity weights ``(C, −C)`` (N s/m), each shape (2,).
+        The users read the tension; its relative truncation error exceeds
+        the pulley displacement's (above both resonances ``u1 − u2`` is
+        small against ``u2``)."""
+        k, c = self.belt_stiffness, self.belt_damping
+        return np.array([k, -k]), np.array([c, -c])
+
     def matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Mass, damping and stiffness matrices, each shape (2, 2)."""
         mass = np.diag([self.mass_shaker, self.mass_pulley])
