@@ -52,7 +52,7 @@ def test_readme_fe_matrices_example_runs():
     (code,) = [
         block
         for block in re.findall(r"```python\n(.*?)```", text, re.S)
-        if "hf.LinearStructure(" in block
+        if "hf.LinearStructure(" in block and "hf.craig_bampton" in block
     ]
     namespace: dict = {}
     exec(compile(code, "README.md", "exec"), namespace)
@@ -82,3 +82,16 @@ def test_readme_study_example_runs(tmp_path, monkeypatch):
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert "macroslip" in proc.stdout or "undecided" in proc.stdout
     assert (tmp_path / "family.csv").exists()
+
+
+def test_readme_several_contacts_example_runs():
+    """The several-contacts example runs and traces its whole range."""
+    text = (Path(__file__).parents[1] / "README.md").read_text()
+    (code,) = [
+        block
+        for block in re.findall(r"```python\n(.*?)```", text, re.S)
+        if "hf.Contact2D(" in block
+    ]
+    namespace: dict = {}
+    exec(compile(code, "README.md", "exec"), namespace)
+    assert namespace["branch"].complete
