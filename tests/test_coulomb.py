@@ -111,7 +111,9 @@ def den_hartog_measures(c, fs, P, w, n=8192):
     return A, a1
 
 
-def event_driven_steady_state(c, fs, P, w, n_out=4096, max_periods=200):
+def event_driven_steady_state(
+    c, fs, P, w, n_out=4096, max_periods=200, max_events=200
+):
     """Steady state by event-driven integration with stick phases.
 
     Slip: ``solve_ivp`` with the friction sign fixed, stopped at the zero of
@@ -134,6 +136,10 @@ def event_driven_steady_state(c, fs, P, w, n_out=4096, max_periods=200):
         t_end = (period + 1) * T
         pieces = []
         while t < t_end - 1e-13:
+            # a work budget: near the regime boundary the stick phases shrink
+            # to nothing and the events pile up (Zeno-like chatter)
+            if len(pieces) > max_events:
+                raise RuntimeError(f"event-driven reference chatters at w={w}")
             if mode == 0:
                 x_stuck = x
 
@@ -644,12 +650,12 @@ def test_frf_branch_stop_regime_against_event_driven_integration():
     c, fs = 0.02, 0.3
     branch = _default_branch(c, fs)
     stop = [i for i, w in enumerate(branch.omega) if not is_non_stop(c, fs, 1.0, w)]
-    # the last stop-regime point at least 1 % below the regime boundary: at
-    # the boundary itself the stick phases shrink to nothing and the
-    # event-driven reference chatters for minutes (the curve-controlled
-    # branch has a point at 0.48655, 1e-3 below it)
+    # the last stop-regime point at least 2 % below the regime boundary:
+    # near the boundary the stick phases shrink to nothing and the
+    # event-driven reference chatters (at 0.47998, 1.5 % below it, it ran for
+    # over 10 minutes before its event budget; at 0.4762 it takes 7 s)
     edge = min(w for w in branch.omega if is_non_stop(c, fs, 1.0, w) and w > 0.4)
-    last = max(i for i in stop if branch.omega[i] <= 0.99 * edge)
+    last = max(i for i in stop if branch.omega[i] <= 0.98 * edge)
     for i in (stop[len(stop) // 2], last):
         w = branch.omega[i]
         ref = _measures(event_driven_steady_state(c, fs, 1.0, w))
