@@ -837,6 +837,13 @@ class AdaptiveContinuation:
             before = len(state.points)
             cont = self._levels[h].cont
             watch = self._watch(h, levels)
+            # the points' share of the curve budget (kernels.arclength.
+            # chord_target): the current point's estimate; unknown right
+            # after a level change, where the raise aimed at TARGET
+            last = self._last
+            cont._settings[_arclength.CURVE_POINT] = (
+                last if last >= 0.0 else TARGET * self.tolerance
+            )
             state = cont._trace(state, watch, self._capacity, self._calibration)
             new = len(state.points) - before
             levels.extend([h] * new)

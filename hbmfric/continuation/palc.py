@@ -188,6 +188,7 @@ class Continuation:
         s[_arclength.CURVE_TOL] = o.curve_tolerance or 0.0
         s[_arclength.CURVE_COLUMN] = 0.0
         s[_arclength.CURVE_LAST] = 0.0
+        s[_arclength.CURVE_POINT] = 0.0
         column = self._curve_column()
         if column < 0:
             s[_arclength.CURVE_TOL] = 0.0
