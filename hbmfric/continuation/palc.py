@@ -210,13 +210,6 @@ class Continuation:
         unknowns are harmonics of ``Ω/ν``) of the contact DOF (the drawn
         DOF of the curve rule), -1 without it."""
         p = self.problem
-        law = getattr(getattr(p, "system", None), "contact", None)
-        if law is not None and type(law).__name__ == "Coulomb":
-            # rigid Coulomb (DLFT): the rule's steps stall or exhaust the
-            # step budget on the beam's kinks (measured at the merge); its
-            # branches keep the former step control, their curve error is
-            # still estimated and warned about
-            return -1
         hn = [int(k) for k in p.harmonic_numbers]
         forced = int(getattr(p, "subharmonic", 1) or 1)
         if forced not in hn:

@@ -75,6 +75,14 @@ CURVE_FLOOR = 0.25
 #: the vertical distance near a fold is bounded by this factor times the
 #: distance perpendicular to the chord
 _FOLD_CAP = 1e3
+#: amplitudes are compared relative to at least this fraction of the
+#: displacement scale (the linearised response's peak or more): below it
+#: the drawn DOF is at rest for the rule (a rigid Coulomb tip stuck at
+#: round-off, 1e-15 of the scale, or just short of sticking at 1e-9 of
+#: it, where relative errors of 1e5 stalled the steps or spent the step
+#: budget on the beam); elastic contacts stay above 5e-3 of it (P1, the
+#: Jenkins beam, Iwan)
+CURVE_REST = 1e-4
 
 # outcome of a step (bit flags on ACCEPTED)
 REJECTED = 0
@@ -202,7 +210,8 @@ def chord_error(y0, t0, y1, t1, scale, column):
     dP/ds``, ``Δ = P₁ - P₀``); it is taken at ``τ = (3-√3)/6, 1/2,
     (3+√3)/6`` (the extremes of its S and bow parts), measured vertically
     (in ``a₁`` at equal Ω) relative to the smaller amplitude of the two
-    ends (as read off a log axis), at most ``1e3`` times the distance
+    ends (as read off a log axis; at least ``CURVE_REST`` times the
+    displacement scale ``scale[column]``), at most ``1e3`` times the distance
     perpendicular to the chord in the plane of relative Ω and relative
     amplitude, and that distance itself across a fold (the Ω components of
     the tangents differ in sign). Its error is of order ``L⁴``, the estimate's
@@ -234,9 +243,10 @@ def chord_error(y0, t0, y1, t1, scale, column):
     w1, dw1, a1, da1 = _drawn(y1, t1, scale, column)
     if not (np.isfinite(a0) and np.isfinite(a1)):
         return 0.0
-    # relative units: Ω by the mean of the ends, a by the smaller one
+    # relative units: Ω by the mean of the ends, a by the smaller one (at
+    # least CURVE_REST of the displacement scale)
     rw = 0.5 * (w0 + w1)
-    ra = min(a0, a1)
+    ra = max(min(a0, a1), CURVE_REST * scale[column])
     ex = (w1 - w0) / rw
     el = (a1 - a0) / ra
     ax = (length * dw0) / rw - ex
