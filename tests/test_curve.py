@@ -144,13 +144,7 @@ def _xfail(value):
     [
         pytest.param(0.1, marks=pytest.mark.slow),
         0.5,
-        pytest.param(
-            2.0,
-            marks=[
-                pytest.mark.slow,
-                _xfail("1.05e-4"),
-            ],
-        ),
+        pytest.param(2.0, marks=pytest.mark.slow),
     ],
 )
 def test_p1_curve_error_within_tolerance_at_defaults(force):
@@ -327,8 +321,8 @@ def _worst_midpoints(branch, count):
     "normal_load",
     [
         5.0,
-        pytest.param(1.0, marks=_xfail("1.63e-4")),
-        pytest.param(0.5, marks=_xfail("1.13e-4")),
+        1.0,
+        0.5,
     ],
 )
 def test_beam_curve_error_within_tolerance(normal_load):
@@ -350,10 +344,7 @@ def test_beam_curve_error_within_tolerance(normal_load):
     "law",
     [
         hf.Menq.from_stiffness(stiffness=3.0, slip_force=1.0, microslip_onset=0.2),
-        pytest.param(
-            hf.Iwan(stiffnesses=[1.0, 1.0, 1.0], slip_forces=[0.2, 0.5, 0.8]),
-            marks=_xfail("1.32e-4"),
-        ),
+        hf.Iwan(stiffnesses=[1.0, 1.0, 1.0], slip_forces=[0.2, 0.5, 0.8]),
     ],
     ids=["menq", "iwan"],
 )

@@ -210,6 +210,16 @@ class Continuation:
         unknowns are harmonics of ``Ω/ν``) of the contact DOF (the drawn
         DOF of the curve rule), -1 without it."""
         p = self.problem
+        law = getattr(getattr(p, "system", None), "contact", None)
+        if law is not None and type(law).__name__ == "Coulomb":
+            # rigid Coulomb (DLFT): with the rule the beam's branches took
+            # 3-10 times the points (the stuck tip at round-off amplitude
+            # stalled the steps: 1551 points, 866 rejections at f_s = 2 N;
+            # with the CURVE_REST floor of kernels.arclength 869 points,
+            # 2.5-3x the time, bench/README.md issue 18); its branches keep
+            # the former step control, their curve error is still
+            # estimated and warned about
+            return -1
         hn = [int(k) for k in p.harmonic_numbers]
         forced = int(getattr(p, "subharmonic", 1) or 1)
         if forced not in hn:
