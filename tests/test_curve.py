@@ -129,16 +129,6 @@ def test_curve_tolerance_none_reproduces_the_old_points(harmonics):
     assert float(b.amplitude(harmonic=1).sum()) == pytest.approx(total, rel=1e-12)
 
 
-def _xfail(value):
-    return pytest.mark.xfail(
-        strict=True,
-        reason="after the merge with the sharper truncation estimate (issue 14) "
-        "the points carry up to ~0.6 tol of their own error on top of chords at "
-        f"<= tol: measured {value} (the curve rule does not yet budget the "
-        "points' error)",
-    )
-
-
 @pytest.mark.parametrize(
     "force",
     [
