@@ -52,7 +52,8 @@ CURVE_LAST = 16
 #: (the adaptive-harmonics run: its truncation estimate of the current
 #: point) and, in :func:`trace` with an active watch, after every point
 #: that stays at its level (the point's estimate extrapolated one step
-#: ahead); 0: points taken as exact (a fixed ``H``)
+#: ahead); 0: points taken as exact (a fixed ``H``); negative: not
+#: charged (a harmonic tolerance above the curve tolerance)
 CURVE_POINT = 17
 N_SETTINGS = 18
 #: a step whose chord error per squared step exceeds the last one's this
@@ -645,7 +646,8 @@ def trace(
                 return WATCH_STOP, n_accepted, n_rejected, evaluations, step
             # the point's estimate, one step ahead as stays extrapolates it,
             # is the points' share of the next chord's budget
-            est = watch[W_LAST]
-            if last > 0.0 and est > last:
-                est *= min(est / last, watch[W_MAX_GROWTH])
-            settings[CURVE_POINT] = est
+            if settings[CURVE_POINT] >= 0.0:  # negative: not charged
+                est = watch[W_LAST]
+                if last > 0.0 and est > last:
+                    est *= min(est / last, watch[W_MAX_GROWTH])
+                settings[CURVE_POINT] = est
