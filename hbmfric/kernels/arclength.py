@@ -51,8 +51,7 @@ CURVE_LAST = 16
 #: against the curve budget, see :func:`chord_target`. Set by the caller
 #: (the adaptive-harmonics run: its truncation estimate of the current
 #: point) and, in :func:`trace` with an active watch, after every point
-#: that stays at its level (the point's estimate extrapolated one step
-#: ahead); 0: points taken as exact (a fixed ``H``); negative: not
+#: that stays at its level (the point's estimate); 0: points taken as exact (a fixed ``H``); negative: not
 #: charged (a harmonic tolerance above the curve tolerance)
 CURVE_POINT = 17
 N_SETTINGS = 18
@@ -641,13 +640,10 @@ def trace(
         flags[n_accepted] = outcome
         n_accepted += 1
         if watch[WATCH_ACTIVE] != 0.0:
-            last = watch[W_LAST]
             if not stays(y, watch, calibration):
                 return WATCH_STOP, n_accepted, n_rejected, evaluations, step
-            # the point's estimate, one step ahead as stays extrapolates it,
-            # is the points' share of the next chord's budget
+            # the point's estimate is the points' share of the next
+            # chord's budget (what the decision in Python sets, so that
+            # both paths step alike)
             if settings[CURVE_POINT] >= 0.0:  # negative: not charged
-                est = watch[W_LAST]
-                if last > 0.0 and est > last:
-                    est *= min(est / last, watch[W_MAX_GROWTH])
-                settings[CURVE_POINT] = est
+                settings[CURVE_POINT] = watch[W_LAST]
