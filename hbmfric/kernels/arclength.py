@@ -51,8 +51,9 @@ CURVE_LAST = 16
 #: against the curve budget, see :func:`chord_target`. Set by the caller
 #: (the adaptive-harmonics run: its truncation estimate of the current
 #: point) and, in :func:`trace` with an active watch, after every point
-#: that stays at its level (the point's estimate); 0: points taken as exact (a fixed ``H``); negative: not
-#: charged (a harmonic tolerance above the curve tolerance)
+#: that stays at its level (the point's estimate); 0: points taken as
+#: exact (a fixed ``H``); negative: not charged (a harmonic tolerance
+#: above the curve tolerance)
 CURVE_POINT = 17
 N_SETTINGS = 18
 #: a step whose chord error per squared step exceeds the last one's this
