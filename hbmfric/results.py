@@ -24,6 +24,10 @@ CHORD_FRACTIONS = (0.21132486540518713, 0.5, 0.7886751345948129)
 #: near a fold the vertical distance is bounded by this factor times the
 #: distance perpendicular to the chord
 FOLD_CAP = 1e3
+#: amplitudes below this fraction of the displacement scale count as at
+#: rest in :attr:`Branch.curve_errors` (errors relative to that floor; the
+#: compiled rule's ``kernels.arclength.CURVE_REST``)
+CURVE_REST = 1e-4
 
 
 def _resolve_dof(dof, names: dict, n_dof: int) -> int:
@@ -350,7 +354,9 @@ class Branch:
         """Estimated largest distance between the branch and the straight
         line joining each pair of consecutive points, shape
         (n_points - 1,): relative error of the first-harmonic amplitude of
-        the contact DOF at equal Ω (log-log plane), from the points and
+        the contact DOF at equal Ω (log-log plane; amplitudes below
+        ``CURVE_REST`` times the amplitude scale count as that), from the
+        points and
         their :attr:`tangents` (the cubic Hermite curve through both
         points against the chord, as
         :func:`hbmfric.kernels.arclength.chord_error`). 0 between two
@@ -385,7 +391,7 @@ class Branch:
         rw = 0.5 * (w[:-1] + w[1:])
         ra = np.minimum(amp[:-1], amp[1:])
         rest = ~(ra > 0.0)
-        ra = np.where(rest, 1.0, ra)
+        ra = np.where(rest, 1.0, np.maximum(ra, CURVE_REST * scale))
         ex, el = np.diff(w) / rw, np.diff(amp) / ra
         ax, al = length * dw[:-1] / rw - ex, length * da[:-1] / ra - el
         bx, bl = length * dw[1:] / rw - ex, length * da[1:] / ra - el

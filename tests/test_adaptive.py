@@ -106,7 +106,11 @@ def test_auto_few_changes_no_flapping(branches):
     for b in branches.values():
         h = b.point_harmonics
         changes = np.flatnonzero(np.diff(h)) + 1
-        assert 1 <= changes.size <= 8, h
+        # F = 0.5, tol 1e-4: 8 changes before the curve rule budgeted the
+        # points' error (at this bound), 10 after (shorter steps on the
+        # slipping stretch reach the lowering patience sooner: 11 -> 7 ->
+        # 11 -> 7 -> 3 near Ω = 2.3, each move at least LOWER_PATIENCE apart)
+        assert 1 <= changes.size <= 10, h
         for a, c in zip(changes[:-1], changes[1:], strict=True):
             if h[c] == h[a - 1]:
                 assert c - a >= adaptive.LOWER_PATIENCE

@@ -129,28 +129,12 @@ def test_curve_tolerance_none_reproduces_the_old_points(harmonics):
     assert float(b.amplitude(harmonic=1).sum()) == pytest.approx(total, rel=1e-12)
 
 
-def _xfail(value):
-    return pytest.mark.xfail(
-        strict=True,
-        reason="after the merge with the sharper truncation estimate (issue 14) "
-        "the points carry up to ~0.6 tol of their own error on top of chords at "
-        f"<= tol: measured {value} (the curve rule does not yet budget the "
-        "points' error)",
-    )
-
-
 @pytest.mark.parametrize(
     "force",
     [
         pytest.param(0.1, marks=pytest.mark.slow),
         0.5,
-        pytest.param(
-            2.0,
-            marks=[
-                pytest.mark.slow,
-                _xfail("1.05e-4"),
-            ],
-        ),
+        pytest.param(2.0, marks=pytest.mark.slow),
     ],
 )
 def test_p1_curve_error_within_tolerance_at_defaults(force):
@@ -255,6 +239,65 @@ def test_chord_error_kernel_closed_form():
     assert 0.08 < e < 0.16  # the parabola's 0.25 / 2, roughly
 
 
+def test_chord_target_budgets_the_points_error():
+    """The chord's share of the curve budget: the tolerance less the points'
+    estimated error, at least CURVE_FLOOR of it; unknown (NaN) or exact
+    points leave the whole tolerance."""
+    s = np.zeros(arclength.N_SETTINGS)
+    s[arclength.CURVE_TOL] = 1e-4
+    for point, target in ((0.0, 1e-4), (np.nan, 1e-4), (3e-5, 7e-5), (9e-5, 2.5e-5)):
+        s[arclength.CURVE_POINT] = point
+        assert arclength.chord_target(s) == pytest.approx(target, rel=1e-12)
+
+
+def test_step_rejected_when_chord_and_point_exceed_the_tolerance():
+    """One step of P1 (H = 7) whose chord estimate is 0.6 times the
+    tolerance: accepted with exact points, rejected (and shortened) when the
+    point's estimated error leaves the chord less than that."""
+    from hbmfric.continuation import Continuation, ContinuationOptions
+    from hbmfric.hbm import HBMProblem
+
+    problem = HBMProblem(p1(), 2.0, 7)
+    cont = Continuation(problem, P1_RANGE, 1, ContinuationOptions())
+    state = cont.init()
+    column = int(cont._settings[arclength.CURVE_COLUMN])
+
+    def attempt(step, tol, point):
+        y, t = state.y.copy(), state.tangent.copy()
+        s = cont._settings.copy()
+        s[arclength.CURVE_TOL] = tol
+        s[arclength.CURVE_POINT] = point
+        out, new_step, _ = arclength.advance(
+            problem.kernel_problem, y, t, step, cont.scale.copy(), s, *cont._work
+        )
+        e = arclength.chord_error(state.y, state.tangent, y, t, cont.scale, column)
+        return out, new_step, e
+
+    step = 0.02
+    for _ in range(5):  # the estimate grows as the square of the step
+        out, _, e = attempt(step, 1.0, 0.0)
+        assert out & arclength.ACCEPTED
+        step *= np.sqrt(0.6e-4 / e)
+    assert 0.55e-4 < e < 0.65e-4
+    out, _, _ = attempt(step, 1e-4, 0.0)
+    assert out & arclength.ACCEPTED
+    out, new_step, _ = attempt(step, 1e-4, 0.7e-4)
+    assert out == arclength.REJECTED and new_step <= 0.5 * step
+
+
+def test_first_curve_step_is_short():
+    from hbmfric.continuation import Continuation, ContinuationOptions
+    from hbmfric.continuation.palc import FIRST_CURVE_STEP
+    from hbmfric.hbm import HBMProblem
+
+    problem = HBMProblem(p1(), 0.5, 5)
+    o = ContinuationOptions()
+    on = Continuation(problem, P1_RANGE, 1, o).init()
+    off = Continuation(problem, P1_RANGE, 1, ContinuationOptions(curve_tolerance=None))
+    assert on.step == pytest.approx(FIRST_CURVE_STEP * o.initial_step)
+    assert off.init().step == o.initial_step
+
+
 # ----------------------------------------------------------------------
 # other systems at defaults against independent references (long)
 def _worst_midpoints(branch, count):
@@ -268,8 +311,8 @@ def _worst_midpoints(branch, count):
     "normal_load",
     [
         5.0,
-        pytest.param(1.0, marks=_xfail("1.63e-4")),
-        pytest.param(0.5, marks=_xfail("1.13e-4")),
+        1.0,
+        0.5,
     ],
 )
 def test_beam_curve_error_within_tolerance(normal_load):
@@ -291,10 +334,7 @@ def test_beam_curve_error_within_tolerance(normal_load):
     "law",
     [
         hf.Menq.from_stiffness(stiffness=3.0, slip_force=1.0, microslip_onset=0.2),
-        pytest.param(
-            hf.Iwan(stiffnesses=[1.0, 1.0, 1.0], slip_forces=[0.2, 0.5, 0.8]),
-            marks=_xfail("1.32e-4"),
-        ),
+        hf.Iwan(stiffnesses=[1.0, 1.0, 1.0], slip_forces=[0.2, 0.5, 0.8]),
     ],
     ids=["menq", "iwan"],
 )

@@ -356,16 +356,7 @@ def _dense_check(branch, omega, reference, dof=None):
     "normal_load",
     [
         5.0,
-        pytest.param(
-            1.0,
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="the chord-error step control keeps a 12 rad/s interval "
-                "(94-106 rad/s) where both the chord and the cubic are 1.2e-4 "
-                "off (bench/README.md, issue 18 section); its dense_error is "
-                "9.8e-5, 0.8x the true error",
-            ),
-        ),
+        1.0,
         0.5,
     ],
 )

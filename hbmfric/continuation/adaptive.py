@@ -860,6 +860,18 @@ class AdaptiveContinuation:
             before = len(state.points)
             cont = self._levels[h].cont
             watch = self._watch(h, levels)
+            # the points' share of the curve budget (kernels.arclength.
+            # chord_target): the current point's estimate; unknown right
+            # after a level change, where the raise aimed at TARGET. Not
+            # charged when the harmonic tolerance exceeds the curve's (the
+            # points may then take more than the whole budget: the chord
+            # keeps all of it, as with a fixed H)
+            last = self._last
+            share = last if last >= 0.0 else TARGET * self.tolerance
+            curve = self.options.curve_tolerance or 0.0
+            cont._settings[_arclength.CURVE_POINT] = (
+                share if self.tolerance <= curve else -1.0
+            )
             state = cont._trace(state, watch, self._capacity, self._calibration)
             new = len(state.points) - before
             levels.extend([h] * new)

@@ -77,6 +77,14 @@ LOAD_START = 1e-3
 LOAD_STEPS = 400
 LOAD_MIN_STEP = 1e-7
 LOAD_MAX_STEP = 0.2
+#: with the curve rule on, the first step of a run is this fraction of
+#: ``initial_step``: the rule judges a chord by its ends and sizes each
+#: step from the last chord's error (growing by at most ``growth``); the
+#: first chord has no history, and at the full initial step (2 % of the
+#: range) it stepped over a bump of the beam at Fn = 1 N between two
+#: points that looked smooth (94-106 rad/s, 1.1e-4 off, chord estimate
+#: 3.2e-5; the next steps were 2 rad/s)
+FIRST_CURVE_STEP = 0.125
 
 
 @dataclass
@@ -188,6 +196,7 @@ class Continuation:
         s[_arclength.CURVE_TOL] = o.curve_tolerance or 0.0
         s[_arclength.CURVE_COLUMN] = 0.0
         s[_arclength.CURVE_LAST] = 0.0
+        s[_arclength.CURVE_POINT] = 0.0
         column = self._curve_column()
         if column < 0:
             s[_arclength.CURVE_TOL] = 0.0
@@ -203,10 +212,13 @@ class Continuation:
         p = self.problem
         law = getattr(getattr(p, "system", None), "contact", None)
         if law is not None and type(law).__name__ == "Coulomb":
-            # rigid Coulomb (DLFT): the rule's steps stall or exhaust the
-            # step budget on the beam's kinks (measured at the merge); its
-            # branches keep the former step control, their curve error is
-            # still estimated and warned about
+            # rigid Coulomb (DLFT): with the rule the beam's branches took
+            # 3-10 times the points (the stuck tip at round-off amplitude
+            # stalled the steps: 1551 points, 866 rejections at f_s = 2 N;
+            # with the CURVE_REST floor of kernels.arclength 869 points,
+            # 2.5-3x the time, bench/README.md issue 18); its branches keep
+            # the former step control, their curve error is still
+            # estimated and warned about
             return -1
         hn = [int(k) for k in p.harmonic_numbers]
         forced = int(getattr(p, "subharmonic", 1) or 1)
@@ -266,7 +278,7 @@ class Continuation:
         state = ContinuationState(
             y=np.full(n + 1, np.nan),
             tangent=t0,
-            step=self.options.initial_step,
+            step=self._first_step(),
             J=self._J,
         )
         # the first point is solved once: a generous iteration budget lets
@@ -516,6 +528,13 @@ class Continuation:
         finally:
             load[:] = full
         return out, status, evaluations
+
+    def _first_step(self) -> float:
+        """Step of the first continuation step (``FIRST_CURVE_STEP``)."""
+        o = self.options
+        if self._settings[_arclength.CURVE_TOL] > 0.0:
+            return max(FIRST_CURVE_STEP * o.initial_step, o.min_step)
+        return o.initial_step
 
     def _tangent(self, previous: np.ndarray) -> np.ndarray:
         return _newton.tangent(self._J, previous, self.scale, self._A)

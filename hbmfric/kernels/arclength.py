@@ -46,7 +46,16 @@ CURVE_COLUMN = 15
 #: written by the kernels: the chord error per squared scaled step of the
 #: last accepted step (0: none yet), for the kink test of :func:`advance`
 CURVE_LAST = 16
-N_SETTINGS = 17
+#: estimated error of the points at both ends of the next chord (relative
+#: first-harmonic amplitude of the drawn DOF, as ``CURVE_TOL``): charged
+#: against the curve budget, see :func:`chord_target`. Set by the caller
+#: (the adaptive-harmonics run: its truncation estimate of the current
+#: point) and, in :func:`trace` with an active watch, after every point
+#: that stays at its level (the point's estimate); 0: points taken as
+#: exact (a fixed ``H``); negative: not charged (a harmonic tolerance
+#: above the curve tolerance)
+CURVE_POINT = 17
+N_SETTINGS = 18
 #: a step whose chord error per squared step exceeds the last one's this
 #: many times may hold a kink (a contact transition), where the cubic
 #: estimate falls short by up to 2x: it counts twice
@@ -59,9 +68,22 @@ _TAU = (0.21132486540518713, 0.5, 0.7886751345948129)
 #: a step across a corner is not shortened by the curve rule below this
 #: many ``min_step``
 CORNER_FLOOR = 100.0
+#: the chord's share of the curve budget never falls below this fraction
+#: of ``CURVE_TOL`` (points whose own estimated error takes nearly all of
+#: it would otherwise stall the step; steps go as the square root: at the
+#: floor half as long)
+CURVE_FLOOR = 0.25
 #: the vertical distance near a fold is bounded by this factor times the
 #: distance perpendicular to the chord
 _FOLD_CAP = 1e3
+#: amplitudes are compared relative to at least this fraction of the
+#: displacement scale (the linearised response's peak or more): below it
+#: the drawn DOF is at rest for the rule (a rigid Coulomb tip stuck at
+#: round-off, 1e-15 of the scale, or just short of sticking at 1e-9 of
+#: it, where relative errors of 1e5 stalled the steps or spent the step
+#: budget on the beam); elastic contacts stay above 5e-3 of it (P1, the
+#: Jenkins beam, Iwan)
+CURVE_REST = 1e-4
 
 # outcome of a step (bit flags on ACCEPTED)
 REJECTED = 0
@@ -139,6 +161,28 @@ def next_step(step, iterations, angle, curve, settings):
 
 
 @jit
+def chord_target(settings):
+    """Largest estimated chord error the curve rule allows: the curve
+    tolerance less the estimated error of the points themselves
+    (``settings[CURVE_POINT]``), at least ``CURVE_FLOOR`` times the
+    tolerance.
+
+    What a user draws between two points is off the true response by the
+    chord's distance from the computed branch plus the branch's own
+    (truncation) error, which the straight line carries over from its ends
+    (a linear interpolation of the end errors, at most the larger one).
+    Charging the points' estimate against ``CURVE_TOL`` keeps the sum
+    within it wherever the points use less than ``1 - CURVE_FLOOR`` of it;
+    where the points are exact (stuck, linear) the chord keeps the whole
+    tolerance."""
+    tol = settings[CURVE_TOL]
+    point = settings[CURVE_POINT]
+    if not point > 0.0:  # also NaN: unknown, taken as exact
+        return tol
+    return max(tol - point, CURVE_FLOOR * tol)
+
+
+@jit
 def _drawn(y, t, scale, column):
     """Ω and the first-harmonic amplitude ``a₁`` (at ``column``) of the
     point ``y``, and their derivatives along the scaled arc length (unit
@@ -168,7 +212,8 @@ def chord_error(y0, t0, y1, t1, scale, column):
     dP/ds``, ``Δ = P₁ - P₀``); it is taken at ``τ = (3-√3)/6, 1/2,
     (3+√3)/6`` (the extremes of its S and bow parts), measured vertically
     (in ``a₁`` at equal Ω) relative to the smaller amplitude of the two
-    ends (as read off a log axis), at most ``1e3`` times the distance
+    ends (as read off a log axis; at least ``CURVE_REST`` times the
+    displacement scale ``scale[column]``), at most ``1e3`` times the distance
     perpendicular to the chord in the plane of relative Ω and relative
     amplitude, and that distance itself across a fold (the Ω components of
     the tangents differ in sign). Its error is of order ``L⁴``, the estimate's
@@ -200,9 +245,10 @@ def chord_error(y0, t0, y1, t1, scale, column):
     w1, dw1, a1, da1 = _drawn(y1, t1, scale, column)
     if not (np.isfinite(a0) and np.isfinite(a1)):
         return 0.0
-    # relative units: Ω by the mean of the ends, a by the smaller one
+    # relative units: Ω by the mean of the ends, a by the smaller one (at
+    # least CURVE_REST of the displacement scale)
     rw = 0.5 * (w0 + w1)
-    ra = min(a0, a1)
+    ra = max(min(a0, a1), CURVE_REST * scale[column])
     ex = (w1 - w0) / rw
     el = (a1 - a0) / ra
     ax = (length * dw0) / rw - ex
@@ -456,7 +502,9 @@ def advance(
     if omega > settings[HIGH] or omega < settings[LOW]:
         return LEFT_RANGE, step, evaluations
     curve = 0.0
-    if settings[CURVE_TOL] > 0.0:
+    target = settings[CURVE_TOL]
+    if target > 0.0:
+        target = chord_target(settings)
         curve = chord_error(
             y, tangent, y_new, t_new, scale, int(settings[CURVE_COLUMN])
         )
@@ -469,14 +517,14 @@ def advance(
         if corner or (last > 0.0 and bend > KINK_JUMP * last):
             # a kink inside the step: up to twice the cubic's deviation
             curve *= 2.0
-        if curve > settings[CURVE_TOL]:
+        if curve > target:
             # the chord would stray from the branch: shorter, as the
             # error goes with the square of the step (across a corner:
             # linearly, and only down to CORNER_FLOOR min_step, below
             # which a corner is taken as it is)
-            factor = max(np.sqrt(0.8 * settings[CURVE_TOL] / curve), 0.1)
+            factor = max(np.sqrt(0.8 * target / curve), 0.1)
             if corner:
-                factor = max(0.8 * settings[CURVE_TOL] / curve, 0.1)
+                factor = max(0.8 * target / curve, 0.1)
             new_step = step * min(factor, settings[SHRINK])
             if not corner or new_step >= CORNER_FLOOR * settings[MIN_STEP]:
                 if new_step < settings[MIN_STEP]:
@@ -496,6 +544,9 @@ def advance(
     for i in range(n + 1):
         y[i] = y_new[i]
         tangent[i] = t_new[i]
+    if curve > 0.0:
+        # next_step sizes for 0.8 CURVE_TOL: the chord's share instead
+        curve *= settings[CURVE_TOL] / target
     new_step = next_step(step, effort, angle, curve, settings)
     follow_amplitude(y, tangent, scale, settings[BASE_SCALE])
     return outcome, new_step, evaluations
@@ -588,5 +639,11 @@ def trace(
             tangents[n_accepted, i] = tangent[i] * scale[i]
         flags[n_accepted] = outcome
         n_accepted += 1
-        if watch[WATCH_ACTIVE] != 0.0 and not stays(y, watch, calibration):
-            return WATCH_STOP, n_accepted, n_rejected, evaluations, step
+        if watch[WATCH_ACTIVE] != 0.0:
+            if not stays(y, watch, calibration):
+                return WATCH_STOP, n_accepted, n_rejected, evaluations, step
+            # the point's estimate is the points' share of the next
+            # chord's budget (what the decision in Python sets, so that
+            # both paths step alike)
+            if settings[CURVE_POINT] >= 0.0:  # negative: not charged
+                settings[CURVE_POINT] = watch[W_LAST]
