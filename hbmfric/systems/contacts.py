@@ -44,9 +44,9 @@ class Contact:
     Examples
     --------
     >>> import hbmfric as hf
-    >>> hf.Contact(hf.Jenkins(stiffness=3.0, slip_force=1.0), dof=4, other=9)
-    Contact(law=Jenkins(stiffness=3.0, slip_force=1.0), dof=4, other=9, \
-normal=None, normal_other=None)
+    >>> joint = hf.Contact(hf.Jenkins(stiffness=3.0, slip_force=1.0), 4, other=9)
+    >>> joint.dof, joint.other
+    (4, 9)
     """
 
     law: ContactLaw | Contact2D
