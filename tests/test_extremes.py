@@ -137,9 +137,13 @@ def test_units_scaled_by_1e15_give_the_same_branch(length, force):
     scaled = within_deadline(
         lambda: hf.frf(jenkins_oscillator(length, force), 0.5 * force, (0.5, 3.0))
     )
-    # the equations in scaled units are the same equations: same path
+    # the equations in scaled units are the same equations: same path, the
+    # same points to the corrector's tolerance (since the curve rule budgets
+    # the points' estimate, rounding-level differences of the estimate move
+    # the step by ~1e-16, which a Newton stop at the tolerance turns into
+    # ~1e-10 on Ω; measured 6e-11 after that merge, 1e-12 before)
     assert len(scaled) == len(base)
-    np.testing.assert_allclose(scaled.omega, base.omega, rtol=1e-12)
+    np.testing.assert_allclose(scaled.omega, base.omega, rtol=1e-9)
     np.testing.assert_allclose(
         scaled.amplitude(harmonic=1) / length,
         base.amplitude(harmonic=1),
