@@ -327,11 +327,19 @@ def test_failed_march_raises(monkeypatch):
 
 
 def test_compiled_once():
-    """Different parameter values and harmonic sets reuse one compilation."""
+    """Different parameter values and harmonic sets reuse one compilation.
+
+    The HBM residual compiles the element's kernels as its callees when it
+    does not come from the cache (other array layouts of its arguments), so
+    the counts are compared after the first call and after the sweep rather
+    than against 1."""
+    kernels = (k2.aft_contact2d, k2.contact2d_march, k2.contact2d_step)
+    counts = None
     for kt, preload, h in [
         (1e3, 1.0, [0, 1]),
         (2e5, -3.0, [0, 1, 2, 3]),
         (7.0, 0.0, [1, 3]),
+        (3e4, 20.0, [0, 1, 2]),
     ]:
         element = hf.Contact2D(
             tangential_stiffness=kt,
@@ -342,10 +350,11 @@ def test_compiled_once():
         nc = 2 * len(h) - (1 if h[0] == 0 else 0)
         element.harmonic_forces(np.full((2, nc), 1e-3), h, 16)
         element.periodic_forces(np.linspace(-1, 1, 9), np.linspace(0, 1e-3, 9))
-    assert len(k2.aft_contact2d.signatures) == 1, k2.aft_contact2d.signatures
-    assert len(k2.contact2d_march.signatures) == 1, k2.contact2d_march.signatures
-    # the step is compiled into its callers (none when they come from the cache)
-    assert len(k2.contact2d_step.signatures) <= 1
+        now = [len(k.signatures) for k in kernels]
+        if counts is None:
+            counts = now
+            assert 1 <= counts[0] <= 2 and 1 <= counts[1] <= 2, counts
+        assert now == counts, [k.signatures for k in kernels]
 
 
 # ----------------------------------------------------------------------------
