@@ -4,39 +4,39 @@ amplitudes agree."""
 import re
 from pathlib import Path
 
+README = Path(__file__).parents[1] / "README.md"
 
-def test_readme_example_runs(tmp_path, monkeypatch):
-    text = (Path(__file__).parents[1] / "README.md").read_text()
-    code = re.findall(r"```python\n(.*?)```", text, re.S)[0]
-    monkeypatch.chdir(tmp_path)
+
+def _blocks() -> list[str]:
+    """The README's Python code blocks, in order."""
+    return re.findall(r"```python\n(.*?)```", README.read_text(), re.S)
+
+
+def _run_block(*markers: str) -> dict:
+    """Run the one Python block of the README containing every marker;
+    its namespace."""
+    (code,) = [b for b in _blocks() if all(m in b for m in markers)]
     namespace: dict = {}
     exec(compile(code, "README.md", "exec"), namespace)
+    return namespace
+
+
+def test_readme_example_runs(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    namespace: dict = {}
+    exec(compile(_blocks()[0], "README.md", "exec"), namespace)
     sol, ref = namespace["sol"], namespace["ref"]
     assert abs(sol.amplitude(harmonic=1) / ref.amplitude(harmonic=1) - 1) < 1e-3
     assert (tmp_path / "frf.npz").exists()
 
 
 def test_readme_contact_law_example_runs():
-    text = (Path(__file__).parents[1] / "README.md").read_text()
-    (code,) = [
-        block
-        for block in re.findall(r"```python\n(.*?)```", text, re.S)
-        if "hf.Menq" in block
-    ]
-    namespace: dict = {}
-    exec(compile(code, "README.md", "exec"), namespace)
+    namespace = _run_block("hf.Menq")
     assert abs(namespace["menq"].stiffness / 3e4 - 1) < 1e-12
 
 
 def test_readme_own_system_example_runs():
-    text = (Path(__file__).parents[1] / "README.md").read_text()
-    (code,) = [
-        block
-        for block in re.findall(r"```python\n(.*?)```", text, re.S)
-        if "class TwoMasses" in block
-    ]
-    namespace: dict = {}
-    exec(compile(code, "README.md", "exec"), namespace)
+    namespace = _run_block("class TwoMasses")
     branch = namespace["branch"]
     assert branch.stop_reason == "end of frequency range reached"
     # default DOF of the results: the one named "contact"
@@ -48,14 +48,7 @@ def test_readme_fe_matrices_example_runs():
     lowest natural frequency of the full model."""
     import numpy as np
 
-    text = (Path(__file__).parents[1] / "README.md").read_text()
-    (code,) = [
-        block
-        for block in re.findall(r"```python\n(.*?)```", text, re.S)
-        if "hf.LinearStructure(" in block and "hf.craig_bampton" in block
-    ]
-    namespace: dict = {}
-    exec(compile(code, "README.md", "exec"), namespace)
+    namespace = _run_block("hf.LinearStructure(", "hf.craig_bampton")
     branch, s, reduced = namespace["branch"], namespace["s"], namespace["reduced"]
     assert branch.complete
     f_full = s.natural_frequencies(1)
@@ -64,12 +57,7 @@ def test_readme_fe_matrices_example_runs():
 
 
 def test_readme_study_example_runs(tmp_path, monkeypatch):
-    text = (Path(__file__).parents[1] / "README.md").read_text()
-    (code,) = [
-        block
-        for block in re.findall(r"```python\n(.*?)```", text, re.S)
-        if "hf.study(" in block
-    ]
+    (code,) = [b for b in _blocks() if "hf.study(" in b]
     monkeypatch.chdir(tmp_path)
     script = tmp_path / "study_example.py"
     script.write_text(code)
@@ -86,12 +74,5 @@ def test_readme_study_example_runs(tmp_path, monkeypatch):
 
 def test_readme_several_contacts_example_runs():
     """The several-contacts example runs and traces its whole range."""
-    text = (Path(__file__).parents[1] / "README.md").read_text()
-    (code,) = [
-        block
-        for block in re.findall(r"```python\n(.*?)```", text, re.S)
-        if "hf.Contact2D(" in block
-    ]
-    namespace: dict = {}
-    exec(compile(code, "README.md", "exec"), namespace)
+    namespace = _run_block("hf.Contact2D(")
     assert namespace["branch"].complete

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..kernels.dlft import COULOMB
 from ..laws import Contact2D, ContactLaw
 
 
@@ -138,7 +139,7 @@ def check_contacts(system, n_dof: int) -> tuple[tuple[ContactLaw, int, int], ...
             )
         out.append((law, a, b, a_n, b_n))
     for i, (law, _, b, _, _) in enumerate(out):
-        if law.code == _coulomb_code() and (len(out) > 1 or b >= 0):
+        if law.code == COULOMB and (len(out) > 1 or b >= 0):
             raise ValueError(
                 f"system.contacts[{i}] is a rigid hf.Coulomb law: it must be the "
                 "only contact and act against ground (other=None); use "
@@ -146,12 +147,6 @@ def check_contacts(system, n_dof: int) -> tuple[tuple[ContactLaw, int, int], ...
                 "several"
             )
     return tuple(out)
-
-
-def _coulomb_code() -> int:
-    from ..kernels.dlft import COULOMB
-
-    return int(COULOMB)
 
 
 def contact_arrays(
