@@ -103,8 +103,7 @@ def truncation_errors(
         stretch = np.ascontiguousarray(stretch, dtype=np.int64)
         if stretch.shape != (n_points,) or np.any(np.diff(stretch) < 0):
             raise ValueError(
-                "stretch must be a non-decreasing label per point, "
-                f"shape ({n_points},)"
+                f"stretch must be a non-decreasing label per point, shape ({n_points},)"
             )
     branch_truncation(
         points,
