@@ -363,16 +363,13 @@ def test_jenkins_against_the_exact_monodromy():
     λ = 0 (docs/stability.md): the verdict agrees and the largest
     multiplier is close (measured 0.006, 0.028, 0.029 apart at Ω = 1.6,
     1.9, 2.2), the other one is not (0.22 against 0.03 at Ω = 1.6)."""
-    from hbmfric.validation.exact import _simulate
-
     osc = hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0))
     for w in (1.6, 1.9, 2.2):
         ex = hf.validation.exact_periodic_solution(osc, 0.5, w)
         assert ex.kind == "stick-slip"
-        model, t0 = ex._model, ex._segments[0].ta
-        x, v, fc = ex.states([t0])
-        _, _, J = _simulate(model, t0, model.state(x[:, 0], v[:, 0], fc[0]), True)
-        exact = np.max(np.abs(np.linalg.eigvals(J)))
+        mu = ex.floquet_multipliers()
+        assert abs(mu[-1]) < 1e-12  # the slider locked at slip onset
+        exact = abs(mu[0])
         sol = hf.periodic_solution(osc, 0.5, w, harmonics=31)
         hill = np.max(np.abs(sol.stability().multipliers))
         assert (exact < 1.0) == sol.stable
@@ -512,3 +509,28 @@ def test_special_points_of_rigid_coulomb_refused():
     branch = hf.frf(osc, 2.0, (0.5, 3.0), harmonics=7)
     with pytest.raises(ValueError, match="Coulomb"):
         branch.special_points()
+
+
+def test_exact_monodromy_of_a_stuck_response():
+    """A response that never slips is the linear stuck oscillator: the
+    exact reference's multipliers are exp(λT) with λ = −ζω₀ ± iω_d of
+    ``m ẍ + c ẋ + (k + kt) x`` (closed form), plus 1 for the neutral
+    slider offset; Hill's method agrees on the two that decide."""
+    m, c, k, kt = 1.0, 0.02, 1.0, 3.0
+    osc = hf.Oscillator(m, c, k, hf.Jenkins(stiffness=kt, slip_force=1.0))
+    w = 1.3
+    ex = hf.validation.exact_periodic_solution(osc, 0.05, w)
+    assert ex.kind == "stuck"
+    w0 = np.sqrt((k + kt) / m)
+    zeta = c / (2.0 * np.sqrt((k + kt) * m))
+    lam = -zeta * w0 + 1j * w0 * np.sqrt(1.0 - zeta**2)
+    T = 2.0 * np.pi / w
+    expected = np.exp(np.array([lam, np.conj(lam)]) * T)
+    mu = ex.floquet_multipliers()
+    assert np.min(np.abs(mu - 1.0)) < 1e-12
+    rest = np.delete(mu, np.argmin(np.abs(mu - 1.0)))
+    np.testing.assert_allclose(
+        np.sort_complex(rest), np.sort_complex(expected), rtol=0, atol=1e-10
+    )
+    hill = hf.periodic_solution(osc, 0.05, w, harmonics=7).stability().multipliers
+    np.testing.assert_allclose(np.sort(np.abs(hill[0])), np.abs(expected), rtol=1e-8)
