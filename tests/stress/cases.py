@@ -63,7 +63,7 @@ class Case:
     force_scale: float = 1.0
     harmonics: int | str = 15
     sweep: str = "up"
-    normal_load: float = 5.0  # beam only
+    normal_load: float = 5.0  # beam (N) and contact2d (preload, N) only
 
     @property
     def name(self) -> str:
@@ -72,7 +72,7 @@ class Case:
         for key, val in asdict(self).items():
             if key == "law" or val == getattr(base, key):
                 continue
-            if key == "normal_load" and self.law != "beam":
+            if key == "normal_load" and self.law not in ("beam", "contact2d"):
                 continue
             parts.append(f"{key}={val:g}" if isinstance(val, float) else f"{key}={val}")
         return " ".join(parts)
@@ -149,6 +149,46 @@ def _beam_calibration():
     return hf.CantileverBeam.calibrate(slip_frequency=24.0, stuck_frequency=87.0)
 
 
+#: ranges of the multi-contact rows (rad/s)
+CHAIN_RANGE = (0.02, 0.6)
+ELEMENT_RANGE = (40.0, 250.0)
+
+
+def _contact_chain(c: Case) -> hf.LinearStructure:
+    """``law="contacts"``: four unit masses and springs clamped at one end,
+    2 % modal damping, forced at the free end; a Jenkins contact to ground
+    at the first mass and one between the last two (stiffness
+    ``stiffness_ratio``, slip force 1: ``ratio`` is F over it)."""
+    n = 4
+    K = 2.0 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1)
+    K[-1, -1] = 1.0
+    law = hf.Jenkins(stiffness=c.stiffness_ratio, slip_force=1.0)
+    return hf.LinearStructure(
+        np.eye(n),
+        K,
+        modal_damping=0.02,
+        load={n - 1: 1.0},
+        contacts=[hf.Contact(law, 0), hf.Contact(law, n - 2, n - 1)],
+    )
+
+
+def _element_rig(c: Case) -> hf.LinearStructure:
+    """``law="contact2d"``: the 2-DOF rig of ``tests/test_contact2d.py``
+    (x tangential, y normal, each 1 kg on 1e4 N/m, 6 N s/m) with the 2D
+    element (kt 3e4, kn 2e4 N/m, μ = 0.5) preloaded at ``normal_load`` N
+    (negative: a gap), loads 4 and 12 N per unit forcing on x and y."""
+    element = hf.Contact2D(3e4, 2e4, friction_coefficient=0.5, preload=c.normal_load)
+    return hf.LinearStructure(
+        np.eye(2),
+        1e4 * np.eye(2),
+        6.0 * np.eye(2),
+        load={"x": 4.0, "y": 12.0},
+        static_load={"y": c.normal_load},
+        contacts=[hf.Contact(element, "x", normal="y")],
+        dof_names={"x": 0, "y": 1},
+    )
+
+
 #: the tensioner rows check every this many points of the branch
 TENSIONER_EVERY = 8
 TENSIONER_RANGE = (2.0 * math.pi * 5.0, 2.0 * math.pi * 100.0)
@@ -158,6 +198,10 @@ def build(c: Case):
     """System, forcing amplitude and frequency range of a case."""
     if c.law == "tensioner":
         return hf.BeltTensioner(), c.ratio, TENSIONER_RANGE
+    if c.law == "contacts":
+        return _contact_chain(c), c.ratio, CHAIN_RANGE
+    if c.law == "contact2d":
+        return _element_rig(c), c.ratio, ELEMENT_RANGE
     if c.law == "beam":
         cal = _beam_calibration()
         beam = cal.beam.with_contact(
@@ -319,11 +363,20 @@ def run_case(c: Case, spot: bool = True) -> dict:
         # the zero response, exactly, at once; a preloaded system (the
         # tensioner) rests at its static solution: no harmonic above 0
         static = getattr(system, "static_solution", None)
+        loaded = getattr(system, "static_load", None)
         if static is not None and b.harmonic_numbers[0] == 0 and len(b):
             mean = b.coefficients[:, :, 0]
             out["exact_zero"] = bool(
                 np.all(b.coefficients[:, :, 1:] == 0.0)
                 and np.allclose(mean, static()[None, :], rtol=1e-12, atol=0.0)
+            )
+        elif loaded is not None and b.harmonic_numbers[0] == 0 and len(b):
+            # a static load: one static state along the whole branch (the
+            # contact2d rows check it against the closed form in
+            # tests/test_contact_edges.py)
+            mean = b.coefficients[:, :, 0]
+            out["exact_zero"] = bool(
+                np.all(b.coefficients[:, :, 1:] == 0.0) and np.all(mean == mean[0])
             )
         else:
             out["exact_zero"] = bool(np.all(b.coefficients == 0.0))
@@ -353,6 +406,12 @@ def run_case(c: Case, spot: bool = True) -> dict:
             out["spot"] = tensioner_checks(system, force, b, c)
     elif c.law in NO_REFERENCE:
         out["spot_skipped"] = "no time-integration reference for a rigid contact"
+    elif c.law in ("contacts", "contact2d"):
+        # checked against time integration in tests/test_contacts.py and
+        # tests/test_contact2d.py / test_contact_edges.py
+        out["spot_skipped"] = (
+            "the package's time-integration reference takes one contact to ground"
+        )
     elif force == 0.0:
         out["spot_skipped"] = "zero forcing (checked exactly instead)"
     elif spot and len(b):
@@ -547,12 +606,33 @@ def _tensioner() -> list[Case]:
     return cases
 
 
+def _several_contacts() -> list[Case]:
+    """Several contacts (a chain with a contact to ground and a relative
+    one) and the 2D element (preloaded, and open at rest): stuck, slipping
+    and far above the slip force, stiff contacts, zero forcing, both
+    sweeps, H = 3 and ``"auto"``."""
+    cases = []
+    for ratio in (0.0, 1e-2, 0.5, 10.0, 1e3):
+        for kt in (1e-2, 1.0, 1e2):
+            cases.append(Case(law="contacts", ratio=ratio, stiffness_ratio=kt))
+    cases.append(Case(law="contacts", ratio=0.5, sweep="down"))
+    cases.append(Case(law="contacts", ratio=0.5, harmonics=3))
+    cases.append(Case(law="contacts", ratio=0.5, harmonics="auto"))
+    for preload in (10.0, -2.0):
+        for ratio in (0.0, 0.01, 0.3, 1.0):
+            cases.append(
+                Case(law="contact2d", ratio=ratio, normal_load=preload, harmonics=8)
+            )
+    cases.append(Case(law="contact2d", ratio=1.0, harmonics=8, sweep="down"))
+    return cases
+
+
 def matrix() -> list[Case]:
     """The full stress matrix."""
     cases = _jenkins_cubic()
     for law in ("menq", "iwan", "coulomb", "dahl", "roughness"):
         cases += _other_law(law)
-    cases += _auto() + _extremes() + _beam() + _tensioner()
+    cases += _auto() + _extremes() + _beam() + _tensioner() + _several_contacts()
     seen = set()
     unique = []
     for c in cases:
