@@ -406,12 +406,6 @@ def run_case(c: Case, spot: bool = True) -> dict:
             out["spot"] = tensioner_checks(system, force, b, c)
     elif c.law in NO_REFERENCE:
         out["spot_skipped"] = "no time-integration reference for a rigid contact"
-    elif c.law in ("contacts", "contact2d"):
-        # checked against time integration in tests/test_contacts.py and
-        # tests/test_contact2d.py / test_contact_edges.py
-        out["spot_skipped"] = (
-            "the package's time-integration reference takes one contact to ground"
-        )
     elif force == 0.0:
         out["spot_skipped"] = "zero forcing (checked exactly instead)"
     elif spot and len(b):
@@ -422,6 +416,11 @@ def run_case(c: Case, spot: bool = True) -> dict:
             top = truncation_estimate(b.harmonic_numbers, X)
             h = b.harmonics_at(i)
             tol = 0.1 if h < 3 else max(5e-3, 2.0 * top)
+            # or the branch's own truncation estimate at that point, which
+            # warned already (several contacts at H = 3-15: 0.24 estimated
+            # where the reference and H = 63 differ from H = 15 by 0.053)
+            if b.truncation_error is not None:
+                tol = max(tol, float(b.truncation_error[i]))
             err, why, periods = spot_check(system, force, b, i)
             out["spot"].append((float(b.omega[i]), err, tol, why, periods))
     reasons = [p["stop_reason"] for p in b.info.get("pieces", [])] or [b.stop_reason]
