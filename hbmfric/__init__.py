@@ -31,6 +31,7 @@ from .laws import (
     Roughness,
     hertz_mindlin_stiffness,
 )
+from .modes import NonlinearMode, nonlinear_mode
 from .results import Branch, PeriodicSolution
 from .study import StudyResult, grid, study
 from .systems import (
@@ -69,6 +70,7 @@ __all__ = [
     "Iwan",
     "Jenkins",
     "LinearStructure",
+    "NonlinearMode",
     "Menq",
     "ModifiedDahl",
     "Oscillator",
@@ -82,6 +84,7 @@ __all__ = [
     "grid",
     "hertz_mindlin_stiffness",
     "identify",
+    "nonlinear_mode",
     "periodic_solution",
     "read_matrices",
     "read_matrix",

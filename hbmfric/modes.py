@@ -1,0 +1,610 @@
+"""Nonlinear modes by the extended periodic motion concept (EPMC).
+
+The unforced system ``M ẍ + C ẋ + K x + f_nl(x) = p0`` (``p0`` a static
+load, if the system has one) has no periodic motion when it dissipates
+energy. Krack (2015) adds the negative mass-proportional damping term
+``-ξ M ẋ``, ``ξ = 2 D ω``, that feeds back exactly the energy the structure
+dissipates per cycle:
+
+    M ẍ + (C - 2 D ω M) ẋ + K x + f_nl(x) = p0.
+
+Its periodic motions of frequency ``ω`` form the nonlinear mode; ``D`` is
+the mode's equivalent (modal) damping ratio. Harmonic balance of this
+equation with the HBM residual of the forced problem
+(:mod:`hbmfric.kernels.hbm`, its AFT of every law with the analytic
+Jacobian) gives ``n_dof n_coef`` equations for the coefficients ``X``,
+``ω`` and ``D``; two more close the system:
+
+* amplitude normalisation: the fundamental harmonic in the mass norm,
+  ``Xc1ᵀ M Xc1 + Xs1ᵀ M Xs1 = a²`` (``a`` the modal amplitude: for a
+  single DOF of mass ``m``, ``a = √m`` times the first-harmonic amplitude;
+  for a mass-normalised linear mode ``φ``, ``x = a φ cos ωt``), m √kg;
+* phase condition: ``φᵀ M Xs1 = 0`` with ``φ`` the linear mode the
+  nonlinear one starts from: the fundamental is a cosine in the direction
+  of the linear mode.
+
+The unknowns are solved scaled, ``Y = X / a``, so that Newton sees the same
+magnitudes at every amplitude.
+
+Damping convention: the structure's own damping ``C`` is kept (Krack 2015;
+also NLvib's EPMC): ``D`` is the damping ratio of the whole mode, the
+structure's and the contacts' dissipation together, so that in the linear
+limit (stuck contact) with modal damping ``D`` is the modal damping ratio
+``ζ_j`` and ``ω`` the undamped natural pulsation ``ω_j``, exactly. With
+``structural_damping=False`` ``C`` is dropped and ``D`` is the contacts'
+share alone. In both cases ``D`` is defined by the energy balance of the
+fundamental: per cycle, the added term supplies ``2π D ω² a²`` (for a
+motion ``a φ cos ωt``), the dissipated energy ``W`` so that
+``D = W / (2π ω² a²)``.
+
+Continuation: natural, in ``log a`` on the requested grid of amplitudes,
+with a secant predictor and step halving between grid points when Newton
+fails. Along a nonlinear mode ``ω`` and ``D`` are functions of the
+amplitude (the amplitude is what the normalisation prescribes), so
+there are no turning points in ``a`` to follow; an arc-length method would
+only be needed at internal resonances (modal interactions), where the EPMC
+itself stops being a single backbone. A failed step is reported by a
+:class:`~hbmfric.CoverageWarning`, never a quietly short result.
+
+Reference: M. Krack, *Nonlinear modal analysis of nonconservative systems:
+extension of the periodic motion concept*, Computers & Structures 154
+(2015) 59–71.
+"""
+
+from __future__ import annotations
+
+import csv
+import time
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ._validate import finite_float, positive_int
+from .errors import ConvergenceWarning, CoverageWarning
+from .hbm import HBMProblem, _stuck_stiffnesses
+from .kernels.dlft import COULOMB
+from .kernels.hbm import hbm_residual
+from .signals import coefficient_columns
+from .stability import derivative_operator
+from .systems.protocol import check_system
+
+#: Newton: relative size of the last correction below which a point counts
+#: as converged
+STEP_TOLERANCE = 1e-11
+#: Newton: largest residual accepted, relative to ``a`` times the largest
+#: stiffness entry (the force scale of the mode)
+RESIDUAL_TOLERANCE = 1e-8
+MAX_ITERATIONS = 30
+#: smallest fraction of a grid interval (in log a) a step may shrink to
+MIN_STEP_FRACTION = 1.0 / 1024.0
+#: how far below the first amplitude the start may back off (factor 10 per
+#: try) when the linear mode is not a good enough guess there
+START_BACKOFF = 8
+
+
+@dataclass
+class NonlinearMode:
+    """A nonlinear mode: frequency and damping ratio against amplitude.
+
+    Attributes
+    ----------
+    amplitude : ndarray, shape (n_points,)
+        Modal amplitude ``a`` (fundamental harmonic in the mass norm,
+        ``√(Xc1ᵀ M Xc1 + Xs1ᵀ M Xs1)``), m √kg (for one DOF of mass
+        1 kg: m).
+    omega : ndarray, shape (n_points,)
+        Pulsation of the periodic motion, rad/s.
+    damping_ratio : ndarray, shape (n_points,)
+        Equivalent modal damping ratio ``D`` (dimensionless).
+    coefficients : ndarray, shape (n_points, n_dof, n_coef)
+        Fourier coefficients of every DOF, m (layout of
+        :mod:`hbmfric.kernels.dft`).
+    harmonic_numbers : ndarray of int, shape (n_harmonics,)
+    mode : int
+        Number of the linear mode (1 = lowest, of the structure with the
+        contacts stuck) the nonlinear mode starts from.
+    linear_omega, linear_damping_ratio : float
+        That linear mode's undamped pulsation (rad/s) and its damping ratio
+        ``φᵀ C φ / (2 ω)`` (0 with ``structural_damping=False``).
+    requested : tuple of float
+        The asked amplitude range ``(low, high)``.
+    stop_reason : str
+        ``"range reached"`` or why the continuation stopped.
+    newton_iterations : ndarray of int, shape (n_points,)
+        Newton iterations of each point's last solve.
+    n_steps, n_rejected : int
+        Continuation steps taken and rejected (sub-steps included).
+    elapsed : float
+        Wall time, s.
+    info : dict
+        Description of the run (harmonics, n_time, AFT scheme, damping
+        convention).
+    dof_names : dict
+        Named DOFs of the system.
+    """
+
+    amplitude: np.ndarray
+    omega: np.ndarray
+    damping_ratio: np.ndarray
+    coefficients: np.ndarray
+    harmonic_numbers: np.ndarray
+    mode: int
+    linear_omega: float
+    linear_damping_ratio: float
+    requested: tuple
+    stop_reason: str
+    newton_iterations: np.ndarray
+    n_steps: int
+    n_rejected: int
+    elapsed: float
+    info: dict = field(default_factory=dict)
+    dof_names: dict = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return int(self.amplitude.size)
+
+    @property
+    def frequency(self) -> np.ndarray:
+        """Frequency of the periodic motion, Hz, shape (n_points,)."""
+        return self.omega / (2.0 * np.pi)
+
+    @property
+    def complete(self) -> bool:
+        """The points cover the requested amplitude range."""
+        return self.stop_reason == "range reached"
+
+    def dof_amplitude(self, dof=None, harmonic: int = 1) -> np.ndarray:
+        """Amplitude of one harmonic of one DOF along the mode, m.
+
+        Parameters
+        ----------
+        dof : int, str or None
+            DOF index or name; None: the contact DOF.
+        harmonic : int
+            Harmonic number (0: the mean, absolute value).
+
+        Returns
+        -------
+        ndarray, shape (n_points,)
+        """
+        if dof is None:
+            d = int(self.info.get("contact_dof", 0))
+        elif isinstance(dof, str):
+            if dof not in self.dof_names:
+                raise ValueError(
+                    f"unknown DOF name {dof!r}; known: {sorted(self.dof_names)}"
+                )
+            d = self.dof_names[dof]
+        else:
+            d = int(dof)
+        n_dof = self.coefficients.shape[1]
+        if not 0 <= d < n_dof:
+            raise ValueError(f"dof must be in [0, {n_dof}), got {d}")
+        cols = coefficient_columns(self.harmonic_numbers)
+        if harmonic not in cols:
+            raise ValueError(
+                f"harmonic {harmonic} is not among the solved harmonics "
+                f"{self.harmonic_numbers.tolist()}"
+            )
+        c = cols[harmonic]
+        X = self.coefficients[:, d]
+        if harmonic == 0:
+            return np.abs(X[:, c])
+        return np.hypot(X[:, c], X[:, c + 1])
+
+    def plot(self, axes=None, hz: bool = False, **kwargs):
+        """Frequency and damping ratio against the modal amplitude
+        (logarithmic amplitude axis); returns the two axes.
+
+        Parameters
+        ----------
+        axes : sequence of two matplotlib axes, optional
+            Where to draw; new figure with two panels when None.
+        hz : bool
+            Frequency in Hz instead of rad/s.
+        **kwargs
+            Passed to ``Axes.plot`` for both curves.
+        """
+        import matplotlib.pyplot as plt
+
+        if axes is None:
+            _, axes = plt.subplots(2, 1, sharex=True)
+        ax_w, ax_d = axes
+        ax_w.plot(self.amplitude, self.frequency if hz else self.omega, **kwargs)
+        ax_d.plot(self.amplitude, self.damping_ratio, **kwargs)
+        ax_w.set_xscale("log")
+        ax_d.set_xscale("log")
+        ax_w.set_ylabel("frequency (Hz)" if hz else "ω (rad/s)")
+        ax_d.set_ylabel("damping ratio D")
+        ax_d.set_xlabel("modal amplitude a (m √kg)")
+        ax_w.set_title(f"nonlinear mode {self.mode}")
+        return ax_w, ax_d
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write amplitude, ω (rad/s), frequency (Hz), damping ratio and
+        the first-harmonic amplitude of the contact DOF (m), one row per
+        point; returns the path."""
+        path = Path(path)
+        contact = self.dof_amplitude(None, 1) if len(self) else np.empty(0)
+        with path.open("w", newline="") as fh:
+            writer = csv.writer(fh)
+            writer.writerow(
+                [
+                    "amplitude",
+                    "omega_rad_s",
+                    "frequency_hz",
+                    "damping_ratio",
+                    "contact_dof_amplitude",
+                ]
+            )
+            for row in zip(
+                self.amplitude,
+                self.omega,
+                self.frequency,
+                self.damping_ratio,
+                contact,
+                strict=True,
+            ):
+                writer.writerow([repr(float(v)) for v in row])
+        return path
+
+
+def _stuck_stiffness(problem: HBMProblem) -> np.ndarray:
+    """``K`` plus the stuck stiffness of every contact, shape (n_dof, n_dof)."""
+    K = problem._matrices[2].copy()
+    for law, a, b, a_n, b_n in problem._contacts:
+        for k, (p, q) in zip(
+            _stuck_stiffnesses(law), ((a, b), (a_n, b_n)), strict=False
+        ):
+            if p < 0:
+                continue
+            K[p, p] += k
+            if q >= 0:
+                K[q, q] += k
+                K[p, q] -= k
+                K[q, p] -= k
+    return K
+
+
+class _EPMC:
+    """The EPMC equations of a system: residual and Jacobian in the scaled
+    unknowns ``z = [Y, ω, D]`` (``Y = X / a``) at a given amplitude ``a``."""
+
+    def __init__(self, system, mode, harmonics, n_time, aft, structural_damping):
+        import scipy.linalg
+
+        data = check_system(system)
+        problem = HBMProblem(system, 0.0, harmonics, n_time, None, aft, _checked=data)
+        if any(c[0].code == COULOMB for c in problem._contacts):
+            raise ValueError(
+                "nonlinear modes of a rigid Coulomb contact (DLFT) are not "
+                "available: the stuck contact has no linear mode to start from; "
+                "use an elastic law (hf.Jenkins with a large stiffness)"
+            )
+        self.problem = problem
+        kp = problem.kernel_problem
+        mass, damping = kp[1], kp[2]
+        if not structural_damping:
+            damping = np.zeros_like(damping)
+            kp = kp[:2] + (damping,) + kp[3:]
+        self.kernel_problem = kp
+        self.n_dof = problem.n_dof
+        self.n_coef = problem.n_coef
+        self.n = problem.n_unknowns
+        n_dof, n_coef = self.n_dof, self.n_coef
+        hn = problem.harmonic_numbers
+        self.md = np.kron(mass, derivative_operator(hn, 1.0))
+        col1 = coefficient_columns(hn)[1]
+        self.cos1 = np.arange(n_dof) * n_coef + col1
+        self.sin1 = self.cos1 + 1
+        self.mass = mass
+        K = _stuck_stiffness(problem)
+        try:
+            w2, vecs = scipy.linalg.eigh(K, mass)
+        except (np.linalg.LinAlgError, ValueError) as exc:
+            raise ValueError(
+                "the linear modes of the stuck structure cannot be computed "
+                f"(mass matrix not positive definite?): {exc}"
+            ) from None
+        if mode > n_dof:
+            raise ValueError(f"mode must be <= n_dof = {n_dof}, got {mode}")
+        w2_j = float(w2[mode - 1])
+        if not w2_j > 0.0:
+            raise ValueError(
+                f"linear mode {mode} of the stuck structure has ω² = {w2_j:.3g}: "
+                "a rigid-body mode has no nonlinear mode"
+            )
+        phi = vecs[:, mode - 1]
+        phi = phi / np.sqrt(phi @ mass @ phi)
+        if phi[np.argmax(np.abs(phi))] < 0.0:
+            phi = -phi
+        self.phi = phi
+        self.m_phi = mass @ phi
+        self.linear_omega = float(np.sqrt(w2_j))
+        self.linear_damping = float(phi @ damping @ phi) / (2.0 * self.linear_omega)
+        self.K_stuck = K
+        self.force_scale = float(np.max(np.abs(K)))
+        static = problem._static
+        self.static = None
+        if static is not None and hn[0] == 0:
+            self.static = np.linalg.solve(K, static)
+
+    def linear_guess(self, a: float) -> np.ndarray:
+        """``z`` of the linear mode at amplitude ``a``."""
+        z = np.zeros(self.n + 2)
+        z[self.cos1] = self.phi
+        if self.static is not None:
+            z[: self.n : self.n_coef] = self.static / a
+        z[self.n] = self.linear_omega
+        z[self.n + 1] = self.linear_damping
+        return z
+
+    def equations(self, z: np.ndarray, a: float):
+        """Residual (shape (n + 2,)) and Jacobian (shape (n + 2, n + 2)) at
+        ``z = [Y, ω, D]``; the HBM rows divided by ``a`` times the force
+        scale. Returns ``(F, J, state)``."""
+        n = self.n
+        y = np.empty(n + 1)
+        y[:n] = a * z[:n]
+        omega, ratio = z[n], z[n + 1]
+        y[n] = omega
+        R = np.empty(n)
+        Jh = np.empty((n, n + 1))
+        state = int(hbm_residual(y, self.kernel_problem, R, Jh))
+        v = self.md @ y[:n]
+        F = np.empty(n + 2)
+        J = np.zeros((n + 2, n + 2))
+        s = 1.0 / (a * self.force_scale)
+        F[:n] = (R - 2.0 * ratio * omega**2 * v) * s
+        J[:n, :n] = (Jh[:, :n] - 2.0 * ratio * omega**2 * self.md) * (a * s)
+        J[:n, n] = (Jh[:, n] - 4.0 * ratio * omega * v) * s
+        J[:n, n + 1] = -2.0 * omega**2 * v * s
+        yc, ys = z[self.cos1], z[self.sin1]
+        mc, ms = self.mass @ yc, self.mass @ ys
+        F[n] = yc @ mc + ys @ ms - 1.0
+        J[n, self.cos1] = 2.0 * mc
+        J[n, self.sin1] = 2.0 * ms
+        F[n + 1] = self.m_phi @ ys
+        J[n + 1, self.sin1] = self.m_phi
+        return F, J, state
+
+    def solve(self, z0: np.ndarray, a: float):
+        """Newton from ``z0`` at amplitude ``a``: ``(z, iterations)``, ``z``
+        None when it does not converge."""
+        z = z0.copy()
+        n = self.n
+        for it in range(1, MAX_ITERATIONS + 1):
+            F, J, state = self.equations(z, a)
+            if state < 0 or not np.all(np.isfinite(F)):
+                return None, it
+            try:
+                dz = np.linalg.solve(J, -F)
+            except np.linalg.LinAlgError:
+                return None, it
+            if not np.all(np.isfinite(dz)):
+                return None, it
+            z += dz
+            size = max(
+                float(np.max(np.abs(dz[:n])))
+                / max(float(np.max(np.abs(z[:n]))), 1e-300),
+                abs(dz[n]) / abs(z[n]),
+                abs(dz[n + 1]),
+            )
+            if size <= STEP_TOLERANCE:
+                F, _, state = self.equations(z, a)
+                ok = (
+                    state >= 0
+                    and float(np.max(np.abs(F))) <= RESIDUAL_TOLERANCE
+                    and z[n] > 0.0
+                )
+                return (z if ok else None), it
+        return None, MAX_ITERATIONS
+
+
+def _amplitude_range(amplitude) -> tuple[float, float]:
+    try:
+        lo, hi = amplitude
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"amplitude must be a pair (low, high) of modal amplitudes, got "
+            f"{amplitude!r}"
+        ) from None
+    lo = finite_float("amplitude[0]", lo, low=0.0, low_open=True)
+    hi = finite_float("amplitude[1]", hi, low=0.0, low_open=True)
+    if not hi > lo:
+        raise ValueError(
+            f"amplitude range must be increasing (low < high), got ({lo}, {hi})"
+        )
+    return lo, hi
+
+
+def nonlinear_mode(
+    system,
+    mode: int = 1,
+    amplitude=(1e-6, 1e-2),
+    *,
+    points: int = 40,
+    harmonics: int = 7,
+    n_time: int | None = None,
+    aft: str = "auto",
+    structural_damping: bool = True,
+) -> NonlinearMode:
+    """A nonlinear mode by the extended periodic motion concept (EPMC).
+
+    Frequency and equivalent damping ratio of the periodic motions of the
+    unforced system with the energy its damping and contacts dissipate fed
+    back by ``-2 D ω M ẋ`` (:mod:`hbmfric.modes`), at ``points`` modal
+    amplitudes spaced logarithmically over ``amplitude``.
+
+    Parameters
+    ----------
+    system : Oscillator, CantileverBeam, LinearStructure or compatible
+        Any system of the system protocol; its load is ignored (a static
+        load is kept).
+    mode : int
+        Which linear mode (1 = lowest) of the structure with its contacts
+        stuck the nonlinear mode continues.
+    amplitude : (float, float)
+        Modal amplitudes ``(low, high)``, ``0 < low < high``: the
+        fundamental harmonic in the mass norm, m √kg (for one DOF of mass
+        ``m``: ``√m`` times the displacement amplitude).
+    points : int
+        Number of amplitudes (>= 2), log-spaced, ends included.
+    harmonics : int
+        Highest harmonic ``H``; odd harmonics only for a symmetric system.
+    n_time : int, optional
+        AFT samples per period; default as for :func:`hbmfric.frf`.
+    aft : {"auto", "events", "samples"}
+        AFT scheme (:class:`~hbmfric.hbm.HBMProblem`).
+    structural_damping : bool
+        Keep the structure's damping matrix ``C`` (default: ``D`` is the
+        damping ratio of the mode, structure and contacts) or drop it
+        (``D`` is the contacts' share).
+
+    Returns
+    -------
+    NonlinearMode
+
+    Warns
+    -----
+    CoverageWarning
+        When the continuation stops before the end of the range (the
+        result holds the points it found).
+    ConvergenceWarning
+        When no point at all could be found.
+
+    Examples
+    --------
+    >>> import hbmfric as hf
+    >>> osc = hf.Oscillator(1.0, 4.0, 1e4, hf.Jenkins(stiffness=3e4, slip_force=1.0))
+    >>> nm = hf.nonlinear_mode(osc, amplitude=(1e-6, 1e-2), harmonics=1)
+    >>> round(float(nm.omega[0]), 6), round(float(nm.omega[-1]), 1)
+    (200.0, 100.5)
+    """
+    start = time.perf_counter()
+    mode = positive_int("mode", mode, low=1)
+    points = positive_int("points", points, low=2)
+    lo, hi = _amplitude_range(amplitude)
+    if not isinstance(structural_damping, bool | np.bool_):
+        raise ValueError(
+            f"structural_damping must be True or False, got {structural_damping!r}"
+        )
+    epmc = _EPMC(system, mode, harmonics, n_time, aft, bool(structural_damping))
+    n = epmc.n
+    grid = np.linspace(np.log(lo), np.log(hi), points)
+    width = grid[1] - grid[0]
+    n_steps = n_rejected = 0
+
+    # first point: from the linear mode, backing off to smaller amplitudes
+    # (and continuing up to ``lo``) when the linear guess is too far
+    z, its = epmc.solve(epmc.linear_guess(lo), lo)
+    n_steps += 1
+    history: list[tuple[float, np.ndarray]] = []
+    if z is not None:
+        history.append((grid[0], z))
+    else:
+        n_rejected += 1
+        for k in range(1, START_BACKOFF + 1):
+            s0 = grid[0] - k * np.log(10.0)
+            a0 = float(np.exp(s0))
+            z0, _ = epmc.solve(epmc.linear_guess(a0), a0)
+            n_steps += 1
+            if z0 is not None:
+                history.append((s0, z0))
+                break
+            n_rejected += 1
+    out_s, out_z, out_it = [], [], []
+    stop_reason = "range reached"
+    if not history:
+        stop_reason = (
+            f"no solution near the linear mode {mode} at or below a = {lo:.3g}"
+        )
+    else:
+        targets = list(grid) if z is None else list(grid[1:])
+        if z is not None:
+            out_s.append(grid[0])
+            out_z.append(z)
+            out_it.append(its)
+        step = width
+        for target in targets:
+            s = history[-1][0]
+            reached = False
+            while not reached:
+                h = min(step, target - s)
+                if h <= 0.0:  # the back-off start may land on the target
+                    h = 0.0
+                z_last = history[-1][1]
+                if len(history) >= 2 and h > 0.0:
+                    s_prev, z_prev = history[-2]
+                    pred = z_last + (z_last - z_prev) * h / (s - s_prev)
+                else:
+                    pred = z_last.copy()
+                s_new = s + h
+                z_new, its = epmc.solve(pred, float(np.exp(s_new)))
+                n_steps += 1
+                if z_new is None:
+                    n_rejected += 1
+                    step = 0.5 * h
+                    if step < MIN_STEP_FRACTION * width:
+                        stop_reason = (
+                            f"Newton failed at a = {np.exp(s_new):.4g} with the "
+                            f"step below its minimum ({MIN_STEP_FRACTION:g} of "
+                            "the grid spacing)"
+                        )
+                        break
+                    continue
+                history.append((s_new, z_new))
+                history = history[-2:]
+                s = s_new
+                if its <= 4:
+                    step = min(2.0 * h if h > 0 else width, width)
+                if s_new >= target - 1e-14 * max(1.0, abs(target)):
+                    reached = True
+                    out_s.append(target)
+                    out_z.append(z_new)
+                    out_it.append(its)
+            if not reached:
+                break
+    amps = np.exp(np.array(out_s, dtype=float))
+    if amps.size:
+        amps[0] = lo if np.isclose(out_s[0], grid[0]) else amps[0]
+    Z = np.array(out_z, dtype=float).reshape(-1, n + 2)
+    coefficients = (Z[:, :n] * amps[:, None]).reshape(-1, epmc.n_dof, epmc.n_coef)
+    problem = epmc.problem
+    result = NonlinearMode(
+        amplitude=amps,
+        omega=Z[:, n].copy(),
+        damping_ratio=Z[:, n + 1].copy(),
+        coefficients=coefficients,
+        harmonic_numbers=problem.harmonic_numbers.copy(),
+        mode=mode,
+        linear_omega=epmc.linear_omega,
+        linear_damping_ratio=epmc.linear_damping,
+        requested=(lo, hi),
+        stop_reason=stop_reason,
+        newton_iterations=np.array(out_it, dtype=np.int64),
+        n_steps=n_steps,
+        n_rejected=n_rejected,
+        elapsed=time.perf_counter() - start,
+        info={
+            "harmonics": problem.harmonics,
+            "odd_only": problem.odd,
+            "n_time": problem.n_time,
+            "aft": problem.aft,
+            "structural_damping": bool(structural_damping),
+            "contact_dof": int(getattr(system, "contact_dof", 0)),
+        },
+        dof_names=dict(getattr(system, "dof_names", {}) or {}),
+    )
+    if not result.complete:
+        covered = f"up to a = {amps[-1]:.4g}" if amps.size else "no point"
+        cls = CoverageWarning if amps.size else ConvergenceWarning
+        warnings.warn(
+            f"nonlinear mode {mode}: {covered} of the range ({lo:.4g}, {hi:.4g}); "
+            f"{stop_reason}",
+            cls,
+            stacklevel=2,
+        )
+    return result
