@@ -377,3 +377,121 @@ def test_beam_energy_balance_against_the_naive_march(calibrated_beam):
         dissipated = loop_work(u, jenkins_march(u, law.stiffness, law.slip_force)[0])
         worst = max(worst, abs(_supplied_energy(nm, i, mass) / dissipated - 1.0))
     assert worst < 1e-6
+
+
+def _menq_first_harmonic(a, law):
+    """``c1, s1`` of the closed-form Menq loop under ``u = a cos θ`` by
+    adaptive quadrature: unloading from ``(a, F_load(a))`` by Masing's rule
+    on ``[0, π]``, the odd mirror image on ``[π, 2π]``."""
+    from naive import menq_virgin
+    from scipy.integrate import quad
+
+    args = (law.axial_rigidity, law.length, law.shear_stiffness, law.friction_limit)
+    top = menq_virgin(a, *args)
+
+    def force(theta):
+        return top - 2.0 * menq_virgin(0.5 * a * (1.0 - np.cos(theta)), *args)
+
+    opts = dict(epsabs=1e-15 * top, epsrel=1e-13, limit=200)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # quad's round-off notice at 1e-13
+        c1 = quad(lambda t: force(t) * np.cos(t), 0.0, np.pi, **opts)[0]
+        s1 = quad(lambda t: force(t) * np.sin(t), 0.0, np.pi, **opts)[0]
+    return 2.0 * c1 / np.pi, 2.0 * s1 / np.pi
+
+
+def test_menq_single_harmonic_against_the_closed_form_loop():
+    """Menq microslip at H = 1 against the quadrature of the SPEC closed
+    form loop, from stuck to gross slip. The Masing AFT samples the loop
+    (reversals located): measured worst 8.8e-3 at the default 32 samples,
+    5.1e-5 at 256, 2.3e-6 at 1024 (order 2 in n_time)."""
+    law = hf.Menq(
+        axial_rigidity=1e5, length=0.1, shear_stiffness=1e7, friction_limit=10.0
+    )
+    osc = _oscillator(0.02, law)
+    worst = []
+    for n_time in (256, 1024):
+        nm = hf.nonlinear_mode(
+            osc, amplitude=(1e-7, 1e-3), points=7, harmonics=1, n_time=n_time
+        )
+        assert nm.complete
+        err = 0.0
+        for a, w, d in zip(nm.amplitude, nm.omega, nm.damping_ratio, strict=True):
+            w_ref, d_ref = _single_harmonic(
+                a, osc.damping, *_menq_first_harmonic(a, law)
+            )
+            err = max(err, abs(w / w_ref - 1.0), abs(d - d_ref))
+        worst.append(err)
+    assert worst[1] < 5e-6
+    assert worst[0] / worst[1] > 10.0  # 4 times the samples
+
+
+def test_duffing_single_harmonic_backbone():
+    """A cubic spring (a memoryless law, the sampled AFT alias-free) at
+    H = 1: ``ω² = (k + ¾ k3 a²) / m`` and ``D = c / (2 m ω)``."""
+    k3 = 1e8
+    osc = _oscillator(0.02, hf.Cubic(k3))
+    nm = hf.nonlinear_mode(osc, amplitude=(1e-4, 3e-2), points=9, harmonics=1)
+    omega = np.sqrt((K + 0.75 * k3 * nm.amplitude**2) / M)
+    np.testing.assert_allclose(nm.omega, omega, rtol=1e-12)
+    np.testing.assert_allclose(
+        nm.damping_ratio, osc.damping / (2 * M * omega), rtol=1e-11
+    )
+
+
+def test_several_contacts_stuck_limit():
+    """The README's structure with three contacts (to ground, between two
+    DOFs, a 2D element held closed by a static load), modes 1 and 2: at
+    small amplitude the linear modes of K plus the stuck springs (built
+    here by hand) and a hardening-free, softening backbone above."""
+    law = hf.Jenkins(stiffness=500.0, slip_force=2.0)
+    element = hf.Contact2D(500.0, 2e3, friction_coefficient=0.3, preload=5.0)
+    mass = np.eye(4)
+    stiffness = 1e3 * (2 * np.eye(4) - np.eye(4, k=1) - np.eye(4, k=-1))
+    s = hf.LinearStructure(
+        mass,
+        stiffness,
+        modal_damping=0.01,
+        load={0: 1.0},
+        static_load={3: 5.0},
+        contacts=[
+            hf.Contact(law, 1),
+            hf.Contact(law, 1, other=2),
+            hf.Contact(element, 2, normal=3),
+        ],
+    )
+    stuck = stiffness.copy()
+    stuck[1, 1] += 500.0  # to ground
+    stuck[np.ix_([1, 2], [1, 2])] += 500.0 * np.array([[1.0, -1.0], [-1.0, 1.0]])
+    stuck[2, 2] += 500.0  # 2D element, tangential
+    stuck[3, 3] += 2e3  # 2D element, normal
+    w_lin = np.sqrt(scipy.linalg.eigh(stuck, mass, eigvals_only=True))
+    for mode in (1, 2):
+        nm = hf.nonlinear_mode(s, mode=mode, amplitude=(1e-4, 1e1), points=11)
+        assert nm.complete
+        assert nm.linear_omega == pytest.approx(w_lin[mode - 1], rel=1e-12)
+        assert nm.omega[0] == pytest.approx(w_lin[mode - 1], rel=1e-3)
+        assert np.all(np.diff(nm.omega) < 1e-9 * nm.omega[0])
+        assert nm.omega[-1] < 0.9 * nm.omega[0]
+        assert np.all(nm.damping_ratio > 0.0)
+
+
+def test_warns_when_the_range_is_not_covered(monkeypatch):
+    """A Newton that gives up after 2 iterations finds the stuck (linear)
+    points but not the slipping ones: a CoverageWarning and the points
+    found; with 1 iteration, from a slipping start, not even the first: a
+    ConvergenceWarning."""
+    import hbmfric.modes as modes
+
+    osc = _oscillator()
+    monkeypatch.setattr(modes, "MAX_ITERATIONS", 2)
+    with pytest.warns(hf.CoverageWarning, match="up to a ="):
+        nm = hf.nonlinear_mode(osc, amplitude=(1e-6, 1e-2), points=9, harmonics=3)
+    assert not nm.complete and 1 <= len(nm) < 9
+    assert nm.amplitude[-1] < 1e-4 and "Newton failed" in nm.stop_reason
+    # from 1e-3 (slipping) the start backs off to the stuck 1e-5 (where the
+    # linear mode is exact), then fails on the way back up
+    monkeypatch.setattr(modes, "MAX_ITERATIONS", 1)
+    with pytest.warns(hf.ConvergenceWarning, match="no point"):
+        nm = hf.nonlinear_mode(osc, amplitude=(1e-3, 1e-2), points=9, harmonics=3)
+    assert len(nm) == 0
