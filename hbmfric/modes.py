@@ -480,8 +480,8 @@ def nonlinear_mode(
     >>> import hbmfric as hf
     >>> osc = hf.Oscillator(1.0, 4.0, 1e4, hf.Jenkins(stiffness=3e4, slip_force=1.0))
     >>> nm = hf.nonlinear_mode(osc, amplitude=(1e-6, 1e-2), harmonics=1)
-    >>> round(float(nm.omega[0]), 6), round(float(nm.omega[-1]), 1)
-    (200.0, 100.5)
+    >>> round(float(nm.omega[0]), 6), round(float(nm.omega[-1]), 2)
+    (200.0, 100.05)
     """
     start = time.perf_counter()
     mode = positive_int("mode", mode, low=1)

@@ -532,3 +532,18 @@ def test_beam_backbone_through_frf_peaks(calibrated_beam, force):
         beam, amplitude=(a * (1 - 1e-9), a * (1 + 1e-9)), points=2, harmonics=h
     )
     assert abs(res.x / nm.omega.mean() - 1.0) < 1e-3
+
+
+def test_docs_example_runs(tmp_path, monkeypatch):
+    """docs/modes.md's example runs as written, without warnings."""
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).parents[1] / "docs" / "modes.md").read_text()
+    code = re.findall(r"```python\n(.*?)```", text, re.S)[0]
+    monkeypatch.chdir(tmp_path)
+    namespace: dict = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", hf.HbmfricWarning)
+        exec(compile(code, "docs/modes.md", "exec"), namespace)
+    assert namespace["mode"].complete and (tmp_path / "mode.csv").exists()
