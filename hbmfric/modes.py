@@ -68,7 +68,7 @@ from .kernels.dlft import COULOMB
 from .kernels.hbm import hbm_residual
 from .signals import coefficient_columns
 from .stability import derivative_operator
-from .systems.protocol import check_system
+from .systems.protocol import check_load, check_system
 
 #: Newton: relative size of the last correction below which a point counts
 #: as converged
@@ -123,6 +123,9 @@ class NonlinearMode:
         convention).
     dof_names : dict
         Named DOFs of the system.
+    load : ndarray of complex, shape (n_dof,), optional
+        The system's load per unit forcing amplitude, ``Re(p e^{iΩt})``,
+        for :meth:`resonances`; None when the system has none.
     """
 
     amplitude: np.ndarray
@@ -141,6 +144,9 @@ class NonlinearMode:
     elapsed: float
     info: dict = field(default_factory=dict)
     dof_names: dict = field(default_factory=dict)
+    load: np.ndarray | None = None
+    #: the mass matrix, shape (n_dof, n_dof), kg (for the energies)
+    _mass: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     def __len__(self) -> int:
         return int(self.amplitude.size)
@@ -193,6 +199,69 @@ class NonlinearMode:
         if harmonic == 0:
             return np.abs(X[:, c])
         return np.hypot(X[:, c], X[:, c + 1])
+
+    def supplied_energy(self) -> np.ndarray:
+        """Energy the EPMC term ``2 D ω M ẋ`` supplies per cycle, J, shape
+        (n_points,): ``2π D ω² Σ_k k² (Xc_kᵀ M Xc_k + Xs_kᵀ M Xs_k)``, equal
+        to what the structure (or, with ``structural_damping=False``, the
+        contacts) dissipate along the motion."""
+        out = np.zeros(len(self))
+        col = 0
+        for k in self.harmonic_numbers:
+            if k == 0:
+                col += 1
+                continue
+            for c in (col, col + 1):
+                X = self.coefficients[:, :, c]
+                out += k * k * np.einsum("pi,ij,pj->p", X, self._mass, X)
+            col += 2
+        return 2.0 * np.pi * self.damping_ratio * self.omega**2 * out
+
+    def resonances(self, force: float) -> tuple[np.ndarray, np.ndarray]:
+        """Resonances of the forced system predicted from the mode.
+
+        Under the load ``force * Re(p e^{iΩt})`` (``p`` = :attr:`load`), a
+        phase resonance on the mode does the most work per cycle,
+        ``π a force |pᴴ ψ|`` (``ψ = (Xc1 − i Xs1) / a``), and that balances
+        the dissipated energy (:meth:`supplied_energy`). The amplitudes
+        where the two are equal (linear interpolation in ``log a`` between
+        the points) are the FRF peaks of a lightly damped system, at the
+        backbone's ``ω`` there.
+
+        Parameters
+        ----------
+        force : float
+            Forcing amplitude ``F``, N.
+
+        Returns
+        -------
+        omega : ndarray, shape (n_found,)
+            Pulsations of the resonances, rad/s.
+        amplitude : ndarray, shape (n_found,)
+            Their modal amplitudes, m √kg (increasing).
+        """
+        force = finite_float("force", force, low=0.0, low_open=True)
+        if self.load is None or not np.any(self.load):
+            raise ValueError("the system has no load vector: no resonance")
+        if len(self) < 2:
+            return np.empty(0), np.empty(0)
+        col = coefficient_columns(self.harmonic_numbers)[1]
+        psi = (
+            self.coefficients[:, :, col] - 1j * self.coefficients[:, :, col + 1]
+        ) / self.amplitude[:, None]
+        modal = np.abs(psi @ np.conj(self.load))
+        with np.errstate(divide="ignore"):
+            needed = self.supplied_energy() / (np.pi * self.amplitude * modal)
+        g = needed - force
+        s = np.log(self.amplitude)
+        omega, amp = [], []
+        for i in np.flatnonzero(np.sign(g[1:]) != np.sign(g[:-1])):
+            if not (np.isfinite(g[i]) and np.isfinite(g[i + 1])):
+                continue
+            u = g[i] / (g[i] - g[i + 1])
+            amp.append(float(np.exp(s[i] + u * (s[i + 1] - s[i]))))
+            omega.append(float(self.omega[i] + u * (self.omega[i + 1] - self.omega[i])))
+        return np.array(omega), np.array(amp)
 
     def plot(self, axes=None, hz: bool = False, **kwargs):
         """Frequency and damping ratio against the modal amplitude
@@ -284,6 +353,10 @@ class _EPMC:
                 "use an elastic law (hf.Jenkins with a large stiffness)"
             )
         self.problem = problem
+        try:
+            self.load = check_load(system, 1.0, data.n_dof, data.load_phase)
+        except (AttributeError, TypeError, ValueError):
+            self.load = None
         kp = problem.kernel_problem
         mass, damping = kp[1], kp[2]
         if not structural_damping:
@@ -597,6 +670,8 @@ def nonlinear_mode(
             "contact_dof": int(getattr(system, "contact_dof", 0)),
         },
         dof_names=dict(getattr(system, "dof_names", {}) or {}),
+        load=epmc.load,
+        _mass=epmc.mass,
     )
     if not result.complete:
         covered = f"up to a = {amps[-1]:.4g}" if amps.size else "no point"

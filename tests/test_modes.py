@@ -141,15 +141,26 @@ def _frf_peak(system, force, harmonics):
     return float(res.x), float(-res.fun)
 
 
+@pytest.fixture(scope="module")
+def light_mode():
+    """The Jenkins mode at ζ = 0.1 %, H = 7, on a fine grid (241 points,
+    amplitudes 5 % apart)."""
+    osc = _oscillator(1e-3)
+    return osc, hf.nonlinear_mode(osc, amplitude=(1e-6, 1e-1), points=241, harmonics=7)
+
+
 @pytest.mark.parametrize("force", [2e-4, 0.02, 0.2, 0.5, 1.0, 1.5, 3.0])
-def test_backbone_through_frf_peaks(force):
+def test_backbone_through_frf_peaks(force, light_mode):
     """ζ = 0.1 %: the FRF peak of the forced oscillator (stuck, microslip,
     the most damped stretch with D up to 0.23, gross slip) lies on the
     backbone, within 1e-3 in frequency (measured |Ω_peak / ω(a_peak) - 1|:
     2.5e-7, 6.2e-6, 3.7e-4, 8.8e-4, 7.7e-4, 6.5e-6, 1.7e-6), and the
     mode's energy balance predicts the force, F = 2 D ω² m a (within 1 %,
-    measured 0.5 % at most)."""
-    osc = _oscillator(1e-3)
+    measured 0.5 % at most). ``NonlinearMode.resonances`` predicts the
+    peak from the mode alone: Ω within 3e-3 and the amplitude within 1 %
+    (measured 2.6e-3 and 7.5e-3 at 1 N, D = 0.23; 2e-5 and 3e-3 or better
+    elsewhere)."""
+    osc, fine = light_mode
     h = 7
     omega_peak, a_peak = _frf_peak(osc, force, h)
     nm = hf.nonlinear_mode(
@@ -158,6 +169,10 @@ def test_backbone_through_frf_peaks(force):
     omega, ratio = float(nm.omega.mean()), float(nm.damping_ratio.mean())
     assert abs(omega_peak / omega - 1.0) < 1e-3
     assert 2.0 * ratio * omega**2 * M * a_peak == pytest.approx(force, rel=1e-2)
+    w_res, a_res = fine.resonances(force)
+    j = int(np.argmin(np.abs(np.log(a_res / a_peak))))
+    assert abs(w_res[j] / omega_peak - 1.0) < 3e-3
+    assert abs(a_res[j] / a_peak - 1.0) < 1e-2
 
 
 def _proportional_chain(alpha, beta, kt):
@@ -298,6 +313,8 @@ def test_energy_balance_against_the_naive_march(law):
         worst = max(worst, abs(supplied / dissipated - 1.0))
     print(f"{law}: worst relative energy imbalance {worst:.2e}")
     assert worst < 1e-6
+    helper = [_supplied_energy(nm, i, np.array([[M]])) for i in range(len(nm))]
+    np.testing.assert_allclose(nm.supplied_energy(), helper, rtol=1e-12)
 
 
 def test_input_validation():
@@ -314,6 +331,9 @@ def test_input_validation():
         hf.nonlinear_mode(osc, mode=0)
     with pytest.raises(ValueError, match="points"):
         hf.nonlinear_mode(osc, points=1)
+    nm = hf.nonlinear_mode(osc, amplitude=(1e-6, 1e-5), points=2, harmonics=1)
+    with pytest.raises(ValueError, match="force"):
+        nm.resonances(0.0)
     with pytest.raises(ValueError, match="Coulomb"):
         hf.nonlinear_mode(hf.Oscillator(1.0, 0.1, 1.0, hf.Coulomb(slip_force=1.0)))
 
