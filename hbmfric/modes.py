@@ -76,6 +76,9 @@ STEP_TOLERANCE = 1e-11
 #: Newton: largest residual accepted, relative to ``a`` times the largest
 #: stiffness entry (the force scale of the mode)
 RESIDUAL_TOLERANCE = 1e-8
+#: Newton: corrections that stop shrinking below this size mark the
+#: rounding floor, where the point is accepted (if its residual is)
+STALL_TOLERANCE = 1e-9
 MAX_ITERATIONS = 30
 #: smallest fraction of a grid interval (in log a) a step may shrink to
 MIN_STEP_FRACTION = 1.0 / 1024.0
@@ -399,10 +402,14 @@ class _EPMC:
         self.linear_damping = float(phi @ damping @ phi) / (2.0 * self.linear_omega)
         self.K_stuck = K
         self.force_scale = float(np.max(np.abs(K)))
-        static = problem._static
+        # the static equilibrium the mode vibrates about: the system's own
+        # (``static_solution`` hook), else 0 (a static load may be held by
+        # the contacts' preload, which K alone does not know); Newton finds
+        # the mean from there
         self.static = None
-        if static is not None and hn[0] == 0:
-            self.static = np.linalg.solve(K, static)
+        hook = getattr(system, "static_solution", None)
+        if problem._static is not None and hn[0] == 0 and hook is not None:
+            self.static = np.asarray(hook(), dtype=float).reshape(n_dof)
 
     def linear_guess(self, a: float) -> np.ndarray:
         """``z`` of the linear mode at amplitude ``a``."""
@@ -448,6 +455,7 @@ class _EPMC:
         None when it does not converge."""
         z = z0.copy()
         n = self.n
+        previous = np.inf
         for it in range(1, MAX_ITERATIONS + 1):
             F, J, state = self.equations(z, a)
             if state < 0 or not np.all(np.isfinite(F)):
@@ -459,13 +467,18 @@ class _EPMC:
             if not np.all(np.isfinite(dz)):
                 return None, it
             z += dz
+            y_size = max(float(np.max(np.abs(z[:n]))), 1e-300)
             size = max(
-                float(np.max(np.abs(dz[:n])))
-                / max(float(np.max(np.abs(z[:n]))), 1e-300),
+                float(np.max(np.abs(dz[:n]))) / y_size,
                 abs(dz[n]) / abs(z[n]),
                 abs(dz[n + 1]),
             )
-            if size <= STEP_TOLERANCE:
+            # converged, or at the rounding floor (the corrections stop
+            # shrinking below STALL_TOLERANCE: e.g. a small vibration about
+            # a large static preload)
+            if size <= STEP_TOLERANCE or (
+                size <= STALL_TOLERANCE and size > 0.5 * previous
+            ):
                 F, _, state = self.equations(z, a)
                 ok = (
                     state >= 0
@@ -473,6 +486,7 @@ class _EPMC:
                     and z[n] > 0.0
                 )
                 return (z if ok else None), it
+            previous = size
         return None, MAX_ITERATIONS
 
 
