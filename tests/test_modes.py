@@ -583,3 +583,29 @@ def test_docs_example_runs(tmp_path, monkeypatch):
         warnings.simplefilter("error", hf.HbmfricWarning)
         exec(compile(code, "docs/modes.md", "exec"), namespace)
     assert namespace["mode"].complete and (tmp_path / "mode.csv").exists()
+
+
+def test_tensioner_dahl_energy_against_the_closed_form():
+    """The belt tensioner (2 DOF, static load, modified Dahl contact with
+    parallel envelopes a = d) at H = 1 without the belt's damping: the
+    energy the mode supplies per cycle is the Dahl loop's closed-form
+    energy (SPEC §4, μ = 1; a mean displacement shifts both envelopes
+    alike, a = d) at the contact's first-harmonic amplitude X,
+    ``W = 2 (b − e − (a + d)/β)(X − tanh(βX)/β)``: 2.7e-12 relative at
+    4096 AFT samples (measured; 1.2e-3 at the default 32, 7.9e-8 at
+    256)."""
+    t = hf.BeltTensioner()
+    law = t.contact
+    (a, b), (d, e) = law.upper, law.lower
+    nm = hf.nonlinear_mode(
+        t,
+        amplitude=(1e-4, 1e-1),
+        points=7,
+        harmonics=1,
+        n_time=4096,
+        structural_damping=False,
+    )
+    assert nm.complete
+    X = nm.dof_amplitude(t.contact_dof)
+    W = 2.0 * (b - e - (a + d) / law.beta) * (X - np.tanh(law.beta * X) / law.beta)
+    np.testing.assert_allclose(nm.supplied_energy(), W, rtol=1e-10)
