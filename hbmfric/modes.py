@@ -54,8 +54,10 @@ extension of the periodic motion concept*, Computers & Structures 154
 from __future__ import annotations
 
 import csv
+import json
 import time
 import warnings
+import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -70,6 +72,8 @@ from .signals import coefficient_columns
 from .stability import derivative_operator
 from .systems.protocol import check_load, check_system
 
+#: format tag of :meth:`NonlinearMode.save` files
+FORMAT = "hbmfric.NonlinearMode/1"
 #: Newton: relative size of the last correction below which a point counts
 #: as converged
 STEP_TOLERANCE = 1e-11
@@ -126,7 +130,7 @@ class NonlinearMode:
         convention).
     dof_names : dict
         Named DOFs of the system.
-    load : ndarray of complex, shape (n_dof,), optional
+    load_vector : ndarray of complex, shape (n_dof,), optional
         The system's load per unit forcing amplitude, ``Re(p e^{iΩt})``,
         for :meth:`resonances`; None when the system has none.
     """
@@ -147,7 +151,7 @@ class NonlinearMode:
     elapsed: float
     info: dict = field(default_factory=dict)
     dof_names: dict = field(default_factory=dict)
-    load: np.ndarray | None = None
+    load_vector: np.ndarray | None = None
     #: the mass matrix, shape (n_dof, n_dof), kg (for the energies)
     _mass: np.ndarray | None = field(default=None, repr=False, compare=False)
 
@@ -223,7 +227,7 @@ class NonlinearMode:
     def resonances(self, force: float) -> tuple[np.ndarray, np.ndarray]:
         """Resonances of the forced system predicted from the mode.
 
-        Under the load ``force * Re(p e^{iΩt})`` (``p`` = :attr:`load`), a
+        Under the load ``force * Re(p e^{iΩt})`` (``p`` = :attr:`load_vector`), a
         phase resonance on the mode does the most work per cycle,
         ``π a force |pᴴ ψ|`` (``ψ = (Xc1 − i Xs1) / a``), and that balances
         the dissipated energy (:meth:`supplied_energy`). The amplitudes
@@ -244,7 +248,7 @@ class NonlinearMode:
             Their modal amplitudes, m √kg (increasing).
         """
         force = finite_float("force", force, low=0.0, low_open=True)
-        if self.load is None or not np.any(self.load):
+        if self.load_vector is None or not np.any(self.load_vector):
             raise ValueError("the system has no load vector: no resonance")
         if len(self) < 2:
             return np.empty(0), np.empty(0)
@@ -252,7 +256,7 @@ class NonlinearMode:
         psi = (
             self.coefficients[:, :, col] - 1j * self.coefficients[:, :, col + 1]
         ) / self.amplitude[:, None]
-        modal = np.abs(psi @ np.conj(self.load))
+        modal = np.abs(psi @ np.conj(self.load_vector))
         with np.errstate(divide="ignore"):
             needed = self.supplied_energy() / (np.pi * self.amplitude * modal)
         g = needed - force
@@ -265,6 +269,113 @@ class NonlinearMode:
             amp.append(float(np.exp(s[i] + u * (s[i + 1] - s[i]))))
             omega.append(float(self.omega[i] + u * (self.omega[i + 1] - self.omega[i])))
         return np.array(omega), np.array(amp)
+
+    def save(self, path: str | Path) -> Path:
+        """Write the mode to ``path`` (``.npz``, no pickle); returns the
+        path written."""
+        path = Path(path)
+        meta = {
+            "format": FORMAT,
+            "mode": self.mode,
+            "linear_omega": self.linear_omega,
+            "linear_damping_ratio": self.linear_damping_ratio,
+            "requested": list(self.requested),
+            "stop_reason": self.stop_reason,
+            "n_steps": self.n_steps,
+            "n_rejected": self.n_rejected,
+            "elapsed": self.elapsed,
+            "info": self.info,
+            "dof_names": self.dof_names,
+        }
+        arrays = {
+            "amplitude": self.amplitude,
+            "omega": self.omega,
+            "damping_ratio": self.damping_ratio,
+            "coefficients": self.coefficients,
+            "harmonic_numbers": self.harmonic_numbers,
+            "newton_iterations": self.newton_iterations,
+            "meta": np.array(json.dumps(meta)),
+        }
+        if self.load_vector is not None:
+            arrays["load_vector"] = self.load_vector
+        if self._mass is not None:
+            arrays["mass"] = self._mass
+        np.savez(path, **arrays)
+        return path if path.suffix == ".npz" else path.with_suffix(path.suffix + ".npz")
+
+    @classmethod
+    def load(cls, path: str | Path) -> NonlinearMode:
+        """Read a mode written by :meth:`save` (no pickle).
+
+        Raises
+        ------
+        ValueError
+            If ``path`` is not a readable nonlinear-mode file.
+        """
+        try:
+            with np.load(Path(path), allow_pickle=False) as data:
+                meta = json.loads(str(data["meta"]))
+                if not isinstance(meta, dict) or meta.get("format") != FORMAT:
+                    raise ValueError("wrong format tag")
+                n = data["amplitude"].shape[0]
+                mode = cls(
+                    amplitude=np.asarray(data["amplitude"], dtype=np.float64).copy(),
+                    omega=np.asarray(data["omega"], dtype=np.float64).copy(),
+                    damping_ratio=np.asarray(
+                        data["damping_ratio"], dtype=np.float64
+                    ).copy(),
+                    coefficients=np.asarray(
+                        data["coefficients"], dtype=np.float64
+                    ).copy(),
+                    harmonic_numbers=np.asarray(
+                        data["harmonic_numbers"], dtype=np.int64
+                    ).copy(),
+                    mode=int(meta["mode"]),
+                    linear_omega=float(meta["linear_omega"]),
+                    linear_damping_ratio=float(meta["linear_damping_ratio"]),
+                    requested=tuple(float(v) for v in meta["requested"]),
+                    stop_reason=str(meta["stop_reason"]),
+                    newton_iterations=np.asarray(
+                        data["newton_iterations"], dtype=np.int64
+                    ).copy(),
+                    n_steps=int(meta["n_steps"]),
+                    n_rejected=int(meta["n_rejected"]),
+                    elapsed=float(meta["elapsed"]),
+                    info=dict(meta["info"]),
+                    dof_names={str(k): int(v) for k, v in meta["dof_names"].items()},
+                    load_vector=(
+                        np.asarray(data["load_vector"], dtype=np.complex128).copy()
+                        if "load_vector" in data.files
+                        else None
+                    ),
+                    _mass=(
+                        np.asarray(data["mass"], dtype=np.float64).copy()
+                        if "mass" in data.files
+                        else None
+                    ),
+                )
+                shapes = (
+                    mode.omega.shape == (n,),
+                    mode.damping_ratio.shape == (n,),
+                    mode.newton_iterations.shape == (n,),
+                    mode.coefficients.ndim == 3 and mode.coefficients.shape[0] == n,
+                )
+                if not all(shapes):
+                    raise ValueError("arrays of inconsistent lengths")
+        except (
+            AttributeError,
+            OSError,
+            EOFError,
+            KeyError,
+            TypeError,
+            ValueError,
+            zipfile.BadZipFile,
+        ) as exc:
+            raise ValueError(
+                f"path {str(path)!r} is not an hbmfric nonlinear-mode file, or is "
+                f"damaged ({exc})"
+            ) from None
+        return mode
 
     def plot(self, axes=None, hz: bool = False, **kwargs):
         """Frequency and damping ratio against the modal amplitude
@@ -684,7 +795,7 @@ def nonlinear_mode(
             "contact_dof": int(getattr(system, "contact_dof", 0)),
         },
         dof_names=dict(getattr(system, "dof_names", {}) or {}),
-        load=epmc.load,
+        load_vector=epmc.load,
         _mass=epmc.mass,
     )
     if not result.complete:

@@ -609,3 +609,20 @@ def test_tensioner_dahl_energy_against_the_closed_form():
     X = nm.dof_amplitude(t.contact_dof)
     W = 2.0 * (b - e - (a + d) / law.beta) * (X - np.tanh(law.beta * X) / law.beta)
     np.testing.assert_allclose(nm.supplied_energy(), W, rtol=1e-10)
+
+
+def test_save_and_load_round_trip(tmp_path, light_mode):
+    """``save``/``load`` (npz, no pickle) keep every array and what
+    ``resonances`` needs; a foreign file is refused with a ValueError."""
+    _, nm = light_mode
+    path = nm.save(tmp_path / "mode.npz")
+    back = hf.NonlinearMode.load(path)
+    for name in ("amplitude", "omega", "damping_ratio", "coefficients", "load_vector"):
+        np.testing.assert_array_equal(getattr(back, name), getattr(nm, name))
+    np.testing.assert_array_equal(back.harmonic_numbers, nm.harmonic_numbers)
+    assert back.requested == nm.requested and back.info == nm.info
+    np.testing.assert_array_equal(back.resonances(0.5)[0], nm.resonances(0.5)[0])
+    other = tmp_path / "other.npz"
+    np.savez(other, meta=np.array('{"format": "hbmfric.Branch/1"}'))
+    with pytest.raises(ValueError, match="not an hbmfric nonlinear-mode file"):
+        hf.NonlinearMode.load(other)
