@@ -766,8 +766,9 @@ def nonlinear_mode(
             if not reached:
                 break
     amps = np.exp(np.array(out_s, dtype=float))
-    if amps.size:
-        amps[0] = lo if np.isclose(out_s[0], grid[0]) else amps[0]
+    if amps.size:  # the asked ends exactly, not through exp(log(.))
+        amps[0] = lo if out_s[0] == grid[0] else amps[0]
+        amps[-1] = hi if out_s[-1] == grid[-1] else amps[-1]
     Z = np.array(out_z, dtype=float).reshape(-1, n + 2)
     coefficients = (Z[:, :n] * amps[:, None]).reshape(-1, epmc.n_dof, epmc.n_coef)
     problem = epmc.problem
