@@ -626,3 +626,51 @@ def test_save_and_load_round_trip(tmp_path, light_mode):
     np.savez(other, meta=np.array('{"format": "hbmfric.Branch/1"}'))
     with pytest.raises(ValueError, match="not an hbmfric nonlinear-mode file"):
         hf.NonlinearMode.load(other)
+
+
+@pytest.mark.parametrize(
+    "law",
+    [hf.Cubic(1e8), hf.Jenkins(stiffness=KT, slip_force=FS)],
+    ids=["cubic", "jenkins"],
+)
+def test_equations_jacobian_against_finite_differences(law):
+    """The EPMC Jacobian (HBM rows with the ``-2 D ω M ẋ`` term, ω and D
+    columns, the normalisation and phase rows) against central finite
+    differences at a solution of the mode perturbed off it (Jenkins: in
+    gross slip, away from the stick/slip kinks), H = 5 on two DOFs."""
+    from hbmfric.modes import _EPMC
+
+    mass = np.diag([1.0, 0.5])
+    stiffness = 1e4 * np.array([[2.0, -1.0], [-1.0, 1.0]])
+    s = hf.LinearStructure(
+        mass, stiffness, rayleigh=(1.0, 1e-4), contact=law, contact_dof=1
+    )
+    epmc = _EPMC(s, 1, 5, None, "auto", True)
+    a = 3e-3
+    nm = hf.nonlinear_mode(s, amplitude=(a, 2 * a), points=2, harmonics=5)
+    rng = np.random.default_rng(3)
+    z = np.concatenate(
+        [nm.coefficients[0].reshape(-1) / a, [nm.omega[0], nm.damping_ratio[0]]]
+    )
+    z = z * (1.0 + 1e-3 * rng.standard_normal(z.size))
+    _, J, _ = epmc.equations(z, a)
+    fd = np.empty_like(J)
+    for j in range(z.size):
+        h = 1e-7 * max(abs(z[j]), 1e-3)
+        zp, zm = z.copy(), z.copy()
+        zp[j] += h
+        zm[j] -= h
+        fd[:, j] = (epmc.equations(zp, a)[0] - epmc.equations(zm, a)[0]) / (2 * h)
+    np.testing.assert_allclose(J, fd, rtol=0, atol=1e-6 * np.max(np.abs(J)))
+
+
+def test_newton_work():
+    """Work counters: a stuck (linear) point takes 1 Newton iteration (the
+    start and the predictor are exact there: the first correction is at
+    rounding level), the slipping ones at most 8 (measured 3 to 5), and no
+    step of the 31-point Jenkins mode is rejected."""
+    nm = hf.nonlinear_mode(_oscillator(), amplitude=(1e-6, 1e-1), points=31)
+    assert nm.n_rejected == 0 and nm.n_steps == 31
+    stuck = nm.amplitude < FS / KT
+    assert np.all(nm.newton_iterations[stuck] == 1)
+    assert np.all(nm.newton_iterations <= 8)
