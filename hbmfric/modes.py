@@ -86,6 +86,11 @@ STALL_TOLERANCE = 1e-9
 MAX_ITERATIONS = 30
 #: smallest fraction of a grid interval (in log a) a step may shrink to
 MIN_STEP_FRACTION = 1.0 / 1024.0
+#: smallest modal assurance criterion between the fundamental shapes of
+#: two successive points: below it the step is taken for a jump to another
+#: mode (mass-orthogonal linear modes have 0; the paper beam's whole
+#: stuck-to-free change of mode 1 has 0.89) and is rejected
+MAC_TOLERANCE = 0.5
 #: how far below the first amplitude the start may back off (factor 10 per
 #: try) when the linear mode is not a good enough guess there
 START_BACKOFF = 8
@@ -561,6 +566,14 @@ class _EPMC:
         J[n + 1, self.sin1] = self.m_phi
         return F, J, state
 
+    def correlation(self, z1: np.ndarray, z2: np.ndarray) -> float:
+        """Modal assurance criterion of the fundamental shapes of two
+        points, ``|ψ1ᴴ M ψ2|²`` (each of unit mass norm): 1 for the same
+        shape, 0 for mass-orthogonal ones."""
+        p1 = z1[self.cos1] - 1j * z1[self.sin1]
+        p2 = z2[self.cos1] - 1j * z2[self.sin1]
+        return float(abs(np.conj(p1) @ (self.mass @ p2)) ** 2)
+
     def solve(self, z0: np.ndarray, a: float):
         """Newton from ``z0`` at amplitude ``a``: ``(z, iterations)``, ``z``
         None when it does not converge."""
@@ -742,12 +755,23 @@ def nonlinear_mode(
                 s_new = s + h
                 z_new, its = epmc.solve(pred, float(np.exp(s_new)))
                 n_steps += 1
-                if z_new is None:
+                jumped = (
+                    z_new is not None
+                    and epmc.correlation(z_last, z_new) < MAC_TOLERANCE
+                )
+                if z_new is None or jumped:
                     n_rejected += 1
                     step = 0.5 * h
                     if step < MIN_STEP_FRACTION * width:
+                        what = (
+                            "the mode shape jumped (modal assurance criterion "
+                            f"below {MAC_TOLERANCE:g}: another mode, an internal "
+                            "resonance?)"
+                            if jumped
+                            else "Newton failed"
+                        )
                         stop_reason = (
-                            f"Newton failed at a = {np.exp(s_new):.4g} with the "
+                            f"{what} at a = {np.exp(s_new):.4g} with the "
                             f"step below its minimum ({MIN_STEP_FRACTION:g} of "
                             "the grid spacing)"
                         )

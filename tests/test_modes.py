@@ -674,3 +674,15 @@ def test_newton_work():
     stuck = nm.amplitude < FS / KT
     assert np.all(nm.newton_iterations[stuck] == 1)
     assert np.all(nm.newton_iterations <= 8)
+
+
+def test_a_jump_to_another_shape_is_refused(monkeypatch):
+    """Every step whose fundamental shape correlates below MAC_TOLERANCE
+    with the previous point's is rejected: with the tolerance above 1 no
+    step passes and the run stops with a CoverageWarning that says so."""
+    import hbmfric.modes as modes
+
+    monkeypatch.setattr(modes, "MAC_TOLERANCE", 1.5)
+    with pytest.warns(hf.CoverageWarning, match="mode shape jumped"):
+        nm = hf.nonlinear_mode(_oscillator(), amplitude=(1e-6, 1e-2), points=5)
+    assert len(nm) == 1 and "internal resonance" in nm.stop_reason
