@@ -43,7 +43,10 @@ fails. Along a nonlinear mode ``ω`` and ``D`` are functions of the
 amplitude (the amplitude is what the normalisation prescribes), so
 there are no turning points in ``a`` to follow; an arc-length method would
 only be needed at internal resonances (modal interactions), where the EPMC
-itself stops being a single backbone. A failed step is reported by a
+itself stops being a single backbone. A step whose fundamental shape
+correlates with the previous point's below ``MAC_TOLERANCE`` (modal
+assurance criterion) is taken for a jump to another mode and rejected
+like a failed one. A run that stops short is reported by a
 :class:`~hbmfric.CoverageWarning`, never a quietly short result.
 
 Reference: M. Krack, *Nonlinear modal analysis of nonconservative systems:
