@@ -67,7 +67,7 @@ from pathlib import Path
 import numpy as np
 
 from ._validate import finite_float, positive_int
-from .errors import ConvergenceWarning, CoverageWarning
+from .errors import AccuracyWarning, ConvergenceWarning, CoverageWarning
 from .hbm import HBMProblem, _stuck_stiffnesses
 from .kernels.dlft import COULOMB
 from .kernels.hbm import hbm_residual
@@ -75,6 +75,8 @@ from .signals import coefficient_columns
 from .stability import derivative_operator
 from .systems.protocol import check_load, check_system
 
+#: the truncation estimate's basis: ``PROBE_FACTOR * H + 1``
+PROBE_FACTOR = 2
 #: format tag of :meth:`NonlinearMode.save` files
 FORMAT = "hbmfric.NonlinearMode/1"
 #: Newton: relative size of the last correction below which a point counts
@@ -138,6 +140,12 @@ class NonlinearMode:
         convention).
     dof_names : dict
         Named DOFs of the system.
+    truncation_error : ndarray, shape (n_points,), optional
+        Estimated truncation error of each point: the larger of the
+        relative error of ω and the absolute error of D (both errors of
+        the mode's eigenvalue ``-Dω ± iω`` relative to ω), from one Newton
+        step of the EPMC equations in the basis ``2H + 1``; 0 for a linear
+        point. None when not estimated (``harmonic_tolerance=None``).
     load_vector : ndarray of complex, shape (n_dof,), optional
         The system's load per unit forcing amplitude, ``Re(p e^{iΩt})``,
         for :meth:`resonances`; None when the system has none.
@@ -160,6 +168,7 @@ class NonlinearMode:
     info: dict = field(default_factory=dict)
     dof_names: dict = field(default_factory=dict)
     load_vector: np.ndarray | None = None
+    truncation_error: np.ndarray | None = None
     #: the mass matrix, shape (n_dof, n_dof), kg (for the energies)
     _mass: np.ndarray | None = field(default=None, repr=False, compare=False)
 
@@ -306,6 +315,8 @@ class NonlinearMode:
         }
         if self.load_vector is not None:
             arrays["load_vector"] = self.load_vector
+        if self.truncation_error is not None:
+            arrays["truncation_error"] = self.truncation_error
         if self._mass is not None:
             arrays["mass"] = self._mass
         np.savez(path, **arrays)
@@ -354,6 +365,11 @@ class NonlinearMode:
                     load_vector=(
                         np.asarray(data["load_vector"], dtype=np.complex128).copy()
                         if "load_vector" in data.files
+                        else None
+                    ),
+                    truncation_error=(
+                        np.asarray(data["truncation_error"], dtype=np.float64).copy()
+                        if "truncation_error" in data.files
                         else None
                     ),
                     _mass=(
@@ -569,6 +585,36 @@ class _EPMC:
         J[n + 1, self.sin1] = self.m_phi
         return F, J, state
 
+    def padded(self, z: np.ndarray, small: _EPMC) -> np.ndarray:
+        """``z`` of ``small`` (a smaller basis of the same system) in this
+        basis, the extra harmonics 0."""
+        out = np.zeros(self.n + 2)
+        big = coefficient_columns(self.problem.harmonic_numbers)
+        cols = coefficient_columns(small.problem.harmonic_numbers)
+        Y = z[: small.n].reshape(small.n_dof, small.n_coef)
+        W = out[: self.n].reshape(self.n_dof, self.n_coef)
+        for k, c in cols.items():
+            width = 1 if k == 0 else 2
+            W[:, big[k] : big[k] + width] = Y[:, c : c + width]
+        out[self.n :] = z[small.n :]
+        return out
+
+    def truncation_error(self, z: np.ndarray, a: float, small: _EPMC) -> float:
+        """Estimated truncation error of the point ``z`` of ``small`` at
+        amplitude ``a``: the change of ω (relative) and D (absolute) in one
+        Newton step in this (larger) basis; inf if the step fails."""
+        zp = self.padded(z, small)
+        F, J, state = self.equations(zp, a)
+        if state < 0 or not np.all(np.isfinite(F)):
+            return np.inf
+        try:
+            dz = np.linalg.solve(J, -F)
+        except np.linalg.LinAlgError:
+            return np.inf
+        n = self.n
+        err = max(abs(dz[n]) / zp[n], abs(dz[n + 1]))
+        return float(err) if np.isfinite(err) else np.inf
+
     def correlation(self, z1: np.ndarray, z2: np.ndarray) -> float:
         """Modal assurance criterion of the fundamental shapes of two
         points, ``|ψ1ᴴ M ψ2|²`` (each of unit mass norm): 1 for the same
@@ -644,6 +690,7 @@ def nonlinear_mode(
     n_time: int | None = None,
     aft: str = "auto",
     structural_damping: bool = True,
+    harmonic_tolerance: float | None = 1e-3,
 ) -> NonlinearMode:
     """A nonlinear mode by the extended periodic motion concept (EPMC).
 
@@ -676,6 +723,12 @@ def nonlinear_mode(
         Keep the structure's damping matrix ``C`` (default: ``D`` is the
         damping ratio of the mode, structure and contacts) or drop it
         (``D`` is the contacts' share).
+    harmonic_tolerance : float or None
+        Tolerance of the estimated truncation error of each point
+        (``NonlinearMode.truncation_error``: relative error of ω, absolute
+        error of D); an :class:`~hbmfric.AccuracyWarning` when a point
+        exceeds it. The estimate costs one residual and one LU in the basis
+        ``2H + 1`` per point; None skips it.
 
     Returns
     -------
@@ -688,6 +741,9 @@ def nonlinear_mode(
         result holds the points it found).
     ConvergenceWarning
         When no point at all could be found.
+    AccuracyWarning
+        When the estimated truncation error of a point exceeds
+        ``harmonic_tolerance``.
 
     Examples
     --------
@@ -704,6 +760,10 @@ def nonlinear_mode(
     if not isinstance(structural_damping, bool | np.bool_):
         raise ValueError(
             f"structural_damping must be True or False, got {structural_damping!r}"
+        )
+    if harmonic_tolerance is not None:
+        harmonic_tolerance = finite_float(
+            "harmonic_tolerance", harmonic_tolerance, low=0.0, low_open=True
         )
     epmc = _EPMC(system, mode, harmonics, n_time, aft, bool(structural_damping))
     n = epmc.n
@@ -799,6 +859,19 @@ def nonlinear_mode(
     Z = np.array(out_z, dtype=float).reshape(-1, n + 2)
     coefficients = (Z[:, :n] * amps[:, None]).reshape(-1, epmc.n_dof, epmc.n_coef)
     problem = epmc.problem
+    errors = None
+    if harmonic_tolerance is not None:
+        probe = _EPMC(
+            system,
+            mode,
+            PROBE_FACTOR * problem.harmonics + 1,
+            None,
+            aft,
+            bool(structural_damping),
+        )
+        errors = np.array(
+            [probe.truncation_error(z, a, epmc) for z, a in zip(Z, amps, strict=True)]
+        )
     result = NonlinearMode(
         amplitude=amps,
         omega=Z[:, n].copy(),
@@ -824,6 +897,7 @@ def nonlinear_mode(
         },
         dof_names=dict(getattr(system, "dof_names", {}) or {}),
         load_vector=epmc.load,
+        truncation_error=errors,
         _mass=epmc.mass,
     )
     if not result.complete:
@@ -833,6 +907,17 @@ def nonlinear_mode(
             f"nonlinear mode {mode}: {covered} of the range ({lo:.4g}, {hi:.4g}); "
             f"{stop_reason}",
             cls,
+            stacklevel=2,
+        )
+    if errors is not None and np.any(errors > harmonic_tolerance):
+        worst = int(np.argmax(errors))
+        warnings.warn(
+            f"nonlinear mode {mode}: estimated truncation error {errors[worst]:.2g} "
+            f"exceeds harmonic_tolerance={harmonic_tolerance:g} at "
+            f"{int(np.sum(errors > harmonic_tolerance))} of {errors.size} points "
+            f"(worst at a = {amps[worst]:.4g}, H = {problem.harmonics}); raise "
+            "harmonics; per-point estimates in NonlinearMode.truncation_error",
+            AccuracyWarning,
             stacklevel=2,
         )
     return result
