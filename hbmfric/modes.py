@@ -85,6 +85,13 @@ STEP_TOLERANCE = 1e-11
 #: Newton: largest residual accepted, relative to ``a`` times the largest
 #: stiffness entry (the force scale of the mode)
 RESIDUAL_TOLERANCE = 1e-8
+#: Newton: full steps before the line search starts
+PLAIN_ITERATIONS = 6
+#: Newton: residual below which the line search takes the full step
+#: (rounding level: the residual cannot decrease any more)
+RESIDUAL_FLOOR = 1e-13
+#: Newton: smallest fraction of the correction the line search tries
+MIN_LAMBDA = 1.0 / 1024.0
 #: Newton: corrections that stop shrinking below this size mark the
 #: rounding floor, where the point is accepted (if its residual is)
 STALL_TOLERANCE = 1e-9
@@ -96,6 +103,11 @@ MIN_STEP_FRACTION = 1.0 / 1024.0
 #: mode (mass-orthogonal linear modes have 0; the paper beam's whole
 #: stuck-to-free change of mode 1 has 0.89) and is rejected
 MAC_TOLERANCE = 0.5
+#: largest change of ω (relative) and of D (absolute) between the
+#: predictor and the solution of an accepted step; a larger one halves the
+#: step, so that sharp turns are resolved and the path does not jump to
+#: another solution
+MAX_CORRECTION = 0.02
 #: how far below the first amplitude the start may back off (factor 10 per
 #: try) when the linear mode is not a good enough guess there
 START_BACKOFF = 8
@@ -624,24 +636,49 @@ class _EPMC:
         return float(abs(np.conj(p1) @ (self.mass @ p2)) ** 2)
 
     def solve(self, z0: np.ndarray, a: float):
-        """Newton from ``z0`` at amplitude ``a``: ``(z, iterations)``, ``z``
-        None when it does not converge."""
+        """Newton with a backtracking line search from ``z0`` at amplitude
+        ``a``: ``(z, iterations)``, ``z`` None when it does not converge.
+
+        After ``PLAIN_ITERATIONS`` full steps (the first one may well raise
+        the residual: the normalisation is quadratic) a line search halves
+        the correction until the largest residual decreases: near a change
+        of the contacts' stick/slip pattern the Jacobian jumps and a plain
+        Newton iteration can cycle.
+        """
         z = z0.copy()
         n = self.n
+        F, J, state = self.equations(z, a)
+        if state < 0 or not np.all(np.isfinite(F)):
+            return None, 0
+        res = float(np.max(np.abs(F)))
         previous = np.inf
         for it in range(1, MAX_ITERATIONS + 1):
-            F, J, state = self.equations(z, a)
-            if state < 0 or not np.all(np.isfinite(F)):
-                return None, it
             try:
                 dz = np.linalg.solve(J, -F)
             except np.linalg.LinAlgError:
                 return None, it
             if not np.all(np.isfinite(dz)):
                 return None, it
-            z += dz
+            lam = 1.0
+            while True:
+                z_try = z + lam * dz
+                F_try, J_try, state = self.equations(z_try, a)
+                good = state >= 0 and bool(np.all(np.isfinite(F_try)))
+                if good:
+                    res_try = float(np.max(np.abs(F_try)))
+                    if (
+                        it <= PLAIN_ITERATIONS
+                        or res_try <= (1.0 - 1e-4 * lam) * res
+                        or res <= RESIDUAL_FLOOR
+                        or lam <= MIN_LAMBDA
+                    ):
+                        break
+                elif lam <= MIN_LAMBDA:
+                    return None, it
+                lam *= 0.5
+            z, F, J, res = z_try, F_try, J_try, res_try
             y_size = max(float(np.max(np.abs(z[:n]))), 1e-300)
-            size = max(
+            size = lam * max(
                 float(np.max(np.abs(dz[:n]))) / y_size,
                 abs(dz[n]) / abs(z[n]),
                 abs(dz[n + 1]),
@@ -652,12 +689,7 @@ class _EPMC:
             if size <= STEP_TOLERANCE or (
                 size <= STALL_TOLERANCE and size > 0.5 * previous
             ):
-                F, _, state = self.equations(z, a)
-                ok = (
-                    state >= 0
-                    and float(np.max(np.abs(F))) <= RESIDUAL_TOLERANCE
-                    and z[n] > 0.0
-                )
+                ok = res <= RESIDUAL_TOLERANCE and z[n] > 0.0
                 return (z if ok else None), it
             previous = size
         return None, MAX_ITERATIONS
@@ -822,17 +854,30 @@ def nonlinear_mode(
                     z_new is not None
                     and epmc.correlation(z_last, z_new) < MAC_TOLERANCE
                 )
-                if z_new is None or jumped:
+                # a corrector far from the predictor: a sharp turn of the
+                # backbone to resolve, or another solution (the EPMC of a
+                # friction contact can have several near the stick limit)
+                far = z_new is not None and (
+                    abs(z_new[n] - pred[n]) > MAX_CORRECTION * pred[n]
+                    or abs(z_new[n + 1] - pred[n + 1]) > MAX_CORRECTION
+                )
+                if z_new is None or jumped or far:
                     n_rejected += 1
                     step = 0.5 * h
                     if step < MIN_STEP_FRACTION * width:
-                        what = (
-                            "the mode shape jumped (modal assurance criterion "
-                            f"below {MAC_TOLERANCE:g}: another mode, an internal "
-                            "resonance?)"
-                            if jumped
-                            else "Newton failed"
-                        )
+                        if jumped:
+                            what = (
+                                "the mode shape jumped (modal assurance "
+                                f"criterion below {MAC_TOLERANCE:g}: another "
+                                "mode, an internal resonance?)"
+                            )
+                        elif far:
+                            what = (
+                                "the backbone jumped (ω or D moved by more than "
+                                f"{MAX_CORRECTION:g} from the predictor)"
+                            )
+                        else:
+                            what = "Newton failed"
                         stop_reason = (
                             f"{what} at a = {np.exp(s_new):.4g} with the "
                             f"step below its minimum ({MIN_STEP_FRACTION:g} of "
