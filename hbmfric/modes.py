@@ -67,7 +67,12 @@ from pathlib import Path
 import numpy as np
 
 from ._validate import finite_float, positive_int
-from .errors import AccuracyWarning, ConvergenceWarning, CoverageWarning
+from .errors import (
+    AccuracyWarning,
+    ConvergenceWarning,
+    CoverageWarning,
+    HbmfricWarning,
+)
 from .hbm import HBMProblem, _stuck_stiffnesses
 from .kernels.dlft import COULOMB
 from .kernels.hbm import hbm_residual
@@ -108,6 +113,10 @@ MAC_TOLERANCE = 0.5
 #: step, so that sharp turns are resolved and the path does not jump to
 #: another solution
 MAX_CORRECTION = 0.02
+#: most pseudo-arclength steps around the folds of one failed step
+ARCLENGTH_MAX_STEPS = 400
+#: most fold passages along one mode
+MAX_FOLDS = 8
 #: how far below the first amplitude the start may back off (factor 10 per
 #: try) when the linear mode is not a good enough guess there
 START_BACKOFF = 8
@@ -152,6 +161,14 @@ class NonlinearMode:
         convention).
     dof_names : dict
         Named DOFs of the system.
+    folds : ndarray, shape (n_folds,)
+        Modal amplitudes of the turning points of the backbone in ``a``
+        (where it has several solutions at one amplitude), found and passed
+        by pseudo-arclength continuation; empty for none.
+    fold_path : ndarray, shape (n_path, 3)
+        The points of that pseudo-arclength continuation around the folds,
+        columns ``a``, ``ω`` (rad/s), ``D``, in path order (the grid
+        points hold one solution per amplitude; these show the others).
     truncation_error : ndarray, shape (n_points,), optional
         Estimated truncation error of each point: the larger of the
         relative error of ω and the absolute error of D (both errors of
@@ -181,6 +198,8 @@ class NonlinearMode:
     dof_names: dict = field(default_factory=dict)
     load_vector: np.ndarray | None = None
     truncation_error: np.ndarray | None = None
+    folds: np.ndarray = field(default_factory=lambda: np.empty(0))
+    fold_path: np.ndarray = field(default_factory=lambda: np.empty((0, 3)))
     #: the mass matrix, shape (n_dof, n_dof), kg (for the energies)
     _mass: np.ndarray | None = field(default=None, repr=False, compare=False)
 
@@ -329,6 +348,8 @@ class NonlinearMode:
             arrays["load_vector"] = self.load_vector
         if self.truncation_error is not None:
             arrays["truncation_error"] = self.truncation_error
+        arrays["folds"] = self.folds
+        arrays["fold_path"] = self.fold_path
         if self._mass is not None:
             arrays["mass"] = self._mass
         np.savez(path, **arrays)
@@ -378,6 +399,16 @@ class NonlinearMode:
                         np.asarray(data["load_vector"], dtype=np.complex128).copy()
                         if "load_vector" in data.files
                         else None
+                    ),
+                    folds=(
+                        np.asarray(data["folds"], dtype=np.float64).copy()
+                        if "folds" in data.files
+                        else np.empty(0)
+                    ),
+                    fold_path=(
+                        np.asarray(data["fold_path"], dtype=np.float64).copy()
+                        if "fold_path" in data.files
+                        else np.empty((0, 3))
                     ),
                     truncation_error=(
                         np.asarray(data["truncation_error"], dtype=np.float64).copy()
@@ -627,6 +658,48 @@ class _EPMC:
         err = max(abs(dz[n]) / zp[n], abs(dz[n + 1]))
         return float(err) if np.isfinite(err) else np.inf
 
+    def solve_arclength(self, u_pred, tangent, scale):
+        """Newton on the EPMC equations plus the pseudo-arclength condition
+        ``tangentᵀ ((u − u_pred) · scale) = 0`` in ``u = [z, log a]``:
+        ``(u, iterations)``, ``u`` None when it does not converge."""
+        n = self.n
+        u = u_pred.copy()
+        big = np.zeros((n + 3, n + 3))
+        rhs = np.empty(n + 3)
+        previous = np.inf
+        for it in range(1, MAX_ITERATIONS + 1):
+            a = float(np.exp(u[n + 2]))
+            F, J, state = self.equations(u[: n + 2], a)
+            if state < 0 or not np.all(np.isfinite(F)):
+                return None, it
+            big[: n + 2, : n + 2] = J
+            big[: n + 2, n + 2] = 0.0
+            # d/d(log a) of the HBM rows F = R(aY) / (a f): J_YY Y - F
+            big[:n, n + 2] = J[:n, :n] @ u[:n] - F[:n]
+            big[n + 2] = tangent * scale
+            rhs[: n + 2] = -F
+            rhs[n + 2] = -float(tangent @ ((u - u_pred) * scale))
+            try:
+                du = np.linalg.solve(big, rhs)
+            except np.linalg.LinAlgError:
+                return None, it
+            if not np.all(np.isfinite(du)):
+                return None, it
+            u += du
+            size = float(np.max(np.abs(du * scale)))
+            if size <= STEP_TOLERANCE or (
+                size <= STALL_TOLERANCE and size > 0.5 * previous
+            ):
+                F, _, state = self.equations(u[: n + 2], float(np.exp(u[n + 2])))
+                ok = (
+                    state >= 0
+                    and float(np.max(np.abs(F))) <= RESIDUAL_TOLERANCE
+                    and u[n] > 0.0
+                )
+                return (u if ok else None), it
+            previous = size
+        return None, MAX_ITERATIONS
+
     def correlation(self, z1: np.ndarray, z2: np.ndarray) -> float:
         """Modal assurance criterion of the fundamental shapes of two
         points, ``|ψ1ᴴ M ψ2|²`` (each of unit mass norm): 1 for the same
@@ -693,6 +766,54 @@ class _EPMC:
                 return (z if ok else None), it
             previous = size
         return None, MAX_ITERATIONS
+
+
+def _pass_folds(epmc: _EPMC, history, s_fail: float, width: float):
+    """Pseudo-arclength continuation in ``(z, log a)`` from the last two
+    points of ``history`` until the path has turned back to increasing
+    amplitudes beyond ``s_fail`` (where the natural continuation failed).
+
+    Returns ``(path, folds, steps, rejected)``: the points ``(s, z)`` of
+    the path (None if it could not pass), the amplitudes of its turning
+    points, and the work.
+    """
+    n = epmc.n
+    scale = np.ones(n + 3)
+    scale[n] = 1.0 / epmc.linear_omega
+    scale[n + 2] = 1.0 / width
+    (s0, z0), (s1, z1) = history[-2], history[-1]
+    u_prev = np.append(z0, s0)
+    u_last = np.append(z1, s1)
+    chord = (u_last - u_prev) * scale
+    h_max = float(np.linalg.norm(chord))
+    h = h_max
+    tangent = chord / h_max
+    path, folds = [], []
+    steps = rejected = 0
+    while steps < ARCLENGTH_MAX_STEPS:
+        u_pred = u_last + h * tangent / scale
+        u_new, its = epmc.solve_arclength(u_pred, tangent, scale)
+        steps += 1
+        ok = u_new is not None and (
+            epmc.correlation(u_last[: n + 2], u_new[: n + 2]) >= MAC_TOLERANCE
+        )
+        if not ok:
+            rejected += 1
+            h *= 0.5
+            if h < MIN_STEP_FRACTION * h_max:
+                return None, folds, steps, rejected
+            continue
+        chord = (u_new - u_last) * scale
+        new_tangent = chord / np.linalg.norm(chord)
+        if np.sign(new_tangent[n + 2]) != np.sign(tangent[n + 2]):
+            folds.append(float(np.exp(u_last[n + 2])))
+        tangent, u_last = new_tangent, u_new
+        path.append((float(u_new[n + 2]), u_new[: n + 2].copy()))
+        if u_new[n + 2] > s_fail and tangent[n + 2] > 0.0:
+            return path, folds, steps, rejected
+        if its <= 4:
+            h = min(2.0 * h, h_max)
+    return None, folds, steps, rejected
 
 
 def _amplitude_range(amplitude) -> tuple[float, float]:
@@ -822,6 +943,8 @@ def nonlinear_mode(
                 break
             n_rejected += 1
     out_s, out_z, out_it = [], [], []
+    folds: list[float] = []
+    fold_path: list[tuple[float, np.ndarray]] = []
     stop_reason = "range reached"
     if not history:
         stop_reason = (
@@ -838,11 +961,10 @@ def nonlinear_mode(
             s = history[-1][0]
             reached = False
             while not reached:
+                # h < 0 after a fold passed beyond the target
                 h = min(step, target - s)
-                if h <= 0.0:  # the back-off start may land on the target
-                    h = 0.0
                 z_last = history[-1][1]
-                if len(history) >= 2 and h > 0.0:
+                if len(history) >= 2 and h != 0.0:
                     s_prev, z_prev = history[-2]
                     pred = z_last + (z_last - z_prev) * h / (s - s_prev)
                 else:
@@ -863,7 +985,24 @@ def nonlinear_mode(
                 )
                 if z_new is None or jumped or far:
                     n_rejected += 1
-                    step = 0.5 * h
+                    step = 0.5 * abs(h)
+                    if (
+                        step < MIN_STEP_FRACTION * width
+                        and not jumped
+                        and len(history) >= 2
+                        and len(folds) < MAX_FOLDS
+                    ):
+                        # a turning point in a: follow the path around it
+                        path, found, k, r = _pass_folds(epmc, history, s_new, width)
+                        n_steps += k
+                        n_rejected += r
+                        if path is not None and found:
+                            folds.extend(found)
+                            fold_path.extend(path)
+                            history = [history[-1], *path][-2:]
+                            s = history[-1][0]
+                            step = width
+                            continue
                     if step < MIN_STEP_FRACTION * width:
                         if jumped:
                             what = (
@@ -889,8 +1028,10 @@ def nonlinear_mode(
                 history = history[-2:]
                 s = s_new
                 if its <= 4:
-                    step = min(2.0 * h if h > 0 else width, width)
-                if s_new >= target - 1e-14 * max(1.0, abs(target)):
+                    step = min(2.0 * abs(h) if h != 0 else width, width)
+                if abs(s_new - target) <= 1e-14 * max(1.0, abs(target)) or (
+                    s_new > target
+                ):
                     reached = True
                     out_s.append(target)
                     out_z.append(z_new)
@@ -943,8 +1084,21 @@ def nonlinear_mode(
         dof_names=dict(getattr(system, "dof_names", {}) or {}),
         load_vector=epmc.load,
         truncation_error=errors,
+        folds=np.array(folds, dtype=float),
+        fold_path=np.array(
+            [[np.exp(sp), zp[n], zp[n + 1]] for sp, zp in fold_path], dtype=float
+        ).reshape(-1, 3),
         _mass=epmc.mass,
     )
+    if folds:
+        warnings.warn(
+            f"nonlinear mode {mode}: the backbone turns in amplitude at a = "
+            f"{', '.join(f'{f:.4g}' for f in folds)}; between the turning points "
+            "it has several solutions at one amplitude (the points follow the "
+            "path past them; NonlinearMode.fold_path holds the others)",
+            HbmfricWarning,
+            stacklevel=2,
+        )
     if not result.complete:
         covered = f"up to a = {amps[-1]:.4g}" if amps.size else "no point"
         cls = CoverageWarning if amps.size else ConvergenceWarning
