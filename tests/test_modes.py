@@ -667,10 +667,13 @@ def test_equations_jacobian_against_finite_differences(law):
 def test_newton_work():
     """Work counters: a stuck (linear) point takes 1 Newton iteration (the
     start and the predictor are exact there: the first correction is at
-    rounding level), the slipping ones at most 8 (measured 3 to 5), and no
-    step of the 31-point Jenkins mode is rejected."""
+    rounding level), the slipping ones at most 8 (measured 3 to 4). At the
+    stick limit ω falls from 200 to 137 rad/s within half a decade: the
+    steps there are halved until the solution lands within 0.02 of the
+    predictor (measured: 46 steps, 8 rejected, for the 31 points)."""
     nm = hf.nonlinear_mode(_oscillator(), amplitude=(1e-6, 1e-1), points=31)
-    assert nm.n_rejected == 0 and nm.n_steps == 31
+    assert nm.complete and nm.folds.size == 0
+    assert 31 <= nm.n_steps - nm.n_rejected <= 45 and nm.n_rejected <= 12
     stuck = nm.amplitude < FS / KT
     assert np.all(nm.newton_iterations[stuck] == 1)
     assert np.all(nm.newton_iterations <= 8)
