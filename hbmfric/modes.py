@@ -38,16 +38,19 @@ motion ``a φ cos ωt``), the dissipated energy ``W`` so that
 ``D = W / (2π ω² a²)``.
 
 Continuation: natural, in ``log a`` on the requested grid of amplitudes,
-with a secant predictor and step halving between grid points when Newton
-fails. Along a nonlinear mode ``ω`` and ``D`` are functions of the
-amplitude (the amplitude is what the normalisation prescribes), so
-there are no turning points in ``a`` to follow; an arc-length method would
-only be needed at internal resonances (modal interactions), where the EPMC
-itself stops being a single backbone. A step whose fundamental shape
+with a secant predictor; a step is halved when Newton fails (a line
+search follows the first plain iterations), when ω or D land more than
+``MAX_CORRECTION`` from the predictor, or when the fundamental shape
 correlates with the previous point's below ``MAC_TOLERANCE`` (modal
-assurance criterion) is taken for a jump to another mode and rejected
-like a failed one. A run that stops short is reported by a
-:class:`~hbmfric.CoverageWarning`, never a quietly short result.
+assurance criterion: another mode). Along most modes ω and D are functions
+of the amplitude; a friction backbone can nevertheless turn back in
+amplitude (the paper beam's mode 1, twice, near the stick limit). Where
+the natural step fails for good, a pseudo-arclength continuation in
+``(z, log a)`` (:func:`_pass_folds`) follows the path around the turns
+until it climbs past the failure, and the grid resumes from there; the
+turning points are reported (``NonlinearMode.folds``, a
+:class:`~hbmfric.HbmfricWarning`). A run that stops short is reported by
+a :class:`~hbmfric.CoverageWarning`, never a quietly short result.
 
 Reference: M. Krack, *Nonlinear modal analysis of nonconservative systems:
 extension of the periodic motion concept*, Computers & Structures 154
