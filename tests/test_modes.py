@@ -382,6 +382,7 @@ def test_beam_mode_one_between_its_linear_limits(calibrated_beam):
     assert np.ptp(tail) < 1e-2 * tail.mean()  # measured 1.3e-3
 
 
+@pytest.mark.slow
 def test_beam_energy_balance_against_the_naive_march(calibrated_beam):
     """Beam mode 1 at H = 7 without the structure's damping: the energy
     supplied per cycle equals what the tip contact dissipates along the
