@@ -49,6 +49,14 @@ def _paper(args: argparse.Namespace) -> int:
     for fig in computed():
         figures.append(fig)
         verdict = _print_verdict(fig)
+        if args.stability and _single_dof(fig):
+            t = time.perf_counter()
+            unstable = fig.stability()
+            print(
+                f"{fig.name}: stability by Hill's method, {unstable} unstable "
+                f"point(s) ({time.perf_counter() - t:.1f} s)",
+                flush=True,
+            )
         try:
             written = [_write_csv(fig, out / f"{fig.name}.csv", args.resample)]
             if not args.no_plot:
@@ -74,6 +82,12 @@ def _paper(args: argparse.Namespace) -> int:
     print(f"index of the figures: {index}", flush=True)
     print(f"done in {time.perf_counter() - start:.2f} s", flush=True)
     return 0
+
+
+def _single_dof(fig) -> bool:
+    """A figure of single-DOF FRF branches (whose stability is cheap)."""
+    branches = getattr(fig, "branches", None)
+    return bool(branches) and all(b.coefficients.shape[1] == 1 for b in branches)
 
 
 #: what each figure shows, and the claim of the paper it checks
@@ -279,6 +293,14 @@ def main(argv: list[str] | None = None) -> int:
         help="write the FRF curves' dense output (K samples per interval "
         "between computed points, a 'computed' column flags the points) "
         "instead of the computed points alone",
+    )
+    paper.add_argument(
+        "--stability",
+        action="store_true",
+        help="also compute the stability of every point of the single-DOF "
+        "figures (Hill's method) and add a 'stable' column to their CSV "
+        "(the beam's and the tensioner's figures are left without it: "
+        "their full Hill problems cost minutes)",
     )
     paper.set_defaults(func=_paper)
     run = sub.add_parser(
