@@ -30,6 +30,7 @@ from .laws import (
     Roughness,
     hertz_mindlin_stiffness,
 )
+from .modes import NonlinearMode, nonlinear_mode
 from .results import Branch, PeriodicSolution
 from .study import StudyResult, grid, study
 from .systems import (
@@ -95,6 +96,7 @@ __all__ = [
     "Iwan",
     "Jenkins",
     "LinearStructure",
+    "NonlinearMode",
     "Menq",
     "ModifiedDahl",
     "Oscillator",
@@ -108,6 +110,7 @@ __all__ = [
     "grid",
     "hertz_mindlin_stiffness",
     "identify",
+    "nonlinear_mode",
     "periodic_solution",
     "read_matrices",
     "read_matrix",
