@@ -160,9 +160,10 @@ class CondensedHBMProblem(HBMProblem):
     (:func:`selection_matrix`), coordinate by coordinate, in the order of
     ``system.contacts``; the residual uses the receptance matrix
     ``B Z(kΩ)⁻¹ Bᵀ`` per harmonic (:mod:`hbmfric.kernels.condensed`).
-    ``problem.system`` is then a view of the system whose ``contact_dof``
-    is 0, the first coordinate (what the continuation's accuracy and curve
-    rules watch); ``problem.structure`` is the system itself.
+    ``problem.system`` is then a view of the system in coordinates
+    (``n_dof`` the number of coordinates, ``contact_dof`` 0: the
+    continuation's accuracy and curve rules watch the first coordinate);
+    ``problem.structure`` is the system itself.
 
     Parameters
     ----------
@@ -240,7 +241,7 @@ class CondensedHBMProblem(HBMProblem):
         self.n_coordinates = len(self._contacts) if self.multi else 1
         self.selection = selection_matrix(self._contacts, self.n_dof)
         if self.multi:
-            self.system = _CoordinateView(system)
+            self.system = _CoordinateView(system, self.n_coordinates)
         self._condense()
 
     def with_harmonics(self, harmonics: int) -> CondensedHBMProblem:
@@ -508,18 +509,20 @@ class CondensedHBMProblem(HBMProblem):
 class _CoordinateView:
     """The system as the continuation of a problem condensed onto several
     contact coordinates sees it: every attribute of the system, except
+    ``n_dof`` (the number of coordinates, the blocks of the unknowns),
     ``contact_dof`` = 0 (the first coordinate, the one the accuracy and
-    curve rules watch among the unknowns) and no ``output_weights`` (they
-    weigh DOFs, not coordinates)."""
+    curve rules watch) and no ``output_weights`` (they weigh DOFs, not
+    coordinates)."""
 
     contact_dof = 0
     output_weights = None
 
-    def __init__(self, system) -> None:
+    def __init__(self, system, n_coordinates: int) -> None:
         self._system = system
+        self.n_dof = int(n_coordinates)
 
     def __getattr__(self, name):
         return getattr(self._system, name)
 
     def __repr__(self) -> str:
-        return f"coordinates of {self._system!r}"
+        return f"contact coordinates of {self._system!r}"
