@@ -91,6 +91,31 @@ def test_condensed_matches_the_full_solve_at_fixed_frequencies(name, receptance)
 
 
 @pytest.mark.parametrize("receptance", ["modal", "direct"])
+def test_static_load_on_the_mean_matches_the_full_solve(receptance):
+    """A constant load on two DOFs (harmonic 0 solved, condensed through
+    the static receptance ``B K⁻¹ Bᵀ``): condensed against full to 1e-8
+    (measured 7e-11)."""
+    M, K = _matrices()
+    damping = (
+        {"rayleigh": (0.01, 0.02)} if receptance == "modal" else {"damping": C_DIRECT}
+    )
+    s = hf.LinearStructure(
+        M,
+        K,
+        contacts=CONTACT_SETS["three"],
+        load={6: 1.0},
+        static_load={3: 0.02, 1: -0.01},
+        **damping,
+    )
+    for omega in (0.3, 0.9, 1.7):
+        a = hf.periodic_solution(s, 0.1, omega, harmonics=7, condense=receptance)
+        b = hf.periodic_solution(s, 0.1, omega, harmonics=7, condense=False)
+        assert a.harmonic_numbers[0] == 0
+        scale = np.max(np.abs(b.coefficients))
+        assert np.max(np.abs(a.coefficients - b.coefficients)) < 1e-8 * scale, omega
+
+
+@pytest.mark.parametrize("receptance", ["modal", "direct"])
 def test_condensed_branch_is_the_full_branch_and_recovers_every_dof(receptance):
     """A branch through the resonances condensed onto three coordinates:
     at every point the recovered coefficients of all DOFs satisfy the full
