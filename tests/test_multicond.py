@@ -61,6 +61,14 @@ CONTACT_SETS = {
         hf.Contact(hf.Jenkins(stiffness=2.0, slip_force=0.06), 5),
         hf.Contact(hf.Jenkins(stiffness=0.7, slip_force=0.02), 4, 6),
     ],
+    # sampled AFT (the modified Dahl law and the cubic spring)
+    "mixed laws": [
+        hf.Contact(hf.Cubic(0.5), 6),
+        hf.Contact(
+            hf.ModifiedDahl(beta=20.0, upper=(0.0, 0.05), lower=(0.0, -0.05)), 1, 2
+        ),
+        hf.Contact(hf.Jenkins(stiffness=1.0, slip_force=0.03), 3, 4),
+    ],
 }
 
 
