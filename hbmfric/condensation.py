@@ -522,6 +522,9 @@ class _CoordinateView:
         self.n_dof = int(n_coordinates)
 
     def __getattr__(self, name):
+        if name.startswith("__") or name == "_system":
+            # not set yet (copy, pickle): no recursion through the view
+            raise AttributeError(name)
         return getattr(self._system, name)
 
     def __repr__(self) -> str:
