@@ -160,8 +160,12 @@ def frf(
     condense : bool or {"modal", "direct"}, optional
         Solve the HBM on the contact DOF only (linear DOFs eliminated per
         harmonic by the dynamic receptance, every DOF recovered at the
-        end); default: whenever the system has several DOFs, a contact and
-        symmetric matrices with a regular ``K``.
+        end); several 1D contacts: on their contact coordinates (relative
+        displacements), through the receptance matrix per harmonic
+        (:mod:`hbmfric.condensation`). Default: whenever the system has
+        several DOFs, a contact, symmetric matrices with a regular ``K``
+        and, for several contacts, fewer independent contact coordinates
+        than DOFs and no 2D element (:func:`~hbmfric.condensation.can_condense`).
         The receptance comes from modal superposition with all modes when
         the damping is classical, else from a direct solve per harmonic;
         ``"modal"`` or ``"direct"`` force one. ``False`` solves the full

@@ -1,6 +1,12 @@
-"""Harmonic balance condensed onto the contact DOF: the plain-Python layer
+"""Harmonic balance condensed onto the contacts: the plain-Python layer
 that builds the data of :mod:`hbmfric.kernels.condensed` (modal or direct
-receptance) and recovers the response of every DOF afterwards."""
+receptance) and recovers the response of every DOF afterwards.
+
+One contact to ground is condensed onto its DOF; several contacts (or one
+between two DOFs) onto their contact coordinates ``q = B x``, one per 1D
+contact (its relative displacement, or its DOF against ground). The 2D
+element (:class:`~hbmfric.Contact2D`) is not condensed: a structure with one
+is solved by the full harmonic balance."""
 
 from __future__ import annotations
 
@@ -19,8 +25,9 @@ from .kernels.condensed import (
     condensed_residual,
 )
 from .kernels.dlft import COULOMB
+from .laws import Contact2D
 from .signals import coefficient_columns
-from .systems.contacts import check_contacts
+from .systems.contacts import check_contacts, contact_arrays
 
 #: largest off-diagonal term of Φᵀ C Φ, relative to its diagonal, accepted
 #: as classical (modal) damping
@@ -41,23 +48,70 @@ def system_modes(system) -> tuple[np.ndarray, np.ndarray]:
 
 
 def can_condense(system) -> bool:
-    """True when condensation pays and applies: several DOFs, a contact,
-    symmetric matrices (any contact law, a rigid Coulomb contact included:
-    the condensed residual runs the same DLFT scheme as the full one) and a
-    regular stiffness matrix (a structure held only by its contact, such as
-    the belt-tensioner rig, has no static receptance: harmonic 0 cannot be
-    condensed)."""
+    """True when condensation pays and applies: a contact, fewer contact
+    coordinates than DOFs, symmetric matrices and a regular stiffness
+    matrix (a structure held only by its contact, such as the
+    belt-tensioner rig, has no static receptance: harmonic 0 cannot be
+    condensed).
+
+    One contact to ground may have any law, a rigid Coulomb contact
+    included (the condensed residual runs the same DLFT scheme as the full
+    one). Several contacts, or one between two DOFs, are condensed onto
+    their contact coordinates when every contact is a 1D law (no
+    :class:`~hbmfric.Contact2D` element) and the coordinates are
+    independent (``B`` of full row rank: no two contacts on the same pair
+    of DOFs, no closed loop of contacts).
+    """
     if system.contact is None or int(system.n_dof) < 2:
         return False
-    contacts = check_contacts(system, int(system.n_dof))
-    if len(contacts) != 1 or max(contacts[0][2:]) >= 0:
-        # several contacts, or one between two DOFs or with a normal DOF:
-        # solved uncondensed
+    n_dof = int(system.n_dof)
+    contacts = check_contacts(system, n_dof)
+    if not _single(contacts) and (
+        len(contacts) >= n_dof or _coordinate_problem(contacts, n_dof) is not None
+    ):
         return False
     matrices = system.matrices()
     if not _symmetric(matrices):
         return False
     return not _singular(matrices[2])
+
+
+def _single(contacts) -> bool:
+    """One contact, to ground, on one DOF: the single-DOF condensation."""
+    return len(contacts) == 1 and max(contacts[0][2:]) < 0
+
+
+def selection_matrix(contacts, n_dof: int) -> np.ndarray:
+    """``B`` of the contact coordinates ``q = B x``, shape (n_c, n_dof):
+    row ``a`` has +1 at the DOF of contact ``a`` and -1 at its other DOF
+    (none for a contact to ground)."""
+    B = np.zeros((len(contacts), n_dof))
+    for a, (_, i, j, *_) in enumerate(contacts):
+        B[a, i] = 1.0
+        if j >= 0:
+            B[a, j] = -1.0
+    return B
+
+
+def _coordinate_problem(contacts, n_dof: int) -> str | None:
+    """Why ``contacts`` cannot be condensed onto their coordinates, or
+    None."""
+    for i, (law, *_) in enumerate(contacts):
+        if isinstance(law, Contact2D):
+            return (
+                f"contacts[{i}] is a 2D element (hf.Contact2D): condensation "
+                "onto 2D elements is not available"
+            )
+        if law.code == COULOMB and len(contacts) > 1:
+            return "a rigid hf.Coulomb contact is condensed only alone, to ground"
+    B = selection_matrix(contacts, n_dof)
+    if np.linalg.matrix_rank(B) < len(contacts):
+        return (
+            "the contact coordinates are not independent (two contacts on "
+            "the same pair of DOFs, or a closed loop of contacts): their "
+            "receptance matrix is singular"
+        )
+    return None
 
 
 def modal_damping(system) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
@@ -101,6 +155,16 @@ class CondensedHBMProblem(HBMProblem):
     eliminated per harmonic through the dynamic receptance at the contact;
     :meth:`full_coefficients` recovers every DOF.
 
+    Several contacts (or one between two DOFs): the unknowns are the
+    ``n_c * n_coef`` coefficients of the contact coordinates ``q = B x``
+    (:func:`selection_matrix`), coordinate by coordinate, in the order of
+    ``system.contacts``; the residual uses the receptance matrix
+    ``B Z(kΩ)⁻¹ Bᵀ`` per harmonic (:mod:`hbmfric.kernels.condensed`).
+    ``problem.system`` is then a view of the system in coordinates
+    (``n_dof`` the number of coordinates, ``contact_dof`` 0: the
+    continuation's accuracy and curve rules watch the first coordinate);
+    ``problem.structure`` is the system itself.
+
     Parameters
     ----------
     system, force, harmonics, n_time, symmetry, aft, subharmonic
@@ -139,11 +203,11 @@ class CondensedHBMProblem(HBMProblem):
         )
         if system.contact is None:
             raise ValueError("condensation needs a contact law on the system")
-        if len(self._contacts) != 1 or max(self._contacts[0][2:]) >= 0:
-            raise ValueError(
-                "condensation onto several contacts (or a contact between two "
-                "DOFs) is not available yet; use condense=False for this system"
-            )
+        self.multi = not _single(self._contacts)
+        if self.multi:
+            why = _coordinate_problem(self._contacts, self.n_dof)
+            if why is not None:
+                raise ValueError(f"{why}; use condense=False for this system")
         if receptance not in RECEPTANCE_METHODS:
             raise ValueError(
                 f"receptance must be one of {RECEPTANCE_METHODS}, got {receptance!r}"
@@ -173,6 +237,11 @@ class CondensedHBMProblem(HBMProblem):
         self.contact_dof = int(system.contact_dof)
         self._modal = modal if receptance == "modal" else None
         self.shapes = None if self._modal is None else np.ascontiguousarray(modal[1])
+        self.structure = system
+        self.n_coordinates = len(self._contacts) if self.multi else 1
+        self.selection = selection_matrix(self._contacts, self.n_dof)
+        if self.multi:
+            self.system = _CoordinateView(system, self.n_coordinates)
         self._condense()
 
     def with_harmonics(self, harmonics: int) -> CondensedHBMProblem:
@@ -188,15 +257,25 @@ class CondensedHBMProblem(HBMProblem):
         hn = full[0]
         mass, damping, stiffness = self._matrices
         codes, rows, aft_code = full[6:9]
-        # one contact to ground (can_condense): its code and parameters
+        # one contact to ground: its code and parameters
         law_code = int(codes[0])
         law_params = np.ascontiguousarray(rows[0])
+        if self.multi:
+            pairs, law_codes, law_rows = contact_arrays(self._contacts)
+            pairs = np.ascontiguousarray(pairs[:, :2])
+        else:
+            pairs = np.zeros((0, 2), dtype=np.int64)
+            law_codes = np.zeros(0, dtype=np.int64)
+            law_rows = np.zeros((0, 1))
         inverse, forward, derivative = full[9:12]
         load = np.ascontiguousarray(self.load.reshape(self.n_dof, self.n_coef))
         empty = np.zeros((0, 0))
         modal = self._modal
+        coordinate_shapes = np.zeros((law_codes.size, 0))
         if modal is not None:
             omega, shapes, modal_c = modal
+            if self.multi:
+                coordinate_shapes = np.ascontiguousarray(self.selection @ shapes)
             modal_parts = (
                 np.ascontiguousarray(shapes[self.contact_dof]),
                 np.ascontiguousarray(omega**2),
@@ -220,8 +299,12 @@ class CondensedHBMProblem(HBMProblem):
             np.int64(self.contact_dof),
             *direct_parts,
             float(mass[self.contact_dof, self.contact_dof]),
+            pairs,
+            law_codes,
+            np.ascontiguousarray(law_rows),
+            coordinate_shapes,
         )
-        self.n_unknowns = self.n_coef
+        self.n_unknowns = self.n_coordinates * self.n_coef
 
     # ------------------------------------------------------------------
     def residual(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
@@ -270,12 +353,38 @@ class CondensedHBMProblem(HBMProblem):
         x = self._direct_response(w, rhs)[:, self.contact_dof]
         return g, x
 
+    def coordinate_receptance(self, omega, harmonic: int | None = None):
+        """Receptance matrix ``G = B Z(ω)⁻¹ Bᵀ`` of the contact coordinates
+        (m/N, complex, shape (m, n_c, n_c)) and their response ``B Z(ω)⁻¹
+        P̂`` to the load of ``harmonic`` (default the forced one; complex,
+        m, shape (m, n_c)), at the pulsations ``omega`` (shape (m,), rad/s).
+        Plain NumPy, independent of the kernels."""
+        w = np.atleast_1d(np.asarray(omega, dtype=float))
+        h = self.subharmonic if harmonic is None else int(harmonic)
+        load = self._complex_load()[list(self.harmonic_numbers).index(h)]
+        B = self.selection
+        if self.receptance_method == "modal":
+            omega_r, shapes, modal_c = self._modal
+            psi = B @ shapes
+            d = omega_r**2 - w[:, None] ** 2 + 1j * w[:, None] * modal_c
+            G = (psi[None, :, :] / d[:, None, :]) @ psi.T
+            x = (psi[None, :, :] / d[:, None, :]) @ (shapes.T @ load)
+            return G, x
+        rhs = np.concatenate([B.T, load[:, None]], axis=1)
+        M, C, K = self._matrices
+        Z = K - w[:, None, None] ** 2 * M + 1j * w[:, None, None] * C
+        sol = B @ np.linalg.solve(Z, np.broadcast_to(rhs, Z.shape[:1] + rhs.shape))
+        return sol[:, :, :-1], sol[:, :, -1]
+
     def linear_response(self, omega, contact: str = "stuck") -> np.ndarray:
-        """Response of the contact DOF of the linearised system at the
-        forced harmonic (see :meth:`HBMProblem.linear_response`), shape
-        (n_coef,) or (n_omega, n_coef); a stuck rigid Coulomb contact holds
-        it at 0."""
+        """Response of the contact DOF (several contacts: of the contact
+        coordinates) of the linearised system at the forced harmonic (see
+        :meth:`HBMProblem.linear_response`), shape (n_unknowns,) or
+        (n_omega, n_unknowns); a stuck rigid Coulomb contact holds it at
+        0."""
         w = self.subharmonic * np.atleast_1d(np.asarray(omega, dtype=float))
+        if self.multi:
+            return self._coordinate_linear_response(omega, w, contact)
         g, x = self.receptance(w)
         law = self.system.contact
         if contact == "stuck":
@@ -289,18 +398,41 @@ class CondensedHBMProblem(HBMProblem):
         X[:, col + 1] = -x.imag
         return X[0] if np.ndim(omega) == 0 else X
 
+    def _coordinate_linear_response(self, omega, w, contact: str) -> np.ndarray:
+        """:meth:`linear_response` on the contact coordinates: ``q = p``
+        free, ``q = (I + G K_s)⁻¹ p`` stuck (``K_s`` the stuck stiffnesses of
+        the laws)."""
+        G, x = self.coordinate_receptance(w)
+        if contact == "stuck":
+            ks = np.array([law.stuck_stiffness for law, *_ in self._contacts])
+            eye = np.eye(self.n_coordinates)
+            x = np.linalg.solve(eye + G * ks[None, None, :], x[..., None])[..., 0]
+        col = coefficient_columns(self.harmonic_numbers)[self.subharmonic]
+        X = np.zeros((w.size, self.n_coordinates, self.n_coef))
+        X[:, :, col] = x.real
+        X[:, :, col + 1] = -x.imag
+        X = X.reshape(w.size, -1)
+        return X[0] if np.ndim(omega) == 0 else X
+
     def _add_static(self, y: np.ndarray, static: np.ndarray) -> None:
         """Starting points (:meth:`~hbmfric.hbm.HBMProblem.initial_guesses`,
         rigid-contact presolve included) carry the static solution at the
-        contact DOF only."""
+        contact DOF (the contact coordinates) only."""
+        if self.multi:
+            y[: self.n_unknowns : self.n_coef] += self.selection @ static
+            return
         y[0] += float(static[self.contact_dof])
 
     def contact_forces(self, points: np.ndarray) -> np.ndarray:
         """Contact-force coefficients (N) at condensed solutions ``points``
-        (shape (n_points, n_coef + 1)), shape (n_points, n_coef)."""
+        (shape (n_points, n_unknowns + 1)), shape (n_points, n_coef);
+        several contacts: shape (n_points, n_c, n_coef), the force ``f_a``
+        of each contact (``+f_a`` on its DOF, ``-f_a`` on its other)."""
         points = np.ascontiguousarray(np.atleast_2d(points), dtype=np.float64)
-        F = np.empty((points.shape[0], self.n_coef))
+        F = np.empty((points.shape[0], self.n_unknowns))
         condensed_contact_forces(points, self.kernel_problem, F)
+        if self.multi:
+            return F.reshape(points.shape[0], self.n_coordinates, self.n_coef)
         return F
 
     def full_coefficients(self, points: np.ndarray) -> np.ndarray:
@@ -318,6 +450,8 @@ class CondensedHBMProblem(HBMProblem):
         """
         points = np.ascontiguousarray(np.atleast_2d(points), dtype=np.float64)
         F = self.contact_forces(points)
+        if self.multi:
+            return self._coordinate_recover(points, F)
         out = np.empty((points.shape[0], self.n_dof, self.n_coef))
         if self.receptance_method == "modal":
             condensed_modal_recover(points, F, self.kernel_problem, self.shapes, out)
@@ -336,7 +470,62 @@ class CondensedHBMProblem(HBMProblem):
                 out[:, :, c + 1] = -x.imag
         return out
 
+    def _coordinate_recover(self, points: np.ndarray, F: np.ndarray) -> np.ndarray:
+        """:meth:`full_coefficients` for several contacts:
+        ``x̂_k = Z(kΩ)⁻¹ (P̂_k - Bᵀ f̂_k)`` per harmonic, by modal sums or
+        direct solves (plain NumPy); ``F`` of shape (n_points, n_c,
+        n_coef)."""
+        omega = points[:, -1]
+        loads = self._complex_load()
+        cols = coefficient_columns(self.harmonic_numbers)
+        out = np.empty((points.shape[0], self.n_dof, self.n_coef))
+        B = self.selection
+        for h, k in enumerate(self.harmonic_numbers):
+            c = cols[int(k)]
+            f = F[:, :, c] if k == 0 else F[:, :, c] - 1j * F[:, :, c + 1]
+            rhs = loads[h][None, :] - f @ B
+            w = k * omega
+            if self.receptance_method == "modal":
+                omega_r, shapes, modal_c = self._modal
+                d = omega_r**2 - w[:, None] ** 2 + 1j * w[:, None] * modal_c
+                x = ((rhs @ shapes) / d) @ shapes.T
+            else:
+                x = self._direct_response(w, rhs)
+            out[:, :, c] = x.real
+            if k != 0:
+                out[:, :, c + 1] = -x.imag
+        return out
+
     def unknowns_from_full(self, X: np.ndarray) -> np.ndarray:
-        """The unknowns (contact-DOF coefficients) of full coefficients
-        ``X`` of shape (n_dof, n_coef)."""
+        """The unknowns (contact-DOF coefficients; several contacts: the
+        coordinates ``B X``, flat) of full coefficients ``X`` of shape
+        (n_dof, n_coef)."""
+        if self.multi:
+            q = self.selection @ np.asarray(X, dtype=np.float64)
+            return np.ascontiguousarray(q.reshape(-1))
         return np.ascontiguousarray(X[self.contact_dof], dtype=np.float64)
+
+
+class _CoordinateView:
+    """The system as the continuation of a problem condensed onto several
+    contact coordinates sees it: every attribute of the system, except
+    ``n_dof`` (the number of coordinates, the blocks of the unknowns),
+    ``contact_dof`` = 0 (the first coordinate, the one the accuracy and
+    curve rules watch) and no ``output_weights`` (they weigh DOFs, not
+    coordinates)."""
+
+    contact_dof = 0
+    output_weights = None
+
+    def __init__(self, system, n_coordinates: int) -> None:
+        self._system = system
+        self.n_dof = int(n_coordinates)
+
+    def __getattr__(self, name):
+        if name.startswith("__") or name == "_system":
+            # not set yet (copy, pickle): no recursion through the view
+            raise AttributeError(name)
+        return getattr(self._system, name)
+
+    def __repr__(self) -> str:
+        return f"contact coordinates of {self._system!r}"

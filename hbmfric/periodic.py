@@ -119,7 +119,8 @@ def periodic_solution(
         First start for Newton (selects the branch where several coexist
         and Newton converges from it); an array holds the coefficients of
         all DOFs in the layout of this discretisation (with ``condense``,
-        of the contact DOF only), so it needs an explicit integer
+        of the contact DOF only, or of the contact coordinates for several
+        contacts), so it needs an explicit integer
         ``harmonics``; with ``harmonics="auto"`` only a
         :class:`PeriodicSolution` is accepted.
     options : ContinuationOptions, optional

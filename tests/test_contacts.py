@@ -208,8 +208,10 @@ def test_bad_contacts_are_refused_with_the_argument_named():
         s = _chain([hf.Contact(hf.Coulomb(slip_force=0.2), 2), hf.Contact(law, 0)])
         hf.frf(s, 0.5, (0.5, 2.0))
     two = _chain([hf.Contact(law, 2), hf.Contact(law, 0, 1)])
+    # dependent contact coordinates (x0, x1, x0 - x1) cannot be condensed
+    loop = _chain([hf.Contact(law, 0), hf.Contact(law, 1), hf.Contact(law, 0, 1)])
     with pytest.raises(ValueError, match="condense=False"):
-        hf.frf(two, 0.5, (0.5, 2.0), condense="modal")
+        hf.frf(loop, 0.5, (0.5, 2.0), condense="modal")
     # the time-integration reference takes several contacts
     # (tests/test_multi_reference.py)
     assert hf.validation.steady_state(two, 0.5, 1.0, steps_per_period=256).converged

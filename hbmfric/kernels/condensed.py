@@ -49,6 +49,32 @@ receptance at the contact DOF for the harmonics beyond the balance,
 ``G(kΩ)`` for ``k <= K``: a modal sum (:func:`_modal_tail_receptance`) or
 the direct solves of :func:`hbmfric.kernels.dlft_tail.contact_receptance`.
 
+Several contacts (:func:`_coordinates_residual`)
+-------------------------------------------------
+With ``n_c`` one-dimensional contacts, contact ``a`` acting on the relative
+displacement ``q_a = x_{i_a} - x_{j_a}`` (or on ``x_{i_a}`` against ground),
+the unknowns are the coefficients of the contact coordinates ``q = B x``
+(``B`` of shape (n_c, n_dof), entries +1 and -1), stored coordinate by
+coordinate (``y[a * n_coef + j]``, the layout of the full residual). The
+contact forces act on the structure as ``Bᵀ f``, so per harmonic
+
+    q̂_k = p_k - G_k f̂_k,    G_k = B Z(kΩ)⁻¹ Bᵀ,    p_k = B Z(kΩ)⁻¹ P̂_k,
+
+and the residual, in the dynamic-stiffness form of the single contact
+(units N), is
+
+    r̂_k = D_k (q̂_k - p_k) + f̂_k,     D_k = G_k⁻¹   (n_c x n_c, complex),
+
+with ``dD/dΩ = -D (dG/dΩ) D``. ``G`` is complex symmetric (``Z`` is) and
+regular when ``B`` has full row rank (checked at the edge). Modal:
+``G_ab = Σ_r ψ_ar ψ_br / d_r`` with ``ψ = B Φ`` (``coordinate_shapes``);
+direct: one LU of ``Z`` per harmonic, ``Z_c = Z⁻¹ Bᵀ`` (``n_c`` solves),
+``G = B Z_c``, ``dG/dΩ = -Z_cᵀ Z' Z_c``, ``dp/dΩ = -Z_cᵀ Z' Z⁻¹ P̂``. Every
+contact's force is the AFT of its law on its own coordinate (the dispatch
+of the full residual, :func:`hbmfric.kernels.hbm._aft`), so ``df/dq`` is
+block diagonal. The single contact to ground keeps the path above
+(``law_codes`` empty); any other set of contacts fills ``law_codes``.
+
 The problem travels as a :class:`CondensedProblem` named tuple; the residual
 dispatcher :func:`hbmfric.kernels.residual.residual` recognises its type.
 """
@@ -62,8 +88,9 @@ from .aft import aft_jenkins_events, aft_samples
 from .dahl import aft_dahl
 from .dlft import COULOMB, dlft_contact, dlft_located
 from .dlft_tail import contact_receptance, dlft_tail
+from .hbm import _aft, _combined_state
 from .laws import DAHL, JENKINS, is_masing
-from .linalg import solve_inplace
+from .linalg import lu_factor, lu_solve, solve_inplace
 from .masing import aft_masing
 
 #: AFT scheme codes (same values as :mod:`hbmfric.kernels.hbm`)
@@ -96,6 +123,11 @@ CondensedProblem = namedtuple(
         "stiffness",  # float64 (n_dof, n_dof) (DIRECT)
         "load",  # float64 (n_dof, n_coef): P per coefficient, N (DIRECT)
         "contact_mass",  # float64: M_cc, kg (located DLFT of a rigid Coulomb)
+        # several contacts (empty arrays for the single contact to ground)
+        "coordinate_pairs",  # int64 (n_c, 2): (i_a, j_a), j_a = -1 for ground
+        "law_codes",  # int64 (n_c,)
+        "law_rows",  # float64 (n_c, n_params): parameters per contact, padded
+        "coordinate_shapes",  # float64 (n_c, n_modes): ψ = B Φ (MODAL)
     ],
 )
 CondensedProblem.__doc__ = """Flat data of the condensed HBM residual (see the
@@ -230,6 +262,8 @@ def condensed_residual(y, problem, R, J):
     int
         Contact-state code of the AFT (negative on failure).
     """
+    if problem.law_codes.size > 0:
+        return _coordinates_residual(y, problem, R, J)
     status = _condensed_linear(y, problem, R, J)
     if status < 0:
         return status
@@ -454,17 +488,21 @@ def condensed_contact_forces(points, problem, F):
 
     Parameters
     ----------
-    points : ndarray, shape (n_points, n_coef + 1)
-        ``[X_c, Ω]`` per point.
+    points : ndarray, shape (n_points, n_unknowns + 1)
+        ``[X_c, Ω]`` per point (``[q, Ω]`` for several contacts).
     problem : CondensedProblem
     F : ndarray, shape (n_points, n_coef)
-        Output: force coefficients, N.
+        Output: force coefficients, N; for several contacts shape
+        (n_points, n_c * n_coef), contact by contact (the force ``f_a`` on
+        coordinate ``a``).
 
     Returns
     -------
     int
         Lowest AFT status met (negative on a failure).
     """
+    if problem.law_codes.size > 0:
+        return _coordinate_forces(points, problem, F)
     n = problem.inverse.shape[1]
     dF = np.empty((n, n))
     f = np.empty(n)
@@ -536,3 +574,326 @@ def condensed_modal_recover(points, F, problem, shapes, X):
                 if k != 0:
                     X[i, j, col + 1] = -s.imag
             col += 1 if k == 0 else 2
+
+
+# ----------------------------------------------------------------------
+# several contacts: unknowns on the contact coordinates q = B x
+
+
+@jit
+def _modal_coordinate_receptance(k, omega, col, problem, G, dG, p, dp, inv_d, dinv):
+    """``G_k``, ``p_k`` and their Ω-derivatives by modal sums (see the
+    module docstring) into ``G``, ``dG`` (shape (n_c, n_c)), ``p``, ``dp``
+    (shape (n_c,)), all complex; ``inv_d``, ``dinv``: work, (n_modes,)."""
+    psi = problem.coordinate_shapes
+    w2 = problem.omega_squared
+    c = problem.modal_damping
+    q = problem.modal_load
+    n_c, n_modes = psi.shape
+    w = k * omega
+    for r in range(n_modes):
+        d = 1.0 / (w2[r] - w * w + 1j * w * c[r])
+        inv_d[r] = d
+        dinv[r] = k * (2.0 * w - 1j * c[r]) * d * d
+    for a in range(n_c):
+        for b in range(a, n_c):
+            g = 0.0j
+            dg = 0.0j
+            for r in range(n_modes):
+                s = psi[a, r] * psi[b, r]
+                g += s * inv_d[r]
+                dg += s * dinv[r]
+            G[a, b] = g
+            G[b, a] = g
+            dG[a, b] = dg
+            dG[b, a] = dg
+        pa = 0.0j
+        dpa = 0.0j
+        for r in range(n_modes):
+            if k == 0:
+                qr = q[r, col] + 0.0j
+            else:
+                qr = q[r, col] - 1j * q[r, col + 1]
+            s = psi[a, r] * qr
+            pa += s * inv_d[r]
+            dpa += s * dinv[r]
+        p[a] = pa
+        dp[a] = dpa
+
+
+@jit
+def _direct_coordinate_receptance(k, omega, col, problem, G, dG, p, dp, work):
+    """As :func:`_modal_coordinate_receptance` by one LU of the real form
+    of ``Z(kΩ)`` and ``n_c + 1`` solves; False if ``Z`` is singular."""
+    A, piv, b, Zc, xp, tmp = work
+    pairs = problem.coordinate_pairs
+    n = problem.mass.shape[0]
+    n_c = pairs.shape[0]
+    w = k * omega
+    _dynamic_stiffness(problem, w, A)
+    if not lu_factor(A, piv):
+        return False
+    for a in range(n_c):
+        b[:] = 0.0
+        b[pairs[a, 0]] = 1.0
+        if pairs[a, 1] >= 0:
+            b[pairs[a, 1]] = -1.0
+        lu_solve(A, piv, b)
+        for i in range(n):
+            Zc[i, a] = b[i] + 1j * b[n + i]
+    load = problem.load
+    for i in range(n):
+        b[i] = load[i, col]
+        b[n + i] = 0.0 if k == 0 else -load[i, col + 1]
+    lu_solve(A, piv, b)
+    for i in range(n):
+        xp[i] = b[i] + 1j * b[n + i]
+    if not (np.isfinite(b).all() and np.isfinite(A).all()):
+        return False
+    for a in range(n_c):
+        i_a = pairs[a, 0]
+        j_a = pairs[a, 1]
+        for c in range(n_c):
+            G[a, c] = Zc[i_a, c] - (Zc[j_a, c] if j_a >= 0 else 0.0)
+        p[a] = xp[i_a] - (xp[j_a] if j_a >= 0 else 0.0)
+    dG[:, :] = 0.0
+    dp[:] = 0.0
+    if k == 0:
+        return True
+    # Z' = k (-2ω M + i C); tmp = Z' [Z_c, x_p]
+    mass = problem.mass
+    damping = problem.damping
+    for i in range(n):
+        for c in range(n_c + 1):
+            tmp[i, c] = 0.0
+        for j in range(n):
+            dz = k * (-2.0 * w * mass[i, j] + 1j * damping[i, j])
+            if dz == 0.0:
+                continue
+            for c in range(n_c):
+                tmp[i, c] += dz * Zc[j, c]
+            tmp[i, n_c] += dz * xp[j]
+    for a in range(n_c):
+        for c in range(n_c + 1):
+            s = 0.0j
+            for i in range(n):
+                s += Zc[i, a] * tmp[i, c]
+            if c < n_c:
+                dG[a, c] = -s
+            else:
+                dp[a] = -s
+    return True
+
+
+@jit
+def _invert(G, D, A):
+    """``D = G⁻¹`` (complex, shape (m, m)) by Gauss-Jordan elimination
+    with partial pivoting; ``A`` is work of the same shape. False if a
+    pivot is zero or not finite."""
+    m = G.shape[0]
+    big_all = 0.0
+    for i in range(m):
+        for j in range(m):
+            A[i, j] = G[i, j]
+            D[i, j] = 1.0 if i == j else 0.0
+            a = abs(G[i, j])
+            if not a <= big_all:
+                big_all = a
+    if not np.isfinite(big_all):
+        return False
+    tiny = 1e-300 + big_all * 1e-15
+    for k in range(m):
+        p = k
+        big = abs(A[k, k])
+        for i in range(k + 1, m):
+            a = abs(A[i, k])
+            if a > big:
+                big = a
+                p = i
+        if not big > tiny:
+            return False
+        if p != k:
+            for j in range(m):
+                A[k, j], A[p, j] = A[p, j], A[k, j]
+                D[k, j], D[p, j] = D[p, j], D[k, j]
+        inv = 1.0 / A[k, k]
+        for j in range(m):
+            A[k, j] *= inv
+            D[k, j] *= inv
+        for i in range(m):
+            if i == k:
+                continue
+            f = A[i, k]
+            if f != 0.0:
+                for j in range(m):
+                    A[i, j] -= f * A[k, j]
+                    D[i, j] -= f * D[k, j]
+    return True
+
+
+@jit
+def _coordinate_work(problem):
+    """Work arrays of :func:`_coordinates_residual`."""
+    n_c = problem.law_codes.size
+    n_modes = problem.coordinate_shapes.shape[1]
+    n = problem.mass.shape[0]
+    complex_square = np.empty((n_c, n_c), dtype=np.complex128)
+    direct = (
+        np.empty((2 * n, 2 * n)),
+        np.empty(2 * n, dtype=np.int64),
+        np.empty(2 * n),
+        np.empty((n, n_c), dtype=np.complex128),
+        np.empty(n, dtype=np.complex128),
+        np.empty((n, n_c + 1), dtype=np.complex128),
+    )
+    return (
+        complex_square,
+        complex_square.copy(),
+        complex_square.copy(),
+        complex_square.copy(),
+        complex_square.copy(),
+        np.empty(n_c, dtype=np.complex128),
+        np.empty(n_c, dtype=np.complex128),
+        np.empty(n_modes, dtype=np.complex128),
+        np.empty(n_modes, dtype=np.complex128),
+        direct,
+    )
+
+
+@jit
+def _coordinates_linear(y, problem, R, J):
+    """Linear part ``D_k (q̂_k - p_k)`` of the residual on the contact
+    coordinates and its Jacobian (``J`` overwritten); 0, or
+    ``SINGULAR_RECEPTANCE``."""
+    hn = problem.harmonic_numbers
+    n_coef = problem.inverse.shape[1]
+    n_c = problem.law_codes.size
+    n = n_c * n_coef
+    omega = y[n]
+    J[:, :] = 0.0
+    G, dG, D, dD, work, p, dp, inv_d, dinv, direct = _coordinate_work(problem)
+    e = np.empty(n_c, dtype=np.complex128)
+    col = 0
+    for k in hn:
+        if problem.method == DIRECT:
+            if not _direct_coordinate_receptance(
+                k, omega, col, problem, G, dG, p, dp, direct
+            ):
+                return SINGULAR_RECEPTANCE
+        else:
+            _modal_coordinate_receptance(
+                k, omega, col, problem, G, dG, p, dp, inv_d, dinv
+            )
+        if not _invert(G, D, work):
+            return SINGULAR_RECEPTANCE
+        # dD = -D dG D
+        for a in range(n_c):
+            for b in range(n_c):
+                s = 0.0j
+                for c in range(n_c):
+                    s += dG[a, c] * D[c, b]
+                work[a, b] = s
+        for a in range(n_c):
+            for b in range(n_c):
+                s = 0.0j
+                for c in range(n_c):
+                    s += D[a, c] * work[c, b]
+                dD[a, b] = -s
+        for a in range(n_c):
+            i = a * n_coef + col
+            e[a] = (y[i] + 0.0j if k == 0 else y[i] - 1j * y[i + 1]) - p[a]
+        for a in range(n_c):
+            r = 0.0j
+            dr = 0.0j
+            for b in range(n_c):
+                r += D[a, b] * e[b]
+                dr += dD[a, b] * e[b] - D[a, b] * dp[b]
+            ra = a * n_coef + col
+            R[ra] = r.real
+            J[ra, n] = dr.real
+            if k != 0:
+                R[ra + 1] = -r.imag
+                J[ra + 1, n] = -dr.imag
+            for b in range(n_c):
+                cb = b * n_coef + col
+                d = D[a, b]
+                J[ra, cb] = d.real
+                if k != 0:
+                    J[ra, cb + 1] = d.imag
+                    J[ra + 1, cb] = -d.imag
+                    J[ra + 1, cb + 1] = d.real
+        col += 1 if k == 0 else 2
+    return 0
+
+
+@jit
+def _coordinates_residual(y, problem, R, J):
+    """The condensed residual on several contact coordinates (module
+    docstring): linear part plus every contact's AFT force on its own
+    coordinate. Same contract as :func:`condensed_residual` with
+    ``y`` of shape (n_c * n_coef + 1,)."""
+    status = _coordinates_linear(y, problem, R, J)
+    if status < 0:
+        return status
+    n_coef = problem.inverse.shape[1]
+    F = np.empty(n_coef)
+    dF = np.empty((n_coef, n_coef))
+    x = np.empty(n_coef)
+    for a in range(problem.law_codes.size):
+        base = a * n_coef
+        for j in range(n_coef):
+            x[j] = y[base + j]
+        s_a = _aft(
+            problem.law_codes[a],
+            problem.law_rows[a],
+            problem.aft_scheme,
+            problem.harmonic_numbers,
+            x,
+            problem.inverse,
+            problem.forward,
+            problem.derivative,
+            F,
+            dF,
+        )
+        if s_a < 0:
+            return s_a
+        status = s_a if a == 0 else _combined_state(status, s_a)
+        for i in range(n_coef):
+            R[base + i] += F[i]
+            for j in range(n_coef):
+                J[base + i, base + j] += dF[i, j]
+    return status
+
+
+@jit
+def _coordinate_forces(points, problem, F):
+    """Contact forces of :func:`condensed_contact_forces` for several
+    contacts: ``F[i, a * n_coef + j]``, the AFT of contact ``a`` at its
+    coordinate."""
+    n_coef = problem.inverse.shape[1]
+    f = np.empty(n_coef)
+    dF = np.empty((n_coef, n_coef))
+    x = np.empty(n_coef)
+    worst = 1 << 30
+    for i in range(points.shape[0]):
+        for a in range(problem.law_codes.size):
+            base = a * n_coef
+            for j in range(n_coef):
+                x[j] = points[i, base + j]
+            status = _aft(
+                problem.law_codes[a],
+                problem.law_rows[a],
+                problem.aft_scheme,
+                problem.harmonic_numbers,
+                x,
+                problem.inverse,
+                problem.forward,
+                problem.derivative,
+                f,
+                dF,
+            )
+            if status < worst:
+                worst = status
+            for j in range(n_coef):
+                F[i, base + j] = f[j]
+    return worst
