@@ -15,8 +15,10 @@ hung on bungee cords), here springs to ground at both free ends, axial and
 transverse, tuned to the rigid-body frequency ``suspension_frequency``.
 
 Finite elements: plane Euler–Bernoulli frame elements
-(:func:`hbmfric.systems.frame.element_matrices`, consistent mass), three
-DOFs per node ``(u, w, θ)``. Every node of both beams lies on the interface
+(:func:`hbmfric.systems.frame.element_matrices`, consistent mass, plus the
+rotary inertia ``ρ I`` of the section, which keeps the mass matrix well
+conditioned when the overlap is meshed finely), three DOFs per node
+``(u, w, θ)``. Every node of both beams lies on the interface
 plane ``y = 0``; the overlap elements, whose centroid axis lies at
 ``y_c = +t/2`` (beam A, upper half) or ``y_c = −t/2`` (beam B, lower half)
 with ``t = thickness / 2`` their own thickness, are *eccentric*: with plane
@@ -84,6 +86,28 @@ BRAKE_REUSS = {
     "damping_ratio": 0.002,  # modal, of the structure without friction
     "suspension_frequency": 2.0,  # Hz, rigid-body modes on the bungees
 }
+
+
+def _rotary_inertia(length: float, rho_i: float) -> np.ndarray:
+    """Rotary inertia of a frame element (cubic Hermite shape functions),
+    ``ρ I ∫ N'ᵀ N' dx`` in the DOF order ``(u1, w1, θ1, u2, w2, θ2)``, kg
+    (kg m, kg m² for the rotations); ``rho_i`` = ``ρ I``, kg m."""
+    L = length
+    m = np.zeros((6, 6))
+    bend = [1, 2, 4, 5]
+    m[np.ix_(bend, bend)] = (
+        rho_i
+        / (30.0 * L)
+        * np.array(
+            [
+                [36.0, 3.0 * L, -36.0, 3.0 * L],
+                [3.0 * L, 4.0 * L * L, -3.0 * L, -L * L],
+                [-36.0, -3.0 * L, 36.0, -3.0 * L],
+                [3.0 * L, -L * L, -3.0 * L, 4.0 * L * L],
+            ]
+        )
+    )
+    return m
 
 
 def _positive(name: str, value) -> float:
@@ -375,8 +399,10 @@ class LapJoint:
             for e, kind in enumerate(kinds):
                 if kind == "out":
                     ke, me = element_matrices(le_out, *full)
+                    me = me + _rotary_inertia(le_out, self.density * b * h**3 / 12)
                 else:
                     ke, me = element_matrices(le_joint, *half)
+                    me = me + _rotary_inertia(le_joint, self.density * b * t**3 / 12)
                     # eccentric element: centroid at y_c = ±t/2 above the
                     # node line (the interface); u_c = u − y_c θ
                     y_c = sign * 0.5 * t
