@@ -110,7 +110,7 @@ class LapJointFamily(FigureResult):
                             f"{om / HZ:.12g}",
                             f"{x:.12g}",
                             f"{x / par['force']:.12g}",
-                            b.harmonics,
+                            par["harmonics"],
                         ]
                     )
         self.files.append(Path(path))
@@ -192,7 +192,14 @@ def lap_joint_family(
         label = f"Fex/P = {ratio:.2g} (P = {total / 1e3:g} kN, Fex = {force:.3g} N)"
         branches.append(b)
         labels.append(label)
-        params.append({"force": force, "normal_load": total, "ratio": ratio})
+        params.append(
+            {
+                "force": force,
+                "normal_load": total,
+                "ratio": ratio,
+                "harmonics": p["harmonics"],
+            }
+        )
         timings.append(elapsed)
         if progress is not None:
             progress(
