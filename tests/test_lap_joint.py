@@ -257,3 +257,26 @@ def test_lap_joint_pairs_option_is_checked():
 
     with pytest.raises(SystemExit):
         main(["paper", "--lap-joint-pairs", "1"])
+
+
+def test_contact2d_variant_in_the_stuck_limit():
+    """The Contact2D variant (normal load varying over the cycle, the bolt
+    clamping as a static load): at rest each pair carries its N_i, so far
+    below slip the response is the same linear stuck FRF (normal springs
+    from the elements' penalty), with no mean displacement."""
+    joint = hf.LapJoint(n_pairs=6, n_elements=6)
+    s = joint.structure("contact2d")
+    assert len(s.contacts) == joint.closed_pairs.size
+    assert not s.symmetric
+    M, C, K = joint.structure("free").matrices()
+    K = K + joint.contact_stiffness_matrix()
+    p = s.load_vector(1.0)
+    force = 1e-3
+    for f in (150.0, 175.0):
+        sol = hf.periodic_solution(s, force, HZ * f, harmonics=3)
+        X = linear_receptance(M, C, K, force * p, HZ * f)
+        for dof in ("drive", "pair:2:a"):
+            j = s.dof(dof)
+            assert sol.amplitude(1, j) == pytest.approx(abs(X[j]), rel=1e-7)
+        mean = sol.coefficients[:, 0]
+        assert np.max(np.abs(mean)) < 1e-6 * np.max(np.abs(X))

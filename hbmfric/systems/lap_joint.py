@@ -63,7 +63,7 @@ from functools import cached_property
 import numpy as np
 
 from .._validate import finite_float, positive_int
-from ..laws import Jenkins
+from ..laws import Contact2D, Jenkins
 from .contacts import Contact
 from .frame import AXIAL, DOFS_PER_NODE, ROTATION, TRANSVERSE, element_matrices
 from .structure import LinearStructure
@@ -461,9 +461,12 @@ class LapJoint:
 
         Parameters
         ----------
-        contact : {"jenkins", "stuck", "free"}
+        contact : {"jenkins", "contact2d", "stuck", "free"}
             ``"jenkins"``: one Jenkins contact per closed pair (the friction
-            model); ``"stuck"``: linear, the contacts replaced by their stuck
+            model, normal load constant); ``"contact2d"``: one
+            :class:`~hbmfric.Contact2D` element per closed pair (normal load
+            varying over the cycle, see :meth:`_contact2d_structure`);
+            ``"stuck"``: linear, the contacts replaced by their stuck
             springs; ``"free"``: linear, without tangential contacts (the
             full-slip limit at zero slip force).
 
@@ -494,9 +497,12 @@ class LapJoint:
                 load={"drive": 1.0},
                 dof_names=self.dof_names,
             )
+        if contact == "contact2d":
+            return self._contact2d_structure(M, K, C)
         if contact != "jenkins":
             raise ValueError(
-                f"contact must be 'jenkins', 'stuck' or 'free', got {contact!r}"
+                "contact must be 'jenkins', 'contact2d', 'stuck' or 'free', got "
+                f"{contact!r}"
             )
         a, b = self.pair_dofs()
         kt, fs = self.tangential_stiffnesses(), self.slip_forces()
@@ -517,10 +523,58 @@ class LapJoint:
             contacts=contacts,
         )
 
+    def _contact2d_structure(self, M, K, C) -> LinearStructure:
+        """The ``"contact2d"`` variant: per closed pair a
+        :class:`~hbmfric.Contact2D` element (Jenkins whose slip force follows
+        the normal force ``N_i + k_n,i v``, ``v = w_B − w_A`` positive
+        closing, open when it reaches zero) instead of the Jenkins element
+        and the linear normal spring; the bolts' clamping enters as the
+        static load ``−N_i`` on ``w_A,i`` and ``+N_i`` on ``w_B,i``, so that
+        at rest every pair carries ``N_i``."""
+        a, b = self.pair_dofs()
+        wa, wb = self.pair_dofs(TRANSVERSE)
+        kt, kn = self.tangential_stiffnesses(), self.normal_stiffnesses()
+        loads = self.normal_loads()
+        K = K.copy()
+        static = {}
+        contacts = []
+        for i in self.closed_pairs:
+            for p, q, v in ((wa, wa, 1.0), (wb, wb, 1.0), (wa, wb, -1.0)):
+                K[p[i], q[i]] -= v * kn[i]
+                if p is not q:
+                    K[q[i], p[i]] -= v * kn[i]
+            element = Contact2D(
+                tangential_stiffness=float(kt[i]),
+                normal_stiffness=float(kn[i]),
+                friction_coefficient=self.friction_coefficient,
+                preload=float(loads[i]),
+            )
+            contacts.append(
+                Contact(
+                    element,
+                    int(a[i]),
+                    other=int(b[i]),
+                    normal=int(wb[i]),
+                    normal_other=int(wa[i]),
+                )
+            )
+            static[int(wa[i])] = -float(loads[i])
+            static[int(wb[i])] = float(loads[i])
+        return LinearStructure(
+            M,
+            K,
+            C,
+            load={"drive": 1.0},
+            dof_names=self.dof_names,
+            contacts=contacts,
+            static_load=static,
+        )
+
     def reduced(self, n_modes: int = 8, contact: str = "jenkins", extra=()):
         """Craig–Bampton reduction of :meth:`structure` onto the surface
-        axial DOFs of the closed pairs, ``"drive"`` and ``"tip"`` (and
-        ``extra`` DOFs), plus ``n_modes`` fixed-interface modes
+        axial DOFs of the closed pairs (with ``contact="contact2d"`` also
+        their transverse DOFs), ``"drive"`` and ``"tip"`` (and ``extra``
+        DOFs), plus ``n_modes`` fixed-interface modes
         (:func:`hbmfric.craig_bampton`)."""
         from .craig_bampton import craig_bampton
 
@@ -528,6 +582,9 @@ class LapJoint:
         closed = self.closed_pairs
         boundary = ["drive", "tip", *extra]
         boundary += [int(d) for i in closed for d in (a[i], b[i])]
+        if contact == "contact2d":
+            wa, wb = self.pair_dofs(TRANSVERSE)
+            boundary += [int(d) for i in closed for d in (wa[i], wb[i])]
         return craig_bampton(self.structure(contact), boundary, n_modes)
 
     def natural_frequencies(self, contact: str = "stuck", n: int = 10) -> np.ndarray:
