@@ -80,7 +80,7 @@ BRAKE_REUSS = {
     "density": 8000.0,  # kg/m³
     "bolt_positions": (0.030, 0.060, 0.090),  # m from the overlap's start
     "bolt_preload": 12.0e3,  # N per bolt
-    "pressure_radius": 0.0214,  # m, half-width of each bolt's pressure zone
+    "pressure_radius": 0.0214,  # m, washer radius + plate thickness (45° cone)
     "friction_coefficient": 0.6,
     "contact_stiffness": 1.0e12,  # N/m³, tangential, per unit area
     "damping_ratio": 0.002,  # modal, of the structure without friction
