@@ -281,3 +281,23 @@ def test_contact2d_variant_in_the_stuck_limit():
             assert sol.amplitude(1, j) == pytest.approx(abs(X[j]), rel=1e-7)
         mean = sol.coefficients[:, 0]
         assert np.max(np.abs(mean)) < 1e-6 * np.max(np.abs(X))
+
+
+@pytest.mark.slow
+@pytest.mark.filterwarnings("ignore::hbmfric.AccuracyWarning")
+def test_the_criterion_reads_the_joint_as_microslip():
+    """The default extra figure set (about 80 s): the stuck curve peaks at
+    the stuck eigenfrequency, the highest level at the slipped one (every
+    pair slipping: the structure without tangential contacts), and the
+    criterion reads the family (Jenkins elements with different slip
+    forces) as microslip without roughness."""
+    from hbmfric.paper import lap_joint_family
+
+    fam = lap_joint_family()
+    joint = hf.LapJoint(n_pairs=10)
+    stuck_f = joint.natural_frequencies("stuck", 4)[3]
+    free_f = joint.natural_frequencies("free", 5)[4]
+    peaks = [b.omega[np.argmax(b.amplitude(1, "drive"))] / HZ for b in fam.branches]
+    assert peaks[0] == pytest.approx(stuck_f, abs=0.05)
+    assert peaks[5] == pytest.approx(free_f, abs=0.3)
+    assert fam.criterion().verdict == "microslip without roughness"
