@@ -7,7 +7,6 @@ dry-friction contacts, with Numba-compiled AFT kernels.
 >>> branch = hf.frf(osc, force=0.5, omega=(0.5, 3.0), harmonics=15)
 """
 
-from . import criterion, identify, validation
 from .api import frf, periodic_solution
 from .continuation import ContinuationOptions
 from .coulomb import Coulomb
@@ -31,6 +30,7 @@ from .laws import (
     Roughness,
     hertz_mindlin_stiffness,
 )
+from .modes import NonlinearMode, nonlinear_mode
 from .results import Branch, PeriodicSolution
 from .study import StudyResult, grid, study
 from .systems import (
@@ -49,6 +49,33 @@ from .systems import (
 )
 
 __version__ = "0.1.0"
+
+#: subpackages loaded on first use (``hf.criterion``, ``hf.identify``,
+#: ``hf.validation``): ``import hbmfric`` need not pay for the scipy
+#: modules only they use. (``hf.study`` stays eager: the submodule of the
+#: same name would shadow the function once imported.)
+_LAZY = {
+    "criterion": (".criterion", None),
+    "identify": (".identify", None),
+    "validation": (".validation", None),
+}
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        import importlib
+
+        module_name, attr = _LAZY[name]
+        module = importlib.import_module(module_name, __name__)
+        value = module if attr is None else getattr(module, attr)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
+
 
 __all__ = [
     "AccuracyWarning",
@@ -72,6 +99,7 @@ __all__ = [
     "Jenkins",
     "LapJoint",
     "LinearStructure",
+    "NonlinearMode",
     "Menq",
     "ModifiedDahl",
     "Oscillator",
@@ -86,6 +114,7 @@ __all__ = [
     "hertz_mindlin_stiffness",
     "identify",
     "lap_joint",
+    "nonlinear_mode",
     "periodic_solution",
     "read_matrices",
     "read_matrix",

@@ -52,6 +52,14 @@ def _paper(args: argparse.Namespace) -> int:
     for fig in computed():
         figures.append(fig)
         verdict = _print_verdict(fig)
+        if args.stability and _single_dof(fig):
+            t = time.perf_counter()
+            unstable = fig.stability()
+            print(
+                f"{fig.name}: stability by Hill's method, {unstable} unstable "
+                f"point(s) ({time.perf_counter() - t:.1f} s)",
+                flush=True,
+            )
         try:
             written = [_write_csv(fig, out / f"{fig.name}.csv", args.resample)]
             if not args.no_plot:
@@ -77,6 +85,12 @@ def _paper(args: argparse.Namespace) -> int:
     print(f"index of the figures: {index}", flush=True)
     print(f"done in {time.perf_counter() - start:.2f} s", flush=True)
     return 0
+
+
+def _single_dof(fig) -> bool:
+    """A figure of single-DOF FRF branches (whose stability is cheap)."""
+    branches = getattr(fig, "branches", None)
+    return bool(branches) and all(b.coefficients.shape[1] == 1 for b in branches)
 
 
 #: what each figure shows, and the claim of the paper it checks
@@ -297,6 +311,14 @@ def main(argv: list[str] | None = None) -> int:
         metavar="N",
         help="contact node pairs of the extra lap-joint figure set (not in the "
         "paper; default 10, about 2 minutes; 40 takes about an hour), 0 to skip it",
+    )
+    paper.add_argument(
+        "--stability",
+        action="store_true",
+        help="also compute the stability of every point of the single-DOF "
+        "figures (Hill's method) and add a 'stable' column to their CSV "
+        "(the beam's and the tensioner's figures are left without it: "
+        "their full Hill problems cost minutes)",
     )
     paper.set_defaults(func=_paper)
     run = sub.add_parser(

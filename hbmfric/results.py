@@ -492,6 +492,62 @@ class Branch:
             self._hp = key
         return self._stability
 
+    def special_points(self, system=None, stability: bool = True) -> list:
+        """Folds and stability changes, each located between the two branch
+        points that bracket it (:mod:`hbmfric.bifurcation`: a root search
+        on the Ω tangent or on the largest Floquet exponent along the
+        solutions between the points, each a full Newton solve).
+
+        Parameters
+        ----------
+        system : Oscillator or compatible, optional
+            The system traced; default: the one :func:`~hbmfric.frf`
+            recorded.
+        stability : bool
+            Also locate the stability changes (computes :meth:`stability`
+            if needed; refused for a rigid Coulomb contact). With False,
+            only the folds.
+
+        Returns
+        -------
+        list of :class:`~hbmfric.bifurcation.SpecialPoint`
+            In path order: ``kind`` (``"fold"``, ``"branch point"``,
+            ``"period doubling"``, ``"Neimark-Sacker"``), ``omega``
+            (rad/s), ``index``, the solution's ``coefficients`` and the
+            crossing ``multiplier``. A fold where the stability changes
+            carries the Ω of that change in ``stability_omega``.
+
+        Warns
+        -----
+        ConvergenceWarning
+            For an interval whose point could not be located (it is left
+            out).
+        """
+        from .bifurcation import locate_special_points
+
+        src = _stability_source(self._source, system)
+        changes = self.stability(src["system"]).changes() if stability else None
+        h = (
+            self.point_harmonics
+            if self.point_harmonics is not None
+            else np.full(self.n_points, int(self.harmonic_numbers[-1]))
+        )
+        n_time = None if self.point_harmonics is not None else self.info.get("n_time")
+        return locate_special_points(
+            src["system"],
+            self.force,
+            self.omega,
+            self.harmonic_numbers,
+            self.coefficients,
+            h,
+            self.folds,
+            changes,
+            n_time=n_time,
+            aft=self.info.get("aft", "auto"),
+            subharmonic=int(self.info.get("subharmonic", 1)),
+            symmetric=bool(self.info.get("odd_only", False)),
+        )
+
     @property
     def stable(self) -> np.ndarray:
         """Whether each point is stable, shape (n_points,) (computes

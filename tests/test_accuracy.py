@@ -150,9 +150,12 @@ def test_compiled_changes_equal_one_call_per_point():
     assert out.max() > 0.0
 
 
-def _estimate_in_numpy(problem, points, tolerance):
+def _estimate_in_numpy(problem, points, tolerance, stretch=None):
     """The rule of ``truncation_errors`` written out in NumPy (the compiled
-    kernel must give the same numbers)."""
+    kernel must give the same numbers): calibrations at every 32nd
+    non-linear point of each stretch, at the first and last of each
+    stretch and at the two of largest free measure; a carried ratio comes
+    from the calibrated neighbours within the same stretch only."""
     from hbmfric.continuation import accuracy
     from hbmfric.continuation.adaptive import (
         CARRY_FLOOR,
@@ -163,6 +166,8 @@ def _estimate_in_numpy(problem, points, tolerance):
     )
     from hbmfric.kernels.truncation import MAX_CONFIRMED
 
+    if stretch is None:
+        stretch = np.zeros(len(points), dtype=int)
     level = _Level(problem, None)
     probe = _Level(problem.with_harmonics(probe_level(level.h)), None)
 
@@ -175,19 +180,20 @@ def _estimate_in_numpy(problem, points, tolerance):
     errors = np.zeros(len(points))
     nonlinear = np.flatnonzero(measure > LINEAR * 1e-4)
     chosen = np.zeros(len(points), dtype=bool)
-    chosen[nonlinear[:: accuracy.EVERY]] = True
-    chosen[nonlinear[-1]] = True
+    for label in np.unique(stretch[nonlinear]):
+        own = nonlinear[stretch[nonlinear] == label]
+        chosen[own[:: accuracy.EVERY]] = True
+        chosen[own[-1]] = True
     chosen[nonlinear[np.argsort(measure[nonlinear])[-accuracy.N_WORST :]]] = True
-    calibrated = np.flatnonzero(chosen)
-    for i in calibrated:
+    ratio = np.zeros(len(points))
+    for i in np.flatnonzero(chosen):
         errors[i] = CHANGE_FACTOR * probe.change(points[i])
-    ratio = np.maximum(errors[calibrated] / measure[calibrated], CARRY_FLOOR)
+        ratio[i] = max(errors[i] / measure[i], CARRY_FLOOR)
     confirmed = 0
     for i in nonlinear[~chosen[nonlinear]]:
-        right = np.searchsorted(calibrated, i)
-        left = max(right - 1, 0)
-        right = min(right, calibrated.size - 1)
-        errors[i] = max(ratio[left], ratio[right]) * measure[i]
+        same = np.flatnonzero(chosen & (stretch == stretch[i]))
+        left, right = same[same < i], same[same > i]
+        errors[i] = max(ratio[left[-1]], ratio[right[0]]) * measure[i]
         if errors[i] > tolerance and confirmed < MAX_CONFIRMED:
             errors[i] = CHANGE_FACTOR * probe.change(points[i])
             confirmed += int(errors[i] > tolerance)
@@ -213,3 +219,11 @@ def test_compiled_estimate_follows_the_rule(harmonics, force, tolerance):
     got = truncation_errors(p, points, tolerance)
     np.testing.assert_allclose(got, expected, rtol=1e-12, atol=0.0)
     assert np.count_nonzero(got) > 10
+    # the same points cut into stretches (the levels of an adaptive run):
+    # no ratio is carried across a cut
+    stretch = np.arange(len(points)) * 5 // len(points)
+    expected = _estimate_in_numpy(p, points, tolerance, stretch)
+    got = truncation_errors(p, points, tolerance, stretch)
+    np.testing.assert_allclose(got, expected, rtol=1e-12, atol=0.0)
+    with pytest.raises(ValueError, match="stretch"):
+        truncation_errors(p, points, tolerance, stretch[::-1])

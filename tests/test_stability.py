@@ -7,11 +7,13 @@ integrated by ``scipy.integrate.solve_ivp``), the folds located by the
 continuation's tangent, or the exponents at a much larger ``H``.
 """
 
+import numba
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
 import hbmfric as hf
+from hbmfric.hbm import HBMProblem
 from hbmfric.stability import floquet_exponents, stability_of_points
 
 DUFFING = dict(mass=1.0, damping=0.05, stiffness=1.0, k3=0.1, force=0.2)
@@ -362,16 +364,13 @@ def test_jenkins_against_the_exact_monodromy():
     λ = 0 (docs/stability.md): the verdict agrees and the largest
     multiplier is close (measured 0.006, 0.028, 0.029 apart at Ω = 1.6,
     1.9, 2.2), the other one is not (0.22 against 0.03 at Ω = 1.6)."""
-    from hbmfric.validation.exact import _simulate
-
     osc = hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0))
     for w in (1.6, 1.9, 2.2):
         ex = hf.validation.exact_periodic_solution(osc, 0.5, w)
         assert ex.kind == "stick-slip"
-        model, t0 = ex._model, ex._segments[0].ta
-        x, v, fc = ex.states([t0])
-        _, _, J = _simulate(model, t0, model.state(x[:, 0], v[:, 0], fc[0]), True)
-        exact = np.max(np.abs(np.linalg.eigvals(J)))
+        mu = ex.floquet_multipliers()
+        assert abs(mu[-1]) < 1e-12  # the slider locked at slip onset
+        exact = abs(mu[0])
         sol = hf.periodic_solution(osc, 0.5, w, harmonics=31)
         hill = np.max(np.abs(sol.stability().multipliers))
         assert (exact < 1.0) == sol.stable
@@ -422,3 +421,238 @@ def test_selected_exponents_make_the_hill_pencil_singular(duffing_branch):
                 assert ratio > 1e-6
             else:
                 assert ratio < 1e-12
+
+
+# -- located special points (hbmfric.bifurcation) -----------------------------
+
+
+def _duffing_folds_closed_form(guesses):
+    """Folds of the single-harmonic Duffing balance
+    ``G(a, Ω) = ((k − mΩ² + 3/4 k3 a²)² + (cΩ)²) a² − F² = 0`` where
+    ``∂G/∂a = 0`` (vertical tangent in the (Ω, a) plane), from guesses
+    ``(Ω, a)``."""
+    from scipy.optimize import fsolve
+
+    d = DUFFING
+    m, c, k, k3, F = d["mass"], d["damping"], d["stiffness"], d["k3"], d["force"]
+
+    def equations(z):
+        w, a = z
+        s = k - m * w * w + 0.75 * k3 * a * a
+        g = (s * s + (c * w) ** 2) * a * a - F * F
+        dg = 2.0 * a * (s * s + (c * w) ** 2) + a * a * 2.0 * s * 1.5 * k3 * a
+        return [g / F**2, dg / F**2]
+
+    out = []
+    for w, a in guesses:
+        z, _, ok, _ = fsolve(equations, [w, a], xtol=1e-14, full_output=True)
+        assert ok == 1
+        out.append(z)
+    return np.array(out)
+
+
+def test_folds_located_against_the_single_harmonic_closed_form():
+    """At H = 1 the HBM of the Duffing oscillator is its describing-function
+    balance exactly (x³ of one harmonic has harmonics 1 and 3 only, sampled
+    without aliasing): the located folds agree with the closed form's to
+    1e-9 in Ω and amplitude, where the branch points bracketing them are
+    1e-5 to 1e-2 apart in Ω."""
+    d = DUFFING
+    osc = hf.Oscillator(d["mass"], d["damping"], d["stiffness"], hf.Cubic(d["k3"]))
+    branch = hf.frf(osc, d["force"], (0.5, 2.0), harmonics=1)
+    points = branch.special_points(stability=False)
+    assert [p.kind for p in points] == ["fold", "fold"]
+    guesses = [(p.omega, p.amplitude()) for p in points]
+    exact = _duffing_folds_closed_form(guesses)
+    for p, (w, a) in zip(points, exact, strict=True):
+        assert abs(p.omega - w) <= 1e-9 * w
+        assert abs(p.amplitude() - a) <= 1e-9 * a
+        # an extremum of Ω next to the two points that bracket it
+        i = p.index
+        lo, hi = sorted(branch.omega[i - 1 : i + 1])
+        assert p.omega <= lo + 1e-12 or p.omega >= hi - 1e-12
+        assert abs(p.omega - 0.5 * (lo + hi)) <= 10.0 * (hi - lo) + 1e-9
+
+
+def test_stability_changes_located_at_the_folds(duffing_branch):
+    """H = 9: each stability change, located as the zero of the largest
+    Floquet exponent (a root search independent of the fold's), lies at
+    the located fold to 1e-6 in Ω (the issue's bound; measured to
+    rounding), and the crossing multiplier is +1."""
+    osc, branch = duffing_branch
+    points = branch.special_points()
+    assert [p.kind for p in points] == ["fold", "fold"]
+    assert [p.index for p in points] == list(branch.folds)
+    for p in points:
+        assert p.stability_omega is not None
+        assert abs(p.stability_omega - p.omega) <= 1e-6
+        assert abs(p.multiplier - 1.0) <= 1e-6
+        # a solution of the balance in the full basis 0..9
+        problem = HBMProblem(osc, DUFFING["force"], 9, symmetry=False)
+        R, _, _ = problem.residual(np.append(p.coefficients.ravel(), p.omega))
+        assert np.max(np.abs(R)) <= 1e-10 * DUFFING["force"]
+
+
+def test_special_point_not_located_warns(monkeypatch, duffing_branch):
+    """A point whose trial solutions do not converge is left out with a
+    ConvergenceWarning, never returned unlocated."""
+    from hbmfric import bifurcation
+
+    _, branch = duffing_branch
+    monkeypatch.setattr(bifurcation, "MAX_NEWTON", 0)
+    with pytest.warns(hf.ConvergenceWarning, match="not located"):
+        points = branch.special_points(stability=False)
+    assert points == []
+
+
+def test_special_points_of_rigid_coulomb_refused():
+    osc = hf.Oscillator(1.0, 0.02, 1.0, hf.Coulomb(slip_force=1.0))
+    branch = hf.frf(osc, 2.0, (0.5, 3.0), harmonics=7)
+    with pytest.raises(ValueError, match="Coulomb"):
+        branch.special_points()
+
+
+def test_exact_monodromy_of_a_stuck_response():
+    """A response that never slips is the linear stuck oscillator: the
+    exact reference's multipliers are exp(λT) with λ = −ζω₀ ± iω_d of
+    ``m ẍ + c ẋ + (k + kt) x`` (closed form), plus 1 for the neutral
+    slider offset; Hill's method agrees on the two that decide."""
+    m, c, k, kt = 1.0, 0.02, 1.0, 3.0
+    osc = hf.Oscillator(m, c, k, hf.Jenkins(stiffness=kt, slip_force=1.0))
+    w = 1.3
+    ex = hf.validation.exact_periodic_solution(osc, 0.05, w)
+    assert ex.kind == "stuck"
+    w0 = np.sqrt((k + kt) / m)
+    zeta = c / (2.0 * np.sqrt((k + kt) * m))
+    lam = -zeta * w0 + 1j * w0 * np.sqrt(1.0 - zeta**2)
+    T = 2.0 * np.pi / w
+    expected = np.exp(np.array([lam, np.conj(lam)]) * T)
+    mu = ex.floquet_multipliers()
+    assert np.min(np.abs(mu - 1.0)) < 1e-12
+    rest = np.delete(mu, np.argmin(np.abs(mu - 1.0)))
+    np.testing.assert_allclose(
+        np.sort_complex(rest), np.sort_complex(expected), rtol=0, atol=1e-10
+    )
+    hill = hf.periodic_solution(osc, 0.05, w, harmonics=7).stability().multipliers
+    np.testing.assert_allclose(np.sort(np.abs(hill[0])), np.abs(expected), rtol=1e-8)
+
+
+# -- a friction case with stability changes -----------------------------------
+
+#: Duffing oscillator with a Jenkins contact on the same DOF (light
+#: friction: slip force 0.05 against 0.2 forcing), hardening enough to fold
+FRICTION_DUFFING = dict(c=0.05, k3=0.1, kt=0.5, fs=0.05, force=0.2)
+
+
+def _friction_duffing():
+    d = FRICTION_DUFFING
+    return hf.LinearStructure(
+        np.eye(1),
+        np.eye(1),
+        d["c"] * np.eye(1),
+        load={0: 1.0},
+        contacts=[
+            hf.Contact(hf.Cubic(d["k3"]), 0),
+            hf.Contact(hf.Jenkins(stiffness=d["kt"], slip_force=d["fs"]), 0),
+        ],
+    )
+
+
+@numba.njit(cache=False)
+def _march(omega, x0, v0, slider, periods, params, steps=2048):
+    """Velocity Verlet of ``ẍ + c ẋ + x + k3 x³ + f_J = F cos Ωt`` with the
+    Jenkins force by return mapping (written here, independent of the
+    package; ``params = (c, k3, kt, f_s, F)``); returns the first-harmonic
+    amplitude over the last period."""
+    c, k3, kt, fs, F = params[0], params[1], params[2], params[3], params[4]
+    dt = 2.0 * np.pi / omega / steps
+    x, v, w = x0, v0, slider
+    f = kt * (x - w)
+    if f > fs:
+        w, f = x - fs / kt, fs
+    elif f < -fs:
+        w, f = x + fs / kt, -fs
+    a = F - c * v - x - k3 * x**3 - f
+    last = np.empty(steps)
+    n = steps * periods
+    for s in range(n):
+        t = (s + 1) * dt
+        vh = v + 0.5 * dt * a
+        x = x + dt * vh
+        f = kt * (x - w)
+        if f > fs:
+            w, f = x - fs / kt, fs
+        elif f < -fs:
+            w, f = x + fs / kt, -fs
+        rhs = F * np.cos(omega * t) - x - k3 * x**3 - f
+        v = (vh + 0.5 * dt * rhs) / (1.0 + 0.5 * dt * c)
+        a = rhs - c * v
+        if s >= n - steps:
+            last[s - (n - steps)] = x
+    theta = 2.0 * np.pi * np.arange(1, steps + 1) / steps
+    return 2.0 / steps * np.hypot(last @ np.cos(theta), last @ np.sin(theta))
+
+
+def _start_state(branch, i):
+    """Displacement, velocity and Jenkins slider at t = 0 of branch point
+    ``i``: the slider from two periods of the return map over the HBM
+    displacement (the second one periodic)."""
+    d = FRICTION_DUFFING
+    t, x = branch.point(i).time_response(4096)
+    w = 0.0
+    for _ in range(2):
+        for xk in x[:, 0] if x.ndim == 2 else x:
+            f = d["kt"] * (xk - w)
+            if f > d["fs"]:
+                w = xk - d["fs"] / d["kt"]
+            elif f < -d["fs"]:
+                w = xk + d["fs"] / d["kt"]
+    X = branch.coefficients[i, 0]
+    hn = branch.harmonic_numbers
+    cols = np.cumsum([0] + [1 if k == 0 else 2 for k in hn[:-1]])
+    x0 = sum(X[c] for c in cols)
+    v0 = sum(
+        branch.omega[i] * k * X[c + 1] for k, c in zip(hn, cols, strict=True) if k > 0
+    )
+    return float(x0), float(v0), w
+
+
+@pytest.mark.slow
+def test_friction_duffing_stability_against_time_integration():
+    """Duffing with a Jenkins contact (H = 31: two folds): Hill's method on
+    the AFT Jacobian finds the stretch between the folds unstable and the
+    outer ones stable, the changes located at the folds (multiplier 1; the
+    linearisation of a hysteretic law is exact where a real exponent
+    crosses zero). Time integration written here, started on the HBM
+    solution nudged by 1e-4 at 5 points in the inner 60 % of each stretch
+    (Hill's largest multiplier there 0.58-0.92 and 1.06-1.22), stays on it
+    where Hill says stable (first harmonic within 2e-3 after 150 periods)
+    and leaves it where Hill says unstable (by more than 5 %)."""
+    s = _friction_duffing()
+    branch = hf.frf(s, FRICTION_DUFFING["force"], (0.5, 2.5), harmonics=31)
+    assert branch.folds.size == 2
+    f0, f1 = branch.folds
+    stable = branch.stable
+    assert stable[: f0 - 2].all() and stable[f1 + 2 :].all()
+    assert not stable[f0 + 2 : f1 - 2].any()
+    points = branch.special_points()
+    assert [p.kind for p in points] == ["fold", "fold"]
+    for p in points:
+        assert abs(p.stability_omega - p.omega) <= 1e-6
+    amp = branch.amplitude(1)
+    d = FRICTION_DUFFING
+    params = np.array([d["c"], d["k3"], d["kt"], d["fs"], d["force"]])
+    for lo, hi in ((0, f0), (f0, f1), (f1, len(branch))):
+        # the inner 60 % of each stretch: next to a fold the multiplier is
+        # near 1 and the time integration would need thousands of periods
+        margin = (hi - lo) // 5
+        for i in np.linspace(lo + margin, hi - margin, 5).round().astype(int):
+            x0, v0, w = _start_state(branch, i)
+            # a 1e-4 nudge: decays on a stable orbit, grows on an unstable one
+            x0 *= 1.0 + 1e-4
+            a1 = _march(float(branch.omega[i]), x0, v0, w, 150, params)
+            gap = abs(a1 - amp[i]) / amp[i]
+            if stable[i]:
+                assert gap < 2e-3, (i, branch.omega[i], gap)
+            else:
+                assert gap > 5e-2, (i, branch.omega[i], gap)

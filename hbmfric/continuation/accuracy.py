@@ -15,10 +15,12 @@ residual and one LU in the larger basis) and ``m`` the free measure
 ``H max(|X_H|, (K'/H)^4 |X_K'|) / |X_1|`` of the point.
 
 Cost. ``change`` is computed at every ``EVERY``-th point whose response is
-not linear and at the ``N_WORST`` points of largest free measure (one
-compiled call for all of them); between them the estimate is the free
-measure times the larger of the ratios ``estimate / m`` at the two
-neighbouring calibrated points (at least ``CARRY_FLOOR``; the ratio drifts
+not linear, at the first and last of each stretch of consecutive branch
+points (an adaptive run's level is used on several separate stretches)
+and at the ``N_WORST`` points of largest free measure (one compiled call
+for all of them); between them the estimate is the free measure times the
+larger of the ratios ``estimate / m`` at the two neighbouring calibrated
+points of the same stretch (at least ``CARRY_FLOOR``; the ratio drifts
 slowly along a branch; the free measure alone does not, see
 :mod:`hbmfric.continuation.adaptive`). With a ``tolerance``, every point
 whose carried estimate exceeds it is calibrated too (until ``MAX_CONFIRMED``
@@ -51,7 +53,10 @@ N_WORST = 2
 
 
 def truncation_errors(
-    problem, points: np.ndarray, tolerance: float | None = None
+    problem,
+    points: np.ndarray,
+    tolerance: float | None = None,
+    stretch: np.ndarray | None = None,
 ) -> np.ndarray:
     """Estimated relative truncation error of each point of a branch.
 
@@ -63,6 +68,12 @@ def truncation_errors(
         ``[X, Ω]`` per point, in the layout of ``problem``.
     tolerance : float, optional
         Points whose carried estimate exceeds it are calibrated as well.
+    stretch : ndarray of int, shape (n_points,), optional
+        Label of the stretch of consecutive branch points each point lies
+        on (non-decreasing; default: one stretch). Ratios are carried only
+        within a stretch, whose first and last points are calibrated: the
+        points of one level of an adaptive run come from separate parts of
+        the branch.
 
     Returns
     -------
@@ -86,8 +97,17 @@ def truncation_errors(
         errors[:] = np.inf
         return errors
     kp, synthesis, output, rates, y, R, J, A, dX = probe.work()
+    if stretch is None:
+        stretch = np.zeros(n_points, dtype=np.int64)
+    else:
+        stretch = np.ascontiguousarray(stretch, dtype=np.int64)
+        if stretch.shape != (n_points,) or np.any(np.diff(stretch) < 0):
+            raise ValueError(
+                f"stretch must be a non-decreasing label per point, shape ({n_points},)"
+            )
     branch_truncation(
         points,
+        stretch,
         columns,
         weights,
         EVERY,

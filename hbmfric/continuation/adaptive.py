@@ -796,7 +796,7 @@ class AdaptiveContinuation:
         ``levels``) until it meets it or the ladder ends.
 
         Between calibrations the run decides on a carried estimate; the
-        final estimate (``estimate(problem, points, tolerance)``,
+        final estimate (``estimate(problem, points, tolerance, stretch)``,
         :func:`hbmfric.continuation.accuracy.truncation_errors`, which
         calibrates every point whose carried estimate exceeds the
         tolerance) can find a point the run let through just over it (the
@@ -811,10 +811,16 @@ class AdaptiveContinuation:
         tol = self.tolerance
         errors = np.zeros(len(points))
         levels_array = np.array(levels, dtype=np.int64)
+        # stretches of consecutive points at one level: a level's ratio to
+        # the free measure is carried only within one
+        stretch = np.cumsum(np.diff(levels_array, prepend=-1) != 0)
         for h in np.unique(levels_array):
             idx = np.flatnonzero(levels_array == h)
             errors[idx] = estimate(
-                self._level(int(h)).problem, np.array([points[i] for i in idx]), tol
+                self._level(int(h)).problem,
+                np.array([points[i] for i in idx]),
+                tol,
+                stretch[idx],
             )
         for i in np.flatnonzero(errors > tol):
             h = levels[i]

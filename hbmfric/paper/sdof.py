@@ -72,6 +72,11 @@ class FigureResult:
         writes the dense output (:meth:`hbmfric.Branch.resample`) at ``k``
         arc-length samples per interval between points instead, with a
         last column ``computed`` (1 on a computed point, 0 between).
+
+        When every curve's stability has been computed
+        (:meth:`stability`), the computed points get a last column
+        ``stable`` (1 or 0; with ``resample``, the stability of the nearest
+        computed point in arc length).
         """
         if resample is not None:
             from .._validate import positive_int
@@ -89,7 +94,12 @@ class FigureResult:
                 "amplitude_m",
                 "amplitude_h1_per_force_m_per_N",
             ]
-            w.writerow(header + (["computed"] if resample is not None else []))
+            with_stability = all(b._stability is not None for b in self.branches)
+            w.writerow(
+                header
+                + (["computed"] if resample is not None else [])
+                + (["stable"] if with_stability else [])
+            )
             for label, b, par in zip(
                 self.labels, self.branches, self.parameters, strict=True
             ):
@@ -102,6 +112,18 @@ class FigureResult:
                     a1, a = dense.amplitude(harmonic=1), dense.amplitude()
                     on_point = np.isin(dense.arclength, b.arclength)
                     extra = [[str(int(k))] for k in on_point]
+                if with_stability:
+                    stable = np.asarray(b.stable, dtype=int)
+                    if resample is not None:
+                        s_pts = b.arclength
+                        nearest = np.abs(
+                            dense.arclength[:, None] - s_pts[None, :]
+                        ).argmin(axis=1)
+                        stable = stable[nearest]
+                    extra = [
+                        [*more, str(int(k))]
+                        for more, k in zip(extra, stable, strict=True)
+                    ]
                 for om, x1, x, more in zip(omega, a1, a, extra, strict=True):
                     w.writerow(
                         [
@@ -118,6 +140,12 @@ class FigureResult:
                     )
         self.files.append(Path(path))
         return Path(path)
+
+    def stability(self) -> int:
+        """Compute the stability of every curve's points (Hill's method,
+        :meth:`hbmfric.Branch.stability`); returns the number of unstable
+        points over all curves."""
+        return int(sum(np.count_nonzero(~b.stable) for b in self.branches))
 
     def write_png(self, path: Path) -> Path:
         """Plot the curves (amplitude per unit force against Ω)."""

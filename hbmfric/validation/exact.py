@@ -576,6 +576,51 @@ class ExactSolution:
                 out[sel] = phase.evaluate(model.row_phi, s.ta, s.c, tt[sel])[0]
         return t, model.kt * out
 
+    def monodromy(self) -> np.ndarray:
+        """Exact monodromy matrix of the periodic solution: the derivative
+        of the state after one period with respect to the state at the
+        start, in the state ``y = (q, p, φ)`` of the module docstring
+        (modal coordinates, scaled modal velocities, spring deflection).
+
+        Stick-slip: the product of the phase propagators over one period
+        from an instant inside a stick phase, with the saltation matrix at
+        each stick → slip transition (it locks ``φ`` at ``±δ``, so one
+        multiplier is 0) and the identity at slip → stick; checked against
+        finite differences of the period map in
+        ``tests/test_exact_reference.py``. Stuck: ``exp(A_stick T)``.
+        Free (zero slip force): ``exp(A_slip T)`` (the slider's multiplier
+        is 1: it is neutral).
+
+        Returns
+        -------
+        ndarray, shape (2 n_dof + 1, 2 n_dof + 1)
+
+        Raises
+        ------
+        ValueError
+            For a ``"failed"`` solution.
+        """
+        model = self._model
+        if self.kind == "failed" or model is None:
+            raise ValueError("a failed exact solution has no monodromy matrix")
+        if self.kind == "stuck":
+            return model.phases[STICK].transition(model.period)
+        if self.kind == "free":
+            return model.phases[SLIP].transition(model.period)
+        t0 = self._segments[0].ta
+        x, v, fc = self.states(np.array([t0]))
+        y0 = model.state(x[:, 0], v[:, 0], fc[0])
+        return _simulate(model, t0, y0, jacobian=True)[2]
+
+    def floquet_multipliers(self) -> np.ndarray:
+        """Eigenvalues of :meth:`monodromy`, sorted by decreasing modulus,
+        shape (2 n_dof + 1,). The solution is asymptotically stable when
+        every modulus is below 1 (for stick-slip, the slider's multiplier
+        is 0; for a stuck or free response, the slider's is 1 and does not
+        decide: the slider offset is neutral)."""
+        mu = np.linalg.eigvals(self.monodromy())
+        return mu[np.argsort(-np.abs(mu), kind="stable")]
+
     def friction_dissipation(self) -> float:
         """Energy dissipated by the slider per period, ``f_s Σ |Δx_c|`` over
         the slip phases, J."""
@@ -760,7 +805,7 @@ def exact_periodic_solution(
         return ExactSolution(
             kind="free", residual=0.0, newton_iterations=0, events=0,
             stick_fraction=0.0, elapsed=time.perf_counter() - start,
-            _linear=(X, 0.0j), **common,
+            _linear=(X, 0.0j), _model=_Model(system, force, omega), **common,
         )  # fmt: skip
     X = _linear_response(system, force, omega, law.stiffness)
     fc = law.stiffness * X[system.contact_dof]
@@ -768,7 +813,7 @@ def exact_periodic_solution(
         return ExactSolution(
             kind="stuck", residual=0.0, newton_iterations=0, events=0,
             stick_fraction=1.0, elapsed=time.perf_counter() - start,
-            _linear=(X, fc), **common,
+            _linear=(X, fc), _model=_Model(system, force, omega), **common,
         )  # fmt: skip
     sol = _shoot(system, force, omega, initial_guess, tol, max_iterations, common)
     if not sol.residual <= tol:

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .._validate import finite_float, positive_int
+from ..kernels.contact2d import contact2d_step
 from ..kernels.dlft import COULOMB
 from ..kernels.laws import law_init, state_size
 from ..results import _resolve_dof
@@ -28,6 +29,12 @@ from .integrator import (
     OK,
     newmark_periods,
     record_period,
+)
+from .multi_integrator import (
+    ELEMENT_2D,
+    LAW_1D,
+    newmark_periods_multi,
+    record_period_multi,
 )
 
 if TYPE_CHECKING:
@@ -361,17 +368,13 @@ class _Problem:
     load_phase: float = 0.0
 
     @classmethod
-    def build(cls, system, force) -> _Problem:
+    def build(cls, system, force) -> _Problem | _MultiProblem:
         data = check_system(system)
         force = finite_float("force", force)
         law = data.contact
         load = check_load(system, force, data.n_dof, data.load_phase)
         if len(data.contacts) > 1 or any(max(c[2:]) >= 0 for c in data.contacts):
-            raise NotImplementedError(
-                "the time-integration reference of this release has one contact "
-                f"to ground on one DOF; this system has {len(data.contacts)} "
-                "contact(s), between two DOFs or with a normal DOF"
-            )
+            return _MultiProblem.build(data, load)
         if law is None:
             code, params, k_stuck = NO_CONTACT, np.zeros(1), 0.0
         elif law.code == COULOMB:
@@ -508,18 +511,11 @@ class _Problem:
         cos_sum = np.ascontiguousarray(samples[:, :-1] + samples[:, 1:])
         return A_t, B_t, q, q0, g, cos_sum, 2.0 / h
 
-    def integrate(self, omega, steps, tol, max_periods, x, v, f) -> _Run:
-        """Integrate from ``(x, v, f)`` (advanced in place) until the change
-        over a period is below ``tol`` or ``max_periods`` are done.
-
-        Python checks the convergence: the kernel returns the state at every
-        period start, and the number of periods of the next kernel call is
-        predicted from the decay rate of the last changes. The last period
-        of every call is recorded at the step instants, so the period that
-        passes the test is the one analysed.
-        """
+    def kernel_system(self, omega: float, steps: int) -> tuple:
+        """The kernels' ``system`` tuple for ``h = T/N``
+        (:func:`hbmfric.validation.integrator.newmark_periods`)."""
         A_t, B_t, q, q0, g, cos_sum, two_over_h = self.operators(omega, steps)
-        system = (
+        return (
             A_t,
             B_t,
             q,
@@ -531,6 +527,23 @@ class _Problem:
             self.law_params,
             two_over_h,
         )
+
+    def kernels(self):
+        """The period and recording kernels."""
+        return newmark_periods, record_period
+
+    def integrate(self, omega, steps, tol, max_periods, x, v, f) -> _Run:
+        """Integrate from ``(x, v, f)`` (advanced in place) until the change
+        over a period is below ``tol`` or ``max_periods`` are done.
+
+        Python checks the convergence: the kernel returns the state at every
+        period start, and the number of periods of the next kernel call is
+        predicted from the decay rate of the last changes. The last period
+        of every call is recorded at the step instants, so the period that
+        passes the test is the one analysed.
+        """
+        system = self.kernel_system(omega, steps)
+        periods_kernel, record_kernel = self.kernels()
         n = self.n_dof
         work = np.empty(n)
         samples = np.empty((n, steps))
@@ -549,16 +562,14 @@ class _Problem:
             if chunk > 1:
                 starts = np.empty((chunk, 2 * n + 1))
                 peaks = np.empty((chunk - 1, 3))
-                status, done, its = newmark_periods(
-                    system, x, v, f, work, starts, peaks
-                )
+                status, done, its = periods_kernel(system, x, v, f, work, starts, peaks)
                 periods += int(done)
                 iterations += int(its)
                 if status != OK:
                     return self._failed(status, periods, iterations, steps)
                 history.extend(_period_changes(starts, peaks, n).tolist())
             before = np.concatenate((x, v, f[:1]))
-            status, its = record_period(
+            status, its = record_kernel(
                 system, x, v, f, work, record_peaks[0], samples, contact_force
             )
             periods += 1
@@ -581,6 +592,192 @@ class _Problem:
     def _failed(self, status, periods, iterations, steps) -> _Run:
         nan = np.full((self.n_dof, steps), np.nan)
         return _Run(status, periods, iterations, False, math.nan, nan, nan[0].copy())
+
+
+class _MultiProblem(_Problem):
+    """Several contacts (to ground or between two DOFs, any law but the
+    rigid Coulomb, and 2D elements) for
+    :mod:`hbmfric.validation.multi_integrator`: the contact coordinates'
+    rows, the laws' codes, parameters and state layout. Same interface as
+    :class:`_Problem` (whose single-contact fields it leaves at "no
+    contact")."""
+
+    @classmethod
+    def build(cls, data, load) -> _MultiProblem:
+        rows, kinds, codes, first, stiff = [], [], [], [], []
+        params, param_at, state_at, sizes = [], [0], [], []
+        n_coord = sum(2 if c[3] >= 0 else 1 for c in data.contacts)
+        offset = n_coord
+        for law, a, b, a_n, b_n in data.contacts:
+            if law.code == COULOMB:
+                raise ValueError(
+                    "the time-integration reference has no rigid Coulomb contact "
+                    "(hf.Coulomb is solved by harmonic balance only); use a stiff "
+                    "hf.Jenkins element here"
+                )
+            p = np.ascontiguousarray(law.params, dtype=np.float64)
+            if p.ndim != 1 or not np.all(np.isfinite(p)):
+                raise ValueError("every contact law's params must be finite 1-d")
+            first.append(len(rows))
+            rows.append((a, b))
+            if a_n >= 0:  # the 2D element: tangential and normal coordinates
+                kinds.append(ELEMENT_2D)
+                rows.append((a_n, b_n))
+                closed = law.preload > 0.0
+                kt, kn = law.tangential_stiffness, law.normal_stiffness
+                stiff += [kt, kn] if closed else [0.0, 0.0]
+                size = 1
+            else:
+                kinds.append(LAW_1D)
+                stiff.append(float(law.stuck_stiffness))
+                size = int(state_size(np.int64(law.code), p))
+            codes.append(int(law.code))
+            params.append(p)
+            param_at.append(param_at[-1] + p.size)
+            state_at.append(offset)
+            sizes.append(size)
+            offset += size
+        self = cls(
+            data.mass,
+            data.damping,
+            data.stiffness,
+            load,
+            0,
+            NO_CONTACT,
+            np.zeros(1),
+            0.0,
+            data.static_load,
+            data.load_phase,
+        )
+        object.__setattr__(self, "rows", np.array(rows, dtype=np.int64))
+        extra = {
+            "kinds": np.array(kinds, dtype=np.int64),
+            "codes": np.array(codes, dtype=np.int64),
+            "params": np.concatenate(params),
+            "param_at": np.array(param_at, dtype=np.int64),
+            "first": np.array(first, dtype=np.int64),
+            "state_at": np.array(state_at, dtype=np.int64),
+            "sizes": np.array(sizes, dtype=np.int64),
+            "coordinate_stiffness": np.array(stiff),
+            "state_length": offset,
+        }
+        for key, value in extra.items():
+            object.__setattr__(self, key, value)
+        return self
+
+    def reader(self) -> np.ndarray:
+        """``Bc``, shape (m, n_dof): the coordinates from ``x``."""
+        B = np.zeros((self.rows.shape[0], self.n_dof))
+        for i, (a, b) in enumerate(self.rows):
+            B[i, a] += 1.0
+            if b >= 0:
+                B[i, b] -= 1.0
+        return B
+
+    def linear_steady_state(self, omega: float, steps: int):
+        """As :meth:`_Problem.linear_steady_state` with every coordinate
+        held by its law's stuck stiffness (a 2D element's tangential and
+        normal stiffness when preloaded, none when open at rest)."""
+        h = 2.0 * np.pi / (omega * steps)
+        omega_h = (2.0 / h) * np.tan(0.5 * omega * h)
+        B = self.reader()
+        k = self.stiffness + B.T @ (self.coordinate_stiffness[:, None] * B)
+        dynamic = k - omega_h**2 * self.mass + 1j * omega_h * self.damping
+        try:
+            X = np.linalg.solve(dynamic, self.load)
+        except np.linalg.LinAlgError:
+            raise ValueError(
+                "initial_state='linear': the stuck linearisation is singular at "
+                f"omega={omega} (undamped resonance); give (x0, v0) instead"
+            ) from None
+        x0 = np.ascontiguousarray(X.real)
+        v0 = np.ascontiguousarray(-omega_h * X.imag)
+        if self.static_load is not None:
+            x0 = x0 + np.linalg.solve(
+                self.stiffness + B.T @ (self.coordinate_stiffness[:, None] * B),
+                self.static_load - B.T @ self._rest_forces(),
+            )
+        return x0, v0
+
+    def _rest_forces(self) -> np.ndarray:
+        """Coordinate forces at ``x = 0`` (a 2D element's preload)."""
+        f = np.zeros(self.rows.shape[0])
+        for k, kind in enumerate(self.kinds):
+            if kind == ELEMENT_2D:
+                a = self.param_at[k]
+                f[self.first[k] + 1] = max(self.params[a + 3], 0.0)
+        return f
+
+    def initial_law_state(self, x: np.ndarray) -> np.ndarray:
+        """Every law virgin at 0 moved to its coordinate at ``x`` (a 2D
+        element's slider at its tangential coordinate); the coordinate
+        forces first."""
+        c = self.reader() @ x
+        state = np.zeros(self.state_length)
+        for k, kind in enumerate(self.kinds):
+            j, s = self.first[k], self.state_at[k]
+            p = self.params[self.param_at[k] : self.param_at[k + 1]]
+            if kind == LAW_1D:
+                block = state[s : s + self.sizes[k]]
+                law_init(np.int64(self.codes[k]), p, float(c[j]), block)
+                state[j] = block[0]
+            else:
+                state[s] = c[j]
+                t, n, _, _ = contact2d_step(
+                    p[0], p[1], p[2], p[3], c[j], c[j], c[j + 1]
+                )
+                state[j], state[j + 1] = t, n
+        return state
+
+    def kernel_system(self, omega: float, steps: int) -> tuple:
+        n = self.n_dof
+        h = 2.0 * np.pi / (omega * steps)
+        k_eff = (4.0 / h**2) * self.mass + (2.0 / h) * self.damping + self.stiffness
+        B = self.reader()
+        static = np.zeros(n) if self.static_load is None else self.static_load
+        rhs = np.column_stack(
+            (self.stiffness, self.mass, self.load.real, -self.load.imag, static, B.T)
+        )
+        try:
+            solved = np.linalg.solve(k_eff, rhs)
+        except np.linalg.LinAlgError:
+            raise ValueError(
+                "the effective stiffness (4/h²) M + (2/h) C + K is singular; "
+                "check the system matrices"
+            ) from None
+        A_t = np.ascontiguousarray(-2.0 * solved[:, :n].T)
+        B_t = np.ascontiguousarray((4.0 / h) * solved[:, n : 2 * n].T)
+        q = np.ascontiguousarray(solved[:, 2 * n : 2 * n + 2].T)
+        q0 = np.ascontiguousarray(2.0 * solved[:, 2 * n + 2])
+        G = np.ascontiguousarray(solved[:, 2 * n + 3 :])
+        Gc = np.ascontiguousarray(B @ G)
+        phase = 2.0 * np.pi * np.arange(steps + 1) / steps
+        samples = np.stack((np.cos(phase), np.sin(phase)))
+        cos_sum = np.ascontiguousarray(samples[:, :-1] + samples[:, 1:])
+        return (
+            A_t,
+            B_t,
+            q,
+            q0,
+            G,
+            cos_sum,
+            Gc,
+            self.kinds,
+            self.codes,
+            self.params,
+            self.first,
+            self.state_at,
+            np.zeros(self.rows.shape[0]),
+            self.sizes,
+            self.rows,
+            2.0 / h,
+            self.param_at,
+            np.zeros((self.rows.shape[0], self.rows.shape[0])),
+            np.zeros((self.rows.shape[0], self.rows.shape[0])),
+        )
+
+    def kernels(self):
+        return newmark_periods_multi, record_period_multi
 
 
 def _period_changes(starts: np.ndarray, peaks: np.ndarray, n: int) -> np.ndarray:

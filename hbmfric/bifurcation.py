@@ -1,0 +1,324 @@
+"""Special points of a branch located between its points: folds (turning
+points in Ω) and the stability changes that Hill's method finds (branch
+points, period doublings, Neimark–Sacker bifurcations).
+
+A traced branch knows only between which two points ``i - 1`` and ``i``
+something happens: ``Branch.folds`` (the Ω component of the tangent
+changes sign) and :meth:`hbmfric.stability.Stability.changes` (the largest
+real part of the Floquet exponents changes sign). Here each is located by
+a scalar root search along the *bordered* path between the two points:
+every trial solution ``y = [X, Ω]`` solves
+
+    R(y) = 0,    pᵀ D⁻¹ (y − y_{i−1}) = σ,
+
+with ``p`` the unit secant from ``y_{i−1}`` to ``y_i`` in the scaled
+variables ``D⁻¹ y`` (``D``: the largest coefficient of the two points for
+``X``, Ω itself for Ω). Near a fold the secant is not orthogonal to the
+path, so this system stays regular where the fixed-Ω one is singular.
+Along it,
+
+* a **fold** is the zero of the Ω component of the tangent ``t`` (``[J;
+  pᵀD⁻¹] t = [0; 1]``): Brent's method on ``σ``;
+* a **stability change** is the zero of the largest real part of the
+  Floquet exponents (:func:`hbmfric.stability.floquet_exponents` at the
+  trial solution): Brent's method on ``σ``. The exponent that crosses
+  names it: a real one (multiplier +1) is the fold itself when a fold
+  lies in the same interval, else a **branch point**; one with
+  ``|Im λ| = Ω/2`` (multiplier −1) a **period doubling**; a complex pair a
+  **Neimark–Sacker** bifurcation.
+
+Every trial solution is a full Newton solve in the problem's full basis
+(every DOF, harmonics ``0 … H`` of the interval's points), so the located
+points carry the accuracy of the branch's discretisation, not of the
+interpolation between points. For hysteretic laws the stability change is
+located with the exponents of Hill's method, exact only where they cross
+zero through a real exponent (:mod:`hbmfric.stability`): a branch point of
+a friction branch is located exactly, a period doubling or
+Neimark–Sacker crossing approximately.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.optimize
+
+from .errors import ConvergenceWarning
+from .stability import (
+    _stability_problem,
+    _to_full_basis,
+    floquet_exponents,
+)
+
+#: kinds of special points
+FOLD = "fold"
+BRANCH_POINT = "branch point"
+PERIOD_DOUBLING = "period doubling"
+NEIMARK_SACKER = "Neimark-Sacker"
+
+#: Newton iterations per trial solution
+MAX_NEWTON = 30
+#: scaled step under which a trial solution has converged
+NEWTON_TOL = 1e-12
+#: relative σ tolerance of the root searches
+ROOT_TOL = 1e-12
+#: a crossing exponent with ``|Im λ|`` below this fraction of Ω is real
+REAL_TOL = 1e-6
+
+
+@dataclass
+class SpecialPoint:
+    """A located special point of a branch.
+
+    Attributes
+    ----------
+    kind : str
+        ``"fold"``, ``"branch point"``, ``"period doubling"`` or
+        ``"Neimark-Sacker"``.
+    index : int
+        The point lies between branch points ``index - 1`` and ``index``.
+    omega : float
+        Ω of the located point, rad/s.
+    harmonic_numbers : ndarray of int, shape (n_harmonics,)
+        Harmonics of ``coefficients`` (``0 … H``).
+    coefficients : ndarray, shape (n_dof, n_coef)
+        The periodic solution there, m.
+    multiplier : complex or None
+        The Floquet multiplier that crosses the unit circle (None for a
+        fold located without stability).
+    stability_omega : float or None
+        For a fold: Ω where the stability changes in the same interval
+        (located independently; equal to ``omega`` up to the root
+        searches' tolerance), else None.
+    """
+
+    kind: str
+    index: int
+    omega: float
+    harmonic_numbers: np.ndarray
+    coefficients: np.ndarray
+    multiplier: complex | None = None
+    stability_omega: float | None = None
+
+    def amplitude(self, harmonic: int = 1, dof: int = 0) -> float:
+        """Amplitude of one harmonic (``0 … H``) of one DOF, m."""
+        k = int(harmonic)
+        if not 0 <= k <= int(self.harmonic_numbers[-1]):
+            raise ValueError(f"harmonic must be in 0..{self.harmonic_numbers[-1]}")
+        if k == 0:
+            return float(abs(self.coefficients[dof, 0]))
+        return float(np.hypot(*self.coefficients[dof, 2 * k - 1 : 2 * k + 1]))
+
+
+class _BorderedPath:
+    """Solutions between two branch points, parametrised by ``σ`` along
+    their scaled secant (module docstring)."""
+
+    def __init__(self, problem, y0: np.ndarray, y1: np.ndarray) -> None:
+        self.problem = problem
+        n = problem.n_unknowns
+        amp = max(float(np.max(np.abs(y0[:-1]))), float(np.max(np.abs(y1[:-1]))))
+        amp = amp if amp > 0.0 else 1.0
+        self.scale = np.full(n + 1, amp)
+        # Ω relative to itself: the Ω span of two points that straddle a
+        # fold is small, and scaling by it would turn the secant towards
+        # Ω, where the bordered system is singular at the fold
+        self.scale[-1] = max(abs(float(y0[-1])), abs(float(y1[-1])))
+        d = (y1 - y0) / self.scale
+        self.length = float(np.linalg.norm(d))
+        self.direction = d / self.length
+        self.y0 = y0
+        self._last = (0.0, y0.copy())
+        self.failed = False
+
+    def solve(self, sigma: float) -> tuple[np.ndarray, np.ndarray]:
+        """Solution ``y`` at ``σ`` and the Jacobian ``∂R/∂y`` there."""
+        s_prev, y_prev = self._last
+        # start from the last trial solution moved along the secant
+        y = y_prev + (sigma - s_prev) * self.direction * self.scale
+        border = self.direction / self.scale
+        for _ in range(MAX_NEWTON):
+            R, J, state = self.problem.residual(y)
+            if state < 0:
+                break
+            g = float(border @ (y - self.y0)) - sigma
+            A = np.vstack([J, border[None, :]])
+            step = np.linalg.solve(A, -np.append(R, g))
+            y = y + step
+            if float(np.max(np.abs(step / self.scale))) <= NEWTON_TOL:
+                R, J, state = self.problem.residual(y)
+                self._last = (sigma, y.copy())
+                return y, J
+        self.failed = True
+        raise _NotSolved(sigma)
+
+    def tangent_omega(self, sigma: float) -> float:
+        """Ω component of the unit tangent at ``σ`` (oriented with σ)."""
+        y, J = self.solve(sigma)
+        border = self.direction / self.scale
+        A = np.vstack([J, border[None, :]])
+        rhs = np.zeros(A.shape[0])
+        rhs[-1] = 1.0
+        t = np.linalg.solve(A, rhs) / self.scale  # scaled dy/dσ
+        return float(t[-1] / np.linalg.norm(t))
+
+
+class _NotSolved(RuntimeError):
+    """A trial solution of the bordered path did not converge."""
+
+
+def _exponents(problem, y: np.ndarray, J: np.ndarray, symmetric: bool) -> np.ndarray:
+    mass, damping = problem.kernel_problem[1], problem.kernel_problem[2]
+    return floquet_exponents(
+        J[None, :, :-1],
+        mass,
+        damping,
+        problem.harmonic_numbers,
+        np.array([float(y[-1])]),
+        symmetric,
+    )[0]
+
+
+def _kind(exponents: np.ndarray, omega: float) -> tuple[str, complex]:
+    """Kind of crossing from the exponent with the largest real part."""
+    lam = exponents[int(np.argmax(exponents.real))]
+    period = 2.0 * math.pi / omega
+    mult = complex(np.exp(lam * period))
+    im = abs(lam.imag)
+    if im <= REAL_TOL * omega:
+        return BRANCH_POINT, mult
+    if abs(im - 0.5 * omega) <= REAL_TOL * omega:
+        return PERIOD_DOUBLING, mult
+    return NEIMARK_SACKER, mult
+
+
+def locate_special_points(
+    system,
+    force: float,
+    omega: np.ndarray,
+    harmonic_numbers: np.ndarray,
+    coefficients: np.ndarray,
+    point_harmonics: np.ndarray,
+    folds: np.ndarray,
+    changes: np.ndarray | None,
+    *,
+    n_time: int | None = None,
+    aft: str = "auto",
+    subharmonic: int = 1,
+    symmetric: bool = False,
+) -> list[SpecialPoint]:
+    """Locate the folds and stability changes of a branch.
+
+    Parameters
+    ----------
+    system, force
+        The system traced and its forcing amplitude, N.
+    omega : ndarray, shape (n_points,)
+        Ω of the branch points, rad/s.
+    harmonic_numbers : ndarray of int, shape (n_harmonics,)
+    coefficients : ndarray, shape (n_points, n_dof, n_coef)
+        Coefficients of every DOF, m.
+    point_harmonics : ndarray of int, shape (n_points,)
+        Highest harmonic of each point; an interval is solved at the larger
+        of its two points'.
+    folds : ndarray of int
+        Intervals (``i``: between ``i - 1`` and ``i``) with a fold.
+    changes : ndarray of int or None
+        Intervals with a stability change (None: stability not located).
+    n_time, aft, subharmonic, symmetric
+        The discretisation (as for :func:`hbmfric.stability.stability_of_points`).
+
+    Returns
+    -------
+    list of SpecialPoint
+        Sorted by ``index``. An interval whose trial solutions do not
+        converge is skipped with a :class:`~hbmfric.errors.ConvergenceWarning`.
+    """
+    folds = [int(i) for i in np.asarray(folds, dtype=np.int64)]
+    change_set = set() if changes is None else {int(i) for i in np.asarray(changes)}
+    found: list[SpecialPoint] = []
+    problems: dict[int, object] = {}
+    for i in sorted(set(folds) | change_set):
+        h = int(max(point_harmonics[i - 1], point_harmonics[i]))
+        if h not in problems:
+            nt = n_time if n_time is not None and n_time > 2 * h else None
+            problems[h] = _stability_problem(system, force, h, nt, aft, subharmonic)
+        problem = problems[h]  # a refusal (rigid Coulomb) raises here
+        ends = []
+        for j in (i - 1, i):
+            full = _to_full_basis(harmonic_numbers, coefficients[j], h)
+            ends.append(np.append(full.reshape(-1), float(omega[j])))
+        path = _BorderedPath(problem, ends[0], ends[1])
+        try:
+            found.extend(
+                _locate(path, problem, i, i in folds, i in change_set, symmetric)
+            )
+        except (_NotSolved, ValueError) as exc:
+            warnings.warn(
+                f"special point between branch points {i - 1} and {i} "
+                f"(Ω = {omega[i - 1]:.6g}-{omega[i]:.6g} rad/s) not located: "
+                f"{exc.__class__.__name__} {exc}",
+                ConvergenceWarning,
+                stacklevel=3,
+            )
+    return found
+
+
+def _locate(path, problem, i: int, fold: bool, change: bool, symmetric: bool):
+    """The special points of one interval."""
+    L = path.length
+    hn = problem.harmonic_numbers
+    n_dof = problem.n_unknowns // problem.n_coef
+    out = []
+    fold_point = None
+    if fold:
+        g0, g1 = path.tangent_omega(0.0), path.tangent_omega(L)
+        if g0 * g1 > 0.0:
+            raise ValueError("the Ω tangent has one sign over the interval")
+        s = scipy.optimize.brentq(path.tangent_omega, 0.0, L, xtol=ROOT_TOL * L)
+        y, _ = path.solve(s)
+        fold_point = SpecialPoint(
+            FOLD, i, float(y[-1]), hn.copy(), y[:-1].reshape(n_dof, -1).copy()
+        )
+        out.append(fold_point)
+    if change:
+
+        def largest_real(sigma: float) -> float:
+            y, J = path.solve(sigma)
+            return float(_exponents(problem, y, J, symmetric).real.max())
+
+        r0, r1 = largest_real(0.0), largest_real(L)
+        if r0 * r1 > 0.0:
+            raise ValueError("the largest real part has one sign over the interval")
+        s = scipy.optimize.brentq(largest_real, 0.0, L, xtol=ROOT_TOL * L)
+        y, J = path.solve(s)
+        kind, mult = _kind(_exponents(problem, y, J, symmetric), float(y[-1]))
+        if kind == BRANCH_POINT and fold_point is not None:
+            # the real exponent crosses at the fold itself
+            fold_point.multiplier = mult
+            fold_point.stability_omega = float(y[-1])
+        else:
+            out.append(
+                SpecialPoint(
+                    kind,
+                    i,
+                    float(y[-1]),
+                    hn.copy(),
+                    y[:-1].reshape(n_dof, -1).copy(),
+                    multiplier=mult,
+                )
+            )
+    return out
+
+
+__all__ = [
+    "BRANCH_POINT",
+    "FOLD",
+    "NEIMARK_SACKER",
+    "PERIOD_DOUBLING",
+    "SpecialPoint",
+    "locate_special_points",
+]

@@ -1,0 +1,1125 @@
+"""Nonlinear modes by the extended periodic motion concept (EPMC).
+
+The unforced system ``M ẍ + C ẋ + K x + f_nl(x) = p0`` (``p0`` a static
+load, if the system has one) has no periodic motion when it dissipates
+energy. Krack (2015) adds the negative mass-proportional damping term
+``-ξ M ẋ``, ``ξ = 2 D ω``, that feeds back exactly the energy the structure
+dissipates per cycle:
+
+    M ẍ + (C - 2 D ω M) ẋ + K x + f_nl(x) = p0.
+
+Its periodic motions of frequency ``ω`` form the nonlinear mode; ``D`` is
+the mode's equivalent (modal) damping ratio. Harmonic balance of this
+equation with the HBM residual of the forced problem
+(:mod:`hbmfric.kernels.hbm`, its AFT of every law with the analytic
+Jacobian) gives ``n_dof n_coef`` equations for the coefficients ``X``,
+``ω`` and ``D``; two more close the system:
+
+* amplitude normalisation: the fundamental harmonic in the mass norm,
+  ``Xc1ᵀ M Xc1 + Xs1ᵀ M Xs1 = a²`` (``a`` the modal amplitude: for a
+  single DOF of mass ``m``, ``a = √m`` times the first-harmonic amplitude;
+  for a mass-normalised linear mode ``φ``, ``x = a φ cos ωt``), m √kg;
+* phase condition: ``φᵀ M Xs1 = 0`` with ``φ`` the linear mode the
+  nonlinear one starts from: the fundamental is a cosine in the direction
+  of the linear mode.
+
+The unknowns are solved scaled, ``Y = X / a``, so that Newton sees the same
+magnitudes at every amplitude.
+
+Damping convention: the structure's own damping ``C`` is kept (Krack 2015;
+also NLvib's EPMC): ``D`` is the damping ratio of the whole mode, the
+structure's and the contacts' dissipation together, so that in the linear
+limit (stuck contact) with modal damping ``D`` is the modal damping ratio
+``ζ_j`` and ``ω`` the undamped natural pulsation ``ω_j``, exactly. With
+``structural_damping=False`` ``C`` is dropped and ``D`` is the contacts'
+share alone. In both cases ``D`` is defined by the energy balance of the
+fundamental: per cycle, the added term supplies ``2π D ω² a²`` (for a
+motion ``a φ cos ωt``), the dissipated energy ``W`` so that
+``D = W / (2π ω² a²)``.
+
+Continuation: natural, in ``log a`` on the requested grid of amplitudes,
+with a secant predictor; a step is halved when Newton fails (a line
+search follows the first plain iterations), when ω or D land more than
+``MAX_CORRECTION`` from the predictor, or when the fundamental shape
+correlates with the previous point's below ``MAC_TOLERANCE`` (modal
+assurance criterion: another mode). Along most modes ω and D are functions
+of the amplitude; a friction backbone can nevertheless turn back in
+amplitude (the paper beam's mode 1, twice, near the stick limit). Where
+the natural step fails for good, a pseudo-arclength continuation in
+``(z, log a)`` (:func:`_pass_folds`) follows the path around the turns
+until it climbs past the failure, and the grid resumes from there; the
+turning points are reported (``NonlinearMode.folds``, a
+:class:`~hbmfric.HbmfricWarning`). A run that stops short is reported by
+a :class:`~hbmfric.CoverageWarning`, never a quietly short result.
+
+Reference: M. Krack, *Nonlinear modal analysis of nonconservative systems:
+extension of the periodic motion concept*, Computers & Structures 154
+(2015) 59–71.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import time
+import warnings
+import zipfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ._validate import finite_float, positive_int
+from .errors import (
+    AccuracyWarning,
+    ConvergenceWarning,
+    CoverageWarning,
+    HbmfricWarning,
+)
+from .hbm import HBMProblem, _stuck_stiffnesses
+from .kernels.dlft import COULOMB
+from .kernels.hbm import hbm_residual
+from .signals import coefficient_columns
+from .stability import derivative_operator
+from .systems.protocol import check_load, check_system
+
+#: the truncation estimate's basis: ``PROBE_FACTOR * H + 1``
+PROBE_FACTOR = 2
+#: format tag of :meth:`NonlinearMode.save` files
+FORMAT = "hbmfric.NonlinearMode/1"
+#: Newton: relative size of the last correction below which a point counts
+#: as converged
+STEP_TOLERANCE = 1e-11
+#: Newton: largest residual accepted, relative to ``a`` times the largest
+#: stiffness entry (the force scale of the mode)
+RESIDUAL_TOLERANCE = 1e-8
+#: Newton: full steps before the line search starts
+PLAIN_ITERATIONS = 6
+#: Newton: residual below which the line search takes the full step
+#: (rounding level: the residual cannot decrease any more)
+RESIDUAL_FLOOR = 1e-13
+#: Newton: smallest fraction of the correction the line search tries
+MIN_LAMBDA = 1.0 / 1024.0
+#: Newton: corrections that stop shrinking below this size mark the
+#: rounding floor, where the point is accepted (if its residual is)
+STALL_TOLERANCE = 1e-9
+MAX_ITERATIONS = 30
+#: smallest fraction of a grid interval (in log a) a step may shrink to
+MIN_STEP_FRACTION = 1.0 / 1024.0
+#: smallest modal assurance criterion between the fundamental shapes of
+#: two successive points: below it the step is taken for a jump to another
+#: mode (mass-orthogonal linear modes have 0; the paper beam's whole
+#: stuck-to-free change of mode 1 has 0.89) and is rejected
+MAC_TOLERANCE = 0.5
+#: largest change of ω (relative) and of D (absolute) between the
+#: predictor and the solution of an accepted step; a larger one halves the
+#: step, so that sharp turns are resolved and the path does not jump to
+#: another solution
+MAX_CORRECTION = 0.02
+#: most pseudo-arclength steps around the folds of one failed step
+ARCLENGTH_MAX_STEPS = 400
+#: most fold passages along one mode
+MAX_FOLDS = 8
+#: how far below the first amplitude the start may back off (factor 10 per
+#: try) when the linear mode is not a good enough guess there
+START_BACKOFF = 8
+
+
+@dataclass
+class NonlinearMode:
+    """A nonlinear mode: frequency and damping ratio against amplitude.
+
+    Attributes
+    ----------
+    amplitude : ndarray, shape (n_points,)
+        Modal amplitude ``a`` (fundamental harmonic in the mass norm,
+        ``√(Xc1ᵀ M Xc1 + Xs1ᵀ M Xs1)``), m √kg (for one DOF of mass
+        1 kg: m).
+    omega : ndarray, shape (n_points,)
+        Pulsation of the periodic motion, rad/s.
+    damping_ratio : ndarray, shape (n_points,)
+        Equivalent modal damping ratio ``D`` (dimensionless).
+    coefficients : ndarray, shape (n_points, n_dof, n_coef)
+        Fourier coefficients of every DOF, m (layout of
+        :mod:`hbmfric.kernels.dft`).
+    harmonic_numbers : ndarray of int, shape (n_harmonics,)
+    mode : int
+        Number of the linear mode (1 = lowest, of the structure with the
+        contacts stuck) the nonlinear mode starts from.
+    linear_omega, linear_damping_ratio : float
+        That linear mode's undamped pulsation (rad/s) and its damping ratio
+        ``φᵀ C φ / (2 ω)`` (0 with ``structural_damping=False``).
+    requested : tuple of float
+        The asked amplitude range ``(low, high)``.
+    stop_reason : str
+        ``"range reached"`` or why the continuation stopped.
+    newton_iterations : ndarray of int, shape (n_points,)
+        Newton iterations of each point's last solve.
+    n_steps, n_rejected : int
+        Continuation steps taken and rejected (sub-steps included).
+    elapsed : float
+        Wall time, s.
+    info : dict
+        Description of the run (harmonics, n_time, AFT scheme, damping
+        convention).
+    dof_names : dict
+        Named DOFs of the system.
+    folds : ndarray, shape (n_folds,)
+        Modal amplitudes of the turning points of the backbone in ``a``
+        (where it has several solutions at one amplitude), found and passed
+        by pseudo-arclength continuation; empty for none.
+    fold_path : ndarray, shape (n_path, 3)
+        The points of that pseudo-arclength continuation around the folds,
+        columns ``a``, ``ω`` (rad/s), ``D``, in path order (the grid
+        points hold one solution per amplitude; these show the others).
+    truncation_error : ndarray, shape (n_points,), optional
+        Estimated truncation error of each point: the larger of the
+        relative error of ω and the absolute error of D (both errors of
+        the mode's eigenvalue ``-Dω ± iω`` relative to ω), from one Newton
+        step of the EPMC equations in the basis ``2H + 1``; 0 for a linear
+        point. None when not estimated (``harmonic_tolerance=None``).
+    load_vector : ndarray of complex, shape (n_dof,), optional
+        The system's load per unit forcing amplitude, ``Re(p e^{iΩt})``,
+        for :meth:`resonances`; None when the system has none.
+    """
+
+    amplitude: np.ndarray
+    omega: np.ndarray
+    damping_ratio: np.ndarray
+    coefficients: np.ndarray
+    harmonic_numbers: np.ndarray
+    mode: int
+    linear_omega: float
+    linear_damping_ratio: float
+    requested: tuple
+    stop_reason: str
+    newton_iterations: np.ndarray
+    n_steps: int
+    n_rejected: int
+    elapsed: float
+    info: dict = field(default_factory=dict)
+    dof_names: dict = field(default_factory=dict)
+    load_vector: np.ndarray | None = None
+    truncation_error: np.ndarray | None = None
+    folds: np.ndarray = field(default_factory=lambda: np.empty(0))
+    fold_path: np.ndarray = field(default_factory=lambda: np.empty((0, 3)))
+    #: the mass matrix, shape (n_dof, n_dof), kg (for the energies)
+    _mass: np.ndarray | None = field(default=None, repr=False, compare=False)
+
+    def __len__(self) -> int:
+        return int(self.amplitude.size)
+
+    @property
+    def frequency(self) -> np.ndarray:
+        """Frequency of the periodic motion, Hz, shape (n_points,)."""
+        return self.omega / (2.0 * np.pi)
+
+    @property
+    def complete(self) -> bool:
+        """The points cover the requested amplitude range."""
+        return self.stop_reason == "range reached"
+
+    def dof_amplitude(self, dof=None, harmonic: int = 1) -> np.ndarray:
+        """Amplitude of one harmonic of one DOF along the mode, m.
+
+        Parameters
+        ----------
+        dof : int, str or None
+            DOF index or name; None: the contact DOF.
+        harmonic : int
+            Harmonic number (0: the mean, absolute value).
+
+        Returns
+        -------
+        ndarray, shape (n_points,)
+        """
+        if dof is None:
+            d = int(self.info.get("contact_dof", 0))
+        elif isinstance(dof, str):
+            if dof not in self.dof_names:
+                raise ValueError(
+                    f"unknown DOF name {dof!r}; known: {sorted(self.dof_names)}"
+                )
+            d = self.dof_names[dof]
+        else:
+            d = int(dof)
+        n_dof = self.coefficients.shape[1]
+        if not 0 <= d < n_dof:
+            raise ValueError(f"dof must be in [0, {n_dof}), got {d}")
+        cols = coefficient_columns(self.harmonic_numbers)
+        if harmonic not in cols:
+            raise ValueError(
+                f"harmonic {harmonic} is not among the solved harmonics "
+                f"{self.harmonic_numbers.tolist()}"
+            )
+        c = cols[harmonic]
+        X = self.coefficients[:, d]
+        if harmonic == 0:
+            return np.abs(X[:, c])
+        return np.hypot(X[:, c], X[:, c + 1])
+
+    def supplied_energy(self) -> np.ndarray:
+        """Energy the EPMC term ``2 D ω M ẋ`` supplies per cycle, J, shape
+        (n_points,): ``2π D ω² Σ_k k² (Xc_kᵀ M Xc_k + Xs_kᵀ M Xs_k)``, equal
+        to what the structure (or, with ``structural_damping=False``, the
+        contacts) dissipate along the motion."""
+        out = np.zeros(len(self))
+        col = 0
+        for k in self.harmonic_numbers:
+            if k == 0:
+                col += 1
+                continue
+            for c in (col, col + 1):
+                X = self.coefficients[:, :, c]
+                out += k * k * np.einsum("pi,ij,pj->p", X, self._mass, X)
+            col += 2
+        return 2.0 * np.pi * self.damping_ratio * self.omega**2 * out
+
+    def resonances(self, force: float) -> tuple[np.ndarray, np.ndarray]:
+        """Resonances of the forced system predicted from the mode.
+
+        Under the load ``force * Re(p e^{iΩt})`` (``p`` = :attr:`load_vector`), a
+        phase resonance on the mode does the most work per cycle,
+        ``π a force |pᴴ ψ|`` (``ψ = (Xc1 − i Xs1) / a``), and that balances
+        the dissipated energy (:meth:`supplied_energy`). The amplitudes
+        where the two are equal (linear interpolation in ``log a`` between
+        the points) are the FRF peaks of a lightly damped system, at the
+        backbone's ``ω`` there.
+
+        Parameters
+        ----------
+        force : float
+            Forcing amplitude ``F``, N.
+
+        Returns
+        -------
+        omega : ndarray, shape (n_found,)
+            Pulsations of the resonances, rad/s.
+        amplitude : ndarray, shape (n_found,)
+            Their modal amplitudes, m √kg (increasing).
+        """
+        force = finite_float("force", force, low=0.0, low_open=True)
+        if self.load_vector is None or not np.any(self.load_vector):
+            raise ValueError("the system has no load vector: no resonance")
+        if len(self) < 2:
+            return np.empty(0), np.empty(0)
+        col = coefficient_columns(self.harmonic_numbers)[1]
+        psi = (
+            self.coefficients[:, :, col] - 1j * self.coefficients[:, :, col + 1]
+        ) / self.amplitude[:, None]
+        modal = np.abs(psi @ np.conj(self.load_vector))
+        with np.errstate(divide="ignore"):
+            needed = self.supplied_energy() / (np.pi * self.amplitude * modal)
+        g = needed - force
+        s = np.log(self.amplitude)
+        omega, amp = [], []
+        for i in np.flatnonzero(np.sign(g[1:]) != np.sign(g[:-1])):
+            if not (np.isfinite(g[i]) and np.isfinite(g[i + 1])):
+                continue
+            u = g[i] / (g[i] - g[i + 1])
+            amp.append(float(np.exp(s[i] + u * (s[i + 1] - s[i]))))
+            omega.append(float(self.omega[i] + u * (self.omega[i + 1] - self.omega[i])))
+        return np.array(omega), np.array(amp)
+
+    def save(self, path: str | Path) -> Path:
+        """Write the mode to ``path`` (``.npz``, no pickle); returns the
+        path written."""
+        path = Path(path)
+        meta = {
+            "format": FORMAT,
+            "mode": self.mode,
+            "linear_omega": self.linear_omega,
+            "linear_damping_ratio": self.linear_damping_ratio,
+            "requested": list(self.requested),
+            "stop_reason": self.stop_reason,
+            "n_steps": self.n_steps,
+            "n_rejected": self.n_rejected,
+            "elapsed": self.elapsed,
+            "info": self.info,
+            "dof_names": self.dof_names,
+        }
+        arrays = {
+            "amplitude": self.amplitude,
+            "omega": self.omega,
+            "damping_ratio": self.damping_ratio,
+            "coefficients": self.coefficients,
+            "harmonic_numbers": self.harmonic_numbers,
+            "newton_iterations": self.newton_iterations,
+            "meta": np.array(json.dumps(meta)),
+        }
+        if self.load_vector is not None:
+            arrays["load_vector"] = self.load_vector
+        if self.truncation_error is not None:
+            arrays["truncation_error"] = self.truncation_error
+        arrays["folds"] = self.folds
+        arrays["fold_path"] = self.fold_path
+        if self._mass is not None:
+            arrays["mass"] = self._mass
+        np.savez(path, **arrays)
+        return path if path.suffix == ".npz" else path.with_suffix(path.suffix + ".npz")
+
+    @classmethod
+    def load(cls, path: str | Path) -> NonlinearMode:
+        """Read a mode written by :meth:`save` (no pickle).
+
+        Raises
+        ------
+        ValueError
+            If ``path`` is not a readable nonlinear-mode file.
+        """
+        try:
+            with np.load(Path(path), allow_pickle=False) as data:
+                meta = json.loads(str(data["meta"]))
+                if not isinstance(meta, dict) or meta.get("format") != FORMAT:
+                    raise ValueError("wrong format tag")
+                n = data["amplitude"].shape[0]
+                mode = cls(
+                    amplitude=np.asarray(data["amplitude"], dtype=np.float64).copy(),
+                    omega=np.asarray(data["omega"], dtype=np.float64).copy(),
+                    damping_ratio=np.asarray(
+                        data["damping_ratio"], dtype=np.float64
+                    ).copy(),
+                    coefficients=np.asarray(
+                        data["coefficients"], dtype=np.float64
+                    ).copy(),
+                    harmonic_numbers=np.asarray(
+                        data["harmonic_numbers"], dtype=np.int64
+                    ).copy(),
+                    mode=int(meta["mode"]),
+                    linear_omega=float(meta["linear_omega"]),
+                    linear_damping_ratio=float(meta["linear_damping_ratio"]),
+                    requested=tuple(float(v) for v in meta["requested"]),
+                    stop_reason=str(meta["stop_reason"]),
+                    newton_iterations=np.asarray(
+                        data["newton_iterations"], dtype=np.int64
+                    ).copy(),
+                    n_steps=int(meta["n_steps"]),
+                    n_rejected=int(meta["n_rejected"]),
+                    elapsed=float(meta["elapsed"]),
+                    info=dict(meta["info"]),
+                    dof_names={str(k): int(v) for k, v in meta["dof_names"].items()},
+                    load_vector=(
+                        np.asarray(data["load_vector"], dtype=np.complex128).copy()
+                        if "load_vector" in data.files
+                        else None
+                    ),
+                    folds=(
+                        np.asarray(data["folds"], dtype=np.float64).copy()
+                        if "folds" in data.files
+                        else np.empty(0)
+                    ),
+                    fold_path=(
+                        np.asarray(data["fold_path"], dtype=np.float64).copy()
+                        if "fold_path" in data.files
+                        else np.empty((0, 3))
+                    ),
+                    truncation_error=(
+                        np.asarray(data["truncation_error"], dtype=np.float64).copy()
+                        if "truncation_error" in data.files
+                        else None
+                    ),
+                    _mass=(
+                        np.asarray(data["mass"], dtype=np.float64).copy()
+                        if "mass" in data.files
+                        else None
+                    ),
+                )
+                shapes = (
+                    mode.omega.shape == (n,),
+                    mode.damping_ratio.shape == (n,),
+                    mode.newton_iterations.shape == (n,),
+                    mode.coefficients.ndim == 3 and mode.coefficients.shape[0] == n,
+                )
+                if not all(shapes):
+                    raise ValueError("arrays of inconsistent lengths")
+        except (
+            AttributeError,
+            OSError,
+            EOFError,
+            KeyError,
+            TypeError,
+            ValueError,
+            zipfile.BadZipFile,
+        ) as exc:
+            raise ValueError(
+                f"path {str(path)!r} is not an hbmfric nonlinear-mode file, or is "
+                f"damaged ({exc})"
+            ) from None
+        return mode
+
+    def plot(self, axes=None, hz: bool = False, **kwargs):
+        """Frequency and damping ratio against the modal amplitude
+        (logarithmic amplitude axis); returns the two axes.
+
+        Parameters
+        ----------
+        axes : sequence of two matplotlib axes, optional
+            Where to draw; new figure with two panels when None.
+        hz : bool
+            Frequency in Hz instead of rad/s.
+        **kwargs
+            Passed to ``Axes.plot`` for both curves.
+        """
+        import matplotlib.pyplot as plt
+
+        if axes is None:
+            _, axes = plt.subplots(2, 1, sharex=True)
+        ax_w, ax_d = axes
+        ax_w.plot(self.amplitude, self.frequency if hz else self.omega, **kwargs)
+        ax_d.plot(self.amplitude, self.damping_ratio, **kwargs)
+        ax_w.set_xscale("log")
+        ax_d.set_xscale("log")
+        ax_w.set_ylabel("frequency (Hz)" if hz else "ω (rad/s)")
+        ax_d.set_ylabel("damping ratio D")
+        ax_d.set_xlabel("modal amplitude a (m √kg)")
+        ax_w.set_title(f"nonlinear mode {self.mode}")
+        return ax_w, ax_d
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write amplitude, ω (rad/s), frequency (Hz), damping ratio and
+        the first-harmonic amplitude of the contact DOF (m), one row per
+        point; returns the path."""
+        path = Path(path)
+        contact = self.dof_amplitude(None, 1) if len(self) else np.empty(0)
+        with path.open("w", newline="") as fh:
+            writer = csv.writer(fh)
+            writer.writerow(
+                [
+                    "amplitude",
+                    "omega_rad_s",
+                    "frequency_hz",
+                    "damping_ratio",
+                    "contact_dof_amplitude",
+                ]
+            )
+            for row in zip(
+                self.amplitude,
+                self.omega,
+                self.frequency,
+                self.damping_ratio,
+                contact,
+                strict=True,
+            ):
+                writer.writerow([repr(float(v)) for v in row])
+        return path
+
+
+def _stuck_stiffness(problem: HBMProblem) -> np.ndarray:
+    """``K`` plus the stuck stiffness of every contact, shape (n_dof, n_dof)."""
+    K = problem._matrices[2].copy()
+    for law, a, b, a_n, b_n in problem._contacts:
+        for k, (p, q) in zip(
+            _stuck_stiffnesses(law), ((a, b), (a_n, b_n)), strict=False
+        ):
+            if p < 0:
+                continue
+            K[p, p] += k
+            if q >= 0:
+                K[q, q] += k
+                K[p, q] -= k
+                K[q, p] -= k
+    return K
+
+
+class _EPMC:
+    """The EPMC equations of a system: residual and Jacobian in the scaled
+    unknowns ``z = [Y, ω, D]`` (``Y = X / a``) at a given amplitude ``a``."""
+
+    def __init__(self, system, mode, harmonics, n_time, aft, structural_damping):
+        import scipy.linalg
+
+        data = check_system(system)
+        problem = HBMProblem(system, 0.0, harmonics, n_time, None, aft, _checked=data)
+        if any(c[0].code == COULOMB for c in problem._contacts):
+            raise ValueError(
+                "nonlinear modes of a rigid Coulomb contact (DLFT) are not "
+                "available: the stuck contact has no linear mode to start from; "
+                "use an elastic law (hf.Jenkins with a large stiffness)"
+            )
+        self.problem = problem
+        try:
+            self.load = check_load(system, 1.0, data.n_dof, data.load_phase)
+        except (AttributeError, TypeError, ValueError):
+            self.load = None
+        kp = problem.kernel_problem
+        mass, damping = kp[1], kp[2]
+        if not structural_damping:
+            damping = np.zeros_like(damping)
+            kp = kp[:2] + (damping,) + kp[3:]
+        self.kernel_problem = kp
+        self.n_dof = problem.n_dof
+        self.n_coef = problem.n_coef
+        self.n = problem.n_unknowns
+        n_dof, n_coef = self.n_dof, self.n_coef
+        hn = problem.harmonic_numbers
+        self.md = np.kron(mass, derivative_operator(hn, 1.0))
+        col1 = coefficient_columns(hn)[1]
+        self.cos1 = np.arange(n_dof) * n_coef + col1
+        self.sin1 = self.cos1 + 1
+        self.mass = mass
+        K = _stuck_stiffness(problem)
+        try:
+            w2, vecs = scipy.linalg.eigh(K, mass)
+        except (np.linalg.LinAlgError, ValueError) as exc:
+            raise ValueError(
+                "the linear modes of the stuck structure cannot be computed "
+                f"(mass matrix not positive definite?): {exc}"
+            ) from None
+        if mode > n_dof:
+            raise ValueError(f"mode must be <= n_dof = {n_dof}, got {mode}")
+        w2_j = float(w2[mode - 1])
+        if not w2_j > 0.0:
+            raise ValueError(
+                f"linear mode {mode} of the stuck structure has ω² = {w2_j:.3g}: "
+                "a rigid-body mode has no nonlinear mode"
+            )
+        phi = vecs[:, mode - 1]
+        phi = phi / np.sqrt(phi @ mass @ phi)
+        if phi[np.argmax(np.abs(phi))] < 0.0:
+            phi = -phi
+        self.phi = phi
+        self.m_phi = mass @ phi
+        self.linear_omega = float(np.sqrt(w2_j))
+        self.linear_damping = float(phi @ damping @ phi) / (2.0 * self.linear_omega)
+        self.K_stuck = K
+        self.force_scale = float(np.max(np.abs(K)))
+        # the static equilibrium the mode vibrates about: the system's own
+        # (``static_solution`` hook), else 0 (a static load may be held by
+        # the contacts' preload, which K alone does not know); Newton finds
+        # the mean from there
+        self.static = None
+        hook = getattr(system, "static_solution", None)
+        if problem._static is not None and hn[0] == 0 and hook is not None:
+            self.static = np.asarray(hook(), dtype=float).reshape(n_dof)
+
+    def linear_guess(self, a: float) -> np.ndarray:
+        """``z`` of the linear mode at amplitude ``a``."""
+        z = np.zeros(self.n + 2)
+        z[self.cos1] = self.phi
+        if self.static is not None:
+            z[: self.n : self.n_coef] = self.static / a
+        z[self.n] = self.linear_omega
+        z[self.n + 1] = self.linear_damping
+        return z
+
+    def equations(self, z: np.ndarray, a: float):
+        """Residual (shape (n + 2,)) and Jacobian (shape (n + 2, n + 2)) at
+        ``z = [Y, ω, D]``; the HBM rows divided by ``a`` times the force
+        scale. Returns ``(F, J, state)``."""
+        n = self.n
+        y = np.empty(n + 1)
+        y[:n] = a * z[:n]
+        omega, ratio = z[n], z[n + 1]
+        y[n] = omega
+        R = np.empty(n)
+        Jh = np.empty((n, n + 1))
+        state = int(hbm_residual(y, self.kernel_problem, R, Jh))
+        v = self.md @ y[:n]
+        F = np.empty(n + 2)
+        J = np.zeros((n + 2, n + 2))
+        s = 1.0 / (a * self.force_scale)
+        F[:n] = (R - 2.0 * ratio * omega**2 * v) * s
+        J[:n, :n] = (Jh[:, :n] - 2.0 * ratio * omega**2 * self.md) * (a * s)
+        J[:n, n] = (Jh[:, n] - 4.0 * ratio * omega * v) * s
+        J[:n, n + 1] = -2.0 * omega**2 * v * s
+        yc, ys = z[self.cos1], z[self.sin1]
+        mc, ms = self.mass @ yc, self.mass @ ys
+        F[n] = yc @ mc + ys @ ms - 1.0
+        J[n, self.cos1] = 2.0 * mc
+        J[n, self.sin1] = 2.0 * ms
+        F[n + 1] = self.m_phi @ ys
+        J[n + 1, self.sin1] = self.m_phi
+        return F, J, state
+
+    def padded(self, z: np.ndarray, small: _EPMC) -> np.ndarray:
+        """``z`` of ``small`` (a smaller basis of the same system) in this
+        basis, the extra harmonics 0."""
+        out = np.zeros(self.n + 2)
+        big = coefficient_columns(self.problem.harmonic_numbers)
+        cols = coefficient_columns(small.problem.harmonic_numbers)
+        Y = z[: small.n].reshape(small.n_dof, small.n_coef)
+        W = out[: self.n].reshape(self.n_dof, self.n_coef)
+        for k, c in cols.items():
+            width = 1 if k == 0 else 2
+            W[:, big[k] : big[k] + width] = Y[:, c : c + width]
+        out[self.n :] = z[small.n :]
+        return out
+
+    def truncation_error(self, z: np.ndarray, a: float, small: _EPMC) -> float:
+        """Estimated truncation error of the point ``z`` of ``small`` at
+        amplitude ``a``: the change of ω (relative) and D (absolute) in one
+        Newton step in this (larger) basis; inf if the step fails."""
+        zp = self.padded(z, small)
+        F, J, state = self.equations(zp, a)
+        if state < 0 or not np.all(np.isfinite(F)):
+            return np.inf
+        try:
+            dz = np.linalg.solve(J, -F)
+        except np.linalg.LinAlgError:
+            return np.inf
+        n = self.n
+        err = max(abs(dz[n]) / zp[n], abs(dz[n + 1]))
+        return float(err) if np.isfinite(err) else np.inf
+
+    def solve_arclength(self, u_pred, tangent, scale):
+        """Newton on the EPMC equations plus the pseudo-arclength condition
+        ``tangentᵀ ((u − u_pred) · scale) = 0`` in ``u = [z, log a]``:
+        ``(u, iterations)``, ``u`` None when it does not converge."""
+        n = self.n
+        u = u_pred.copy()
+        big = np.zeros((n + 3, n + 3))
+        rhs = np.empty(n + 3)
+        previous = np.inf
+        for it in range(1, MAX_ITERATIONS + 1):
+            a = float(np.exp(u[n + 2]))
+            F, J, state = self.equations(u[: n + 2], a)
+            if state < 0 or not np.all(np.isfinite(F)):
+                return None, it
+            big[: n + 2, : n + 2] = J
+            big[: n + 2, n + 2] = 0.0
+            # d/d(log a) of the HBM rows F = R(aY) / (a f): J_YY Y - F
+            big[:n, n + 2] = J[:n, :n] @ u[:n] - F[:n]
+            big[n + 2] = tangent * scale
+            rhs[: n + 2] = -F
+            rhs[n + 2] = -float(tangent @ ((u - u_pred) * scale))
+            try:
+                du = np.linalg.solve(big, rhs)
+            except np.linalg.LinAlgError:
+                return None, it
+            if not np.all(np.isfinite(du)):
+                return None, it
+            u += du
+            size = float(np.max(np.abs(du * scale)))
+            if size <= STEP_TOLERANCE or (
+                size <= STALL_TOLERANCE and size > 0.5 * previous
+            ):
+                F, _, state = self.equations(u[: n + 2], float(np.exp(u[n + 2])))
+                ok = (
+                    state >= 0
+                    and float(np.max(np.abs(F))) <= RESIDUAL_TOLERANCE
+                    and u[n] > 0.0
+                )
+                return (u if ok else None), it
+            previous = size
+        return None, MAX_ITERATIONS
+
+    def correlation(self, z1: np.ndarray, z2: np.ndarray) -> float:
+        """Modal assurance criterion of the fundamental shapes of two
+        points, ``|ψ1ᴴ M ψ2|²`` (each of unit mass norm): 1 for the same
+        shape, 0 for mass-orthogonal ones."""
+        p1 = z1[self.cos1] - 1j * z1[self.sin1]
+        p2 = z2[self.cos1] - 1j * z2[self.sin1]
+        return float(abs(np.conj(p1) @ (self.mass @ p2)) ** 2)
+
+    def solve(self, z0: np.ndarray, a: float):
+        """Newton with a backtracking line search from ``z0`` at amplitude
+        ``a``: ``(z, iterations)``, ``z`` None when it does not converge.
+
+        After ``PLAIN_ITERATIONS`` full steps (the first one may well raise
+        the residual: the normalisation is quadratic) a line search halves
+        the correction until the largest residual decreases: near a change
+        of the contacts' stick/slip pattern the Jacobian jumps and a plain
+        Newton iteration can cycle.
+        """
+        z = z0.copy()
+        n = self.n
+        F, J, state = self.equations(z, a)
+        if state < 0 or not np.all(np.isfinite(F)):
+            return None, 0
+        res = float(np.max(np.abs(F)))
+        previous = np.inf
+        for it in range(1, MAX_ITERATIONS + 1):
+            try:
+                dz = np.linalg.solve(J, -F)
+            except np.linalg.LinAlgError:
+                return None, it
+            if not np.all(np.isfinite(dz)):
+                return None, it
+            lam = 1.0
+            while True:
+                z_try = z + lam * dz
+                F_try, J_try, state = self.equations(z_try, a)
+                good = state >= 0 and bool(np.all(np.isfinite(F_try)))
+                if good:
+                    res_try = float(np.max(np.abs(F_try)))
+                    if (
+                        it <= PLAIN_ITERATIONS
+                        or res_try <= (1.0 - 1e-4 * lam) * res
+                        or res <= RESIDUAL_FLOOR
+                        or lam <= MIN_LAMBDA
+                    ):
+                        break
+                elif lam <= MIN_LAMBDA:
+                    return None, it
+                lam *= 0.5
+            z, F, J, res = z_try, F_try, J_try, res_try
+            y_size = max(float(np.max(np.abs(z[:n]))), 1e-300)
+            size = lam * max(
+                float(np.max(np.abs(dz[:n]))) / y_size,
+                abs(dz[n]) / abs(z[n]),
+                abs(dz[n + 1]),
+            )
+            # converged, or at the rounding floor (the corrections stop
+            # shrinking below STALL_TOLERANCE: e.g. a small vibration about
+            # a large static preload)
+            if size <= STEP_TOLERANCE or (
+                size <= STALL_TOLERANCE and size > 0.5 * previous
+            ):
+                ok = res <= RESIDUAL_TOLERANCE and z[n] > 0.0
+                return (z if ok else None), it
+            previous = size
+        return None, MAX_ITERATIONS
+
+
+def _pass_folds(epmc: _EPMC, history, s_fail: float, width: float):
+    """Pseudo-arclength continuation in ``(z, log a)`` from the last two
+    points of ``history`` until the path has turned back to increasing
+    amplitudes beyond ``s_fail`` (where the natural continuation failed).
+
+    Returns ``(path, folds, steps, rejected)``: the points ``(s, z)`` of
+    the path (None if it could not pass), the amplitudes of its turning
+    points, and the work.
+    """
+    n = epmc.n
+    scale = np.ones(n + 3)
+    scale[n] = 1.0 / epmc.linear_omega
+    scale[n + 2] = 1.0 / width
+    (s0, z0), (s1, z1) = history[-2], history[-1]
+    u_prev = np.append(z0, s0)
+    u_last = np.append(z1, s1)
+    chord = (u_last - u_prev) * scale
+    h_max = float(np.linalg.norm(chord))
+    h = h_max
+    tangent = chord / h_max
+    path, folds = [], []
+    steps = rejected = 0
+    while steps < ARCLENGTH_MAX_STEPS:
+        u_pred = u_last + h * tangent / scale
+        u_new, its = epmc.solve_arclength(u_pred, tangent, scale)
+        steps += 1
+        ok = u_new is not None and (
+            epmc.correlation(u_last[: n + 2], u_new[: n + 2]) >= MAC_TOLERANCE
+        )
+        if not ok:
+            rejected += 1
+            h *= 0.5
+            if h < MIN_STEP_FRACTION * h_max:
+                return None, folds, steps, rejected
+            continue
+        chord = (u_new - u_last) * scale
+        new_tangent = chord / np.linalg.norm(chord)
+        if np.sign(new_tangent[n + 2]) != np.sign(tangent[n + 2]):
+            folds.append(float(np.exp(u_last[n + 2])))
+        tangent, u_last = new_tangent, u_new
+        path.append((float(u_new[n + 2]), u_new[: n + 2].copy()))
+        if u_new[n + 2] > s_fail and tangent[n + 2] > 0.0:
+            return path, folds, steps, rejected
+        if its <= 4:
+            h = min(2.0 * h, h_max)
+    return None, folds, steps, rejected
+
+
+def _amplitude_range(amplitude) -> tuple[float, float]:
+    try:
+        lo, hi = amplitude
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"amplitude must be a pair (low, high) of modal amplitudes, got "
+            f"{amplitude!r}"
+        ) from None
+    lo = finite_float("amplitude[0]", lo, low=0.0, low_open=True)
+    hi = finite_float("amplitude[1]", hi, low=0.0, low_open=True)
+    if not hi > lo:
+        raise ValueError(
+            f"amplitude range must be increasing (low < high), got ({lo}, {hi})"
+        )
+    return lo, hi
+
+
+def nonlinear_mode(
+    system,
+    mode: int = 1,
+    amplitude=(1e-6, 1e-2),
+    *,
+    points: int = 40,
+    harmonics: int = 7,
+    n_time: int | None = None,
+    aft: str = "auto",
+    structural_damping: bool = True,
+    harmonic_tolerance: float | None = 1e-3,
+) -> NonlinearMode:
+    """A nonlinear mode by the extended periodic motion concept (EPMC).
+
+    Frequency and equivalent damping ratio of the periodic motions of the
+    unforced system with the energy its damping and contacts dissipate fed
+    back by ``-2 D ω M ẋ`` (:mod:`hbmfric.modes`), at ``points`` modal
+    amplitudes spaced logarithmically over ``amplitude``.
+
+    Parameters
+    ----------
+    system : Oscillator, CantileverBeam, LinearStructure or compatible
+        Any system of the system protocol; its load is ignored (a static
+        load is kept).
+    mode : int
+        Which linear mode (1 = lowest) of the structure with its contacts
+        stuck the nonlinear mode continues.
+    amplitude : (float, float)
+        Modal amplitudes ``(low, high)``, ``0 < low < high``: the
+        fundamental harmonic in the mass norm, m √kg (for one DOF of mass
+        ``m``: ``√m`` times the displacement amplitude).
+    points : int
+        Number of amplitudes (>= 2), log-spaced, ends included.
+    harmonics : int
+        Highest harmonic ``H``; odd harmonics only for a symmetric system.
+    n_time : int, optional
+        AFT samples per period; default as for :func:`hbmfric.frf`.
+    aft : {"auto", "events", "samples"}
+        AFT scheme (:class:`~hbmfric.hbm.HBMProblem`).
+    structural_damping : bool
+        Keep the structure's damping matrix ``C`` (default: ``D`` is the
+        damping ratio of the mode, structure and contacts) or drop it
+        (``D`` is the contacts' share).
+    harmonic_tolerance : float or None
+        Tolerance of the estimated truncation error of each point
+        (``NonlinearMode.truncation_error``: relative error of ω, absolute
+        error of D); an :class:`~hbmfric.AccuracyWarning` when a point
+        exceeds it. The estimate costs one residual and one LU in the basis
+        ``2H + 1`` per point; None skips it.
+
+    Returns
+    -------
+    NonlinearMode
+
+    Warns
+    -----
+    CoverageWarning
+        When the continuation stops before the end of the range (the
+        result holds the points it found).
+    ConvergenceWarning
+        When no point at all could be found.
+    AccuracyWarning
+        When the estimated truncation error of a point exceeds
+        ``harmonic_tolerance``.
+
+    Examples
+    --------
+    >>> import hbmfric as hf
+    >>> osc = hf.Oscillator(1.0, 4.0, 1e4, hf.Jenkins(stiffness=3e4, slip_force=1.0))
+    >>> nm = hf.nonlinear_mode(osc, amplitude=(1e-6, 1e-2), harmonics=1)
+    >>> round(float(nm.omega[0]), 6), round(float(nm.omega[-1]), 2)
+    (200.0, 100.05)
+    """
+    start = time.perf_counter()
+    mode = positive_int("mode", mode, low=1)
+    points = positive_int("points", points, low=2)
+    lo, hi = _amplitude_range(amplitude)
+    if not isinstance(structural_damping, bool | np.bool_):
+        raise ValueError(
+            f"structural_damping must be True or False, got {structural_damping!r}"
+        )
+    if harmonic_tolerance is not None:
+        harmonic_tolerance = finite_float(
+            "harmonic_tolerance", harmonic_tolerance, low=0.0, low_open=True
+        )
+    epmc = _EPMC(system, mode, harmonics, n_time, aft, bool(structural_damping))
+    n = epmc.n
+    grid = np.linspace(np.log(lo), np.log(hi), points)
+    width = grid[1] - grid[0]
+    n_steps = n_rejected = 0
+
+    # first point: from the linear mode, backing off to smaller amplitudes
+    # (and continuing up to ``lo``) when the linear guess is too far
+    z, its = epmc.solve(epmc.linear_guess(lo), lo)
+    n_steps += 1
+    history: list[tuple[float, np.ndarray]] = []
+    if z is not None:
+        history.append((grid[0], z))
+    else:
+        n_rejected += 1
+        for k in range(1, START_BACKOFF + 1):
+            s0 = grid[0] - k * np.log(10.0)
+            a0 = float(np.exp(s0))
+            z0, _ = epmc.solve(epmc.linear_guess(a0), a0)
+            n_steps += 1
+            if z0 is not None:
+                history.append((s0, z0))
+                break
+            n_rejected += 1
+    out_s, out_z, out_it = [], [], []
+    folds: list[float] = []
+    fold_path: list[tuple[float, np.ndarray]] = []
+    stop_reason = "range reached"
+    if not history:
+        stop_reason = (
+            f"no solution near the linear mode {mode} at or below a = {lo:.3g}"
+        )
+    else:
+        targets = list(grid) if z is None else list(grid[1:])
+        if z is not None:
+            out_s.append(grid[0])
+            out_z.append(z)
+            out_it.append(its)
+        step = width
+        for target in targets:
+            s = history[-1][0]
+            reached = False
+            while not reached:
+                # h < 0 after a fold passed beyond the target
+                h = min(step, target - s)
+                z_last = history[-1][1]
+                if len(history) >= 2 and h != 0.0:
+                    s_prev, z_prev = history[-2]
+                    pred = z_last + (z_last - z_prev) * h / (s - s_prev)
+                else:
+                    pred = z_last.copy()
+                s_new = s + h
+                z_new, its = epmc.solve(pred, float(np.exp(s_new)))
+                n_steps += 1
+                jumped = (
+                    z_new is not None
+                    and epmc.correlation(z_last, z_new) < MAC_TOLERANCE
+                )
+                # a corrector far from the predictor: a sharp turn of the
+                # backbone to resolve, or another solution (the EPMC of a
+                # friction contact can have several near the stick limit)
+                far = z_new is not None and (
+                    abs(z_new[n] - pred[n]) > MAX_CORRECTION * pred[n]
+                    or abs(z_new[n + 1] - pred[n + 1]) > MAX_CORRECTION
+                )
+                if z_new is None or jumped or far:
+                    n_rejected += 1
+                    step = 0.5 * abs(h)
+                    if (
+                        step < MIN_STEP_FRACTION * width
+                        and not jumped
+                        and len(history) >= 2
+                        and len(folds) < MAX_FOLDS
+                    ):
+                        # a turning point in a: follow the path around it
+                        path, found, k, r = _pass_folds(epmc, history, s_new, width)
+                        n_steps += k
+                        n_rejected += r
+                        if path is not None and found:
+                            folds.extend(found)
+                            fold_path.extend(path)
+                            history = [history[-1], *path][-2:]
+                            s = history[-1][0]
+                            step = width
+                            continue
+                    if step < MIN_STEP_FRACTION * width:
+                        if jumped:
+                            what = (
+                                "the mode shape jumped (modal assurance "
+                                f"criterion below {MAC_TOLERANCE:g}: another "
+                                "mode, an internal resonance?)"
+                            )
+                        elif far:
+                            what = (
+                                "the backbone jumped (ω or D moved by more than "
+                                f"{MAX_CORRECTION:g} from the predictor)"
+                            )
+                        else:
+                            what = "Newton failed"
+                        stop_reason = (
+                            f"{what} at a = {np.exp(s_new):.4g} with the "
+                            f"step below its minimum ({MIN_STEP_FRACTION:g} of "
+                            "the grid spacing)"
+                        )
+                        break
+                    continue
+                history.append((s_new, z_new))
+                history = history[-2:]
+                s = s_new
+                if its <= 4:
+                    step = min(2.0 * abs(h) if h != 0 else width, width)
+                if abs(s_new - target) <= 1e-14 * max(1.0, abs(target)) or (
+                    s_new > target
+                ):
+                    reached = True
+                    out_s.append(target)
+                    out_z.append(z_new)
+                    out_it.append(its)
+            if not reached:
+                break
+    amps = np.exp(np.array(out_s, dtype=float))
+    if amps.size:  # the asked ends exactly, not through exp(log(.))
+        amps[0] = lo if out_s[0] == grid[0] else amps[0]
+        amps[-1] = hi if out_s[-1] == grid[-1] else amps[-1]
+    Z = np.array(out_z, dtype=float).reshape(-1, n + 2)
+    coefficients = (Z[:, :n] * amps[:, None]).reshape(-1, epmc.n_dof, epmc.n_coef)
+    problem = epmc.problem
+    errors = None
+    if harmonic_tolerance is not None:
+        probe = _EPMC(
+            system,
+            mode,
+            PROBE_FACTOR * problem.harmonics + 1,
+            None,
+            aft,
+            bool(structural_damping),
+        )
+        errors = np.array(
+            [probe.truncation_error(z, a, epmc) for z, a in zip(Z, amps, strict=True)]
+        )
+    result = NonlinearMode(
+        amplitude=amps,
+        omega=Z[:, n].copy(),
+        damping_ratio=Z[:, n + 1].copy(),
+        coefficients=coefficients,
+        harmonic_numbers=problem.harmonic_numbers.copy(),
+        mode=mode,
+        linear_omega=epmc.linear_omega,
+        linear_damping_ratio=epmc.linear_damping,
+        requested=(lo, hi),
+        stop_reason=stop_reason,
+        newton_iterations=np.array(out_it, dtype=np.int64),
+        n_steps=n_steps,
+        n_rejected=n_rejected,
+        elapsed=time.perf_counter() - start,
+        info={
+            "harmonics": problem.harmonics,
+            "odd_only": problem.odd,
+            "n_time": problem.n_time,
+            "aft": problem.aft,
+            "structural_damping": bool(structural_damping),
+            "contact_dof": int(getattr(system, "contact_dof", 0)),
+        },
+        dof_names=dict(getattr(system, "dof_names", {}) or {}),
+        load_vector=epmc.load,
+        truncation_error=errors,
+        folds=np.array(folds, dtype=float),
+        fold_path=np.array(
+            [[np.exp(sp), zp[n], zp[n + 1]] for sp, zp in fold_path], dtype=float
+        ).reshape(-1, 3),
+        _mass=epmc.mass,
+    )
+    if folds:
+        warnings.warn(
+            f"nonlinear mode {mode}: the backbone turns in amplitude at a = "
+            f"{', '.join(f'{f:.4g}' for f in folds)}; between the turning points "
+            "it has several solutions at one amplitude (the points follow the "
+            "path past them; NonlinearMode.fold_path holds the others)",
+            HbmfricWarning,
+            stacklevel=2,
+        )
+    if not result.complete:
+        covered = f"up to a = {amps[-1]:.4g}" if amps.size else "no point"
+        cls = CoverageWarning if amps.size else ConvergenceWarning
+        warnings.warn(
+            f"nonlinear mode {mode}: {covered} of the range ({lo:.4g}, {hi:.4g}); "
+            f"{stop_reason}",
+            cls,
+            stacklevel=2,
+        )
+    if errors is not None and np.any(errors > harmonic_tolerance):
+        worst = int(np.argmax(errors))
+        warnings.warn(
+            f"nonlinear mode {mode}: estimated truncation error {errors[worst]:.2g} "
+            f"exceeds harmonic_tolerance={harmonic_tolerance:g} at "
+            f"{int(np.sum(errors > harmonic_tolerance))} of {errors.size} points "
+            f"(worst at a = {amps[worst]:.4g}, H = {problem.harmonics}); raise "
+            "harmonics; per-point estimates in NonlinearMode.truncation_error",
+            AccuracyWarning,
+            stacklevel=2,
+        )
+    return result

@@ -1,0 +1,204 @@
+"""Hypothesis fuzz over valid structures with several contacts.
+
+Strategies draw chains of 2 to 5 unit masses and springs (clamped at one
+end, modal damping ratio log-uniform in 1e-3…0.2, forced at a random DOF)
+with 1 to 3 contacts, each a random law (Jenkins, Menq, Iwan, modified
+Dahl, roughness or a cubic spring; stiffness log-uniform in 1e-2…1e2 of
+the chain's springs, slip force 1) acting on a random DOF against ground
+or between two DOFs; forcing over slip force log-uniform in 1e-2…1e2;
+either sweep. Every example must return within a deadline (no hang), give
+a finite branch that covers the asked range (or say it does not with a
+CoverageWarning), and agree with ``hf.periodic_solution`` at two random
+frequencies of the covered range (a converged solution off the branch
+passes only when the time-integration reference, which takes several
+contacts, confirms it as another steady state).
+
+The default run draws 10 examples; ``-m stress`` 150 (0.0-1.3 s each).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, Phase, given, settings
+from hypothesis import strategies as st
+
+import hbmfric as hf
+
+from .cases import PSOL_TOL, branch_values, coexists, covered, psol_floor
+from .test_fuzz_systems import log_uniform, within_deadline
+
+LAWS = ("jenkins", "menq", "iwan", "dahl", "roughness", "cubic")
+#: harmonics of the fuzz (fixed: the check is about robustness, not accuracy)
+HARMONICS = 7
+
+
+@st.composite
+def structures(draw):
+    n_dof = draw(st.integers(2, 5))
+    contacts = []
+    for _ in range(draw(st.integers(1, 3))):
+        dof = draw(st.integers(0, n_dof - 1))
+        other = draw(st.sampled_from([None, *range(n_dof)]))
+        if other == dof:
+            other = None
+        contacts.append(
+            {
+                "law": draw(st.sampled_from(LAWS)),
+                "stiffness": draw(log_uniform(1e-2, 1e2)),
+                "dof": dof,
+                "other": other,
+            }
+        )
+    return {
+        "n_dof": n_dof,
+        "contacts": contacts,
+        "zeta": draw(log_uniform(1e-3, 0.2)),
+        "load_dof": draw(st.integers(0, n_dof - 1)),
+        "ratio": draw(log_uniform(1e-2, 1e2)),
+        "sweep": draw(st.sampled_from(("up", "down"))),
+        "at": (draw(st.floats(0.02, 0.98)), draw(st.floats(0.02, 0.98))),
+    }
+
+
+def make_law(name: str, kt: float):
+    if name == "jenkins":
+        return hf.Jenkins(stiffness=kt, slip_force=1.0)
+    if name == "menq":
+        return hf.Menq.from_stiffness(stiffness=kt, slip_force=1.0)
+    if name == "iwan":
+        return hf.Iwan.segalman(stiffness=kt, slip_force=1.0, chi=-0.5, beta=0.5)
+    if name == "dahl":
+        return hf.ModifiedDahl(beta=kt)
+    if name == "roughness":
+        inner = hf.Jenkins(
+            stiffness=2.0 * kt, friction_coefficient=1.0, normal_load=1.0
+        )
+        return hf.Roughness(inner, limit_load=8.0)
+    return hf.Cubic(kt)
+
+
+def build(p: dict):
+    n = p["n_dof"]
+    K = 2.0 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1)
+    K[-1, -1] = 1.0
+    contacts = [
+        hf.Contact(make_law(c["law"], c["stiffness"]), c["dof"], c["other"])
+        for c in p["contacts"]
+    ]
+    s = hf.LinearStructure(
+        np.eye(n),
+        K,
+        modal_damping=p["zeta"],
+        load={p["load_dof"]: 1.0},
+        contacts=contacts,
+    )
+    # the chain's first mode (free) to 1.5 times its last with every
+    # contact stuck
+    w_free = float(np.sqrt(np.linalg.eigvalsh(K)[0]))
+    B = np.zeros((len(contacts), n))
+    for i, c in enumerate(p["contacts"]):
+        B[i, c["dof"]] = 1.0
+        if c["other"] is not None:
+            B[i, c["other"]] -= 1.0
+    k_stuck = np.array([c.law.stuck_stiffness for c in contacts])
+    w_stuck = float(np.sqrt(np.linalg.eigvalsh(K + B.T @ (k_stuck[:, None] * B))[-1]))
+    return s, p["ratio"], (0.5 * w_free, 1.5 * w_stuck)
+
+
+def check(p: dict) -> list[str]:
+    """What is wrong with one example (empty when it passed)."""
+    s, force, omega = build(p)
+    bad = []
+
+    def trace():
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            b = hf.frf(s, force, omega, HARMONICS, sweep=p["sweep"])
+        return b, [w.category for w in caught]
+
+    try:
+        b, categories = within_deadline(trace)
+    except TimeoutError as exc:
+        return [f"frf: {exc}"]
+    except Exception as exc:  # a valid system must not raise
+        return [f"frf raised {type(exc).__name__}: {exc}"]
+    if not (np.all(np.isfinite(b.coefficients)) and np.all(np.isfinite(b.omega))):
+        bad.append("non-finite values in the branch")
+    if not covered(b, omega):
+        if not any(issubclass(c, hf.CoverageWarning) for c in categories):
+            bad.append(f"range not covered, no CoverageWarning ({b.stop_reason})")
+    if len(b) < 2:
+        return bad
+    lo, hi = float(b.omega.min()), float(b.omega.max())
+    for u in p["at"]:
+        w = lo + u * (hi - lo)
+
+        def solve(w=w):
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                sol = hf.periodic_solution(s, force, w, HARMONICS)
+            values = branch_values(s, force, b, w, HARMONICS)
+            return sol, [x.category for x in caught], values
+
+        try:
+            sol, categories, values = within_deadline(solve)
+        except TimeoutError as exc:
+            bad.append(f"periodic_solution at Ω = {w:.4g}: {exc}")
+            continue
+        warned = any(issubclass(c, hf.ConvergenceWarning) for c in categories)
+        a = sol.amplitude(harmonic=1)
+        floor = psol_floor(s, force, omega)
+        on = any(abs(a - v) <= max(tol, PSOL_TOL * abs(v), floor) for v, tol in values)
+        if sol.converged and not on and not warned:
+            if within_deadline(lambda sol=sol: coexists(s, force, sol, "structure")):
+                continue
+            rel = min((abs(a - v) / abs(v) for v, _ in values if v), default=math.inf)
+            bad.append(f"periodic_solution wrong at Ω = {w:.4g} (rel. off {rel:.1e})")
+        elif not sol.converged and not warned:
+            bad.append(f"periodic_solution not converged, no warning, Ω = {w:.4g}")
+    return bad
+
+
+def fuzz(max_examples: int) -> list[str]:
+    misses: list[str] = []
+
+    @settings(
+        max_examples=max_examples,
+        derandomize=True,
+        deadline=None,
+        database=None,
+        phases=(Phase.explicit, Phase.generate),
+        suppress_health_check=list(HealthCheck),
+    )
+    @given(structures())
+    def run(p):
+        for problem in check(p):
+            misses.append(f"{p!r}: {problem}")
+
+    run()
+    return misses
+
+
+def test_fuzz_structures_fast():
+    misses = fuzz(10)
+    assert not misses, "\n".join(misses)
+
+
+@pytest.mark.stress
+def test_fuzz_structures():
+    misses = fuzz(150)
+    assert not misses, "\n".join(misses)
+
+
+if __name__ == "__main__":
+    import sys
+
+    n = int(sys.argv[1]) if len(sys.argv) > 1 else 60
+    found = fuzz(n)
+    print(f"{len(found)} misses in {n} examples")
+    for m in found:
+        print("-", m)
