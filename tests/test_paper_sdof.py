@@ -185,7 +185,9 @@ def test_criterion_verdicts_on_the_paper_families(figs):
 
 
 def test_paper_cli_prints_verdicts(tmp_path, capsys):
-    assert main(["paper", "--out", str(tmp_path), "--harmonics", "5", "--no-plot"]) == 0
+    # without the extra lap-joint set (not the paper's; tests/test_lap_joint.py)
+    args = ["paper", "--out", str(tmp_path), "--harmonics", "5", "--no-plot"]
+    assert main([*args, "--lap-joint-pairs", "0"]) == 0
     out = capsys.readouterr().out
     for line in (
         "fig08_masing criterion: macroslip without roughness",

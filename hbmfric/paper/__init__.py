@@ -14,6 +14,7 @@ from .beam import (
     paper_calibration,
     ratio_collapse,
 )
+from .lap_joint import LAP_JOINT_SCENE, LapJointFamily, lap_joint_family
 from .scenes import PAPER_SDOF, paper_oscillator
 from .sdof import (
     FigureResult,
@@ -33,11 +34,14 @@ __all__ = [
     "PAPER_BEAM_SCENE",
     "PAPER_SDOF",
     "FigureResult",
+    "LAP_JOINT_SCENE",
+    "LapJointFamily",
     "beam_criterion_family",
     "beam_normal_load_family",
     "beam_ratio_family",
     "beam_validation",
     "iter_sdof_figures",
+    "lap_joint_family",
     "masing_family",
     "menq_family",
     "paper_beam",
