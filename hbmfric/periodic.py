@@ -303,9 +303,9 @@ class _FixedOmega:
             return False
         if status == _newton.CONVERGED:
             return True
-        R, _, aft = self.problem.residual(y)
+        R, J, aft = self.problem.residual(y)
         res = float(np.max(np.abs(R))) if aft >= 0 else np.inf
-        if res <= self.tolerance:
+        if res <= max(self.tolerance, float(_newton.rounding_floor(J, y))):
             # Newton's look-ahead step test failed on a seam of the
             # piecewise smooth residual; the balance itself holds
             return True
