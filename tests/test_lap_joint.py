@@ -7,8 +7,8 @@ eigenvalues, and mesh convergence."""
 import math
 
 import numpy as np
-import scipy.linalg
 import pytest
+import scipy.linalg
 
 import hbmfric as hf
 from hbmfric.systems.frame import TRANSVERSE

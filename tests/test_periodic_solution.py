@@ -192,14 +192,22 @@ def test_branch_side_in_fold_region():
         )
 
 
-def _impossible():
-    # a residual below 1e-30 F is below round-off: nothing can converge
-    return hf.ContinuationOptions(tol_residual=1e-30, max_steps=50)
+def _impossible(monkeypatch=None):
+    """Settings under which nothing is accepted as a solution. (A residual
+    tolerance of 1e-30 F did this until the corrector accepted a residual
+    at the rounding level of its terms: now no iterate is accepted.)"""
+    from hbmfric import periodic
+
+    if monkeypatch is not None:
+        monkeypatch.setattr(periodic._FixedOmega, "accept", lambda *a: False)
+    return hf.ContinuationOptions(max_steps=50)
 
 
-def test_failure_warns_with_omega_force_residual():
+def test_failure_warns_with_omega_force_residual(monkeypatch):
     with pytest.warns(hf.ConvergenceWarning) as record:
-        sol = hf.periodic_solution(JENKINS3, 0.5, 1.6925, 15, options=_impossible())
+        sol = hf.periodic_solution(
+            JENKINS3, 0.5, 1.6925, 15, options=_impossible(monkeypatch)
+        )
     message = str(record[0].message)
     assert "omega = 1.6925" in message and "force = 0.5" in message
     assert f"{sol.residual_norm:.3e}" in message
@@ -207,10 +215,14 @@ def test_failure_warns_with_omega_force_residual():
     assert np.all(np.isfinite(sol.coefficients))
 
 
-def test_failure_raises_on_request():
+def test_failure_raises_on_request(monkeypatch):
     with pytest.raises(hf.ConvergenceError, match="omega = 1.6925"):
         hf.periodic_solution(
-            JENKINS3, 0.5, 1.6925, options=_impossible(), on_failure="raise"
+            JENKINS3,
+            0.5,
+            1.6925,
+            options=_impossible(monkeypatch),
+            on_failure="raise",
         )
 
 
