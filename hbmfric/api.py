@@ -39,11 +39,11 @@ def _omega_range(omega) -> tuple[float, float]:
 def _problem(system, force, harmonics, n_time, symmetry, aft, condense, subharmonic=1):
     """The HBM discretisation: condensed onto the contact DOF or full
     (``subharmonic``: see :class:`~hbmfric.hbm.HBMProblem`)."""
-    from .condensation import CondensedHBMProblem, can_condense
+    from .condensation import CondensedHBMProblem, condensed_by_default
 
     data = check_system(system)  # before anything reads the system
     if condense is None:
-        condense = can_condense(system)
+        condense = condensed_by_default(system)
     if isinstance(condense, str) and condense in ("modal", "direct"):
         return CondensedHBMProblem(
             system,
@@ -162,10 +162,14 @@ def frf(
         harmonic by the dynamic receptance, every DOF recovered at the
         end); several 1D contacts: on their contact coordinates (relative
         displacements), through the receptance matrix per harmonic
-        (:mod:`hbmfric.condensation`). Default: whenever the system has
-        several DOFs, a contact, symmetric matrices with a regular ``K``
-        and, for several contacts, fewer independent contact coordinates
-        than DOFs and no 2D element (:func:`~hbmfric.condensation.can_condense`).
+        (:mod:`hbmfric.condensation`). Default: one contact to ground
+        on a system with several DOFs, symmetric matrices and a regular
+        ``K`` (:func:`~hbmfric.condensation.condensed_by_default`).
+        Several contacts are condensed only when asked (``True``,
+        ``"modal"``, ``"direct"``; fewer independent contact coordinates
+        than DOFs and no 2D element): the condensed continuation can
+        collapse its step at a lightly damped stuck resonance (the lap
+        joint; open).
         The receptance comes from modal superposition with all modes when
         the damping is classical, else from a direct solve per harmonic;
         ``"modal"`` or ``"direct"`` force one. ``False`` solves the full
