@@ -5,6 +5,7 @@ force) solved independently with NumPy, the full finite-element model's
 eigenvalues, and mesh convergence."""
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -306,3 +307,45 @@ def test_the_criterion_reads_the_joint_as_microslip():
     assert peaks[0] == pytest.approx(stuck_f, abs=0.05)
     assert peaks[5] == pytest.approx(free_f, abs=0.3)
     assert fam.criterion().verdict == "microslip without roughness"
+
+
+def _stuck_resonance_frf(condense):
+    from hbmfric.paper.lap_joint import LAP_JOINT_SCENE
+
+    joint = hf.LapJoint(n_pairs=10, bolt_preload=12000.0)
+    s = joint.reduced(LAP_JOINT_SCENE["n_modes"])
+    force = 2e-5 * joint.total_preload
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", hf.CoverageWarning)
+        return hf.frf(
+            s,
+            force,
+            (HZ * 160.0, HZ * 172.0),
+            LAP_JOINT_SCENE["harmonics"],
+            max_step=LAP_JOINT_SCENE["max_step"],
+            condense=condense,
+        )
+
+
+def test_default_frf_covers_the_stuck_resonance():
+    """The stuck joint (Fex/P = 2e-5) across its resonance at defaults:
+    complete, peak at the stuck eigenfrequency (167.1 Hz). With several
+    contacts condensed by default (between the condensation merge and this
+    test) the step collapsed at 166.7 Hz from both sides and the branch
+    had a gap."""
+    branch = _stuck_resonance_frf(None)
+    assert branch.complete and not branch.info["condensed"]
+    a = branch.amplitude(1, "drive")
+    assert branch.omega[np.argmax(a)] / HZ == pytest.approx(167.11, abs=0.05)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(
+    strict=True,
+    raises=hf.CoverageWarning,
+    reason="OPEN (stop 22): the condensed continuation's step collapses at the "
+    "stuck resonance (166.7 Hz, both sweeps, curve rule off too)",
+)
+def test_condensed_frf_covers_the_stuck_resonance():
+    branch = _stuck_resonance_frf(True)
+    assert branch.complete
