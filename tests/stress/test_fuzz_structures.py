@@ -19,18 +19,16 @@ The default run draws 10 examples; ``-m stress`` 150 (0.0-1.3 s each).
 
 from __future__ import annotations
 
-import math
 import warnings
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
 
 import hbmfric as hf
 
-from .cases import PSOL_TOL, branch_values, coexists, covered, psol_floor
-from .test_fuzz_systems import log_uniform, within_deadline
+from .test_fuzz_systems import check_case, log_uniform
+from .test_fuzz_systems import fuzz as fuzz_examples
 
 LAWS = ("jenkins", "menq", "iwan", "dahl", "roughness", "cubic")
 #: harmonics of the fuzz (fixed: the check is about robustness, not accuracy)
@@ -111,61 +109,20 @@ def build(p: dict):
 
 
 def check(p: dict) -> list[str]:
-    """What is wrong with one example (empty when it passed)."""
+    """What is wrong with one example (empty when it passed): the checks of
+    :func:`tests.stress.test_fuzz_systems.check_case`, where a solution off
+    the branch may also be an unstable one (:func:`unstable_solution`)."""
     s, force, omega = build(p)
-    bad = []
-
-    def trace():
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            b = hf.frf(s, force, omega, HARMONICS, sweep=p["sweep"])
-        return b, [w.category for w in caught]
-
-    try:
-        b, categories = within_deadline(trace)
-    except TimeoutError as exc:
-        return [f"frf: {exc}"]
-    except Exception as exc:  # a valid system must not raise
-        return [f"frf raised {type(exc).__name__}: {exc}"]
-    if not (np.all(np.isfinite(b.coefficients)) and np.all(np.isfinite(b.omega))):
-        bad.append("non-finite values in the branch")
-    if not covered(b, omega):
-        if not any(issubclass(c, hf.CoverageWarning) for c in categories):
-            bad.append(f"range not covered, no CoverageWarning ({b.stop_reason})")
-    if len(b) < 2:
-        return bad
-    lo, hi = float(b.omega.min()), float(b.omega.max())
-    for u in p["at"]:
-        w = lo + u * (hi - lo)
-
-        def solve(w=w):
-            with warnings.catch_warnings(record=True) as caught:
-                warnings.simplefilter("always")
-                sol = hf.periodic_solution(s, force, w, HARMONICS)
-            values = branch_values(s, force, b, w, HARMONICS)
-            return sol, [x.category for x in caught], values
-
-        try:
-            sol, categories, values = within_deadline(solve)
-        except TimeoutError as exc:
-            bad.append(f"periodic_solution at Ω = {w:.4g}: {exc}")
-            continue
-        warned = any(issubclass(c, hf.ConvergenceWarning) for c in categories)
-        a = sol.amplitude(harmonic=1)
-        floor = psol_floor(s, force, omega)
-        on = any(abs(a - v) <= max(tol, PSOL_TOL * abs(v), floor) for v, tol in values)
-        if sol.converged and not on and not warned:
-            if within_deadline(lambda sol=sol: coexists(s, force, sol, "structure")):
-                continue
-            if within_deadline(
-                lambda sol=sol, w=w: unstable_solution(s, force, w, sol)
-            ):
-                continue
-            rel = min((abs(a - v) / abs(v) for v, _ in values if v), default=math.inf)
-            bad.append(f"periodic_solution wrong at Ω = {w:.4g} (rel. off {rel:.1e})")
-        elif not sol.converged and not warned:
-            bad.append(f"periodic_solution not converged, no warning, Ω = {w:.4g}")
-    return bad
+    return check_case(
+        s,
+        force,
+        omega,
+        HARMONICS,
+        p["sweep"],
+        p["at"],
+        "structure",
+        other=lambda w, sol: unstable_solution(s, force, w, sol),
+    )
 
 
 def unstable_solution(system, force, omega, sol) -> bool:
@@ -195,23 +152,7 @@ def unstable_solution(system, force, omega, sol) -> bool:
 
 
 def fuzz(max_examples: int) -> list[str]:
-    misses: list[str] = []
-
-    @settings(
-        max_examples=max_examples,
-        derandomize=True,
-        deadline=None,
-        database=None,
-        phases=(Phase.explicit, Phase.generate),
-        suppress_health_check=list(HealthCheck),
-    )
-    @given(structures())
-    def run(p):
-        for problem in check(p):
-            misses.append(f"{p!r}: {problem}")
-
-    run()
-    return misses
+    return fuzz_examples(max_examples, structures(), check, repr)
 
 
 def test_fuzz_structures_fast():

@@ -128,12 +128,22 @@ def within_deadline(fn, deadline: float = DEADLINE):
 def check(p: dict) -> list[str]:
     """What is wrong with one example (empty when it passed)."""
     osc, force, omega = build(p)
+    return check_case(osc, force, omega, 15, p["sweep"], p["at"], p["law"])
+
+
+def check_case(system, force, omega, harmonics, sweep, at, law, other=None):
+    """The fuzz's checks of one system: ``hf.frf`` returns within the
+    deadline, finite, covering ``omega`` (or saying it does not); at the
+    relative positions ``at`` of the covered range, ``hf.periodic_solution``
+    lands on the branch, or warns, or finds another steady state that time
+    integration confirms (:func:`~tests.stress.cases.coexists`), or one
+    that ``other(w, sol)`` accepts. Returns what is wrong."""
     bad = []
 
     def trace():
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            b = hf.frf(osc, force, omega, 15, sweep=p["sweep"])
+            b = hf.frf(system, force, omega, harmonics, sweep=sweep)
         return b, [w.category for w in caught]
 
     try:
@@ -151,14 +161,14 @@ def check(p: dict) -> list[str]:
     if len(b) < 2:
         return bad
     lo, hi = float(b.omega.min()), float(b.omega.max())
-    for u in p["at"]:
+    for u in at:
         w = lo + u * (hi - lo)
 
         def solve(w=w):
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
-                sol = hf.periodic_solution(osc, force, w, 15)
-            values = branch_values(osc, force, b, w, 15)
+                sol = hf.periodic_solution(system, force, w, harmonics)
+            values = branch_values(system, force, b, w, harmonics)
             return sol, [x.category for x in caught], values
 
         try:
@@ -168,11 +178,15 @@ def check(p: dict) -> list[str]:
             continue
         warned = any(issubclass(c, hf.ConvergenceWarning) for c in categories)
         a = sol.amplitude(harmonic=1)
-        floor = psol_floor(osc, force, omega)
+        floor = psol_floor(system, force, omega)
         on = any(abs(a - v) <= max(tol, PSOL_TOL * abs(v), floor) for v, tol in values)
         if sol.converged and not on and not warned:
-            if within_deadline(lambda sol=sol: coexists(osc, force, sol, p["law"])):
+            if within_deadline(lambda sol=sol: coexists(system, force, sol, law)):
                 continue  # another steady state, confirmed by time integration
+            if other is not None and within_deadline(
+                lambda sol=sol, w=w: other(w, sol)
+            ):
+                continue
             rel = min((abs(a - v) / abs(v) for v, _ in values if v), default=math.inf)
             bad.append(f"periodic_solution wrong at Ω = {w:.4g} (rel. off {rel:.1e})")
         elif not sol.converged and not warned:
@@ -185,8 +199,12 @@ def describe(p: dict) -> str:
     return ", ".join(f"{k}={v!r}" for k, v in p.items())
 
 
-def fuzz(max_examples: int) -> list[str]:
-    """Run ``max_examples`` examples and collect every miss."""
+def fuzz(max_examples: int, strategy=None, checker=None, name=None) -> list[str]:
+    """Run ``max_examples`` examples and collect every miss (by default
+    of this module's strategy, check and description)."""
+    strategy = systems() if strategy is None else strategy
+    checker = check if checker is None else checker
+    name = describe if name is None else name
     misses: list[str] = []
 
     @settings(
@@ -197,10 +215,10 @@ def fuzz(max_examples: int) -> list[str]:
         phases=(Phase.explicit, Phase.generate),
         suppress_health_check=list(HealthCheck),
     )
-    @given(systems())
+    @given(strategy)
     def run(p):
-        for problem in check(p):
-            misses.append(f"{describe(p)}: {problem}")
+        for problem in checker(p):
+            misses.append(f"{name(p)}: {problem}")
 
     run()
     return misses
