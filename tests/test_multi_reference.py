@@ -128,3 +128,13 @@ def test_rigid_coulomb_among_several_is_refused():
             0.1,
             0.5,
         )
+
+
+def test_zero_forcing_rests_exactly():
+    """No forcing: the chain with several contacts and the preloaded 2D rig
+    rest, exactly (no static load on the chain; the rig's static load is
+    held by the preload at v = 0)."""
+    for system in (_chain(), _rig(OSC_ELEMENT)):
+        ref = hf.validation.steady_state(system, 0.0, 0.5, steps_per_period=64)
+        assert ref.converged and ref.status == 0
+        assert np.all(ref.samples == 0.0)

@@ -42,7 +42,7 @@ import numpy as np
 from .._jit import jit
 from ..kernels.contact2d import PHASE_OPEN, PHASE_STICK, contact2d_step
 from ..kernels.laws import law_step
-from .integrator import NEWTON_FAILED, NOT_FINITE, OK
+from .integrator import NEWTON_FAILED, NOT_FINITE, OK, _store_state
 
 #: kind of a contact in the kernels' arrays
 LAW_1D = 0
@@ -328,7 +328,7 @@ def newmark_periods_multi(system, x, v, law_state, x_new, starts, peaks):
     n_periods = peaks.shape[0]
     no_samples = np.empty((0, 0))
     no_forces = np.empty(0)
-    _store(starts, 0, x, v, law_state[0], n)
+    _store_state(starts, 0, x, v, law_state[0], n)
     iterations = 0
     for period in range(n_periods):
         status, its = _period(
@@ -337,7 +337,7 @@ def newmark_periods_multi(system, x, v, law_state, x_new, starts, peaks):
         iterations += its
         if status != OK:
             return status, period, iterations
-        _store(starts, period + 1, x, v, law_state[0], n)
+        _store_state(starts, period + 1, x, v, law_state[0], n)
     return OK, n_periods, iterations
 
 
@@ -346,11 +346,3 @@ def record_period_multi(system, x, v, law_state, x_new, peaks, samples, contact_
     """:func:`hbmfric.validation.integrator.record_period` for several
     contacts (``contact_force``: the first coordinate's force)."""
     return _period(system, x, v, law_state, x_new, peaks, True, samples, contact_force)
-
-
-@jit
-def _store(starts, row, x, v, f, n):
-    for i in range(n):
-        starts[row, i] = x[i]
-        starts[row, n + i] = v[i]
-    starts[row, 2 * n] = f
