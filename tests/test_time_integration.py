@@ -3,6 +3,7 @@ that do not use it: closed-form linear FRFs (one and two DOFs, stuck and
 slipping limits of the Jenkins law), the convergence order of the scheme
 fitted over step sizes, and the energy balance of the steady state."""
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -236,7 +237,8 @@ def test_work_counters(jenkins):
 
 
 def test_max_periods_reports_not_converged(jenkins):
-    ref = steady_state(jenkins, 0.5, 1.2, max_periods=3)
+    with pytest.warns(hf.ConvergenceWarning, match="3 periods: max_periods"):
+        ref = steady_state(jenkins, 0.5, 1.2, max_periods=3)
     assert ref.periods == 3
     assert not ref.converged and ref.change > 1e-3
     assert "max_periods" in ref.message
@@ -246,11 +248,29 @@ def test_max_periods_reports_not_converged(jenkins):
 def test_kernel_failure_is_reported_not_raised():
     """A softening spring thrown far out escapes to infinity."""
     osc = hf.Oscillator(1.0, 0.0, 1.0, hf.Cubic(-10.0))
-    ref = steady_state(osc, 1.0, 1.0, initial_state=(10.0, 0.0))
+    with pytest.warns(hf.ConvergenceWarning, match="did not reach"):
+        ref = steady_state(osc, 1.0, 1.0, initial_state=(10.0, 0.0))
     assert not ref.converged
     assert ref.status != kernels.OK
     assert ref.message == kernels.MESSAGES[ref.status]
     assert np.isnan(ref.amplitude(harmonic=1))
+
+
+def test_failure_raises_when_asked(jenkins):
+    with pytest.raises(hf.ConvergenceError, match="max_periods"):
+        steady_state(jenkins, 0.5, 1.2, max_periods=3, on_failure="raise")
+    osc = hf.Oscillator(1.0, 0.0, 1.0, hf.Cubic(-10.0))
+    with pytest.raises(hf.ConvergenceError, match="did not reach"):
+        steady_state(osc, 1.0, 1.0, initial_state=(10.0, 0.0), on_failure="raise")
+    with pytest.raises(ValueError, match="on_failure"):
+        steady_state(jenkins, 0.5, 1.2, on_failure="ignore")
+
+
+def test_converged_steady_state_does_not_warn(jenkins):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", hf.HbmfricWarning)
+        ref = steady_state(jenkins, 0.5, 1.2)
+    assert ref.converged
 
 
 def test_time_response_interpolates_the_samples(jenkins):
@@ -291,6 +311,7 @@ def test_result_layout(jenkins):
         ref.time_response(n=1)
 
 
+@pytest.mark.filterwarnings("ignore::hbmfric.ConvergenceWarning")
 def test_kernels_compile_once(jenkins):
     steady_state(jenkins, 0.5, 1.2, max_periods=2)
     steady_state(hf.Oscillator(M, C, K), 0.5, 1.2, max_periods=2)

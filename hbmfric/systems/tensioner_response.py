@@ -22,12 +22,14 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .._validate import finite_float, positive_int
 from ..continuation import ContinuationOptions
+from ..errors import ConvergenceWarning
 from ..signals import sampled_peak_to_peak, synthesis_matrix
 from ..validation import steady_state
 from .tensioner import BeltTensioner, tension_coefficients
@@ -187,16 +189,19 @@ def time_domain_frf(
     for i, fhz in enumerate(freqs):
         omega = 2.0 * math.pi * fhz
         if method == "jit":
-            ss = steady_state(
-                rig,
-                force,
-                omega,
-                harmonics=1,
-                steps_per_period=steps_per_period,
-                tol=tol,
-                max_periods=max_periods,
-                initial_state=(x0, 0.0),
-            )
+            with warnings.catch_warnings():
+                # one summary warning below instead of one per frequency
+                warnings.simplefilter("ignore", ConvergenceWarning)
+                ss = steady_state(
+                    rig,
+                    force,
+                    omega,
+                    harmonics=1,
+                    steps_per_period=steps_per_period,
+                    tol=tol,
+                    max_periods=max_periods,
+                    initial_state=(x0, 0.0),
+                )
             x = ss.samples
             spectrum = np.fft.rfft(x, axis=1)
             k = np.arange(spectrum.shape[1])
@@ -214,6 +219,16 @@ def time_domain_frf(
             converged[i] = ok
             periods += p
             steps += n_steps
+    if not converged.all():
+        missed = freqs[~converged]
+        warnings.warn(
+            f"the time integration did not reach the steady state at "
+            f"{missed.size} of {freqs.size} frequencies ({missed[0]:.4g} Hz "
+            f"first); their tension ranges are from the last period integrated "
+            f"(TensionFRF.converged)",
+            ConvergenceWarning,
+            stacklevel=2,
+        )
     return TensionFRF(
         frequency=freqs,
         tension_range=ranges,

@@ -11,12 +11,14 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .._validate import finite_float, positive_int
+from ..errors import ConvergenceError, ConvergenceWarning
 from ..kernels.contact2d import contact2d_step
 from ..kernels.dlft import COULOMB
 from ..kernels.laws import law_init, state_size
@@ -203,6 +205,7 @@ def steady_state(
     max_periods: int = 20000,
     initial_state: tuple | str | None = None,
     check_halving: bool = False,
+    on_failure: str = "warn",
 ) -> SteadyState:
     """Periodic steady state under ``force cos(Ω t)`` by time integration.
 
@@ -256,20 +259,30 @@ def steady_state(
         Also integrate with the step halved (``2 N`` steps per period) from
         the converged state, to the same ``tol``, and report
         ``error_estimate``.
+    on_failure : {"warn", "raise"}
+        What to do when the steady state is not reached (``max_periods``
+        used up, or a kernel failure such as a contact update that did not
+        converge or a response escaping to infinity): ``"warn"`` (default)
+        issues a :class:`~hbmfric.ConvergenceWarning` naming the cause and
+        returns the last period with ``converged=False``; ``"raise"``
+        raises :class:`~hbmfric.ConvergenceError` instead.
 
     Returns
     -------
     SteadyState
         The last period and its harmonics, the work done and whether the
-        steady state was reached; a kernel failure is reported by
-        ``converged=False`` and ``message``, not raised.
+        steady state was reached (``converged``, ``message``).
 
     Raises
     ------
     ValueError
         On invalid input, naming the parameter.
+    ConvergenceError
+        With ``on_failure="raise"``, when the steady state is not reached.
     """
     start = time.perf_counter()
+    if on_failure not in ("warn", "raise"):
+        raise ValueError(f"on_failure must be 'warn' or 'raise', got {on_failure!r}")
     force = finite_float("force", force)
     omega = finite_float("omega", omega, low=0.0, low_open=True)
     harmonics = positive_int("harmonics", harmonics, low=1)
@@ -305,7 +318,7 @@ def steady_state(
                 float(np.max(np.abs(a_coarse - a_fine)) / scale) if scale > 0 else 0.0
             )
 
-    return SteadyState(
+    result = SteadyState(
         omega=omega,
         force=force,
         harmonic_numbers=np.arange(harmonics + 1),
@@ -325,6 +338,15 @@ def steady_state(
         message=_message(run, tol),
         dof_names=dict(getattr(system, "dof_names", {})),
     )
+    if not result.converged:
+        text = (
+            f"time integration at Ω = {omega:.6g} rad/s did not reach the steady "
+            f"state after {result.periods} periods: {result.message}"
+        )
+        if on_failure == "raise":
+            raise ConvergenceError(text)
+        warnings.warn(text, ConvergenceWarning, stacklevel=2)
+    return result
 
 
 def _message(run: _Run, tol: float) -> str:
