@@ -29,6 +29,7 @@ iterate with the smallest residual.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 import warnings
 
@@ -124,7 +125,9 @@ def periodic_solution(
         ``harmonics``; with ``harmonics="auto"`` only a
         :class:`PeriodicSolution` is accepted.
     options : ContinuationOptions, optional
-        Newton tolerances and the settings of the continuation fallback.
+        Newton tolerances and the settings of the continuation fallback;
+        its ``max_steps`` bounds the steps of all the fallback traces
+        together (from below and from above).
     condense : bool or {"modal", "direct"}, optional
         As in :func:`hbmfric.frf`.
     branch_side : {None, "below", "above"}
@@ -275,6 +278,10 @@ class _FixedOmega:
         # the budget of a continuation's first point (palc.Continuation.init)
         self.budget = max(8 * options.max_newton, 100)
         self.iterations = 0
+        # one budget of continuation steps (accepted and rejected) for all
+        # the fallback traces together, so that a point no start reaches
+        # costs at most about one FRF's worth of steps, not four
+        self.steps_left = options.max_steps
         self.tried: list[str] = []
         self._linear = None
         self.best = None
@@ -348,14 +355,20 @@ class _FixedOmega:
         omega = self.omega
         n = self.problem.n_unknowns
         for factor in BELOW_STARTS if side == "below" else ABOVE_STARTS:
+            if self.steps_left <= 0:
+                if "step budget used up" not in self.tried:
+                    self.tried.append("step budget used up")
+                return None
             far = factor * omega
             pad = OVERSHOOT * abs(omega - far)
+            options = dataclasses.replace(self.options, max_steps=self.steps_left)
             if side == "below":
-                cont = Continuation(self.problem, (far, omega + pad), 1, self.options)
+                cont = Continuation(self.problem, (far, omega + pad), 1, options)
             else:
-                cont = Continuation(self.problem, (omega - pad, far), -1, self.options)
+                cont = Continuation(self.problem, (omega - pad, far), -1, options)
             state, _ = cont.run()
             self.iterations += state.n_newton
+            self.steps_left -= state.n_steps + state.n_rejected
             if not state.points:
                 continue
             points = np.array(state.points)

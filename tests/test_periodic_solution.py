@@ -226,6 +226,31 @@ def test_failure_raises_on_request(monkeypatch):
         )
 
 
+def test_fallback_traces_share_one_step_budget(monkeypatch):
+    """The continuations from below and above (four traces) together take
+    at most ``options.max_steps`` steps, accepted and rejected: a point
+    that no start reaches costs about one FRF, not four."""
+    from hbmfric import periodic
+    from hbmfric.continuation import Continuation
+
+    steps = []
+    run = Continuation.run
+
+    def counted(self, *args, **kwargs):
+        state, reason = run(self, *args, **kwargs)
+        steps.append(state.n_steps + state.n_rejected)
+        return state, reason
+
+    monkeypatch.setattr(periodic._FixedOmega, "accept", lambda *a: False)
+    monkeypatch.setattr(Continuation, "run", counted)
+    budget = 60
+    with pytest.warns(hf.ConvergenceWarning, match="step budget used up"):
+        hf.periodic_solution(
+            JENKINS3, 0.5, 1.6925, 15, options=hf.ContinuationOptions(max_steps=budget)
+        )
+    assert steps and sum(steps) <= budget
+
+
 def test_zero_force_is_rest():
     start = time.perf_counter()
     sol = hf.periodic_solution(JENKINS3, 0.0, 1.2)
