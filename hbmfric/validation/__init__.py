@@ -16,6 +16,7 @@ from .exact import (
     exact_branch,
     exact_periodic_solution,
 )
+from .monodromy import Monodromy, monodromy
 from .steady_state import SteadyState, steady_state
 
 __all__ = [
@@ -27,6 +28,8 @@ __all__ = [
     "polyline_error",
     "reference_omegas",
     "ExactSolution",
+    "Monodromy",
+    "monodromy",
     "branch_errors",
     "SteadyState",
     "exact_branch",

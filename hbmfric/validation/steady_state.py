@@ -103,6 +103,10 @@ class SteadyState:
     dof_names : dict
         Named DOFs of the system (e.g. ``"tip"``, ``"contact"``) → index, as
         on :class:`~hbmfric.PeriodicSolution` and :class:`~hbmfric.Branch`.
+    final_state : tuple of ndarray or None
+        ``(x, v, law_state)`` at the end of the last period (m, m/s and the
+        contact laws' state, ``law_state[0]`` a force in N): where
+        :func:`~hbmfric.validation.monodromy` starts.
     """
 
     omega: float
@@ -123,6 +127,7 @@ class SteadyState:
     status: int
     message: str
     dof_names: dict = field(default_factory=dict)
+    final_state: tuple | None = field(default=None, repr=False)
 
     @property
     def n_dof(self) -> int:
@@ -303,6 +308,7 @@ def steady_state(
 
     run = problem.integrate(omega, steps_per_period, tol, max_periods, x, v, f)
     coefficients = _fourier_coefficients(run.samples, harmonics)
+    final_state = (x.copy(), v.copy(), f.copy())
 
     error_estimate = math.nan
     halving_periods = 0
@@ -337,6 +343,7 @@ def steady_state(
         status=run.status,
         message=_message(run, tol),
         dof_names=dict(getattr(system, "dof_names", {})),
+        final_state=final_state,
     )
     if not result.converged:
         text = (
