@@ -192,8 +192,16 @@ def _companion_eigenvalues(d0, d1, d2, mass_inverse) -> np.ndarray:
 
 def select_exponents(eigenvalues: np.ndarray, count: int, omega) -> np.ndarray:
     """The ``count`` Hill eigenvalues whose imaginary parts are closest to
-    0, imaginary parts folded into ``[-Ω/2, Ω/2]``, sorted by decreasing
-    real part.
+    0, one per family ``λ + i m Ω``, imaginary parts folded into
+    ``[-Ω/2, Ω/2]``, sorted by decreasing real part.
+
+    A real negative Floquet multiplier (after a period doubling) has a
+    family whose two members nearest the strip are the conjugates
+    ``σ ± iΩ/2``, equally close to it: sorting alone takes both and drops
+    another family (the stability of a period-doubled stretch read
+    "stable"). Where the sorted choice holds two eigenvalues ``Ω`` apart
+    in the imaginary part with equal real parts (relative
+    ``FAMILY_TOLERANCE``), the choice is made again one family at a time.
 
     Parameters
     ----------
@@ -208,11 +216,49 @@ def select_exponents(eigenvalues: np.ndarray, count: int, omega) -> np.ndarray:
     eig = np.atleast_2d(eigenvalues)
     w = np.broadcast_to(np.asarray(omega, dtype=float), (eig.shape[0],))[:, None]
     key = np.where(np.isfinite(eig), np.abs(eig.imag), np.inf)
-    order = np.argsort(key, axis=1, kind="stable")[:, :count]
-    lam = np.take_along_axis(eig, order, axis=1)
+    order = np.argsort(key, axis=1, kind="stable")
+    lam = np.take_along_axis(eig, order[:, :count], axis=1)
+    # rows where two chosen eigenvalues may be members of one family
+    suspect = np.flatnonzero(
+        np.any(
+            key[np.arange(eig.shape[0])[:, None], order[:, :count]] > 0.25 * w, axis=1
+        )
+    )
+    for row in suspect:
+        lam[row] = _one_per_family(eig[row, order[row]], count, float(w[row, 0]))
     lam = lam.real + 1j * (lam.imag - w * np.round(lam.imag / w))
     lam = np.take_along_axis(lam, np.argsort(-lam.real, axis=1, kind="stable"), 1)
     return lam[0] if np.ndim(eigenvalues) == 1 else lam
+
+
+#: relative distance (to Ω) under which two Hill eigenvalues ``i m Ω``
+#: apart (m ≠ 0) count as members of one family
+FAMILY_TOLERANCE = 1e-6
+
+
+def _one_per_family(ordered: np.ndarray, count: int, omega: float) -> np.ndarray:
+    """The first ``count`` of ``ordered`` (eigenvalues by increasing
+    ``|Im|``) that are not members of the family of one taken before."""
+    chosen: list[complex] = []
+    for lam in ordered:
+        if not np.isfinite(lam):
+            break
+        for c in chosen:
+            shift = (lam.imag - c.imag) / omega
+            m = round(shift)
+            if (
+                m != 0
+                and abs(shift - m) <= FAMILY_TOLERANCE
+                and abs(lam.real - c.real) <= FAMILY_TOLERANCE * omega
+            ):
+                break
+        else:
+            chosen.append(lam)
+            if len(chosen) == count:
+                break
+    while len(chosen) < count:  # too few finite eigenvalues: as before
+        chosen.append(complex(np.inf))
+    return np.array(chosen)
 
 
 def _parity_blocks(harmonic_numbers: np.ndarray, n_dof: int):
