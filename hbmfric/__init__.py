@@ -58,6 +58,8 @@ _LAZY = {
     "criterion": (".criterion", None),
     "identify": (".identify", None),
     "validation": (".validation", None),
+    # loads scipy.optimize (through the special points): on first use
+    "period_doubled_branch": (".switching", "period_doubled_branch"),
 }
 
 
@@ -115,6 +117,7 @@ __all__ = [
     "identify",
     "lap_joint",
     "nonlinear_mode",
+    "period_doubled_branch",
     "periodic_solution",
     "read_matrices",
     "read_matrix",

@@ -153,3 +153,139 @@ def test_stress_hill_verdicts_with_period_doubling(preload, force):
     worst, compared, _ = _verdicts_agree(system, b)
     assert compared >= len(b) - 4
     assert worst < 1e-3
+
+
+# -- branch switching onto the period-doubled branch -------------------------
+
+
+@pytest.fixture(scope="module")
+def doubled(branch):
+    points = branch.special_points()
+    return points, hf.period_doubled_branch(branch, points[0])
+
+
+def test_doubled_branch_joins_the_two_doublings(doubled):
+    """Born at the first period doubling (2.9965 rad/s, subcritical: it
+    leaves towards lower Ω), the period-2T branch folds three times and
+    returns to the period-T branch at the second one (3.1782): its Ω/2
+    harmonic vanishes at both ends and is of the order of the response in
+    between."""
+    points, b2 = doubled
+    assert b2.info["subharmonic"] == 2
+    assert b2.stop_reason.startswith("returned to the period-T branch")
+    forcing = 2.0 * b2.omega
+    assert forcing[0] == pytest.approx(points[0].omega, abs=1e-3)
+    assert forcing[-1] == pytest.approx(points[1].omega, abs=1e-3)
+    assert forcing[1] < forcing[0]  # subcritical
+    half = b2.amplitude(harmonic=1)  # harmonic 1 of Ω/2
+    assert half[0] < 1e-2 * half.max() and half[-1] < 1e-2 * half.max()
+    assert half.max() > 1.0
+    assert b2.folds.size == 3
+
+
+def _state_at_zero(solution, fundamental):
+    X = solution.coefficients[0]
+    x0, v0, col = 0.0, 0.0, 0
+    for k in solution.harmonic_numbers:
+        if k == 0:
+            x0 += X[col]
+            col += 1
+        else:
+            x0 += X[col]
+            v0 += k * fundamental * X[col + 1]
+            col += 2
+    return x0, v0
+
+
+def test_doubled_branch_stability_against_the_time_domain_monodromy(doubled):
+    """Hill on the period-2T balance against the monodromy of two forcing
+    periods, at 5 points of each stretch between the folds: same verdict,
+    moduli within 1e-3 (measured 1e-4)."""
+    _, b2 = doubled
+    hill = b2.stability()
+    bounds = [0, *b2.folds.tolist(), len(b2)]
+    system = preloaded_duffing()
+    for lo, hi in zip(bounds[:-1], bounds[1:], strict=True):
+        for i in np.linspace(lo + 3, hi - 4, 5).round().astype(int):
+            td = monodromy(system, b2.point(int(i)))
+            assert td.periods == 2
+            assert (td.max_modulus < 1.0) == bool(hill.stable[i])
+            moduli = np.sort(np.abs(td.multipliers))
+            assert np.max(np.abs(moduli - np.sort(np.abs(hill.multipliers[i])))) < 1e-3
+
+
+def _integrate(omega, x0, v0, periods):
+    """``ẍ + 0.02 ẋ + x + x³ = 1 + 0.5 cos Ωt`` by DOP853 (independent of
+    the package); the displacement over the last two forcing periods."""
+    from scipy.integrate import solve_ivp
+
+    def rhs(t, z):
+        x, v = z
+        return [v, 1.0 + 0.5 * np.cos(omega * t) - 0.02 * v - x - x**3]
+
+    T = 2.0 * np.pi / omega
+    t_end = periods * T
+    t = t_end - 2.0 * T + 2.0 * T * np.arange(256) / 256
+    sol = solve_ivp(
+        rhs,
+        (0.0, t_end),
+        [x0, v0],
+        method="DOP853",
+        rtol=1e-10,
+        atol=1e-12,
+        t_eval=t,
+    )
+    assert sol.success
+    return sol.y[0]
+
+
+def _half_harmonic(x):
+    """Amplitude of the Ω/2 component of two periods sampled at 256 points."""
+    c = np.fft.rfft(x) / x.size
+    return 2.0 * abs(c[1])
+
+
+def test_doubled_branch_against_time_integration(branch, doubled):
+    """At Ω = 3.1 rad/s the period-T solution is unstable and a stable
+    period-2T one exists: started on it, an independent integration stays
+    there for 200 periods (its Ω/2 harmonic within 1e-4); started on the
+    period-T solution nudged by 1e-6, it leaves it and grows a Ω/2
+    harmonic."""
+    _, b2 = doubled
+    hill = b2.stability()
+    omega = 3.1
+    candidates = [
+        i
+        for i in range(len(b2) - 1)
+        if (2 * b2.omega[i] - omega) * (2 * b2.omega[i + 1] - omega) <= 0
+        and hill.stable[i]
+    ]
+    assert candidates
+    i = candidates[-1]  # the stretch that returns to the second doubling
+    sol = b2.point(i)
+    x0, v0 = _state_at_zero(sol, b2.omega[i])
+    x = _integrate(2 * b2.omega[i], x0, v0, periods=200)
+    assert abs(_half_harmonic(x) - sol.amplitude(harmonic=1)) < 1e-4
+    # the period-T solution at the same Ω (unstable there)
+    j = int(np.argmin(np.abs(branch.omega - 2 * b2.omega[i])))
+    assert not branch.stable[j]
+    p1 = branch.point(j)
+    x0, v0 = _state_at_zero(p1, branch.omega[j])
+    x = _integrate(float(branch.omega[j]), x0 * (1 + 1e-6), v0, periods=400)
+    assert _half_harmonic(x) > 0.05
+
+
+def test_switching_refuses_what_it_cannot_do(branch, doubled):
+    points, b2 = doubled
+    fold_branch = hf.frf(
+        hf.Oscillator(1.0, 0.05, 1.0, hf.Cubic(0.1)), 0.2, (0.5, 2.0), 9
+    )
+    fold = fold_branch.special_points()[0]
+    with pytest.raises(ValueError, match="period doubling"):
+        hf.period_doubled_branch(fold_branch, fold)
+    with pytest.raises(ValueError, match="must contain"):
+        hf.period_doubled_branch(branch, points[0], (3.05, 3.3))
+    with pytest.raises(ValueError, match="already a subharmonic"):
+        hf.period_doubled_branch(b2, points[0])
+    with pytest.raises(ValueError, match="harmonics"):
+        hf.period_doubled_branch(branch, points[0], harmonics=4)

@@ -265,12 +265,17 @@ class Continuation:
         status, it = self._correct(y, y.copy(), e_omega, max_iter)
         return y, status, it
 
-    def init(self, guess: np.ndarray | None = None) -> ContinuationState:
+    def init(
+        self, guess: np.ndarray | None = None, start_omega: float | None = None
+    ) -> ContinuationState:
         """Solve the first point and set up the state: Newton from ``guess``
         and the linearisations, then the load ramp, then arc-length
-        continuation in the load (module doc)."""
+        continuation in the load (module doc). The first point is at the
+        range's starting end, or at ``start_omega`` inside the range."""
         n = self.problem.n_unknowns
         omega0 = self.low if self.direction > 0 else self.high
+        if start_omega is not None:
+            omega0 = float(start_omega)
         guesses = [guess] if guess is not None else []
         guesses += [g[:n] for g in self.problem.initial_guesses(omega0)]
         t0 = np.zeros(n + 1)
@@ -879,10 +884,14 @@ class Continuation:
         state.stop_reason = reason
         return state
 
-    def run(self, guess: np.ndarray | None = None) -> tuple[ContinuationState, float]:
-        """Trace the branch; returns the final state and the elapsed time, s."""
+    def run(
+        self, guess: np.ndarray | None = None, start_omega: float | None = None
+    ) -> tuple[ContinuationState, float]:
+        """Trace the branch (from ``start_omega`` inside the range, if
+        given, else from its starting end); returns the final state and the
+        elapsed time, s."""
         start = time.perf_counter()
-        state = self.init(guess)
+        state = self.init(guess, start_omega)
         while not state.finished:
             state = self._trace(state)
         return state, time.perf_counter() - start

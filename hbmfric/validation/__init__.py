@@ -16,7 +16,7 @@ from .exact import (
     exact_branch,
     exact_periodic_solution,
 )
-from .monodromy import Monodromy, monodromy
+from .period_map import Monodromy, monodromy
 from .steady_state import SteadyState, steady_state
 
 __all__ = [

@@ -169,6 +169,8 @@ def monodromy(
         "perturbation", perturbation, low=0.0, low_open=True, high=1e-2
     )
     subharmonic = 1
+    if isinstance(start, PeriodicSolution):
+        subharmonic = int((start._source or {}).get("subharmonic", 1) or 1)
     if isinstance(start, SteadyState | PeriodicSolution):
         if not start.converged:
             raise ValueError(
@@ -178,13 +180,12 @@ def monodromy(
         if force is None:
             force = start.force
         if omega is None:
-            omega = start.omega
+            # a subharmonic solution's omega is its fundamental Ω/ν
+            omega = start.omega * subharmonic
     elif force is None or omega is None:
         raise ValueError("give force and omega with a state (x0, v0) as start")
     force = finite_float("force", force)
     omega = finite_float("omega", omega, low=0.0, low_open=True)
-    if isinstance(start, PeriodicSolution):
-        subharmonic = int((start._source or {}).get("subharmonic", 1) or 1)
     if steps_per_period is None:
         steps_per_period = (
             start.steps_per_period if isinstance(start, SteadyState) else 2048
