@@ -33,6 +33,7 @@ from .laws import (
 from .modes import NonlinearMode, nonlinear_mode
 from .results import Branch, PeriodicSolution
 from .study import StudyResult, grid, study
+from .switching import period_doubled_branch
 from .systems import (
     BeamCalibration,
     BeltTensioner,
@@ -58,8 +59,6 @@ _LAZY = {
     "criterion": (".criterion", None),
     "identify": (".identify", None),
     "validation": (".validation", None),
-    # loads scipy.optimize (through the special points): on first use
-    "period_doubled_branch": (".switching", "period_doubled_branch"),
 }
 
 

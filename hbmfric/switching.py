@@ -34,7 +34,6 @@ import warnings
 import numpy as np
 
 from ._validate import finite_float
-from .bifurcation import PERIOD_DOUBLING, SpecialPoint
 from .continuation import Continuation, ContinuationOptions
 from .continuation.palc import MAX_STEPS, RANGE_END, RANGE_START
 from .errors import ConvergenceError, CoverageWarning
@@ -48,7 +47,7 @@ SINGULAR_RATIO = 1e-3
 
 def period_doubled_branch(
     branch,
-    point: SpecialPoint,
+    point,
     omega_range: tuple[float, float] | None = None,
     *,
     system=None,
@@ -100,6 +99,9 @@ def period_doubled_branch(
         When no point of the new branch is found next to the bifurcation.
     """
     from .api import _branch, _branch_tangents, _describe, _problem
+
+    # the special points load scipy.optimize: imported on use
+    from .bifurcation import PERIOD_DOUBLING, SpecialPoint
     from .results import _stability_source
 
     if not isinstance(point, SpecialPoint) or point.kind != PERIOD_DOUBLING:
@@ -201,7 +203,7 @@ def period_doubled_branch(
     return result
 
 
-def _embedded(problem, point: SpecialPoint) -> np.ndarray:
+def _embedded(problem, point) -> np.ndarray:
     """The unknowns of ``problem`` (harmonics of Ω/2) holding the ``T``
     solution of ``point`` on the even harmonics."""
     X = np.zeros((problem.n_dof, problem.n_coef))
