@@ -69,6 +69,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._npz import check_harmonics, check_npz_sizes, field_error
 from ._validate import finite_float, positive_int
 from .errors import (
     AccuracyWarning,
@@ -367,12 +368,12 @@ class NonlinearMode:
         ValueError
             If ``path`` is not a readable nonlinear-mode file.
         """
+        check_npz_sizes(path, "nonlinear-mode")
         try:
             with np.load(Path(path), allow_pickle=False) as data:
                 meta = json.loads(str(data["meta"]))
                 if not isinstance(meta, dict) or meta.get("format") != FORMAT:
                     raise ValueError("wrong format tag")
-                n = data["amplitude"].shape[0]
                 mode = cls(
                     amplitude=np.asarray(data["amplitude"], dtype=np.float64).copy(),
                     omega=np.asarray(data["omega"], dtype=np.float64).copy(),
@@ -424,14 +425,6 @@ class NonlinearMode:
                         else None
                     ),
                 )
-                shapes = (
-                    mode.omega.shape == (n,),
-                    mode.damping_ratio.shape == (n,),
-                    mode.newton_iterations.shape == (n,),
-                    mode.coefficients.ndim == 3 and mode.coefficients.shape[0] == n,
-                )
-                if not all(shapes):
-                    raise ValueError("arrays of inconsistent lengths")
         except (
             AttributeError,
             OSError,
@@ -445,6 +438,7 @@ class NonlinearMode:
                 f"path {str(path)!r} is not an hbmfric nonlinear-mode file, or is "
                 f"damaged ({exc})"
             ) from None
+        _check_mode_arrays(path, mode)
         return mode
 
     def plot(self, axes=None, hz: bool = False, **kwargs):
@@ -834,6 +828,42 @@ def _amplitude_range(amplitude) -> tuple[float, float]:
             f"amplitude range must be increasing (low < high), got ({lo}, {hi})"
         )
     return lo, hi
+
+
+def _check_mode_arrays(path, mode: NonlinearMode) -> None:
+    """Check that the arrays of a loaded mode agree with each other;
+    ``ValueError`` naming the file and the field otherwise."""
+    bad = field_error(path)
+    a = mode.amplitude
+    if a.ndim != 1 or not np.all(np.isfinite(a)) or np.any(a <= 0.0):
+        raise bad("amplitude", "must be 1-d, finite and positive")
+    n = a.size
+    for name in ("omega", "damping_ratio", "newton_iterations", "truncation_error"):
+        value = getattr(mode, name)
+        if value is None:
+            continue
+        if value.shape != (n,):
+            raise bad(name, f"must have shape ({n},) like amplitude, got {value.shape}")
+        if not np.all(np.isfinite(value)):
+            raise bad(name, "has non-finite values")
+    n_coef = check_harmonics(bad, mode.harmonic_numbers)
+    c = mode.coefficients
+    if c.ndim != 3 or c.shape[0] != n or c.shape[2] != n_coef:
+        raise bad(
+            "coefficients",
+            f"has shape {c.shape}; amplitude ({n} points) and harmonic_numbers "
+            f"({n_coef} coefficients) ask for ({n}, n_dof, {n_coef})",
+        )
+    if not np.all(np.isfinite(c)):
+        raise bad("coefficients", "has non-finite values")
+    n_dof = c.shape[1]
+    if mode.load_vector is not None and mode.load_vector.shape != (n_dof,):
+        raise bad("load_vector", f"must have shape ({n_dof},)")
+    if mode._mass is not None and mode._mass.shape != (n_dof, n_dof):
+        raise bad("mass", f"must have shape ({n_dof}, {n_dof})")
+    for name, index in mode.dof_names.items():
+        if not 0 <= index < n_dof:
+            raise bad("dof_names", f"maps {name!r} to {index}, not in [0, {n_dof - 1}]")
 
 
 def nonlinear_mode(

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._npz import check_harmonics, check_npz_sizes, field_error
 from ._validate import dof_index
 from .signals import half_peak_to_peak, harmonic_amplitude, synthesis_matrix
 
@@ -874,7 +875,7 @@ class Branch:
         ValueError
             If ``path`` is not a readable hbmfric branch file.
         """
-        _check_npz_sizes(path)
+        check_npz_sizes(path, "branch")
         try:
             with np.load(Path(path), allow_pickle=False) as data:
                 meta = json.loads(str(data["meta"]))
@@ -989,61 +990,17 @@ def _stability_source(source: dict | None, system) -> dict:
     return src
 
 
-def _check_npz_sizes(path) -> None:
-    """Check, from the array headers alone, that every array of the ``.npz``
-    file ``path`` fits in the bytes stored for it (a damaged or forged
-    header must not make :meth:`Branch.load` allocate terabytes)."""
-    try:
-        with zipfile.ZipFile(Path(path)) as zf:
-            for info in zf.infolist():
-                if not info.filename.endswith(".npy"):
-                    continue
-                field_name = info.filename[:-4]
-                with zf.open(info) as fh:
-                    version = np.lib.format.read_magic(fh)
-                    if version == (1, 0):
-                        header = np.lib.format.read_array_header_1_0(fh)
-                    else:
-                        header = np.lib.format.read_array_header_2_0(fh)
-                    offset = fh.tell()
-                shape, _, dtype = header
-                if dtype.hasobject:
-                    raise ValueError(
-                        f"path {str(path)!r}: field {field_name!r} holds Python "
-                        "objects; a branch file holds numbers only"
-                    )
-                size = dtype.itemsize
-                for dim in shape:
-                    size *= int(dim)
-                stored = info.file_size - offset
-                if size > stored:
-                    raise ValueError(
-                        f"path {str(path)!r}: field {field_name!r} claims shape "
-                        f"{tuple(shape)} ({size} bytes) but the file stores "
-                        f"{stored} bytes for it; the file is damaged"
-                    )
-    except (OSError, EOFError, zipfile.BadZipFile) as exc:
-        raise ValueError(
-            f"path {str(path)!r} is not an hbmfric branch file, or is damaged ({exc})"
-        ) from None
-
-
 def _check_branch_arrays(path, branch: Branch) -> None:
     """Check that the arrays of a loaded branch agree with each other;
     ``ValueError`` naming the file and the field otherwise."""
-
-    def bad(field_name: str, what: str) -> ValueError:
-        return ValueError(f"path {str(path)!r}: field {field_name!r} {what}")
+    bad = field_error(path)
 
     n = branch.omega.size
     if branch.omega.ndim != 1:
         raise bad("omega", f"must be 1-d, has shape {branch.omega.shape}")
     if not np.all(np.isfinite(branch.omega)):
         raise bad("omega", "has non-finite values")
-    k = branch.harmonic_numbers
-    if k.ndim != 1 or k.size == 0 or np.any(k < 0) or np.any(np.diff(k) <= 0):
-        raise bad("harmonic_numbers", f"must be increasing integers >= 0, got {k}")
-    n_coef = int(np.sum(np.where(k == 0, 1, 2)))
+    n_coef = check_harmonics(bad, branch.harmonic_numbers)
     c = branch.coefficients
     if c.ndim != 3 or c.shape[0] != n or c.shape[2] != n_coef:
         raise bad(

@@ -313,3 +313,36 @@ def test_paper_writes_each_figure_when_computed(tmp_path, monkeypatch):
     for name in ("fig08_fake", "fig09_fake"):
         assert (tmp_path / f"{name}.csv").exists()
         assert (tmp_path / f"{name}.png").exists()
+
+
+def _mode(tmp_path):
+    osc = hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0))
+    mode = hf.nonlinear_mode(osc, amplitude=(0.1, 1.0), points=4, harmonics=3)
+    return mode.save(tmp_path / "m.npz")
+
+
+def test_mode_load_huge_header(tmp_path):
+    """A forged header must not make NonlinearMode.load allocate 8 TiB."""
+    path = _mode(tmp_path)
+    header = {"descr": "<f8", "fortran_order": False, "shape": (2**40 - 1,)}
+    _rewrite(path, "omega", header=header)
+    with pytest.raises(ValueError, match=r"m\.npz.*'omega'.*claims shape"):
+        hf.NonlinearMode.load(path)
+
+
+@pytest.mark.parametrize(
+    "field, array, match",
+    [
+        ("omega", np.linspace(1.0, 2.0, 7), "'omega'"),
+        ("damping_ratio", np.zeros(2), "'damping_ratio'"),
+        ("harmonic_numbers", np.arange(6), "'coefficients'"),
+        ("harmonic_numbers", np.array([3, 1]), "'harmonic_numbers'"),
+        ("amplitude", np.array([0.1, np.nan, 0.3, 1.0]), "'amplitude'"),
+        ("truncation_error", np.zeros(9), "'truncation_error'"),
+    ],
+)
+def test_mode_load_inconsistent_arrays(tmp_path, field, array, match):
+    path = _mode(tmp_path)
+    _rewrite(path, field, array)
+    with pytest.raises(ValueError, match=r"m\.npz.*" + match):
+        hf.NonlinearMode.load(path)
