@@ -10,7 +10,7 @@ from test_contact2d import OSC, OSC_ELEMENT, _first_harmonic, _integrate
 
 import hbmfric as hf
 from hbmfric.systems.protocol import check_system
-from hbmfric.validation.steady_state import _MultiProblem
+from hbmfric.validation.problems import SeveralContacts
 
 
 def _rig(element):
@@ -93,7 +93,7 @@ def test_multi_path_equals_the_single_contact_path():
     scheme, different code): the same steady state to 1e-10."""
     osc = hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0))
     single = hf.validation.steady_state(osc, 0.5, 1.6, steps_per_period=512)
-    problem = _MultiProblem.build(check_system(osc), np.array([0.5 + 0.0j]))
+    problem = SeveralContacts.build(check_system(osc), np.array([0.5 + 0.0j]))
     x, v = problem.initial_state(None, 1.6, 512)
     f = problem.initial_law_state(x)
     run = problem.integrate(1.6, 512, 1e-10, 20000, x, v, f)

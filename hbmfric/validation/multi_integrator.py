@@ -323,7 +323,7 @@ def _period(system, x, v, law_state, x_new, peaks, record, samples, contact_forc
 def newmark_periods_multi(system, x, v, law_state, x_new, starts, peaks):
     """:func:`hbmfric.validation.integrator.newmark_periods` for several
     contacts (``system`` built by
-    :class:`hbmfric.validation.steady_state._MultiProblem`)."""
+    :class:`hbmfric.validation.problems.SeveralContacts`)."""
     n = x.size
     n_periods = peaks.shape[0]
     no_samples = np.empty((0, 0))

@@ -162,7 +162,8 @@ def monodromy(
         does not converge, a state that is no longer finite).
     """
     from ..results import PeriodicSolution
-    from .steady_state import SteadyState, _MultiProblem, _Problem
+    from .problems import SeveralContacts, SingleContact
+    from .steady_state import SteadyState
 
     clock = time.perf_counter()
     perturbation = finite_float(
@@ -193,8 +194,8 @@ def monodromy(
     steps = positive_int("steps_per_period", steps_per_period, low=16)
     periods = positive_int("periods", subharmonic if periods is None else periods)
 
-    problem = _Problem.build(system, force)
-    state = _StateMap(problem, isinstance(problem, _MultiProblem))
+    problem = SingleContact.build(system, force)
+    state = _StateMap(problem, isinstance(problem, SeveralContacts))
 
     # the start (x, v, law state)
     if isinstance(start, SteadyState):
