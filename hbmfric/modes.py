@@ -981,7 +981,9 @@ def nonlinear_mode(
     stop_reason = "range reached"
     if not history:
         stop_reason = (
-            f"no solution near the linear mode {mode} at or below a = {lo:.3g}"
+            f"no solution near the linear mode {mode} "
+            f"({epmc.linear_omega / (2.0 * np.pi):.4g} Hz with the contacts "
+            f"stuck) at or below a = {lo:.3g}"
         )
     else:
         targets = list(grid) if z is None else list(grid[1:])
