@@ -316,6 +316,7 @@ class CondensedHBMProblem(HBMProblem):
             law_codes,
             np.ascontiguousarray(law_rows),
             coordinate_shapes,
+            np.zeros(1),
         )
         self.n_unknowns = self.n_coordinates * self.n_coef
 
@@ -327,6 +328,14 @@ class CondensedHBMProblem(HBMProblem):
         J = np.empty((self.n_unknowns, self.n_unknowns + 1))
         state = condensed_residual(y, self.kernel_problem, R, J)
         return R, J, int(state)
+
+    def rounding_level(self) -> float:
+        """Rounding level (N) of the last residual evaluated: on several
+        contact coordinates that of ``D = G⁻¹`` (the condition number of
+        the receptance matrix times eps times the terms ``|D| |q - p|``,
+        :func:`hbmfric.kernels.condensed._rounding_level`), which the
+        corrector accepts as converged; 0 for one contact to ground."""
+        return float(self.kernel_problem.rounding[0])
 
     def _complex_load(self) -> np.ndarray:
         """Complex load ``P̂_k`` per harmonic, shape (n_harmonics, n_dof)."""
