@@ -327,15 +327,14 @@ def _stuck_resonance_frf(condense):
         )
 
 
-def test_default_frf_covers_the_stuck_resonance():
-    """The stuck joint (Fex/P = 2e-5) across its resonance at defaults:
-    complete, peak at the stuck eigenfrequency (167.1 Hz). With several
-    contacts condensed by default (between the condensation merge and this
-    test) the step collapsed at 166.7 Hz from both sides and the branch
-    had a gap."""
-    branch = _stuck_resonance_frf(None)
+def test_full_frf_covers_the_stuck_resonance():
+    """The stuck joint (Fex/P = 2e-5) across its resonance, uncondensed
+    (the check of the condensed default below): complete, every point the
+    linear stuck FRF, peak at the stuck eigenfrequency (167.1 Hz)."""
+    branch = _stuck_resonance_frf(False)
     assert branch.complete and not branch.info["condensed"]
-    a = branch.amplitude(1, "drive")
+    a = branch.amplitude(1, "drive") / (2e-5 * 36e3)
+    np.testing.assert_allclose(a, _stuck_linear_drive(branch.omega), rtol=1e-7)
     assert branch.omega[np.argmax(a)] / HZ == pytest.approx(167.11, abs=0.05)
 
 
@@ -354,7 +353,8 @@ def _stuck_linear_drive(omega):
 
 
 def test_condensed_frf_covers_the_stuck_resonance():
-    """The same branch condensed onto the 8 contact coordinates: complete,
+    """The same branch condensed onto the 8 contact coordinates (the
+    default for several contacts since issue 15's fix): complete,
     and every point is the linear stuck FRF (the joint is stuck at this
     level; NumPy solves of the reduced model with contact springs), peak at
     167.11 Hz. Before issue 15's fix the step collapsed at 166.6 Hz (2938
@@ -362,7 +362,7 @@ def test_condensed_frf_covers_the_stuck_resonance():
     residual on the coordinates, ``D (q - p) + f`` with ``D = G⁻¹``,
     jitters in Ω at 2e-10 to 1e-9 N (``cond(G)`` 1.7e4) above the
     tolerance 7.2e-11 N, and the corrector hit its iteration limit."""
-    branch = _stuck_resonance_frf(True)
+    branch = _stuck_resonance_frf(None)
     assert branch.complete and branch.info["condensed"]
     force = 2e-5 * 36e3
     a = branch.amplitude(1, "drive") / force
