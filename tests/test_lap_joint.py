@@ -309,7 +309,7 @@ def test_the_criterion_reads_the_joint_as_microslip():
     assert fam.criterion().verdict == "microslip without roughness"
 
 
-def _stuck_resonance_frf(condense):
+def _stuck_resonance_frf(condense, sweep="up"):
     from hbmfric.paper.lap_joint import LAP_JOINT_SCENE
 
     joint = hf.LapJoint(n_pairs=10, bolt_preload=12000.0)
@@ -324,6 +324,7 @@ def _stuck_resonance_frf(condense):
             LAP_JOINT_SCENE["harmonics"],
             max_step=LAP_JOINT_SCENE["max_step"],
             condense=condense,
+            sweep=sweep,
         )
 
 
@@ -352,7 +353,8 @@ def _stuck_linear_drive(omega):
     return np.array([abs(linear_receptance(M, C, K, p, w)[j]) for w in omega])
 
 
-def test_condensed_frf_covers_the_stuck_resonance():
+@pytest.mark.parametrize("sweep", ["up", "down"])
+def test_condensed_frf_covers_the_stuck_resonance(sweep):
     """The same branch condensed onto the 8 contact coordinates (the
     default for several contacts since issue 15's fix): complete,
     and every point is the linear stuck FRF (the joint is stuck at this
@@ -362,7 +364,7 @@ def test_condensed_frf_covers_the_stuck_resonance():
     residual on the coordinates, ``D (q - p) + f`` with ``D = G⁻¹``,
     jitters in Ω at 2e-10 to 1e-9 N (``cond(G)`` 1.7e4) above the
     tolerance 7.2e-11 N, and the corrector hit its iteration limit."""
-    branch = _stuck_resonance_frf(None)
+    branch = _stuck_resonance_frf(None, sweep)
     assert branch.complete and branch.info["condensed"]
     force = 2e-5 * 36e3
     a = branch.amplitude(1, "drive") / force
