@@ -162,11 +162,14 @@ def frf(
         harmonic by the dynamic receptance, every DOF recovered at the
         end); several 1D contacts: on their contact coordinates (relative
         displacements), through the receptance matrix per harmonic
-        (:mod:`hbmfric.condensation`). Default: condensed whenever it
-        applies (:func:`~hbmfric.condensation.condensed_by_default`): a
-        system with several DOFs, symmetric matrices, a regular ``K``, 1D
-        contacts only (no 2D element) and fewer independent contact
-        coordinates than DOFs.
+        (:mod:`hbmfric.condensation`). Default: one contact to ground
+        on a system with several DOFs, symmetric matrices and a regular
+        ``K`` (:func:`~hbmfric.condensation.condensed_by_default`).
+        Several contacts are condensed only when asked (``True``,
+        ``"modal"``, ``"direct"``; fewer independent contact coordinates
+        than DOFs and no 2D element): the condensed continuation can
+        collapse its step at a lightly damped stuck resonance (the lap
+        joint; open).
         The receptance comes from modal superposition with all modes when
         the damping is classical, else from a direct solve per harmonic;
         ``"modal"`` or ``"direct"`` force one. ``False`` solves the full

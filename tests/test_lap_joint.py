@@ -328,11 +328,12 @@ def _stuck_resonance_frf(condense, sweep="up"):
         )
 
 
-def test_full_frf_covers_the_stuck_resonance():
-    """The stuck joint (Fex/P = 2e-5) across its resonance, uncondensed
-    (the check of the condensed default below): complete, every point the
-    linear stuck FRF, peak at the stuck eigenfrequency (167.1 Hz)."""
-    branch = _stuck_resonance_frf(False)
+def test_default_frf_covers_the_stuck_resonance():
+    """The stuck joint (Fex/P = 2e-5) across its resonance at defaults
+    (several contacts are solved in full unless condensation is asked):
+    complete, every point the linear stuck FRF, peak at the stuck
+    eigenfrequency (167.1 Hz)."""
+    branch = _stuck_resonance_frf(None)
     assert branch.complete and not branch.info["condensed"]
     a = branch.amplitude(1, "drive") / (2e-5 * 36e3)
     np.testing.assert_allclose(a, _stuck_linear_drive(branch.omega), rtol=1e-7)
@@ -355,8 +356,8 @@ def _stuck_linear_drive(omega):
 
 @pytest.mark.parametrize("sweep", ["up", "down"])
 def test_condensed_frf_covers_the_stuck_resonance(sweep):
-    """The same branch condensed onto the 8 contact coordinates (the
-    default for several contacts since issue 15's fix): complete,
+    """The same branch condensed onto the 8 contact coordinates
+    (``condense=True``): complete,
     and every point is the linear stuck FRF (the joint is stuck at this
     level; NumPy solves of the reduced model with contact springs), peak at
     167.11 Hz. Before issue 15's fix the step collapsed at 166.6 Hz (2938
@@ -364,7 +365,7 @@ def test_condensed_frf_covers_the_stuck_resonance(sweep):
     residual on the coordinates, ``D (q - p) + f`` with ``D = G⁻¹``,
     jitters in Ω at 2e-10 to 1e-9 N (``cond(G)`` 1.7e4) above the
     tolerance 7.2e-11 N, and the corrector hit its iteration limit."""
-    branch = _stuck_resonance_frf(None, sweep)
+    branch = _stuck_resonance_frf(True, sweep)
     assert branch.complete and branch.info["condensed"]
     force = 2e-5 * 36e3
     a = branch.amplitude(1, "drive") / force
