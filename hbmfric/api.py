@@ -167,9 +167,10 @@ def frf(
         ``K`` (:func:`~hbmfric.condensation.condensed_by_default`).
         Several contacts are condensed only when asked (``True``,
         ``"modal"``, ``"direct"``; fewer independent contact coordinates
-        than DOFs and no 2D element): the condensed continuation can
-        collapse its step at a lightly damped stuck resonance (the lap
-        joint; open).
+        than DOFs and no 2D element): the curve rule of the condensed
+        continuation watches the first contact's coordinate, not the
+        contact DOF drawn by default (the lap joint: chords up to 5e-4 off
+        on that DOF, warned, against 1e-4 in full).
         The receptance comes from modal superposition with all modes when
         the damping is classical, else from a direct solve per harmonic;
         ``"modal"`` or ``"direct"`` force one. ``False`` solves the full
@@ -350,6 +351,21 @@ def _branch_tangents(problem, points, tangents, amplitude_scale, width, n_coef=N
         up = problem.full_coefficients(points + h * t)
         down = problem.full_coefficients(points - h * t)
         d = (up - down) / (2.0 * h)
+        if getattr(problem, "multi", False):
+            # solved on several contact coordinates: the branch measures
+            # its arc length on the contact DOF (Branch._arc_metric, as for
+            # one condensed contact), so the tangents are unit there (the
+            # chord estimates of Branch.curve_errors multiply them by a
+            # length measured on that DOF); normalised on the coordinates
+            # they were not
+            c = problem.contact_dof
+            norm = np.hypot(
+                np.sqrt(np.sum(d[:, c, :] ** 2, axis=1)) / amplitude_scale,
+                t[:, n] / width,
+            )
+            norm = np.where(norm > 0.0, norm, 1.0)
+            d = d / norm[:, None, None]
+            t[:, n] /= norm
     else:
         d = t[:, :n].reshape(k, problem.n_dof, problem.n_coef)
     m = problem.n_coef if n_coef is None else n_coef

@@ -334,6 +334,13 @@ class HBMProblem:
         state = hbm_residual(y, self.kernel_problem, R, J)
         return R, J, int(state)
 
+    def rounding_level(self) -> float:
+        """Rounding level (N) of the last residual evaluated beyond the
+        generic floor of its terms (:func:`hbmfric.kernels.newton.
+        rounding_floor`): 0 here; a problem condensed onto several contact
+        coordinates reports the one of its receptance inverse."""
+        return 0.0
+
     def full_coefficients(self, points: np.ndarray) -> np.ndarray:
         """Coefficients of every DOF, shape (n_points, n_dof, n_coef), from
         solutions ``points = [X, Ω]`` of shape (n_points, n_unknowns + 1)

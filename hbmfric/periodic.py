@@ -312,7 +312,8 @@ class _FixedOmega:
             return True
         R, J, aft = self.problem.residual(y)
         res = float(np.max(np.abs(R))) if aft >= 0 else np.inf
-        if res <= max(self.tolerance, float(_newton.rounding_floor(J, y))):
+        floor = max(float(_newton.rounding_floor(J, y)), self.problem.rounding_level())
+        if res <= max(self.tolerance, floor):
             # Newton's look-ahead step test failed on a seam of the
             # piecewise smooth residual; the balance itself holds
             return True

@@ -379,3 +379,34 @@ def test_condensed_coordinate_kernels_compile_once():
     report = json.loads(out.stdout.strip().splitlines()[-1])
     assert report["second"] == report["first"]
     assert report["first"]["hbmfric.kernels.condensed.condensed_residual"] == 1
+
+
+def test_condensed_tangents_are_unit_on_the_contact_dof():
+    """``Branch.tangents`` of a branch condensed onto several coordinates
+    are unit tangents in the metric the branch measures its arc length in
+    (``Branch._arc_metric``: the contact DOF and Ω, scaled by
+    ``info["amplitude_scale"]`` and the range width), as documented for a
+    condensed branch; the chord estimates of ``Branch.curve_errors``
+    multiply them by lengths measured there. Reference: the chords between
+    neighbouring points, normalised in that metric, point along them.
+    (They were normalised on all the coordinates: norms 0.72-1.0 here.)"""
+    s = _structure(CONTACT_SETS["two"])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.AccuracyWarning)  # H = 5
+        branch = hf.frf(s, 0.1, (0.3, 0.6), harmonics=5, condense=True)
+    scale = branch.info["amplitude_scale"]
+    width = 0.3
+    dof = s.contact_dof
+    n_dof, n_coef = branch.coefficients.shape[1:]
+    t = branch.tangents
+    tx = t[:, :-1].reshape(-1, n_dof, n_coef)[:, dof] / scale
+    tw = t[:, -1] / width
+    norms = np.hypot(np.linalg.norm(tx, axis=1), tw)
+    np.testing.assert_allclose(norms, 1.0, rtol=1e-12)
+    dx = np.diff(branch.coefficients[:, dof], axis=0) / scale
+    dw = np.diff(branch.omega) / width
+    length = np.hypot(np.linalg.norm(dx, axis=1), dw)
+    chord = np.column_stack([dx, dw]) / length[:, None]
+    mid = 0.5 * (np.column_stack([tx, tw])[:-1] + np.column_stack([tx, tw])[1:])
+    off = np.linalg.norm(chord - mid, axis=1)
+    assert np.median(off) < 0.05, np.median(off)

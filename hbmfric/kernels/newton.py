@@ -10,7 +10,7 @@ import numpy as np
 
 from .._jit import jit
 from .linalg import lu_factor, lu_solve, solve_inplace
-from .residual import residual
+from .residual import residual, rounding_level
 
 CONVERGED = 0
 MAX_ITERATIONS = 1
@@ -111,8 +111,10 @@ def correct(
     corrector (orthogonal to the tangent through the predictor ``y_pred``);
     with ``constraint = e_Ω`` it is Newton's method at fixed Ω.
 
-    Convergence: ``max |R| <= max(tol_residual, rounding_floor(J, y))``
-    (the rounding level of the residual's terms) and the Newton update *from
+    Convergence: ``max |R| <= max(tol_residual, rounding_floor(J, y),
+    rounding_level(problem))`` (the rounding level of the residual's terms,
+    and the one a condensed residual reports for its receptance inverse,
+    :func:`hbmfric.kernels.residual.rounding_level`) and the Newton update *from
     the current iterate* is below ``tol_step`` in scaled variables; the
     update is then not applied (the point is within ``tol_step`` of the
     solution of the linearisation), which saves the residual evaluation
@@ -176,7 +178,7 @@ def correct(
         # (a stiff FE model at resonance: terms 1e7 N, rounding 2e-9 N,
         # where tol_residual = 1e-10 |F| asked 2e-10 N and Newton ran its
         # whole budget, then periodic_solution's fallbacks for minutes)
-        tol = max(tol_residual, rounding_floor(J, y))
+        tol = max(tol_residual, rounding_floor(J, y), rounding_level(problem))
         g = 0.0
         for i in range(n + 1):
             g += constraint[i] * (y[i] - y_pred[i]) / scale[i]

@@ -42,3 +42,27 @@ def _residual(y, problem, R, J):
         return hbm_residual(y, problem, R, J)
 
     return full
+
+
+def rounding_level(problem):
+    """Rounding level (N) of the last residual of ``problem`` beyond the
+    generic :func:`hbmfric.kernels.newton.rounding_floor`: the level a
+    condensed problem on several contact coordinates reports (its ``D =
+    G⁻¹`` carries the condition number of ``G``), 0 for any other problem.
+    Callable from jitted code only."""
+    raise NotImplementedError("hbmfric.kernels.residual.rounding_level is for jit code")
+
+
+@overload(rounding_level, jit_options={"cache": CACHE, "nogil": True})
+def _rounding_level(problem):
+    if _is_condensed(problem):
+
+        def condensed(problem):
+            return problem.rounding[0]
+
+        return condensed
+
+    def full(problem):
+        return 0.0
+
+    return full
