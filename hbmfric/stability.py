@@ -63,7 +63,6 @@ of the sorting strip, where the selection is ambiguous; hence both.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -72,9 +71,15 @@ import numpy as np
 SPLIT_TOLERANCE = 1e-10
 
 
-@dataclass
 class Stability:
     """Floquet exponents of the points of a branch (or of one solution).
+
+    ``stable`` is known at every point as soon as the object exists. On a
+    branch of one DOF, Hill's eigenvalues are computed at a few points only
+    (:func:`stability_of_points`, ``exponents="auto"``): ``computed`` marks
+    them, and the first access to ``exponents``, ``multipliers`` or
+    ``max_real`` computes the others (each point's full Hill problem, as
+    ``exponents="all"`` would have).
 
     Attributes
     ----------
@@ -93,21 +98,86 @@ class Stability:
         Highest harmonic of the full basis of the perturbation (each
         point's ``H``, or ``perturbation_harmonics`` when smaller).
     elapsed : float
-        Wall time of the computation, s.
+        Wall time of the computation of ``stable`` (and of the exponents
+        of the ``computed`` points), s.
     criterion : str
         Selection of the exponents among the Hill eigenvalues
         (``"imaginary"``: the ``2 n_dof`` whose imaginary parts are
         closest to 0).
+    computed : ndarray of bool, shape (n_points,)
+        Points whose Hill eigenvalues have been computed so far (all of
+        them once ``exponents`` has been read).
     """
 
-    exponents: np.ndarray
-    multipliers: np.ndarray
-    stable: np.ndarray
-    max_real: np.ndarray
-    omega: np.ndarray
-    harmonics: np.ndarray
-    elapsed: float
-    criterion: str = "imaginary"
+    def __init__(
+        self,
+        exponents: np.ndarray,
+        multipliers: np.ndarray,
+        stable: np.ndarray,
+        max_real: np.ndarray,
+        omega: np.ndarray,
+        harmonics: np.ndarray,
+        elapsed: float,
+        criterion: str = "imaginary",
+        *,
+        computed: np.ndarray | None = None,
+        fill=None,
+    ) -> None:
+        self._exponents = exponents
+        self._multipliers = multipliers
+        self._max_real = max_real
+        self.stable = stable
+        self.omega = omega
+        self.harmonics = harmonics
+        self.elapsed = elapsed
+        self.criterion = criterion
+        self.computed = (
+            np.ones(stable.shape, dtype=bool) if computed is None else computed
+        )
+        # callable: indices -> exponents (k, 2 n_dof), for the others
+        self._fill = fill
+
+    def __repr__(self) -> str:
+        return (
+            f"Stability(n_points={self.stable.size}, "
+            f"unstable={int(np.count_nonzero(~self.stable))}, "
+            f"computed={int(np.count_nonzero(self.computed))}, "
+            f"elapsed={self.elapsed:.3g})"
+        )
+
+    def __getstate__(self) -> dict:
+        self._complete()
+        state = self.__dict__.copy()
+        state["_fill"] = None
+        return state
+
+    def _complete(self) -> None:
+        """Compute the exponents of the points not computed yet."""
+        missing = np.flatnonzero(~self.computed)
+        if missing.size == 0 or self._fill is None:
+            return
+        lam = self._fill(missing)
+        self._exponents[missing] = lam
+        period = 2.0 * np.pi / self.omega[missing]
+        self._multipliers[missing] = np.exp(lam * period[:, None])
+        self._max_real[missing] = lam.real.max(axis=1)
+        self.computed[missing] = True
+        self._fill = None
+
+    @property
+    def exponents(self) -> np.ndarray:
+        self._complete()
+        return self._exponents
+
+    @property
+    def multipliers(self) -> np.ndarray:
+        self._complete()
+        return self._multipliers
+
+    @property
+    def max_real(self) -> np.ndarray:
+        self._complete()
+        return self._max_real
 
     def changes(self) -> np.ndarray:
         """Indices ``i`` where stability changes between points ``i - 1``
@@ -305,16 +375,39 @@ def floquet_exponents(
         Exponents (1/s), see :func:`select_exponents`.
     """
     single = np.ndim(jacobian) == 2
-    J = np.atleast_3d(jacobian) if not single else jacobian[None]
-    p = J.shape[0]
-    w = np.broadcast_to(np.asarray(omega, dtype=float), (p,))
+    J = np.asarray(jacobian, dtype=float)
+    J = J[None] if single else J
+    w = np.broadcast_to(np.asarray(omega, dtype=float), (J.shape[0],))
+    groups = _groups(J, harmonic_numbers, mass.shape[0], split)
+    lam = _pencil_exponents(J, mass, damping, harmonic_numbers, w, groups)
+    return lam[0] if single else lam
+
+
+def _groups(J: np.ndarray, harmonic_numbers, n_dof: int, split: bool) -> list:
+    """Index blocks of Hill's problem for the Jacobians ``J`` (n_points, n,
+    n): the odd and even harmonics' when ``split`` and no Jacobian couples
+    them, else the whole."""
+    groups = [np.arange(J.shape[1])]
+    if split and harmonic_numbers.size > 1:
+        odd, even = _parity_blocks(harmonic_numbers, n_dof)
+        coupling = max(
+            float(np.max(np.abs(J[:, odd][:, :, even]), initial=0.0)),
+            float(np.max(np.abs(J[:, even][:, :, odd]), initial=0.0)),
+        )
+        if coupling <= SPLIT_TOLERANCE * float(np.max(np.abs(J), initial=0.0)):
+            groups = [odd, even]
+    return groups
+
+
+def _pencil_exponents(J, mass, damping, harmonic_numbers, w, groups) -> np.ndarray:
+    """Selected exponents (n_points, 2 n_dof) of the Jacobians ``J``
+    (n_points, n, n) at the pulsations ``w`` (n_points,), Hill's problem
+    solved block by block (``groups``: index arrays)."""
     n_dof = mass.shape[0]
-    n = J.shape[1]
-    n_coef = n // n_dof
+    n_coef = J.shape[1] // n_dof
     eye = np.eye(n_coef)
     d1_damp = np.kron(damping, eye)
     d1_mass = 2.0 * np.kron(mass, derivative_operator(harmonic_numbers, 1.0))
-    d1 = d1_damp[None] + w[:, None, None] * d1_mass[None]
     d2 = np.kron(mass, eye)
     try:
         minv = np.linalg.inv(mass)
@@ -322,28 +415,14 @@ def floquet_exponents(
             minv = None
     except np.linalg.LinAlgError:
         minv = None
-    groups = [np.arange(n)]
-    if split and harmonic_numbers.size > 1:
-        odd, even = _parity_blocks(harmonic_numbers, n_dof)
-        coupling = max(
-            float(np.max(np.abs(J[:, odd][:, :, even]), initial=0.0)),
-            float(np.max(np.abs(J[:, even][:, :, odd]), initial=0.0)),
-        )
-        if coupling <= SPLIT_TOLERANCE * float(np.max(np.abs(J))):
-            groups = [odd, even]
     eigs = []
     for idx in groups:
-        mi = None if minv is None else np.kron(minv, eye)[np.ix_(idx, idx)]
-        eigs.append(
-            _companion_eigenvalues(
-                J[:, idx][:, :, idx],
-                d1[:, idx][:, :, idx],
-                d2[np.ix_(idx, idx)],
-                mi,
-            )
-        )
-    lam = select_exponents(np.concatenate(eigs, axis=1), 2 * n_dof, w)
-    return lam[0] if single else lam
+        sub = np.ix_(idx, idx)
+        d1 = d1_damp[sub][None] + w[:, None, None] * d1_mass[sub][None]
+        mi = None if minv is None else np.kron(minv, eye)[sub]
+        Jg = J if idx.size == J.shape[1] else J[:, idx][:, :, idx]
+        eigs.append(_companion_eigenvalues(Jg, d1, d2[sub], mi))
+    return select_exponents(np.concatenate(eigs, axis=1), 2 * n_dof, w)
 
 
 def _stability_problem(system, force, harmonics, n_time, aft, subharmonic):
@@ -370,34 +449,175 @@ def _stability_problem(system, force, harmonics, n_time, aft, subharmonic):
     return problem
 
 
-def _jacobian(problem, coefficients: np.ndarray, omega: float) -> np.ndarray:
-    """``∂R/∂X`` of ``problem`` (full basis) at coefficients given on
-    the harmonics ``0 … H`` or a subset (padded with zeros)."""
-    y = np.zeros(problem.n_unknowns + 1)
-    y[:-1] = coefficients.reshape(-1)
-    y[-1] = omega
-    _, J, state = problem.residual(y)
-    if state < 0:
-        raise ValueError(f"the AFT failed at Ω = {omega:.6g} rad/s (code {state})")
-    return J[:, :-1]
-
-
 def _to_full_basis(
     harmonic_numbers: np.ndarray, coefficients: np.ndarray, harmonics: int
 ) -> np.ndarray:
-    """Coefficients (n_dof, n_coef) on ``harmonic_numbers`` placed in the
-    full basis ``0 … harmonics`` (shape (n_dof, 2 harmonics + 1)); higher
-    harmonics are dropped."""
-    n_dof = coefficients.shape[0]
-    out = np.zeros((n_dof, 2 * harmonics + 1))
+    """Coefficients (..., n_dof, n_coef) on ``harmonic_numbers`` placed in
+    the full basis ``0 … harmonics`` (shape (..., n_dof, 2 harmonics +
+    1)); higher harmonics are dropped."""
+    out = np.zeros(coefficients.shape[:-1] + (2 * harmonics + 1,))
     col = 0
     for k in harmonic_numbers:
         width = 1 if k == 0 else 2
         if k <= harmonics:
             dst = 0 if k == 0 else 2 * k - 1
-            out[:, dst : dst + width] = coefficients[:, col : col + width]
+            out[..., dst : dst + width] = coefficients[..., col : col + width]
         col += width
     return out
+
+
+class _Level:
+    """The points of one harmonic level ``H`` of a stability computation:
+    their HBM problem (full basis ``0 … H``), unknowns and Hill blocks."""
+
+    def __init__(self, problem, idx, points, harmonic_numbers, keep, split):
+        self.problem = problem
+        self.idx = idx  # indices of the points in the whole set
+        self.points = points  # (k, n_unknowns + 1): [X in the full basis, Ω]
+        self.harmonic_numbers = harmonic_numbers  # of the perturbation
+        self.keep = keep  # rows/columns kept (perturbation harmonics) or None
+        self.mass = problem.kernel_problem[1]
+        self.damping = problem.kernel_problem[2]
+        self.n_dof = self.mass.shape[0]
+        n = problem.n_unknowns if keep is None else keep.size
+        self.n = n
+        self.chunk = max(1, _CHUNK_BYTES // (8 * n * n))
+        self.groups = self._decide_groups(split)
+
+    def jacobians(self, local: np.ndarray) -> np.ndarray:
+        """``∂R/∂X`` (k, n, n) at the level's points ``local`` (indices
+        into ``self.points``), one compiled loop."""
+        from .kernels.hill import hill_jacobians
+
+        problem = self.problem
+        n_full = problem.n_unknowns
+        J = np.empty((local.size, n_full, n_full))
+        status = np.empty(local.size, dtype=np.int64)
+        hill_jacobians(
+            np.ascontiguousarray(self.points[local]), problem.kernel_problem, J, status
+        )
+        bad = np.flatnonzero(status < 0)
+        if bad.size:
+            j = int(bad[0])
+            omega = float(self.points[local[j], -1])
+            raise ValueError(
+                f"the AFT failed at Ω = {omega:.6g} rad/s (code {int(status[j])})"
+            )
+        if self.keep is not None:
+            J = J[:, self.keep][:, :, self.keep]
+        return J
+
+    def _chunks(self):
+        k = self.idx.size
+        for a in range(0, k, self.chunk):
+            local = np.arange(a, min(k, a + self.chunk))
+            yield local, self.jacobians(local)
+
+    def _decide_groups(self, split: bool) -> list:
+        """Hill's blocks, decided on every point of the level (as one
+        :func:`floquet_exponents` call on all of them would)."""
+        hn = self.harmonic_numbers
+        if not split or hn.size <= 1:
+            return [np.arange(self.n)]
+        odd, even = _parity_blocks(hn, self.n_dof)
+        coupling, largest = 0.0, 0.0
+        for _, J in self._chunks():
+            coupling = max(
+                coupling,
+                float(np.max(np.abs(J[:, odd][:, :, even]), initial=0.0)),
+                float(np.max(np.abs(J[:, even][:, :, odd]), initial=0.0)),
+            )
+            largest = max(largest, float(np.max(np.abs(J), initial=0.0)))
+        if coupling <= SPLIT_TOLERANCE * largest:
+            return [odd, even]
+        return [np.arange(self.n)]
+
+    def exponents(self, local: np.ndarray) -> np.ndarray:
+        """Selected exponents (k, 2 n_dof) at the level's points ``local``."""
+        out = np.empty((local.size, 2 * self.n_dof), dtype=complex)
+        for a in range(0, local.size, self.chunk):
+            part = local[a : a + self.chunk]
+            out[a : a + part.size] = _pencil_exponents(
+                self.jacobians(part),
+                self.mass,
+                self.damping,
+                self.harmonic_numbers,
+                self.points[part, -1],
+                self.groups,
+            )
+        return out
+
+    def determinant_signs(self) -> np.ndarray:
+        """Signs (k, n_groups) of ``det Δ0`` of each Hill block at every
+        point of the level (0: numerically singular)."""
+        from .kernels.hill import block_determinant_signs
+
+        sizes = np.array([g.size for g in self.groups], dtype=np.int64)
+        blocks = np.zeros((len(self.groups), int(sizes.max())), dtype=np.int64)
+        for b, g in enumerate(self.groups):
+            blocks[b, : g.size] = g
+        signs = np.empty((self.idx.size, len(self.groups)), dtype=np.int64)
+        for local, J in self._chunks():
+            out = np.empty((local.size, len(self.groups)), dtype=np.int64)
+            block_determinant_signs(J, blocks, sizes, out)
+            signs[local] = out
+        return signs
+
+
+#: bytes of Jacobians held at once (larger sets are processed in chunks)
+_CHUNK_BYTES = 1 << 25
+#: ``exponents="auto"`` computes Hill's eigenvalues at every
+#: ``ANCHOR_SPACING``-th point at least (see :func:`stability_of_points`)
+ANCHOR_SPACING = 32
+
+
+def _exponents_at(levels: list, level_of: np.ndarray, local_of, where) -> np.ndarray:
+    """Exponents of the points ``where`` (global indices)."""
+    out = None
+    for lv_id in np.unique(level_of[where]):
+        lv = levels[int(lv_id)]
+        sel = np.flatnonzero(level_of[where] == lv_id)
+        lam = lv.exponents(local_of[where[sel]])
+        if out is None:
+            out = np.empty((where.size, lam.shape[1]), dtype=complex)
+        out[sel] = lam
+    return out
+
+
+def _sparse_schedule(
+    n_points: int, flips: np.ndarray, verdict, anchor_spacing: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Points at which to compute Hill's eigenvalues, and the verdict of
+    every point.
+
+    ``flips[i]`` (i >= 1): an indicator changes between points ``i - 1``
+    and ``i``. Computed: the first and last points, both ends of every
+    flip, every ``anchor_spacing``-th point; then, between two computed
+    points with different verdicts, the middle one, until every such pair
+    is adjacent. ``verdict(where)`` returns the stability of the points
+    ``where``. Every other point takes the verdict of the computed points
+    around it (equal by construction).
+    """
+    want = np.zeros(n_points, dtype=bool)
+    want[[0, n_points - 1]] = True
+    want[::anchor_spacing] = True
+    f = np.flatnonzero(flips)
+    want[f] = True
+    want[f - 1] = True
+    computed = np.zeros(n_points, dtype=bool)
+    stable = np.zeros(n_points, dtype=bool)
+    while True:
+        new = np.flatnonzero(want & ~computed)
+        if new.size == 0:
+            break
+        stable[new] = verdict(new)
+        computed[new] = True
+        c = np.flatnonzero(computed)
+        gap = (np.diff(c) > 1) & (stable[c[1:]] != stable[c[:-1]])
+        want[(c[:-1][gap] + c[1:][gap]) // 2] = True
+    c = np.flatnonzero(computed)
+    nearest = c[np.searchsorted(c, np.arange(n_points), side="right") - 1]
+    return computed, stable[nearest]
 
 
 def stability_of_points(
@@ -413,6 +633,7 @@ def stability_of_points(
     subharmonic: int = 1,
     symmetric: bool = False,
     perturbation_harmonics: int | None = None,
+    exponents: str = "auto",
 ) -> Stability:
     """Hill's stability of periodic solutions of ``system``.
 
@@ -436,7 +657,8 @@ def stability_of_points(
     subharmonic : int
     symmetric : bool
         The solutions have odd harmonics and the system is odd: solve the
-        odd and even blocks separately (checked point by point).
+        odd and even blocks separately (checked on the points of each
+        ``H``).
     perturbation_harmonics : int, optional
         Highest harmonic ``Hp`` of the perturbation: the Jacobian is
         evaluated at the solution with all its harmonics, and Hill's
@@ -444,44 +666,107 @@ def stability_of_points(
         (a Galerkin truncation of the perturbation alone). Default: each
         point's ``H``. Smaller is cheaper (the eigenvalue solves grow like
         ``Hp³``) and less accurate (``tests/test_stability.py``).
+    exponents : {"auto", "all"}
+        ``"all"``: Hill's eigenvalues at every point. ``"auto"``: the same
+        on several DOFs; on one DOF with positive mass and damping, at a
+        few points only (the others' exponents are computed when first
+        read, :class:`Stability`): the sign of ``det Δ0`` of each Hill
+        block is tracked at every point (an LU of the HBM Jacobian; it
+        changes exactly where an odd number of real exponents crosses
+        zero: folds, branch points), and the eigenvalues are computed at
+        both ends of every sign change, at the first and last points, at
+        every ``ANCHOR_SPACING``-th point, and, between two computed
+        points of different stability, at the middle point until they
+        are adjacent. A stretch between computed points with no sign
+        change takes their (equal) stability. What this can miss: an
+        even number of complex crossings (period doubling,
+        Neimark–Sacker) between two anchors with no real crossing
+        between them; for one DOF and a smooth law Liouville's formula
+        rules the Neimark–Sacker crossing out, and a period doubling
+        takes a pair of real multipliers below -1 and back.
 
     Returns
     -------
     Stability
     """
+    if exponents not in ("auto", "all"):
+        raise ValueError(f'exponents must be "auto" or "all", got {exponents!r}')
     start = time.perf_counter()
+    omega = np.asarray(omega, dtype=float)
     n_points = omega.size
     n_dof = coefficients.shape[1]
-    exps = np.zeros((n_points, 2 * n_dof), dtype=complex)
-    levels = np.asarray(point_harmonics, dtype=np.int64)
-    used = levels.copy()
-    for h in np.unique(levels):
+    levels_of = np.asarray(point_harmonics, dtype=np.int64)
+    used = levels_of.copy()
+    levels: list[_Level] = []
+    level_of = np.zeros(n_points, dtype=np.int64)
+    local_of = np.zeros(n_points, dtype=np.int64)
+    for h in np.unique(levels_of):
         h = int(h)
         nt = n_time if n_time is not None and n_time > 2 * h else None
         problem = _stability_problem(system, force, h, nt, aft, subharmonic)
-        idx = np.flatnonzero(levels == h)
-        J = np.empty((idx.size, problem.n_unknowns, problem.n_unknowns))
-        for j, i in enumerate(idx):
-            full = _to_full_basis(harmonic_numbers, coefficients[i], h)
-            J[j] = _jacobian(problem, full, float(omega[i]))
-        mass, damping = problem.kernel_problem[1], problem.kernel_problem[2]
+        idx = np.flatnonzero(levels_of == h)
+        points = np.empty((idx.size, problem.n_unknowns + 1))
+        points[:, :-1] = _to_full_basis(harmonic_numbers, coefficients[idx], h).reshape(
+            idx.size, -1
+        )
+        points[:, -1] = omega[idx]
         hn = problem.harmonic_numbers
+        keep = None
         if perturbation_harmonics is not None and perturbation_harmonics < h:
             hn = hn[hn <= perturbation_harmonics]
             keep = np.concatenate(
                 [d * problem.n_coef + np.arange(2 * hn[-1] + 1) for d in range(n_dof)]
             )
-            J = J[:, keep][:, :, keep]
         used[idx] = hn[-1]
-        exps[idx] = floquet_exponents(J, mass, damping, hn, omega[idx], symmetric)
+        level_of[idx] = len(levels)
+        local_of[idx] = np.arange(idx.size)
+        levels.append(_Level(problem, idx, points, hn, keep, symmetric))
+
+    def exponents_at(where: np.ndarray) -> np.ndarray:
+        return _exponents_at(levels, level_of, local_of, where)
+
+    exps = np.full((n_points, 2 * n_dof), np.nan + 0j)
+    sparse = (
+        exponents == "auto"
+        and n_points > 2
+        and n_dof == 1
+        and float(levels[0].mass[0, 0]) > 0.0
+        and float(levels[0].damping[0, 0]) > 0.0
+    )
+    if sparse:
+        signs = np.zeros((n_points, 3), dtype=np.int64)
+        for lv_id, lv in enumerate(levels):
+            s = lv.determinant_signs()
+            signs[lv.idx, : s.shape[1]] = s
+            signs[lv.idx, 2] = lv_id
+        zero = np.any(signs[:, :2] == 0, axis=1)
+        flips = np.zeros(n_points, dtype=bool)
+        flips[1:] = np.any(signs[1:] != signs[:-1], axis=1) | zero[1:] | zero[:-1]
+
+        def verdict(where: np.ndarray) -> np.ndarray:
+            lam = exponents_at(where)
+            exps[where] = lam
+            return lam.real.max(axis=1) < 0.0
+
+        computed, stable = _sparse_schedule(n_points, flips, verdict, ANCHOR_SPACING)
+    else:
+        computed = np.ones(n_points, dtype=bool)
+        if n_points:
+            exps[:] = exponents_at(np.arange(n_points))
+        stable = exps.real.max(axis=1) < 0.0 if n_points else np.zeros(0, bool)
     period = 2.0 * np.pi / omega
     max_real = exps.real.max(axis=1) if n_points else np.zeros(0)
+    fill = None
+    if not computed.all():
+        fill = exponents_at
     return Stability(
         exponents=exps,
         multipliers=np.exp(exps * period[:, None]),
-        stable=max_real < 0.0,
+        stable=stable,
         max_real=max_real,
         omega=omega.copy(),
         harmonics=used,
         elapsed=time.perf_counter() - start,
+        computed=computed,
+        fill=fill,
     )
