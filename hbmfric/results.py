@@ -428,7 +428,12 @@ class Branch:
 
     # ------------------------------------------------------------------
     # stability (hbmfric/stability.py)
-    def stability(self, system=None, perturbation_harmonics: int | None = None):
+    def stability(
+        self,
+        system=None,
+        perturbation_harmonics: int | None = None,
+        exponents: str = "auto",
+    ):
         """Floquet exponents of every point by Hill's method
         (:mod:`hbmfric.stability`), computed on the first call and cached
         (nothing is computed while tracing).
@@ -448,6 +453,13 @@ class Branch:
             sees every harmonic of the solution): cheaper, less accurate;
             default each point's ``H``. See
             :func:`hbmfric.stability.stability_of_points`.
+        exponents : {"auto", "all"}
+            ``"auto"``: on a branch of one DOF, ``stable`` is decided at
+            every point while Hill's eigenvalues are computed at a few
+            points only (``Stability.computed``); the others' are computed
+            when ``exponents``, ``multipliers`` or ``max_real`` is first
+            read. ``"all"``: at every point now. Both give the same
+            ``stable`` (:func:`hbmfric.stability.stability_of_points`).
 
         Returns
         -------
@@ -458,8 +470,11 @@ class Branch:
         Raises
         ------
         ValueError
-            Without a system, or for a rigid Coulomb contact.
+            Without a system, for a rigid Coulomb contact, or for another
+            ``exponents``.
         """
+        if exponents not in ("auto", "all"):
+            raise ValueError(f'exponents must be "auto" or "all", got {exponents!r}')
         key = perturbation_harmonics
         if self._stability is None or system is not None or key != self._hp:
             from ._validate import positive_int
@@ -489,8 +504,11 @@ class Branch:
                 subharmonic=int(self.info.get("subharmonic", 1)),
                 symmetric=bool(self.info.get("odd_only", False)),
                 perturbation_harmonics=key,
+                exponents=exponents,
             )
             self._hp = key
+        if exponents == "all":
+            self._stability.exponents  # noqa: B018 - computes the missing ones
         return self._stability
 
     def special_points(self, system=None, stability: bool = True) -> list:

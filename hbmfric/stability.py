@@ -482,11 +482,29 @@ class _Level:
         n = problem.n_unknowns if keep is None else keep.size
         self.n = n
         self.chunk = max(1, _CHUNK_BYTES // (8 * n * n))
+        # the Jacobians of all points while the computation runs, when
+        # they fit in one chunk (dropped by release())
+        self._all = None
+        if idx.size <= self.chunk:
+            self._all = self._evaluate(np.arange(idx.size))
         self.groups = self._decide_groups(split)
+
+    def release(self) -> None:
+        """Drop the Jacobians held (later calls evaluate them again)."""
+        self._all = None
 
     def jacobians(self, local: np.ndarray) -> np.ndarray:
         """``∂R/∂X`` (k, n, n) at the level's points ``local`` (indices
-        into ``self.points``), one compiled loop."""
+        into ``self.points``)."""
+        if self._all is not None:
+            k = self._all.shape[0]
+            if local.size == k and np.array_equal(local, np.arange(k)):
+                return self._all
+            return self._all[local]
+        return self._evaluate(local)
+
+    def _evaluate(self, local: np.ndarray) -> np.ndarray:
+        """``∂R/∂X`` at the points ``local``, one compiled loop."""
         from .kernels.hill import hill_jacobians
 
         problem = self.problem
@@ -519,18 +537,19 @@ class _Level:
         hn = self.harmonic_numbers
         if not split or hn.size <= 1:
             return [np.arange(self.n)]
+        from .kernels.hill import largest_entry
+
         odd, even = _parity_blocks(hn, self.n_dof)
+        whole = np.arange(self.n)
         coupling, largest = 0.0, 0.0
         for _, J in self._chunks():
             coupling = max(
-                coupling,
-                float(np.max(np.abs(J[:, odd][:, :, even]), initial=0.0)),
-                float(np.max(np.abs(J[:, even][:, :, odd]), initial=0.0)),
+                coupling, largest_entry(J, odd, even), largest_entry(J, even, odd)
             )
-            largest = max(largest, float(np.max(np.abs(J), initial=0.0)))
-        if coupling <= SPLIT_TOLERANCE * largest:
+            largest = max(largest, largest_entry(J, whole, whole))
+        if np.isfinite(largest) and coupling <= SPLIT_TOLERANCE * largest:
             return [odd, even]
-        return [np.arange(self.n)]
+        return [whole]
 
     def exponents(self, local: np.ndarray) -> np.ndarray:
         """Selected exponents (k, 2 n_dof) at the level's points ``local``."""
@@ -756,6 +775,8 @@ def stability_of_points(
         stable = exps.real.max(axis=1) < 0.0 if n_points else np.zeros(0, bool)
     period = 2.0 * np.pi / omega
     max_real = exps.real.max(axis=1) if n_points else np.zeros(0)
+    for lv in levels:
+        lv.release()
     fill = None
     if not computed.all():
         fill = exponents_at

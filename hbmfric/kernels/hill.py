@@ -75,3 +75,18 @@ def block_determinant_signs(jac, blocks, sizes, signs):
                 if W[k, k] < 0.0:
                     s = -s
             signs[i, b] = s
+
+
+@jit
+def largest_entry(jac, rows, cols):
+    """Largest ``|jac[i, r, c]|`` over all matrices ``i``, ``r`` in
+    ``rows``, ``c`` in ``cols`` (int64 index arrays); inf if any of them
+    is not finite."""
+    big = 0.0
+    for i in range(jac.shape[0]):
+        for r in rows:
+            for c in cols:
+                a = abs(jac[i, r, c])
+                if not a <= big:
+                    big = a if a == a else np.inf
+    return big
