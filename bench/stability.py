@@ -2,12 +2,14 @@
 
 P1 (m = 1, c = 0.02, k = 1, Jenkins kt = 3, f_s = 1), F = 0.5, Ω in
 (0.5, 3), H = 15 fixed: the warm trace time (``Branch.elapsed``) against
-the time of ``Branch.stability()`` on the same branch, minimum of
-``--repeat`` interleaved runs; then the Duffing case of
+the time of ``Branch.stability()`` (``exponents="auto"``: eigenvalues at a
+few points) and of ``Branch.stability(exponents="all")`` on the same
+branch, minimum of ``--repeat`` interleaved runs; then the Duffing case of
 ``tests/test_stability.py``: how close the stability changes lie to the
-folds.
+folds; with ``--beam`` the paper beam (several DOFs: eigenvalues at every
+point), F_n = 5 N.
 
-    python -m bench.stability [--repeat 10]
+    python -m bench.stability [--repeat 10] [--beam]
 """
 
 from __future__ import annotations
@@ -24,18 +26,42 @@ def p1_ratio(repeat: int) -> dict:
     law = hf.Jenkins(stiffness=3.0, slip_force=1.0)
     osc = hf.Oscillator(1.0, 0.02, 1.0, law)
     hf.frf(osc, 0.5, (0.5, 3.0), harmonics=15).stability()  # warm
-    trace, hill = [], []
+    return _ratio(lambda: hf.frf(osc, 0.5, (0.5, 3.0), harmonics=15), repeat)
+
+
+def beam_ratio(repeat: int) -> dict:
+    import warnings
+
+    from hbmfric.paper.beam import HZ, paper_beam, paper_calibration
+
+    system = paper_beam(5.0, paper_calibration())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.HbmfricWarning)
+        return _ratio(lambda: hf.frf(system, 2.0, (15.0 * HZ, 110.0 * HZ)), repeat)
+
+
+def _ratio(trace_branch, repeat: int) -> dict:
+    trace, hill, full = [], [], []
     for _ in range(repeat):
-        branch = hf.frf(osc, 0.5, (0.5, 3.0), harmonics=15)
+        branch = trace_branch()
         trace.append(branch.elapsed)
         t = time.perf_counter()
-        branch.stability()
+        stab = branch.stability()
         hill.append(time.perf_counter() - t)
+        computed = int(stab.computed.sum())
+        branch._stability = None
+        t = time.perf_counter()
+        ref = branch.stability(exponents="all")
+        full.append(time.perf_counter() - t)
+        assert (ref.stable == stab.stable).all()
     return {
         "points": len(branch),
         "trace_ms": 1e3 * min(trace),
         "stability_ms": 1e3 * min(hill),
         "ratio": min(hill) / min(trace),
+        "all_ms": 1e3 * min(full),
+        "all_ratio": min(full) / min(trace),
+        "computed": computed,
         "all_stable": bool(branch.stable.all()),
     }
 
@@ -58,13 +84,20 @@ def duffing_folds() -> list[tuple[float, float, float]]:
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--repeat", type=int, default=10)
+    parser.add_argument("--beam", action="store_true")
     args = parser.parse_args()
-    r = p1_ratio(args.repeat)
-    print(
-        f"P1 F=0.5 H=15: {r['points']} points, trace {r['trace_ms']:.1f} ms, "
-        f"stability {r['stability_ms']:.1f} ms, ratio {r['ratio']:.2f} "
-        f"(all stable: {r['all_stable']})"
-    )
+    cases = [("P1 F=0.5 H=15", p1_ratio)]
+    if args.beam:
+        cases.append(("beam Fn=5", beam_ratio))
+    for name, run in cases:
+        r = run(args.repeat)
+        print(
+            f"{name}: {r['points']} points, trace {r['trace_ms']:.1f} ms, "
+            f"stability {r['stability_ms']:.1f} ms (eigenvalues at "
+            f"{r['computed']} points), ratio {r['ratio']:.2f}; "
+            f'exponents="all" {r["all_ms"]:.1f} ms, ratio {r["all_ratio"]:.2f} '
+            f"(all stable: {r['all_stable']})"
+        )
     for fold, gap, spacing in duffing_folds():
         print(
             f"Duffing fold at Ω = {fold:.9f}: stability change {gap:+.1e} rad/s "

@@ -399,12 +399,11 @@ def _groups(J: np.ndarray, harmonic_numbers, n_dof: int, split: bool) -> list:
     return groups
 
 
-def _pencil_exponents(J, mass, damping, harmonic_numbers, w, groups) -> np.ndarray:
-    """Selected exponents (n_points, 2 n_dof) of the Jacobians ``J``
-    (n_points, n, n) at the pulsations ``w`` (n_points,), Hill's problem
-    solved block by block (``groups``: index arrays)."""
-    n_dof = mass.shape[0]
-    n_coef = J.shape[1] // n_dof
+def _pencil_blocks(mass, damping, harmonic_numbers, groups) -> list:
+    """Per Hill block (``groups``: index arrays): its indices, the damping
+    and Ω-proportional parts of ``Δ1`` (``Δ1 = d1_damp + Ω d1_mass``),
+    ``Δ2`` and the inverse of ``Δ2`` (None when the mass is singular)."""
+    n_coef = sum(g.size for g in groups) // mass.shape[0]
     eye = np.eye(n_coef)
     d1_damp = np.kron(damping, eye)
     d1_mass = 2.0 * np.kron(mass, derivative_operator(harmonic_numbers, 1.0))
@@ -415,14 +414,27 @@ def _pencil_exponents(J, mass, damping, harmonic_numbers, w, groups) -> np.ndarr
             minv = None
     except np.linalg.LinAlgError:
         minv = None
-    eigs = []
+    blocks = []
     for idx in groups:
         sub = np.ix_(idx, idx)
-        d1 = d1_damp[sub][None] + w[:, None, None] * d1_mass[sub][None]
         mi = None if minv is None else np.kron(minv, eye)[sub]
+        blocks.append((idx, d1_damp[sub], d1_mass[sub], d2[sub], mi))
+    return blocks
+
+
+def _pencil_exponents(J, mass, damping, harmonic_numbers, w, groups) -> np.ndarray:
+    """Selected exponents (n_points, 2 n_dof) of the Jacobians ``J``
+    (n_points, n, n) at the pulsations ``w`` (n_points,), Hill's problem
+    solved block by block (``groups``: index arrays, or the blocks of
+    :func:`_pencil_blocks`)."""
+    if not isinstance(groups[0], tuple):
+        groups = _pencil_blocks(mass, damping, harmonic_numbers, groups)
+    eigs = []
+    for idx, d1_damp, d1_mass, d2, mi in groups:
+        d1 = d1_damp[None] + w[:, None, None] * d1_mass[None]
         Jg = J if idx.size == J.shape[1] else J[:, idx][:, :, idx]
-        eigs.append(_companion_eigenvalues(Jg, d1, d2[sub], mi))
-    return select_exponents(np.concatenate(eigs, axis=1), 2 * n_dof, w)
+        eigs.append(_companion_eigenvalues(Jg, d1, d2, mi))
+    return select_exponents(np.concatenate(eigs, axis=1), 2 * mass.shape[0], w)
 
 
 def _stability_problem(system, force, harmonics, n_time, aft, subharmonic):
@@ -488,6 +500,9 @@ class _Level:
         if idx.size <= self.chunk:
             self._all = self._evaluate(np.arange(idx.size))
         self.groups = self._decide_groups(split)
+        self.blocks = _pencil_blocks(
+            self.mass, self.damping, harmonic_numbers, self.groups
+        )
 
     def release(self) -> None:
         """Drop the Jacobians held (later calls evaluate them again)."""
@@ -562,7 +577,7 @@ class _Level:
                 self.damping,
                 self.harmonic_numbers,
                 self.points[part, -1],
-                self.groups,
+                self.blocks,
             )
         return out
 
