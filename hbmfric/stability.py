@@ -58,6 +58,32 @@ whole) and the union is sorted. The odd block alone contains every Floquet
 multiplier too (shifted by ``iΩ``), but a real exponent of an even
 (symmetry-breaking) perturbation sits there at ``Im λ = ±Ω``, on the edge
 of the sorting strip, where the selection is ambiguous; hence both.
+
+Eigenvalues at a few points (``exponents="auto"``, one DOF): the stability
+changes where a selected exponent crosses the imaginary axis. A real one
+crossing 0 is a sign change of ``det Δ0 = det Δ2 Π(-λ_j)`` (complex pairs
+contribute ``|λ_j|² > 0``; ``det Δ2 = m^n > 0``), i.e. of the determinant
+of the HBM Jacobian (of each block), which an LU gives at every point for a
+small share of an eigenvalue solve. A complex crossing (period doubling at
+``Im λ = Ω/2``, Neimark–Sacker) changes no determinant on the real axis;
+in the truncated problem nothing pins the period-doubling exponent to
+``Im λ = Ω/2`` (the shift by ``iΩ`` that pins it in the infinite problem
+maps the truncated basis out of itself), so no real determinant of the
+integer-harmonic pencil detects it exactly (reasoning, not measured: no
+test branch has a period doubling); the half-harmonic basis would
+(a second Jacobian of twice the size per point) but locates the truncated
+crossing only up to the truncation. Liouville's formula rules the
+Neimark–Sacker crossing out for one DOF with a smooth law (the product of
+the multipliers is ``exp(-(c/m) T) < 1``); for a hysteretic law Hill's
+exponents do not obey it (their sum on P1 is down to -0.96 against
+``-c/m = -0.02``). Hence the scheme of :func:`stability_of_points`: the
+signs at every point, Hill's eigenvalues at both ends of every sign
+change, at the ends of the branch and at every ``ANCHOR_SPACING``-th
+point, and a bisection wherever two computed points disagree without a
+sign change between them (a complex crossing between anchors). What it
+cannot see is an even number of complex crossings between two anchors
+(an unstable island of period doubling narrower than the anchor spacing,
+with no real crossing inside).
 """
 
 from __future__ import annotations
@@ -602,7 +628,7 @@ class _Level:
 _CHUNK_BYTES = 1 << 25
 #: ``exponents="auto"`` computes Hill's eigenvalues at every
 #: ``ANCHOR_SPACING``-th point at least (see :func:`stability_of_points`)
-ANCHOR_SPACING = 32
+ANCHOR_SPACING = 64
 
 
 def _exponents_at(levels: list, level_of: np.ndarray, local_of, where) -> np.ndarray:
