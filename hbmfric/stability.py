@@ -506,9 +506,12 @@ def _to_full_basis(
 
 class _Level:
     """The points of one harmonic level ``H`` of a stability computation:
-    their HBM problem (full basis ``0 … H``), unknowns and Hill blocks."""
+    their HBM problem (full basis ``0 … H``), unknowns and Hill blocks.
 
-    def __init__(self, problem, idx, points, harmonic_numbers, keep, split):
+    With ``signs``, the signs of ``det Δ0`` of each Hill block at every
+    point are computed too (:meth:`determinant_signs`)."""
+
+    def __init__(self, problem, idx, points, harmonic_numbers, keep, split, signs):
         self.problem = problem
         self.idx = idx  # indices of the points in the whole set
         self.points = points  # (k, n_unknowns + 1): [X in the full basis, Ω]
@@ -520,12 +523,22 @@ class _Level:
         n = problem.n_unknowns if keep is None else keep.size
         self.n = n
         self.chunk = max(1, _CHUNK_BYTES // (8 * n * n))
+        whole = np.arange(n)
+        candidates = [whole]
+        if split and harmonic_numbers.size > 1:
+            candidates = list(_parity_blocks(harmonic_numbers, self.n_dof))
         # the Jacobians of all points while the computation runs, when
-        # they fit in one chunk (dropped by release())
+        # they fit in one chunk (dropped by release()), and the signs of
+        # the candidate blocks computed with them
         self._all = None
+        self._signs = None
         if idx.size <= self.chunk:
-            self._all = self._evaluate(np.arange(idx.size))
-        self.groups = self._decide_groups(split)
+            self._all, self._signs = self._evaluate(
+                np.arange(idx.size), candidates if signs else None
+            )
+        self.groups = self._decide_groups(candidates)
+        if self._signs is not None and len(self.groups) != len(candidates):
+            self._signs = None  # the split was refused: signs of the whole
         self.blocks = _pencil_blocks(
             self.mass, self.damping, harmonic_numbers, self.groups
         )
@@ -542,18 +555,28 @@ class _Level:
             if local.size == k and np.array_equal(local, np.arange(k)):
                 return self._all
             return self._all[local]
-        return self._evaluate(local)
+        return self._evaluate(local)[0]
 
-    def _evaluate(self, local: np.ndarray) -> np.ndarray:
-        """``∂R/∂X`` at the points ``local``, one compiled loop."""
+    def _evaluate(self, local: np.ndarray, groups=None):
+        """``∂R/∂X`` at the points ``local``, one compiled loop, and the
+        signs (k, n_groups) of the determinants of the blocks ``groups``
+        (None: not computed)."""
         from .kernels.hill import hill_jacobians
 
         problem = self.problem
         n_full = problem.n_unknowns
         J = np.empty((local.size, n_full, n_full))
         status = np.empty(local.size, dtype=np.int64)
+        blocks, sizes = _block_table(groups or [], self.keep)
+        signs = np.empty((local.size, sizes.size), dtype=np.int64)
         hill_jacobians(
-            np.ascontiguousarray(self.points[local]), problem.kernel_problem, J, status
+            np.ascontiguousarray(self.points[local]),
+            problem.kernel_problem,
+            J,
+            status,
+            blocks,
+            sizes,
+            signs,
         )
         bad = np.flatnonzero(status < 0)
         if bad.size:
@@ -564,7 +587,7 @@ class _Level:
             )
         if self.keep is not None:
             J = J[:, self.keep][:, :, self.keep]
-        return J
+        return J, (signs if groups else None)
 
     def _chunks(self):
         k = self.idx.size
@@ -572,25 +595,23 @@ class _Level:
             local = np.arange(a, min(k, a + self.chunk))
             yield local, self.jacobians(local)
 
-    def _decide_groups(self, split: bool) -> list:
+    def _decide_groups(self, candidates: list) -> list:
         """Hill's blocks, decided on every point of the level (as one
-        :func:`floquet_exponents` call on all of them would)."""
-        hn = self.harmonic_numbers
-        if not split or hn.size <= 1:
-            return [np.arange(self.n)]
-        from .kernels.hill import largest_entry
+        :func:`floquet_exponents` call on all of them would): the odd and
+        even ones when ``candidates`` holds them and no Jacobian couples
+        them, else the whole."""
+        if len(candidates) == 1:
+            return candidates
+        from .kernels.hill import split_extremes
 
-        odd, even = _parity_blocks(hn, self.n_dof)
-        whole = np.arange(self.n)
+        odd, even = candidates
         coupling, largest = 0.0, 0.0
         for _, J in self._chunks():
-            coupling = max(
-                coupling, largest_entry(J, odd, even), largest_entry(J, even, odd)
-            )
-            largest = max(largest, largest_entry(J, whole, whole))
+            c, g = split_extremes(J, odd, even)
+            coupling, largest = max(coupling, c), max(largest, g)
         if np.isfinite(largest) and coupling <= SPLIT_TOLERANCE * largest:
-            return [odd, even]
-        return [whole]
+            return candidates
+        return [np.arange(self.n)]
 
     def exponents(self, local: np.ndarray) -> np.ndarray:
         """Selected exponents (k, 2 n_dof) at the level's points ``local``."""
@@ -610,18 +631,28 @@ class _Level:
     def determinant_signs(self) -> np.ndarray:
         """Signs (k, n_groups) of ``det Δ0`` of each Hill block at every
         point of the level (0: numerically singular)."""
+        if self._signs is not None:
+            return self._signs
         from .kernels.hill import block_determinant_signs
 
-        sizes = np.array([g.size for g in self.groups], dtype=np.int64)
-        blocks = np.zeros((len(self.groups), int(sizes.max())), dtype=np.int64)
-        for b, g in enumerate(self.groups):
-            blocks[b, : g.size] = g
-        signs = np.empty((self.idx.size, len(self.groups)), dtype=np.int64)
+        blocks, sizes = _block_table(self.groups, None)
+        signs = np.empty((self.idx.size, sizes.size), dtype=np.int64)
         for local, J in self._chunks():
-            out = np.empty((local.size, len(self.groups)), dtype=np.int64)
+            out = np.empty((local.size, sizes.size), dtype=np.int64)
             block_determinant_signs(J, blocks, sizes, out)
             signs[local] = out
         return signs
+
+
+def _block_table(groups: list, keep) -> tuple[np.ndarray, np.ndarray]:
+    """Index blocks as a padded table (n_blocks, m_max) and their sizes,
+    mapped through ``keep`` (indices of the kept rows in the full
+    matrix) when given."""
+    sizes = np.array([g.size for g in groups], dtype=np.int64)
+    blocks = np.zeros((sizes.size, int(sizes.max(initial=0))), dtype=np.int64)
+    for b, g in enumerate(groups):
+        blocks[b, : g.size] = g if keep is None else keep[g]
+    return blocks, sizes
 
 
 #: bytes of Jacobians held at once (larger sets are processed in chunks)
@@ -760,10 +791,20 @@ def stability_of_points(
     levels: list[_Level] = []
     level_of = np.zeros(n_points, dtype=np.int64)
     local_of = np.zeros(n_points, dtype=np.int64)
-    for h in np.unique(levels_of):
-        h = int(h)
+    problems = []
+    for h in (int(v) for v in np.unique(levels_of)):
         nt = n_time if n_time is not None and n_time > 2 * h else None
-        problem = _stability_problem(system, force, h, nt, aft, subharmonic)
+        problems.append(
+            (int(h), _stability_problem(system, force, h, nt, aft, subharmonic))
+        )
+    sparse = bool(
+        exponents == "auto"
+        and n_points > 2
+        and n_dof == 1
+        and problems[0][1].kernel_problem[1][0, 0] > 0.0
+        and problems[0][1].kernel_problem[2][0, 0] > 0.0
+    )
+    for h, problem in problems:
         idx = np.flatnonzero(levels_of == h)
         points = np.empty((idx.size, problem.n_unknowns + 1))
         points[:, :-1] = _to_full_basis(harmonic_numbers, coefficients[idx], h).reshape(
@@ -780,21 +821,16 @@ def stability_of_points(
         used[idx] = hn[-1]
         level_of[idx] = len(levels)
         local_of[idx] = np.arange(idx.size)
-        levels.append(_Level(problem, idx, points, hn, keep, symmetric))
+        levels.append(_Level(problem, idx, points, hn, keep, symmetric, sparse))
 
     def exponents_at(where: np.ndarray) -> np.ndarray:
         return _exponents_at(levels, level_of, local_of, where)
 
     exps = np.full((n_points, 2 * n_dof), np.nan + 0j)
-    sparse = (
-        exponents == "auto"
-        and n_points > 2
-        and n_dof == 1
-        and float(levels[0].mass[0, 0]) > 0.0
-        and float(levels[0].damping[0, 0]) > 0.0
-    )
     if sparse:
-        signs = np.zeros((n_points, 3), dtype=np.int64)
+        # columns: the sign of each block (at most two; +1 where unused),
+        # then the level
+        signs = np.ones((n_points, 3), dtype=np.int64)
         for lv_id, lv in enumerate(levels):
             s = lv.determinant_signs()
             signs[lv.idx, : s.shape[1]] = s

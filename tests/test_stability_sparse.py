@@ -48,6 +48,10 @@ def _friction_duffing():
 BRANCHES = {
     # two folds, unstable middle stretch
     "duffing": lambda: hf.frf(_duffing(), 0.2, (0.5, 2.0), harmonics=9),
+    # the whole basis (no odd/even split): one Hill block
+    "duffing-whole": lambda: hf.frf(
+        _duffing(), 0.2, (0.5, 2.0), harmonics=5, symmetry=False
+    ),
     # softening: folds on the other side
     "softening": lambda: hf.frf(
         hf.Oscillator(1.0, 0.02, 1.0, hf.Cubic(-0.05)), 0.05, (0.5, 1.5), harmonics=9
@@ -73,6 +77,7 @@ def test_sparse_verdicts_equal_every_point_hill(name):
     branch = BRANCHES[name]()
     if branch.point_harmonics is not None:
         assert np.unique(branch.point_harmonics).size > 1
+    assert branch.info["odd_only"] == (name != "duffing-whole")
     auto = branch.stability()
     computed = auto.computed.copy()
     branch._stability = None

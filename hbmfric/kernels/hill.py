@@ -17,8 +17,10 @@ from .linalg import lu_factor
 
 
 @jit
-def hill_jacobians(points, problem, jac, status):
-    """``∂R/∂X`` of the HBM residual at many solutions.
+def hill_jacobians(points, problem, jac, status, blocks, sizes, signs):
+    """``∂R/∂X`` of the HBM residual at many solutions, and optionally the
+    signs of the determinants of diagonal blocks of each (computed while
+    the Jacobian is fresh in the cache).
 
     Parameters
     ----------
@@ -31,6 +33,12 @@ def hill_jacobians(points, problem, jac, status):
         Output: the Jacobians (the Ω column left out), N/m.
     status : ndarray of int64, shape (n_points,)
         Output: contact-state code of each AFT (negative on failure).
+    blocks : ndarray of int64, shape (n_blocks, m_max)
+        Row (and column) indices of each block (``n_blocks = 0``: no
+        signs), the first ``sizes[b]`` of row ``b`` used.
+    sizes : ndarray of int64, shape (n_blocks,)
+    signs : ndarray of int64, shape (n_points, n_blocks)
+        Output: as :func:`block_determinant_signs`.
     """
     n = jac.shape[1]
     R = np.empty(n)
@@ -40,6 +48,28 @@ def hill_jacobians(points, problem, jac, status):
         for r in range(n):
             for c in range(n):
                 jac[i, r, c] = J[r, c]
+        for b in range(blocks.shape[0]):
+            signs[i, b] = _sign_of_det(J, blocks[b, : sizes[b]])
+
+
+@jit
+def _sign_of_det(J, block):
+    """Sign of ``det J[block][:, block]`` (0: singular or not finite)."""
+    m = block.size
+    W = np.empty((m, m))
+    p = np.empty(m, dtype=np.int64)
+    for r in range(m):
+        for c in range(m):
+            W[r, c] = J[block[r], block[c]]
+    if not lu_factor(W, p):
+        return 0
+    s = 1
+    for k in range(m):
+        if p[k] != k:
+            s = -s
+        if W[k, k] < 0.0:
+            s = -s
+    return s
 
 
 @jit
@@ -57,36 +87,27 @@ def block_determinant_signs(jac, blocks, sizes, signs):
         Output: ``+1`` or ``-1``, ``0`` for a (numerically) singular or
         non-finite block.
     """
-    for b in range(blocks.shape[0]):
-        m = sizes[b]
-        W = np.empty((m, m))
-        p = np.empty(m, dtype=np.int64)
-        for i in range(jac.shape[0]):
-            for r in range(m):
-                for c in range(m):
-                    W[r, c] = jac[i, blocks[b, r], blocks[b, c]]
-            if not lu_factor(W, p):
-                signs[i, b] = 0
-                continue
-            s = 1
-            for k in range(m):
-                if p[k] != k:
-                    s = -s
-                if W[k, k] < 0.0:
-                    s = -s
-            signs[i, b] = s
+    for i in range(jac.shape[0]):
+        for b in range(blocks.shape[0]):
+            signs[i, b] = _sign_of_det(jac[i], blocks[b, : sizes[b]])
 
 
 @jit
-def largest_entry(jac, rows, cols):
-    """Largest ``|jac[i, r, c]|`` over all matrices ``i``, ``r`` in
-    ``rows``, ``c`` in ``cols`` (int64 index arrays); inf if any of them
-    is not finite."""
-    big = 0.0
+def split_extremes(jac, odd, even):
+    """Largest ``|jac[i, r, c]|`` coupling the index sets ``odd`` and
+    ``even`` (either way), and the largest entry of all, over all
+    matrices ``i``; inf where an entry is not finite."""
+    coupling = 0.0
+    largest = 0.0
     for i in range(jac.shape[0]):
-        for r in rows:
-            for c in cols:
+        for r in range(jac.shape[1]):
+            for c in range(jac.shape[2]):
                 a = abs(jac[i, r, c])
-                if not a <= big:
-                    big = a if a == a else np.inf
-    return big
+                if not a <= largest:
+                    largest = a if a == a else np.inf
+        for r in odd:
+            for c in even:
+                a = max(abs(jac[i, r, c]), abs(jac[i, c, r]))
+                if not a <= coupling:
+                    coupling = a if a == a else np.inf
+    return coupling, largest
