@@ -173,3 +173,42 @@ def test_lazy_exponents_survive_pickling_and_all_is_validated():
     )
     with pytest.raises(ValueError, match="exponents"):
         branch.stability(exponents="some")
+
+
+@pytest.mark.parametrize("hp", [None, 5])
+def test_block_signs_against_numpy_determinants(hp):
+    """The signs tracked at every point (computed with the Jacobians in one
+    compiled pass; with ``perturbation_harmonics`` on the kept rows and
+    columns) are those of NumPy's determinants of the same blocks, and
+    the verdicts with a smaller perturbation basis equal its eigenvalues
+    at every point."""
+    from hbmfric.stability import _Level, _parity_blocks
+
+    branch = BRANCHES["duffing"]()
+    problem = _stability_problem(_duffing(), 0.2, 9, None, branch.info["aft"], 1)
+    n = len(branch)
+    points = np.empty((n, problem.n_unknowns + 1))
+    points[:, :-1] = _to_full_basis(
+        branch.harmonic_numbers, branch.coefficients, 9
+    ).reshape(n, -1)
+    points[:, -1] = branch.omega
+    hn, keep = problem.harmonic_numbers, None
+    if hp is not None:
+        hn = hn[hn <= hp]
+        keep = np.arange(2 * hp + 1)
+    level = _Level(problem, np.arange(n), points, hn, keep, True, True)
+    signs = level.determinant_signs()
+    J = level.jacobians(np.arange(n))
+    odd, even = _parity_blocks(hn, 1)
+    assert [g.size for g in level.groups] == [odd.size, even.size]
+    for b, g in enumerate((odd, even)):
+        ref = np.sign(np.linalg.det(J[:, g][:, :, g]))
+        np.testing.assert_array_equal(signs[:, b], ref)
+    assert {tuple(r) for r in signs} == {(1, 1), (-1, 1)}  # the folds
+    if hp is not None:
+        auto = branch.stability(perturbation_harmonics=hp)
+        assert not auto.computed.all()
+        stable = auto.stable.copy()
+        branch._stability = None
+        full = branch.stability(perturbation_harmonics=hp, exponents="all")
+        np.testing.assert_array_equal(stable, full.stable)
