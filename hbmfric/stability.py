@@ -59,31 +59,28 @@ multiplier too (shifted by ``iΩ``), but a real exponent of an even
 (symmetry-breaking) perturbation sits there at ``Im λ = ±Ω``, on the edge
 of the sorting strip, where the selection is ambiguous; hence both.
 
-Eigenvalues at a few points (``exponents="auto"``, one DOF): the stability
-changes where a selected exponent crosses the imaginary axis. A real one
-crossing 0 is a sign change of ``det Δ0 = det Δ2 Π(-λ_j)`` (complex pairs
-contribute ``|λ_j|² > 0``; ``det Δ2 = m^n > 0``), i.e. of the determinant
-of the HBM Jacobian (of each block), which an LU gives at every point for a
-small share of an eigenvalue solve. A complex crossing (period doubling at
-``Im λ = Ω/2``, Neimark–Sacker) changes no determinant on the real axis;
-in the truncated problem nothing pins the period-doubling exponent to
-``Im λ = Ω/2`` (the shift by ``iΩ`` that pins it in the infinite problem
-maps the truncated basis out of itself), so no real determinant of the
-integer-harmonic pencil detects it exactly (reasoning, not measured: no
-test branch has a period doubling); the half-harmonic basis would
-(a second Jacobian of twice the size per point) but locates the truncated
-crossing only up to the truncation. Liouville's formula rules the
-Neimark–Sacker crossing out for one DOF with a smooth law (the product of
-the multipliers is ``exp(-(c/m) T) < 1``); for a hysteretic law Hill's
-exponents do not obey it (their sum on P1 is down to -0.96 against
-``-c/m = -0.02``). Hence the scheme of :func:`stability_of_points`: the
-signs at every point, Hill's eigenvalues at both ends of every sign
-change, at the ends of the branch and at every ``ANCHOR_SPACING``-th
-point, and a bisection wherever two computed points disagree without a
-sign change between them (a complex crossing between anchors). What it
-cannot see is an even number of complex crossings between two anchors
-(an unstable island of period doubling narrower than the anchor spacing,
-with no real crossing inside).
+Eigenvalues at a few points (``exponents="auto"``, a symmetric branch of
+one DOF): the stability changes where a selected exponent crosses the
+imaginary axis. A real one crossing 0 is a sign change of ``det Δ0 = det
+Δ2 Π(-λ_j)`` (complex pairs contribute ``|λ_j|² > 0``; ``det Δ2 = m^n >
+0``), i.e. of the determinant of the HBM Jacobian (of each block), which
+an LU gives at every point for a small share of an eigenvalue solve. A
+complex crossing (period doubling at ``Im λ = Ω/2``, Neimark–Sacker)
+changes no determinant on the real axis, and the truncated problem pins
+the period-doubling exponent to ``Im λ = Ω/2`` only up to its truncation
+(the shift by ``iΩ`` maps the truncated basis out of itself), so no real
+determinant of the integer-harmonic pencil detects it exactly; the
+half-harmonic basis would, with a second Jacobian of twice the size per
+point, for another truncation. On a symmetric solution of one DOF a
+smooth law has no complex crossing (Liouville's formula on the half-period
+map, :func:`stability_of_points`), so the signs of the odd and even blocks
+see every change; a branch without the symmetry solves every point.
+Hill's exponents of a hysteretic law do not obey Liouville's formula
+(their sum on P1 reaches -0.96 against ``-c/m = -0.02``): for them Hill's
+eigenvalues at every ``ANCHOR_SPACING``-th point and a bisection wherever
+two computed points disagree are the safeguard; an even number of complex
+crossings between two computed points with no real crossing between them
+is what it cannot see.
 """
 
 from __future__ import annotations
@@ -758,23 +755,31 @@ def stability_of_points(
         point's ``H``. Smaller is cheaper (the eigenvalue solves grow like
         ``Hp³``) and less accurate (``tests/test_stability.py``).
     exponents : {"auto", "all"}
-        ``"all"``: Hill's eigenvalues at every point. ``"auto"``: the same
-        on several DOFs; on one DOF with positive mass and damping, at a
-        few points only (the others' exponents are computed when first
-        read, :class:`Stability`): the sign of ``det Δ0`` of each Hill
-        block is tracked at every point (an LU of the HBM Jacobian; it
-        changes exactly where an odd number of real exponents crosses
-        zero: folds, branch points), and the eigenvalues are computed at
-        both ends of every sign change, at the first and last points, at
-        every ``ANCHOR_SPACING``-th point, and, between two computed
-        points of different stability, at the middle point until they
-        are adjacent. A stretch between computed points with no sign
-        change takes their (equal) stability. What this can miss: an
-        even number of complex crossings (period doubling,
-        Neimark–Sacker) between two anchors with no real crossing
-        between them; for one DOF and a smooth law Liouville's formula
-        rules the Neimark–Sacker crossing out, and a period doubling
-        takes a pair of real multipliers below -1 and back.
+        ``"all"``: Hill's eigenvalues at every point. ``"auto"``: the same,
+        except on a symmetric branch (``symmetric``, the odd/even split
+        confirmed) of one DOF with positive mass and damping, where they
+        are computed at a few points only (the others' exponents when
+        first read, :class:`Stability`): the sign of ``det Δ0`` of the
+        odd and of the even block is tracked at every point (an LU of the
+        HBM Jacobian; it changes exactly where an odd number of real
+        exponents crosses zero: folds, symmetric and symmetry-breaking
+        branch points), and the eigenvalues are computed at both ends of
+        every sign change, at the first and last points, at every
+        ``ANCHOR_SPACING``-th point, and, between two computed points of
+        different stability, at the middle point until they are adjacent.
+        A stretch between computed points with no sign change takes their
+        (equal) stability. Why symmetric only: the period map of a
+        symmetric solution is ``G²`` (``G``: half a period and the sign
+        flip); a multiplier -1 or a complex pair of it needs a complex
+        pair of ``G`` on the unit circle, which Liouville's formula
+        (product of ``G``'s multipliers ``exp(-(c/m) T/2) < 1``) rules out
+        for a smooth law, so only real crossings remain. Hill's exponents
+        of a hysteretic law do not obey Liouville's formula; for them the
+        anchors and the bisection are the safeguard, and what can be
+        missed is an even number of complex crossings between two
+        computed points with no real crossing between them. A branch
+        without the symmetry can double its period (a complex crossing
+        no determinant of the integer-harmonic pencil sees): every point.
 
     Returns
     -------
@@ -799,6 +804,7 @@ def stability_of_points(
         )
     sparse = bool(
         exponents == "auto"
+        and symmetric
         and n_points > 2
         and n_dof == 1
         and problems[0][1].kernel_problem[1][0, 0] > 0.0
@@ -827,6 +833,9 @@ def stability_of_points(
         return _exponents_at(levels, level_of, local_of, where)
 
     exps = np.full((n_points, 2 * n_dof), np.nan + 0j)
+    # the Jacobians couple odd and even harmonics somewhere: not a
+    # symmetric solution after all, a period doubling is possible
+    sparse = sparse and all(len(lv.groups) == 2 for lv in levels)
     if sparse:
         # columns: the sign of each block (at most two; +1 where unused),
         # then the level
