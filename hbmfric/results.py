@@ -454,11 +454,11 @@ class Branch:
             default each point's ``H``. See
             :func:`hbmfric.stability.stability_of_points`.
         exponents : {"auto", "all"}
-            ``"auto"``: on a branch of one DOF, ``stable`` is decided at
-            every point while Hill's eigenvalues are computed at a few
-            points only (``Stability.computed``); the others' are computed
-            when ``exponents``, ``multipliers`` or ``max_real`` is first
-            read. ``"all"``: at every point now. Both give the same
+            ``"auto"``: on a symmetric branch of one DOF, ``stable`` is
+            decided at every point while Hill's eigenvalues are computed
+            at a few points only (``Stability.computed``); the others' are
+            computed when ``exponents``, ``multipliers`` or ``max_real`` is
+            first read. ``"all"``: at every point now. Both give the same
             ``stable`` (:func:`hbmfric.stability.stability_of_points`).
 
         Returns

@@ -98,9 +98,9 @@ class Stability:
     """Floquet exponents of the points of a branch (or of one solution).
 
     ``stable`` is known at every point as soon as the object exists. On a
-    branch of one DOF, Hill's eigenvalues are computed at a few points only
-    (:func:`stability_of_points`, ``exponents="auto"``): ``computed`` marks
-    them, and the first access to ``exponents``, ``multipliers`` or
+    symmetric branch of one DOF, Hill's eigenvalues are computed at a few
+    points only (:func:`stability_of_points`, ``exponents="auto"``):
+    ``computed`` marks them, and the first access to ``exponents``, ``multipliers`` or
     ``max_real`` computes the others (each point's full Hill problem, as
     ``exponents="all"`` would have).
 

@@ -45,12 +45,29 @@ def _friction_duffing():
     )
 
 
+def _preloaded_duffing():
+    """Duffing with a static preload: a period-doubling stretch near
+    Ω = 3 (``tests/test_period_doubling.py``)."""
+    return hf.LinearStructure(
+        np.eye(1),
+        np.eye(1),
+        0.02 * np.eye(1),
+        load={0: 1.0},
+        static_load={0: 1.0},
+        contacts=[hf.Contact(hf.Cubic(1.0), 0)],
+    )
+
+
 BRANCHES = {
     # two folds, unstable middle stretch
     "duffing": lambda: hf.frf(_duffing(), 0.2, (0.5, 2.0), harmonics=9),
     # the whole basis (no odd/even split): eigenvalues at every point
     "duffing-whole": lambda: hf.frf(
         _duffing(), 0.2, (0.5, 2.0), harmonics=5, symmetry=False
+    ),
+    # no symmetry, a period-doubling stretch: eigenvalues at every point
+    "preloaded-duffing": lambda: hf.frf(
+        _preloaded_duffing(), 0.5, (2.5, 3.6), harmonics=9
     ),
     # softening: folds on the other side
     "softening": lambda: hf.frf(
@@ -77,14 +94,16 @@ def test_sparse_verdicts_equal_every_point_hill(name):
     branch = BRANCHES[name]()
     if branch.point_harmonics is not None:
         assert np.unique(branch.point_harmonics).size > 1
-    assert branch.info["odd_only"] == (name != "duffing-whole")
+    assert branch.info["odd_only"] == (
+        name not in ("duffing-whole", "preloaded-duffing")
+    )
     auto = branch.stability()
     computed = auto.computed.copy()
     branch._stability = None
     full = branch.stability(exponents="all")
     assert full.computed.all()
     np.testing.assert_array_equal(auto.stable, full.stable)
-    if name == "duffing-whole":
+    if name in ("duffing-whole", "preloaded-duffing"):
         # no symmetry: a period doubling is possible, every point solved
         assert computed.all()
     else:
@@ -216,3 +235,32 @@ def test_block_signs_against_numpy_determinants(hp):
         branch._stability = None
         full = branch.stability(perturbation_harmonics=hp, exponents="all")
         np.testing.assert_array_equal(stable, full.stable)
+
+
+def test_period_doubling_changes_no_determinant_sign():
+    """Why a branch without the symmetry solves every point: across the
+    period-doubling stretch of the preloaded Duffing branch (unstable
+    points by Hill's eigenvalues at every point) the determinant of the
+    HBM Jacobian keeps its sign, so tracking it would see nothing."""
+    from hbmfric.stability import _Level
+
+    branch = BRANCHES["preloaded-duffing"]()
+    stab = branch.stability()
+    assert stab.computed.all()
+    assert branch.folds.size == 0
+    changes = stab.changes()
+    assert changes.size == 2 and not stab.stable[changes[0] : changes[1]].any()
+    problem = _stability_problem(
+        _preloaded_duffing(), 0.5, 9, None, branch.info["aft"], 1
+    )
+    n = len(branch)
+    points = np.empty((n, problem.n_unknowns + 1))
+    points[:, :-1] = _to_full_basis(
+        branch.harmonic_numbers, branch.coefficients, 9
+    ).reshape(n, -1)
+    points[:, -1] = branch.omega
+    level = _Level(
+        problem, np.arange(n), points, problem.harmonic_numbers, None, False, True
+    )
+    signs = level.determinant_signs()
+    assert np.unique(signs[:, 0]).size == 1
