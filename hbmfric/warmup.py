@@ -6,8 +6,8 @@ takes minutes on a small machine; after that every run loads them from the
 cache. Running this after ``pip install`` (or in a container build step)
 moves that wait out of the first real run. Each step is a tiny problem that
 goes through one path of the engine: every contact law's AFT, the condensed
-beam, the adaptive harmonics, one-frequency solves and the time-integration
-reference.
+beam, the adaptive harmonics, Hill's stability, one-frequency solves and
+the time-integration reference.
 """
 
 from __future__ import annotations
@@ -64,6 +64,10 @@ def _steps() -> list[tuple[str, Callable[[], object]]]:
                 2.0,
                 (2 * 3.14159 * 15.0, 2 * 3.14159 * 110.0),
             ),
+        ),
+        (
+            "Hill stability",
+            lambda: hf.frf(osc(jenkins), 0.5, band, 5).stability().exponents,
         ),
         ("one frequency", lambda: hf.periodic_solution(osc(jenkins), 0.5, 1.2)),
         (
