@@ -89,6 +89,7 @@ class PeriodicSolution:
     #: :meth:`stability`; not saved)
     _source: dict | None = field(default=None, repr=False, compare=False)
     _stability: object = field(default=None, repr=False, compare=False)
+    _method: str = field(default="auto", repr=False, compare=False)
 
     def __getstate__(self) -> dict:
         return _picklable_state(self)
@@ -105,7 +106,7 @@ class PeriodicSolution:
             return float(half_peak_to_peak(self.harmonic_numbers, X))
         return float(harmonic_amplitude(self.harmonic_numbers, X, harmonic))
 
-    def stability(self, system=None):
+    def stability(self, system=None, method: str = "auto"):
         """Floquet exponents of this solution by Hill's method
         (:mod:`hbmfric.stability`), computed once and cached.
 
@@ -114,6 +115,9 @@ class PeriodicSolution:
         system : Oscillator or compatible, optional
             The system solved; default: the one
             :func:`~hbmfric.periodic_solution` or the branch recorded.
+        method : {"auto", "hill", "monodromy"}
+            As in :meth:`Branch.stability` (``"auto"``: the time-domain
+            monodromy for a contact with memory on several DOFs).
 
         Returns
         -------
@@ -121,7 +125,7 @@ class PeriodicSolution:
             With one point: ``exponents`` of shape (1, 2 n_dof),
             ``stable`` of shape (1,).
         """
-        if self._stability is None or system is not None:
+        if self._stability is None or system is not None or method != self._method:
             src = _stability_source(self._source, system)
             from .stability import stability_of_points
 
@@ -137,7 +141,9 @@ class PeriodicSolution:
                 aft=src.get("aft", "auto"),
                 subharmonic=src.get("subharmonic", 1),
                 symmetric=bool(self.harmonic_numbers[0] % 2 == 1),
+                method=method,
             )
+            self._method = method
         return self._stability
 
     @property
@@ -235,6 +241,7 @@ class Branch:
     _source: dict | None = field(default=None, repr=False, compare=False)
     _stability: object = field(default=None, repr=False, compare=False)
     _hp: int | None = field(default=None, repr=False, compare=False)
+    _method: str = field(default="auto", repr=False, compare=False)
 
     def __getstate__(self) -> dict:
         return _picklable_state(self)
@@ -433,6 +440,7 @@ class Branch:
         system=None,
         perturbation_harmonics: int | None = None,
         exponents: str = "auto",
+        method: str = "auto",
     ):
         """Floquet exponents of every point by Hill's method
         (:mod:`hbmfric.stability`), computed on the first call and cached
@@ -460,6 +468,12 @@ class Branch:
             computed when ``exponents``, ``multipliers`` or ``max_real`` is
             first read. ``"all"``: at every point now. Both give the same
             ``stable`` (:func:`hbmfric.stability.stability_of_points`).
+        method : {"auto", "hill", "monodromy"}
+            ``"auto"``: Hill's method, except for a contact with memory
+            (Jenkins, Dahl) on several DOFs, where Hill's linearisation of
+            the hysteretic law misreads slipping points (the paper beam)
+            and the time-domain monodromy of every point is used
+            (:func:`hbmfric.stability.stability_of_points`).
 
         Returns
         -------
@@ -476,7 +490,12 @@ class Branch:
         if exponents not in ("auto", "all"):
             raise ValueError(f'exponents must be "auto" or "all", got {exponents!r}')
         key = perturbation_harmonics
-        if self._stability is None or system is not None or key != self._hp:
+        if (
+            self._stability is None
+            or system is not None
+            or key != self._hp
+            or method != self._method
+        ):
             from ._validate import positive_int
 
             if key is not None:
@@ -505,7 +524,9 @@ class Branch:
                 symmetric=bool(self.info.get("odd_only", False)),
                 perturbation_harmonics=key,
                 exponents=exponents,
+                method=method,
             )
+            self._method = method
             self._hp = key
         if exponents == "all":
             self._stability.exponents  # noqa: B018 - computes the missing ones

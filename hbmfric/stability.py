@@ -86,8 +86,11 @@ is what it cannot see.
 from __future__ import annotations
 
 import time
+import warnings
 
 import numpy as np
+
+from .errors import AccuracyWarning
 
 #: relative size (to the Jacobian's largest entry) below which the
 #: odd-even coupling of a symmetric solution counts as zero
@@ -126,7 +129,11 @@ class Stability:
     criterion : str
         Selection of the exponents among the Hill eigenvalues
         (``"imaginary"``: the ``2 n_dof`` whose imaginary parts are
-        closest to 0).
+        closest to 0), or ``"monodromy"``: the exponents ``log(μ)/T`` of
+        the time-domain monodromy's multipliers, one per state entry
+        (``2 n_dof`` plus one per contact force with memory; a slider
+        locked by slip has ``μ = 0``, exponent ``-inf``), ``stable`` when
+        every ``|μ| <= 1 + 1e-6`` (a stuck slider's 1 is neutral).
     computed : ndarray of bool, shape (n_points,)
         Points whose Hill eigenvalues have been computed so far (all of
         them once ``exponents`` has been read).
@@ -722,8 +729,10 @@ def stability_of_points(
     symmetric: bool = False,
     perturbation_harmonics: int | None = None,
     exponents: str = "auto",
+    method: str = "auto",
 ) -> Stability:
-    """Hill's stability of periodic solutions of ``system``.
+    """Hill's stability of periodic solutions of ``system`` (or, for
+    hysteretic contacts on several DOFs, the time-domain monodromy).
 
     Parameters
     ----------
@@ -780,6 +789,22 @@ def stability_of_points(
         computed points with no real crossing between them. A branch
         without the symmetry can double its period (a complex crossing
         no determinant of the integer-harmonic pencil sees): every point.
+    method : {"auto", "hill", "monodromy"}
+        ``"hill"``: Hill's method. ``"monodromy"``: the monodromy matrix
+        of the time-integration reference at every point
+        (:func:`hbmfric.validation.monodromy`: central differences of its
+        period map, 2048 steps per period), exponents ``log(μ)/T``;
+        contacts with a finite state only (Jenkins, modified Dahl, Cubic).
+        ``"auto"``: the monodromy for a contact with memory on a system
+        of several DOFs, else Hill. Why: Hill's linearisation of a
+        hysteretic law is exact only where an exponent crosses zero, and on
+        the paper beam (Jenkins tip, 39 DOFs) it reads every slipping point
+        unstable (|μ| 2.5-7.3) where the time-domain monodromy finds
+        0.69-0.94 and time integration settles on the solution
+        (``tests/test_stability_hysteretic.py``). On one DOF its verdicts
+        agree with the monodromy's (checked on Jenkins branches). Where the
+        monodromy cannot be formed (Menq, Iwan, the 2D element on several
+        DOFs) Hill is used with an :class:`~hbmfric.AccuracyWarning`.
 
     Returns
     -------
@@ -787,8 +812,24 @@ def stability_of_points(
     """
     if exponents not in ("auto", "all"):
         raise ValueError(f'exponents must be "auto" or "all", got {exponents!r}')
-    start = time.perf_counter()
+    if method not in ("auto", "hill", "monodromy"):
+        raise ValueError(
+            f'method must be "auto", "hill" or "monodromy", got {method!r}'
+        )
     omega = np.asarray(omega, dtype=float)
+    if method == "auto":
+        method = _automatic_method(system, coefficients.shape[1])
+    if method == "monodromy":
+        return _monodromy_stability(
+            system,
+            force,
+            omega,
+            harmonic_numbers,
+            coefficients,
+            point_harmonics,
+            subharmonic,
+        )
+    start = time.perf_counter()
     n_points = omega.size
     n_dof = coefficients.shape[1]
     levels_of = np.asarray(point_harmonics, dtype=np.int64)
@@ -877,3 +918,92 @@ def stability_of_points(
         computed=computed,
         fill=fill,
     )
+
+
+def _automatic_method(system, n_dof: int) -> str:
+    """``"monodromy"`` for contacts with memory on several DOFs when the
+    time-domain monodromy can be formed, else ``"hill"`` (with an
+    :class:`~hbmfric.AccuracyWarning` when Hill's verdicts are then
+    approximate)."""
+    from .kernels.laws import CUBIC, DAHL, JENKINS
+    from .systems.protocol import check_system
+
+    if n_dof <= 1:
+        return "hill"
+    contacts = check_system(system).contacts
+    memory = [c for c in contacts if c[3] >= 0 or c[0].code != CUBIC]
+    if not memory:
+        return "hill"
+    if all(c[3] < 0 and c[0].code in (JENKINS, DAHL, CUBIC) for c in contacts):
+        return "monodromy"
+    warnings.warn(
+        "Hill's stability of a hysteretic contact (Menq, Iwan, roughness, the "
+        "2D element) on several DOFs is approximate: its linearisation of the "
+        "law is exact only where an exponent crosses zero, and on the paper "
+        "beam with a Jenkins tip it read stable slipping points unstable; "
+        "check a verdict by time integration (hf.validation.steady_state)",
+        AccuracyWarning,
+        stacklevel=4,
+    )
+    return "hill"
+
+
+#: |μ| up to which a multiplier counts as on the unit circle (a stuck
+#: Jenkins contact's slider is neutral: exactly 1)
+NEUTRAL_TOLERANCE = 1e-6
+
+
+def _monodromy_stability(
+    system, force, omega, harmonic_numbers, coefficients, point_harmonics, subharmonic
+) -> Stability:
+    """:class:`Stability` from the time-domain monodromy of every point."""
+    from .validation.period_map import monodromy
+
+    start = time.perf_counter()
+    nu = int(subharmonic or 1)
+    rows = []
+    for i, w in enumerate(omega):
+        x0, v0 = _state_at_zero(harmonic_numbers, coefficients[i], float(w))
+        result = monodromy(
+            system, (x0, v0), force=force, omega=nu * float(w), periods=nu
+        )
+        rows.append(result.multipliers)
+    mu = np.array(rows, dtype=complex).reshape(omega.size, -1)
+    period = 2.0 * np.pi / omega  # the map's duration: ν forcing periods
+    with np.errstate(divide="ignore"):
+        lam = np.log(mu) / period[:, None]
+    lam = lam.real + 1j * (
+        lam.imag - omega[:, None] * np.round(lam.imag / omega[:, None])
+    )
+    order = np.argsort(-lam.real, axis=1, kind="stable")
+    lam = np.take_along_axis(lam, order, axis=1)
+    mu = np.take_along_axis(mu, order, axis=1)
+    modulus = np.abs(mu).max(axis=1) if mu.size else np.zeros(0)
+    return Stability(
+        exponents=lam,
+        multipliers=mu,
+        stable=modulus <= 1.0 + NEUTRAL_TOLERANCE,
+        max_real=lam.real.max(axis=1) if mu.size else np.zeros(0),
+        omega=omega.copy(),
+        harmonics=np.asarray(point_harmonics, dtype=np.int64).copy(),
+        elapsed=time.perf_counter() - start,
+        criterion="monodromy",
+    )
+
+
+def _state_at_zero(harmonic_numbers, coefficients, fundamental: float):
+    """Displacement and velocity at ``t = 0`` from coefficients
+    ``(n_dof, n_coef)`` of harmonics of ``fundamental`` (rad/s)."""
+    x = np.zeros(coefficients.shape[0])
+    v = np.zeros(coefficients.shape[0])
+    col = 0
+    for k in harmonic_numbers:
+        k = int(k)
+        if k == 0:
+            x += coefficients[:, col]
+            col += 1
+        else:
+            x += coefficients[:, col]
+            v += k * fundamental * coefficients[:, col + 1]
+            col += 2
+    return x, v
