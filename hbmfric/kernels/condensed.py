@@ -82,13 +82,20 @@ dispatcher :func:`hbmfric.kernels.residual.residual` recognises its type.
 from collections import namedtuple
 
 import numpy as np
+from numba.extending import overload
 
-from .._jit import jit
+from .._jit import CACHE, jit
 from .aft import aft_jenkins_events, aft_samples
 from .dahl import aft_dahl
 from .dlft import COULOMB, dlft_contact, dlft_located
 from .dlft_tail import contact_receptance, dlft_tail
-from .hbm import _aft, _combined_state
+from .hbm import (
+    COULOMB_TYPES,
+    NOT_A_COULOMB_PROBLEM,
+    _aft,
+    _combined_state,
+    is_coulomb_problem,
+)
 from .laws import DAHL, JENKINS, is_masing
 from .linalg import lu_factor, lu_solve, solve_inplace
 from .masing import aft_masing
@@ -132,6 +139,15 @@ CondensedProblem = namedtuple(
 )
 CondensedProblem.__doc__ = """Flat data of the condensed HBM residual (see the
 module docstring); built by :class:`hbmfric.condensation.CondensedHBMProblem`."""
+
+CondensedCoulombProblem = namedtuple(
+    "CondensedCoulombProblem", CondensedProblem._fields
+)
+CondensedCoulombProblem.__doc__ = """A :class:`CondensedProblem` of a rigid
+Coulomb contact (``law_code = COULOMB``): the same fields in their own type,
+so that the DLFT kernels are compiled only into the residual of this type
+(see :class:`hbmfric.kernels.hbm.CoulombProblem`)."""
+COULOMB_TYPES.append(CondensedCoulombProblem)
 
 
 @jit
@@ -271,7 +287,8 @@ def condensed_residual(y, problem, R, J):
     if problem.law_code == COULOMB:
         # DLFT on the condensed linear residual: it is the Schur complement
         # of the full one on the contact rows, which is all DLFT reads
-        return _coulomb(y, problem, R, J)
+        # (compiled for a CondensedCoulombProblem only)
+        return condensed_rigid_coulomb(y, problem, R, J)
     F = np.empty(n)
     dF = np.empty((n, n))
     status = _contact_force(y[:n].copy(), problem, F, dF)
@@ -280,6 +297,57 @@ def condensed_residual(y, problem, R, J):
         for j in range(n):
             J[i, j] += dF[i, j]
     return status
+
+
+def condensed_rigid_coulomb(y, problem, R, J):
+    """:func:`_coulomb` for a :class:`CondensedCoulombProblem`; for any other
+    problem type it compiles to ``return NOT_A_COULOMB_PROBLEM`` (see
+    :func:`hbmfric.kernels.hbm.rigid_coulomb`). Callable from jitted code
+    only."""
+    raise NotImplementedError("condensed_rigid_coulomb is for jit code")
+
+
+def _refuse(y, problem, R, J):
+    return NOT_A_COULOMB_PROBLEM
+
+
+@overload(
+    condensed_rigid_coulomb,
+    jit_options={"cache": CACHE, "nogil": True, "error_model": "numpy"},
+)
+def _condensed_rigid_coulomb(y, problem, R, J):
+    # the body of _coulomb itself, compiled for this type only
+    return _coulomb.py_func if is_coulomb_problem(problem) else _refuse
+
+
+def coulomb_contact_force(y, problem, R, R_lin, J, f):
+    """DLFT force of the rigid Coulomb contact of a
+    :class:`CondensedCoulombProblem` at ``y`` into ``f``: what the residual
+    adds to its linear part; its status. For any other problem type it
+    compiles to ``return NOT_A_COULOMB_PROBLEM`` without compiling the
+    residual. Callable from jitted code only."""
+    raise NotImplementedError("coulomb_contact_force is for jit code")
+
+
+def _refuse_force(y, problem, R, R_lin, J, f):
+    return NOT_A_COULOMB_PROBLEM
+
+
+def _coulomb_force(y, problem, R, R_lin, J, f):
+    # the implementation of ``coulomb_contact_force`` for a Coulomb problem
+    status = condensed_residual(y, problem, R, J)
+    _condensed_linear(y, problem, R_lin, J)
+    for r in range(f.size):
+        f[r] = R[r] - R_lin[r]
+    return status
+
+
+@overload(
+    coulomb_contact_force,
+    jit_options={"cache": CACHE, "nogil": True, "error_model": "numpy"},
+)
+def _coulomb_contact_force(y, problem, R, R_lin, J, f):
+    return _coulomb_force if is_coulomb_problem(problem) else _refuse_force
 
 
 @jit
@@ -514,10 +582,7 @@ def condensed_contact_forces(points, problem, F):
         y = points[i].copy()
         if problem.law_code == COULOMB:
             # the DLFT force is what the residual adds to its linear part
-            status = condensed_residual(y, problem, R, J)
-            _condensed_linear(y, problem, R_lin, J)
-            for r in range(n):
-                f[r] = R[r] - R_lin[r]
+            status = coulomb_contact_force(y, problem, R, R_lin, J, f)
         else:
             status = _contact_force(y[:n].copy(), problem, f, dF)
         if status < worst:

@@ -11,9 +11,13 @@ The problem travels to the kernels as one flat tuple (see
 :func:`hbm_residual`); the Newton corrector passes it through untouched.
 """
 
-import numpy as np
+from collections import namedtuple
 
-from .._jit import jit
+import numpy as np
+from numba import types
+from numba.extending import overload
+
+from .._jit import CACHE, jit, jit_inline
 from .aft import (
     GROSS_SLIP,
     MARCHED,
@@ -33,6 +37,47 @@ NO_CONTACT = -1
 #: AFT scheme codes
 AFT_SAMPLES = 0
 AFT_EVENTS = 1
+#: status of :func:`hbm_residual` for a rigid Coulomb contact in a problem
+#: that is not a :class:`CoulombProblem` (the DLFT is not compiled for it)
+NOT_A_COULOMB_PROBLEM = -102
+
+#: field names of the kernel problem tuple of :func:`hbm_residual`
+FIELDS = (
+    "harmonic_numbers",
+    "mass",
+    "damping",
+    "stiffness",
+    "load",
+    "contact_pairs",
+    "law_codes",
+    "law_params",
+    "aft_scheme",
+    "inverse",
+    "forward",
+    "derivative",
+)
+
+CoulombProblem = namedtuple("CoulombProblem", FIELDS)
+CoulombProblem.__doc__ = """The kernel problem of :func:`hbm_residual` for a
+rigid Coulomb contact (``law_codes[0] = COULOMB``): the same fields as the
+plain tuple, in its own type, so that the DLFT kernels are compiled only
+into the residual of this type and not into every residual (the plain tuple
+of the other laws compiles without them). Built by
+:class:`hbmfric.hbm.HBMProblem`."""
+
+
+def is_coulomb_problem(problem) -> bool:
+    """Whether the Numba type ``problem`` is a :class:`CoulombProblem` (or
+    the condensed one, :class:`hbmfric.kernels.condensed.
+    CondensedCoulombProblem`); for compile-time dispatch."""
+    return isinstance(problem, types.BaseNamedTuple) and problem.instance_class in (
+        COULOMB_TYPES
+    )
+
+
+#: the problem classes whose residual compiles the rigid Coulomb DLFT
+#: (the condensed one registers itself)
+COULOMB_TYPES = [CoulombProblem]
 
 
 @jit
@@ -126,22 +171,9 @@ def hbm_residual(y, problem, R, J):
     if n_contacts == 0:
         return 0
     if law_codes[0] == COULOMB:
-        # a rigid Coulomb contact is solved alone (checked at the edge)
-        return _coulomb(
-            y,
-            harmonic_numbers,
-            mass,
-            damping,
-            stiffness,
-            contact_pairs[0, 0],
-            law_params[0],
-            aft_scheme,
-            inverse,
-            forward,
-            derivative,
-            R,
-            J,
-        )
+        # a rigid Coulomb contact is solved alone (checked at the edge), in a
+        # CoulombProblem only
+        return rigid_coulomb(y, problem, R, J)
     F = np.empty(n_coef)
     dF = np.empty((n_coef, n_coef))
     x_c = np.empty(n_coef)
@@ -239,7 +271,7 @@ def _combined_state(a, b):
     return a
 
 
-@jit
+@jit_inline
 def _aft(
     law_code,
     law_params,
@@ -277,26 +309,46 @@ def _aft(
     return aft_samples(law_code, law_params, x_c, inverse, forward, F, dF)
 
 
+def rigid_coulomb(y, problem, R, J):
+    """Add the rigid Coulomb contact of a :class:`CoulombProblem` to ``R``
+    and ``J`` by DLFT (:func:`_coulomb`); its status. For any other problem
+    type it compiles to ``return NOT_A_COULOMB_PROBLEM``: the DLFT kernels
+    are compiled only for the problems that use them. Callable from jitted
+    code only."""
+    raise NotImplementedError("hbmfric.kernels.hbm.rigid_coulomb is for jit code")
+
+
+def _refuse(y, problem, R, J):
+    return NOT_A_COULOMB_PROBLEM
+
+
+@overload(
+    rigid_coulomb,
+    jit_options={"cache": CACHE, "nogil": True, "error_model": "numpy"},
+)
+def _rigid_coulomb(y, problem, R, J):
+    # the body of _coulomb itself, compiled for this type only (a wrapper
+    # calling the _coulomb kernel would emit the DLFT kernels once more)
+    return _coulomb.py_func if is_coulomb_problem(problem) else _refuse
+
+
 @jit
-def _coulomb(
-    y,
-    harmonic_numbers,
-    mass,
-    damping,
-    stiffness,
-    contact_dof,
-    law_params,
-    aft_scheme,
-    inverse,
-    forward,
-    derivative,
-    R,
-    J,
-):
-    """The rigid Coulomb contact on ``contact_dof`` by DLFT, added to ``R``
-    and ``J``: with located reversals (``AFT_EVENTS``), plus the linear
-    tail of the response when ``law_params[4] = K > 0``; the classic
+def _coulomb(y, problem, R, J):
+    """The rigid Coulomb contact of a :class:`CoulombProblem` (on
+    ``contact_pairs[0, 0]``, parameters ``law_params[0]``) by DLFT, added to
+    ``R`` and ``J``: with located reversals (``AFT_EVENTS``), plus the
+    linear tail of the response when ``law_params[4] = K > 0``; the classic
     sampled DLFT otherwise."""
+    harmonic_numbers = problem[0]
+    mass = problem[1]
+    damping = problem[2]
+    stiffness = problem[3]
+    contact_dof = problem[5][0, 0]
+    law_params = problem[7][0]
+    aft_scheme = problem[8]
+    inverse = problem[9]
+    forward = problem[10]
+    derivative = problem[11]
     n_coef = inverse.shape[1]
     omega = y[y.size - 1]
     if aft_scheme == AFT_EVENTS and law_params[4] > 0.0:
