@@ -291,7 +291,6 @@ NOT_IN_A_JENKINS_FRF = (
     "hbmfric.kernels.arclength.advance",
     "hbmfric.kernels.arclength.stays",
     "hbmfric.kernels.newton.palc_step",
-    "hbmfric.kernels.truncation.truncation_change",
 )
 
 

@@ -108,7 +108,10 @@ def hbm_residual(y, problem, R, J):
         instead of an AFT: for ``aft_scheme = AFT_EVENTS`` with located
         reversals, plus the linear tail of the response summed to ``K``
         when ``K > 0`` (:mod:`hbmfric.kernels.dlft_tail`); the classic
-        sampled scheme otherwise.
+        sampled scheme otherwise. Such a problem must come as a
+        :class:`CoulombProblem` (the same fields), the only type for which
+        the DLFT kernels are compiled; in a plain tuple the residual
+        returns ``NOT_A_COULOMB_PROBLEM``.
     R : ndarray, shape (n_dof * n_coef,)
         Output: residual, N.
     J : ndarray, shape (n_dof * n_coef, n_dof * n_coef + 1)

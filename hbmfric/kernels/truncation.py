@@ -9,7 +9,7 @@ Used by the adaptive-harmonics continuation
 
 import numpy as np
 
-from .._jit import jit, jit_inline
+from .._jit import jit
 from .linalg import solve_inplace
 from .residual import residual
 
@@ -135,7 +135,7 @@ def output_measure(y, weights, rates, first, top, prev, h, prev_weight):
     return h * t / a1
 
 
-@jit_inline
+@jit
 def truncation_change(x, problem, weights, rates, first, synthesis, y, R, J, A, dX):
     """Relative change of the first-harmonic amplitude and of half the
     peak-to-peak value of the watched output when a solution gains
