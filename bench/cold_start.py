@@ -1,8 +1,10 @@
 """Time to the first FRF branch in a fresh process, cold and warm Numba cache.
 
-Run: ``python -m bench.cold_start [--profile]`` (from the repository root);
-``--profile`` also runs ``hbmfric paper`` cold in a fresh process and lists
-the compile time of every kernel (exclusive of the kernels it calls).
+Run: ``python -m bench.cold_start [--profile-frf] [--profile]`` (from the
+repository root); ``--profile-frf`` lists the compile time of every kernel
+(exclusive of the kernels it calls) of the cold first FRF, in one more fresh
+process with an empty cache; ``--profile`` does the same for a cold
+``hbmfric paper``.
 
 Each run is ``python -c "import hbmfric; hbmfric.frf(...)"`` (the SDOF
 Jenkins branch, H = 15) in a new interpreter with ``NUMBA_CACHE_DIR`` in a
