@@ -84,13 +84,14 @@ from collections import namedtuple
 import numpy as np
 from numba.extending import overload
 
-from .._jit import CACHE, jit
+from .._jit import jit
 from .aft import aft_jenkins_events, aft_samples
 from .dahl import aft_dahl
 from .dlft import COULOMB, dlft_contact, dlft_located
 from .dlft_tail import contact_receptance, dlft_tail
 from .hbm import (
     COULOMB_TYPES,
+    JIT_OPTIONS,
     NOT_A_COULOMB_PROBLEM,
     _aft,
     _combined_state,
@@ -278,6 +279,13 @@ def condensed_residual(y, problem, R, J):
     int
         Contact-state code of the AFT (negative on failure).
     """
+    return _condensed_entry(y, problem, R, J)
+
+
+def condensed_residual_impl(y, problem, R, J):
+    """The body of :func:`condensed_residual` (same contract), a plain
+    function compiled only through overloads (see
+    :func:`hbmfric.kernels.hbm.hbm_residual_impl`)."""
     if problem.law_codes.size > 0:
         return _coordinates_residual(y, problem, R, J)
     status = _condensed_linear(y, problem, R, J)
@@ -299,6 +307,15 @@ def condensed_residual(y, problem, R, J):
     return status
 
 
+def _condensed_entry(y, problem, R, J):
+    raise NotImplementedError("for jit code")
+
+
+@overload(_condensed_entry, jit_options=JIT_OPTIONS)
+def _condensed_entry_overload(y, problem, R, J):
+    return condensed_residual_impl
+
+
 def condensed_rigid_coulomb(y, problem, R, J):
     """:func:`_coulomb` for a :class:`CondensedCoulombProblem`; for any other
     problem type it compiles to ``return NOT_A_COULOMB_PROBLEM`` (see
@@ -313,11 +330,11 @@ def _refuse(y, problem, R, J):
 
 @overload(
     condensed_rigid_coulomb,
-    jit_options={"cache": CACHE, "nogil": True, "error_model": "numpy"},
+    jit_options=JIT_OPTIONS,
 )
 def _condensed_rigid_coulomb(y, problem, R, J):
     # the body of _coulomb itself, compiled for this type only
-    return _coulomb.py_func if is_coulomb_problem(problem) else _refuse
+    return _coulomb if is_coulomb_problem(problem) else _refuse
 
 
 def coulomb_contact_force(y, problem, R, R_lin, J, f):
@@ -335,7 +352,7 @@ def _refuse_force(y, problem, R, R_lin, J, f):
 
 def _coulomb_force(y, problem, R, R_lin, J, f):
     # the implementation of ``coulomb_contact_force`` for a Coulomb problem
-    status = condensed_residual(y, problem, R, J)
+    status = _condensed_entry(y, problem, R, J)
     _condensed_linear(y, problem, R_lin, J)
     for r in range(f.size):
         f[r] = R[r] - R_lin[r]
@@ -344,13 +361,12 @@ def _coulomb_force(y, problem, R, R_lin, J, f):
 
 @overload(
     coulomb_contact_force,
-    jit_options={"cache": CACHE, "nogil": True, "error_model": "numpy"},
+    jit_options=JIT_OPTIONS,
 )
 def _coulomb_contact_force(y, problem, R, R_lin, J, f):
     return _coulomb_force if is_coulomb_problem(problem) else _refuse_force
 
 
-@jit
 def _coulomb(y, problem, R, J):
     """Add a rigid Coulomb contact to the condensed linear residual, by the
     DLFT scheme the full residual uses

@@ -66,6 +66,11 @@ of the other laws compiles without them). Built by
 :class:`hbmfric.hbm.HBMProblem`."""
 
 
+#: options of the overloads' implementations: those of the project
+#: decorator (:data:`hbmfric._jit.jit`)
+JIT_OPTIONS = {"cache": CACHE, "nogil": True, "error_model": "numpy"}
+
+
 def is_coulomb_problem(problem) -> bool:
     """Whether the Numba type ``problem`` is a :class:`CoulombProblem` (or
     the condensed one, :class:`hbmfric.kernels.condensed.
@@ -122,6 +127,16 @@ def hbm_residual(y, problem, R, J):
     int
         Contact-state code of the AFT (negative on failure).
     """
+    return _hbm_entry(y, problem, R, J)
+
+
+def hbm_residual_impl(y, problem, R, J):
+    """The body of :func:`hbm_residual` (same contract), a plain function:
+    compiled only through overloads (:func:`_hbm_entry` and
+    :func:`hbmfric.kernels.residual.residual`), never by a ``jit``
+    dispatcher of its own. Numba keys a cache entry by the function and the
+    argument types only, and an entry compiled for an overload crashes when
+    a plain dispatcher of the same function loads it from Python."""
     (
         harmonic_numbers,
         mass,
@@ -225,6 +240,15 @@ def hbm_residual(y, problem, R, J):
     return status
 
 
+def _hbm_entry(y, problem, R, J):
+    raise NotImplementedError("for jit code")
+
+
+@overload(_hbm_entry, jit_options=JIT_OPTIONS)
+def _hbm_entry_overload(y, problem, R, J):
+    return hbm_residual_impl
+
+
 @jit
 def _contact2d(y, dofs, params, inverse, forward, n_coef, R, J):
     """The 2D element (:mod:`hbmfric.kernels.contact2d`) on the tangential
@@ -325,17 +349,13 @@ def _refuse(y, problem, R, J):
     return NOT_A_COULOMB_PROBLEM
 
 
-@overload(
-    rigid_coulomb,
-    jit_options={"cache": CACHE, "nogil": True, "error_model": "numpy"},
-)
+@overload(rigid_coulomb, jit_options=JIT_OPTIONS)
 def _rigid_coulomb(y, problem, R, J):
     # the body of _coulomb itself, compiled for this type only (a wrapper
-    # calling the _coulomb kernel would emit the DLFT kernels once more)
-    return _coulomb.py_func if is_coulomb_problem(problem) else _refuse
+    # calling a _coulomb kernel would emit the DLFT kernels once more)
+    return _coulomb if is_coulomb_problem(problem) else _refuse
 
 
-@jit
 def _coulomb(y, problem, R, J):
     """The rigid Coulomb contact of a :class:`CoulombProblem` (on
     ``contact_pairs[0, 0]``, parameters ``law_params[0]``) by DLFT, added to

@@ -6,20 +6,23 @@ tuple to the full HBM residual :func:`hbmfric.kernels.hbm.hbm_residual`.
 
 Numba compiles the caller once per problem type, so the dispatch costs
 nothing at run time. The implementation compiled for a type is the
-residual's own Python function (not a wrapper that calls the residual's
-dispatcher): a wrapper would be one more compiled kernel that links in,
-optimises and emits the whole residual, all its contact laws included, once
-more (each compiled kernel emits machine code for all it calls). Its cache
-entries are the residual's own (same function, same options), so a later
-call of the residual from Python loads them.
+residual's body itself (:func:`~hbmfric.kernels.hbm.hbm_residual_impl`,
+:func:`~hbmfric.kernels.condensed.condensed_residual_impl`), not a wrapper
+that calls the residual's dispatcher: a wrapper would be one more compiled
+kernel that links in, optimises and emits the whole residual, all its
+contact laws included, once more (each compiled kernel emits machine code
+for all it calls).
 """
 
 from numba import types
 from numba.extending import overload
 
-from .._jit import CACHE
-from .condensed import CondensedCoulombProblem, CondensedProblem, condensed_residual
-from .hbm import hbm_residual
+from .condensed import (
+    CondensedCoulombProblem,
+    CondensedProblem,
+    condensed_residual_impl,
+)
+from .hbm import JIT_OPTIONS, hbm_residual_impl
 
 
 def residual(y, problem, R, J):
@@ -36,12 +39,8 @@ def _is_condensed(problem) -> bool:
     )
 
 
-#: the options of the project decorator (:data:`hbmfric._jit.jit`)
-JIT_OPTIONS = {"cache": CACHE, "nogil": True, "error_model": "numpy"}
-
-
 @overload(residual, jit_options=JIT_OPTIONS)
 def _residual(y, problem, R, J):
     if _is_condensed(problem):
-        return condensed_residual.py_func
-    return hbm_residual.py_func
+        return condensed_residual_impl
+    return hbm_residual_impl
