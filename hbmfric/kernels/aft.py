@@ -1061,7 +1061,7 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
                     sa,
                     cb,
                     sb,
-                    stuck,  # (True here) a bool, not a literal: one signature
+                    np.bool_(True),  # a bool, not a literal: one signature
                     sign,
                     z,
                     kt,
@@ -1093,7 +1093,7 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
                 sa,
                 cb,
                 sb,
-                stuck,  # (False here) a bool, not a literal: one signature
+                np.bool_(False),  # a bool, not a literal: one signature
                 sign,
                 z,
                 kt,
@@ -1126,7 +1126,7 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
         sa,
         cb,
         sb,
-        stuck,
+        np.bool_(stuck),  # a bool, never a literal: one signature
         sign,
         z,
         kt,
