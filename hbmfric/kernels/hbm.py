@@ -195,7 +195,7 @@ def hbm_residual_impl(y, problem, R, J):
     F = np.empty(n_coef)
     dF = np.empty((n_coef, n_coef))
     x_c = np.empty(n_coef)
-    status = 0
+    status = np.int64(0)  # not a literal 0: one signature of _combined_state
     for i in range(n_contacts):
         if law_codes[i] == CONTACT2D:
             s_i = _contact2d(
