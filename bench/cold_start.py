@@ -1,8 +1,10 @@
 """Time to the first FRF branch in a fresh process, cold and warm Numba cache.
 
-Run: ``python -m bench.cold_start [--profile]`` (from the repository root);
-``--profile`` also runs ``hbmfric paper`` cold in a fresh process and lists
-the compile time of every kernel (exclusive of the kernels it calls).
+Run: ``python -m bench.cold_start [--profile-frf] [--profile]`` (from the
+repository root); ``--profile-frf`` lists the compile time of every kernel
+(exclusive of the kernels it calls) of the cold first FRF, in one more fresh
+process with an empty cache; ``--profile`` does the same for a cold
+``hbmfric paper``.
 
 Each run is ``python -c "import hbmfric; hbmfric.frf(...)"`` (the SDOF
 Jenkins branch, H = 15) in a new interpreter with ``NUMBA_CACHE_DIR`` in a
@@ -68,15 +70,17 @@ class Timer(event.Listener):
 
 event.register("numba:compile", Timer())
 t = time.perf_counter()
-from hbmfric.cli import main
-main(sys.argv[1:])
+{body}
 records.append(("TOTAL wall", time.perf_counter() - t))
 print("PROFILE" + json.dumps(records))
 """
 
 
-def compile_profile(argv: list[str]) -> tuple[float, list[tuple[str, float, int]]]:
-    """Compile time of every kernel during ``hbmfric <argv>`` run cold.
+def compile_profile(
+    argv: list[str] | None = None, code: str | None = None
+) -> tuple[float, list[tuple[str, float, int]]]:
+    """Compile time of every kernel during ``hbmfric <argv>`` (or the
+    Python ``code``) run cold.
 
     Returns
     -------
@@ -95,8 +99,12 @@ def compile_profile(argv: list[str]) -> tuple[float, list[tuple[str, float, int]
             HBMFRIC_CACHE_DIR=cache,
             HBMFRIC_QUIET="1",
         )
+        if code is None:
+            body = "from hbmfric.cli import main\nmain(sys.argv[1:])"
+        else:
+            body = code.replace(";", "\n")
         proc = subprocess.run(
-            [sys.executable, "-c", PROFILE, *argv],
+            [sys.executable, "-c", PROFILE.replace("{body}", body), *(argv or [])],
             cwd=ROOT,
             env=env,
             capture_output=True,
@@ -118,15 +126,22 @@ def compile_profile(argv: list[str]) -> tuple[float, list[tuple[str, float, int]
 def main() -> None:
     for k, v in measure().items():
         print(f"{k:>10}: {v:.2f}")
+    if "--profile-frf" in sys.argv:
+        wall, kernels = compile_profile(code=FRF)
+        _table("cold first FRF", wall, kernels)
     if "--profile" in sys.argv:
         with tempfile.TemporaryDirectory() as out:
             wall, kernels = compile_profile(["paper", "--out", out, "--no-plot"])
-        total = sum(k[1] for k in kernels)
-        print(f"cold 'hbmfric paper': {wall:.1f} s, of which compiling {total:.1f} s")
-        print("| kernel | compile s (exclusive) | compilations |")
-        print("|---|---|---|")
-        for name, sec, n in kernels[:25]:
-            print(f"| {name} | {sec:.2f} | {n} |")
+        _table("cold 'hbmfric paper'", wall, kernels)
+
+
+def _table(what: str, wall: float, kernels: list) -> None:
+    total = sum(k[1] for k in kernels)
+    print(f"{what}: {wall:.1f} s, of which compiling {total:.1f} s")
+    print("| kernel | compile s (exclusive) | compilations |")
+    print("|---|---|---|")
+    for name, sec, n in kernels[:25]:
+        print(f"| {name} | {sec:.2f} | {n} |")
 
 
 if __name__ == "__main__":

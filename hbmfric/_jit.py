@@ -304,4 +304,22 @@ if not os.environ.get("HBMFRIC_QUIET"):
 
 jit = njit(cache=CACHE, nogil=True, error_model="numpy")
 
-__all__ = ["CACHE", "CACHE_DIR", "cache_base", "jit", "kernel_sources", "source_key"]
+#: ``jit`` for a kernel that other kernels inline (Numba IR inlining): a call
+#: from compiled code compiles no separate kernel, so the caller does not
+#: link in, optimise and emit once more the whole tree of kernels the
+#: inlined one calls (the HBM residual under every continuation kernel: each
+#: compiled kernel emits machine code for everything it links, so a chain
+#: of kernels above the residual compiles the residual once per link of the
+#: chain). Called from Python it compiles like any ``jit`` kernel. Use it
+#: for kernels called from few sites, above the residual.
+jit_inline = njit(cache=CACHE, nogil=True, error_model="numpy", inline="always")
+
+__all__ = [
+    "CACHE",
+    "CACHE_DIR",
+    "cache_base",
+    "jit",
+    "jit_inline",
+    "kernel_sources",
+    "source_key",
+]

@@ -19,6 +19,7 @@ from .kernels.condensed import (
     AFT_SAMPLES,
     DIRECT,
     MODAL,
+    CondensedCoulombProblem,
     CondensedProblem,
     condensed_contact_forces,
     condensed_modal_recover,
@@ -305,7 +306,10 @@ class CondensedHBMProblem(HBMProblem):
         else:
             modal_parts = (np.zeros(0), np.zeros(0), np.zeros(0), empty)
             direct_parts = (mass, damping, stiffness, load)
-        self.kernel_problem = CondensedProblem(
+        # a rigid Coulomb contact gets its own type (its residual alone
+        # compiles the DLFT kernels)
+        kind = CondensedCoulombProblem if law_code == COULOMB else CondensedProblem
+        self.kernel_problem = kind(
             hn,
             *modal_parts,
             np.int64(law_code),

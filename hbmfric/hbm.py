@@ -13,7 +13,7 @@ from ._validate import finite_float, positive_int
 from .kernels.dft import fourier_matrices
 from .kernels.dlft import COULOMB
 from .kernels.dlft_tail import tail_length
-from .kernels.hbm import AFT_EVENTS, AFT_SAMPLES, hbm_residual
+from .kernels.hbm import AFT_EVENTS, AFT_SAMPLES, CoulombProblem, hbm_residual
 from .kernels.laws import JENKINS, MASING
 from .kernels.linear import first_harmonic_response
 from .laws import Contact2D
@@ -86,6 +86,10 @@ def _stuck_stiffnesses(law) -> tuple[float, ...]:
             law.normal_stiffness if closed else 0.0,
         )
     return (law.stuck_stiffness,)
+
+
+def _plain_tuple(*fields) -> tuple:
+    return fields
 
 
 class HBMProblem:
@@ -253,7 +257,10 @@ class HBMProblem:
             params = [np.append(self._dlft_params, [mu, n_tail])]
             self._coulomb_params = params[0]
         pairs, codes, law_params = contact_arrays(self._contacts, params)
-        self.kernel_problem = (
+        # a rigid Coulomb contact gets its own problem type, whose residual
+        # alone compiles the DLFT kernels (a plain tuple otherwise)
+        kind = CoulombProblem if self._rigid else _plain_tuple
+        self.kernel_problem = kind(
             self.harmonic_numbers,
             mass,
             damping,

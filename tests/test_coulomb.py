@@ -770,3 +770,39 @@ def test_energy_and_first_harmonic_under_a_cosine():
     assert c1 == 0.0
     assert s1 == pytest.approx(2.0 * np.mean(f * np.sin(theta)), rel=1e-6)
     assert u.size == f.size
+
+
+def test_coulomb_problem_type_carries_the_dlft():
+    """A rigid Coulomb contact builds a ``CoulombProblem`` (full) or a
+    ``CondensedCoulombProblem``, the only types whose residual compiles the
+    DLFT kernels; a Jenkins contact keeps the plain tuple and the plain
+    ``CondensedProblem``. The same Coulomb data in a plain tuple give the
+    refusal status (the DLFT is not compiled into it), in a CoulombProblem
+    the DLFT residual of the problem itself."""
+    from hbmfric.condensation import CondensedHBMProblem
+    from hbmfric.kernels.condensed import CondensedCoulombProblem, CondensedProblem
+    from hbmfric.kernels.hbm import (
+        NOT_A_COULOMB_PROBLEM,
+        CoulombProblem,
+        hbm_residual,
+    )
+
+    osc = _coulomb_oscillator(0.02, 0.3)
+    problem = HBMProblem(osc, 1.0, 5)
+    assert type(problem.kernel_problem) is CoulombProblem
+    jenkins = hf.Oscillator(M, 0.02, K, hf.Jenkins(stiffness=3.0, slip_force=0.3))
+    assert type(HBMProblem(jenkins, 1.0, 5).kernel_problem) is tuple
+    cond = CondensedHBMProblem(osc, 1.0, 5)
+    assert type(cond.kernel_problem) is CondensedCoulombProblem
+    assert type(CondensedHBMProblem(jenkins, 1.0, 5).kernel_problem) is (
+        CondensedProblem
+    )
+    y = np.zeros(problem.n_unknowns + 1)
+    y[0] = 0.1
+    y[-1] = 1.1
+    R, J, state = problem.residual(y)
+    assert state >= 0
+    plain = tuple(problem.kernel_problem)
+    R2 = np.empty_like(R)
+    J2 = np.empty_like(J)
+    assert hbm_residual(y, plain, R2, J2) == NOT_A_COULOMB_PROBLEM

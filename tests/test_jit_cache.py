@@ -6,6 +6,7 @@ Most tests run a tiny copy of the package (the real ``_jit.py`` and
 in a second instead of minutes.
 """
 
+import json
 import os
 import shutil
 import subprocess
@@ -275,3 +276,77 @@ def test_real_package_without_cache_location(tmp_path):
     )
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert proc.stdout.split()[-1] == "1"
+
+
+#: kernels a Jenkins FRF must not compile: the rigid-Coulomb DLFT (only a
+#: Coulomb problem type compiles it) and the kernels inlined into the
+#: continuation (``jit_inline``: compiled as kernels of their own they would
+#: each emit the whole residual once more)
+NOT_IN_A_JENKINS_FRF = (
+    "hbmfric.kernels.dlft_tail.",
+    "hbmfric.kernels.dlft.",
+    "hbmfric.kernels.hbm._coulomb",
+    "hbmfric.kernels.condensed._coulomb",
+    "hbmfric.kernels.hbm._aft",
+    "hbmfric.kernels.arclength.advance",
+    "hbmfric.kernels.arclength.stays",
+    "hbmfric.kernels.newton.palc_step",
+)
+
+
+@pytest.mark.slow
+def test_cold_jenkins_frf_compiles_only_what_it_uses(tmp_path):
+    """A cold first FRF of the Jenkins oscillator (fresh process, empty
+    cache; a minute or more) compiles no DLFT kernel and none of the
+    inlined continuation kernels, each kernel once, and still says once
+    that it compiles."""
+    code = textwrap.dedent(
+        """
+        import json
+        from numba.core import event
+
+        names = []
+
+        class Names(event.Listener):
+            def on_start(self, ev):
+                f = ev.data["dispatcher"].py_func
+                names.append(f.__module__ + "." + f.__qualname__)
+
+            def on_end(self, ev):
+                pass
+
+        event.register("numba:compile", Names())
+        import hbmfric as hf
+
+        o = hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0))
+        b = hf.frf(o, 0.5, (0.5, 3.0), 15)
+        assert b.stop_reason.startswith("end")
+        print("NAMES" + json.dumps(names))
+        """
+    )
+    env = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_")}
+    env.pop("HBMFRIC_QUIET", None)
+    env.update(
+        HBMFRIC_CACHE_DIR=str(tmp_path / "cache"),
+        PYTHONPATH=os.path.dirname(os.path.dirname(hbmfric.__file__)),
+    )
+    proc = subprocess.run(
+        [sys.executable, "-c", code],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=1800,
+    )
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    line = [x for x in proc.stdout.splitlines() if x.startswith("NAMES")][-1]
+    names = json.loads(line[len("NAMES") :])
+    ours = [n for n in names if n.startswith("hbmfric.")]
+    # the residual's body, compiled once (under the chain, not as a wrapper)
+    assert ours.count("hbmfric.kernels.hbm.hbm_residual_impl") == 1
+    assert "hbmfric.kernels.residual._residual.<locals>.full" not in ours
+    assert not [n for n in ours if n.startswith(NOT_IN_A_JENKINS_FRF)]
+    twice = sorted({n for n in ours if ours.count(n) > 1})
+    # a kernel with several call signatures by design (e.g. one per
+    # argument layout) would show here: none in this run
+    assert not twice
+    assert proc.stderr.count("hbmfric: compiling its Numba kernels") == 1

@@ -580,7 +580,10 @@ def _find_reversals(
                     th = a if va == 0.0 else b
                 else:
                     th0 = _hermite_root(a, b, va, vb, wa, wb)
-                    th = _newton_from(harmonic_numbers, X, a, b, va, th0, 0.0, True)
+                    # np.bool_: a bool, not a literal True (one signature)
+                    th = _newton_from(
+                        harmonic_numbers, X, a, b, va, th0, 0.0, np.bool_(True)
+                    )
                 theta[count] = th
                 value[count] = evaluate(harmonic_numbers, X, th)[0]
                 count += 1
@@ -589,7 +592,7 @@ def _find_reversals(
                 if pa != pb:
                     if count == theta.size:
                         return EVENT_OVERFLOW
-                    th = _refine(harmonic_numbers, X, a, b, va, vb, 0.0, True)
+                    th = _refine(harmonic_numbers, X, a, b, va, vb, 0.0, np.bool_(True))
                     theta[count] = th
                     value[count] = evaluate(harmonic_numbers, X, th)[0]
                     count += 1
@@ -1007,7 +1010,7 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
     z = u_max - slip_force / kt
     seg_start = th_max
     trig_series(th_max, ca, sa)
-    ns = 0
+    ns = np.int64(0)  # not a literal 0: one signature of _close_segment
     p = int(th_max / h) + 1  # next sample (unwrapped index)
     t_prev = th_max
     u_prev = u_max
@@ -1046,7 +1049,7 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
                     u_lo - level,
                     u_hi - level,
                     level,
-                    False,
+                    np.bool_(False),  # a bool, not a literal: one signature
                 )
                 trig_series(event, cb, sb)
                 ns = _close_segment(
@@ -1058,7 +1061,7 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
                     sa,
                     cb,
                     sb,
-                    True,
+                    np.bool_(True),  # a bool, not a literal: one signature
                     sign,
                     z,
                     kt,
@@ -1090,7 +1093,7 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
                 sa,
                 cb,
                 sb,
-                False,
+                np.bool_(False),  # a bool, not a literal: one signature
                 sign,
                 z,
                 kt,
@@ -1123,7 +1126,7 @@ def aft_jenkins_events(params, harmonic_numbers, X, inverse, derivative, F, dF):
         sa,
         cb,
         sb,
-        stuck,
+        np.bool_(stuck),  # a bool, never a literal: one signature
         sign,
         z,
         kt,

@@ -18,7 +18,7 @@ Settings come as one flat array indexed by the constants below (built by
 
 import numpy as np
 
-from .._jit import jit
+from .._jit import jit, jit_inline
 from .newton import CONVERGED, _norm_inf, palc_step
 from .truncation import output_measure, truncation_change
 
@@ -350,7 +350,7 @@ def top_measure(y, watch, weights, rates):
     )
 
 
-@jit
+@jit_inline
 def stays(y, watch, calibration):
     """Whether the adaptive-harmonics run keeps its level after the point
     ``y`` without a decision in Python: a linear response at the lowest
@@ -425,7 +425,7 @@ def stays(y, watch, calibration):
     return False
 
 
-@jit
+@jit_inline
 def advance(
     problem, y, tangent, step, scale, settings, R, J, A, piv, y_pred, y_new, t_new
 ):
@@ -622,9 +622,20 @@ def trace(
         if attempts == max_attempts:
             return BUDGET_SPENT, n_accepted, n_rejected, evaluations, step
         attempts += 1
-        work = (R, J, A, piv, y_pred, y_new, t_new)
         outcome, step, spent = advance(
-            problem, y, tangent, step, scale, settings, *work
+            problem,
+            y,
+            tangent,
+            step,
+            scale,
+            settings,
+            R,
+            J,
+            A,
+            piv,
+            y_pred,
+            y_new,
+            t_new,
         )
         evaluations += spent
         if outcome == LEFT_RANGE:

@@ -82,13 +82,21 @@ dispatcher :func:`hbmfric.kernels.residual.residual` recognises its type.
 from collections import namedtuple
 
 import numpy as np
+from numba.extending import overload
 
 from .._jit import jit
 from .aft import aft_jenkins_events, aft_samples
 from .dahl import aft_dahl
 from .dlft import COULOMB, dlft_contact, dlft_located
 from .dlft_tail import contact_receptance, dlft_tail
-from .hbm import _aft, _combined_state
+from .hbm import (
+    COULOMB_TYPES,
+    JIT_OPTIONS,
+    NOT_A_COULOMB_PROBLEM,
+    _aft,
+    _combined_state,
+    is_coulomb_problem,
+)
 from .laws import DAHL, JENKINS, is_masing
 from .linalg import lu_factor, lu_solve, solve_inplace
 from .masing import aft_masing
@@ -135,6 +143,15 @@ CondensedProblem = namedtuple(
 )
 CondensedProblem.__doc__ = """Flat data of the condensed HBM residual (see the
 module docstring); built by :class:`hbmfric.condensation.CondensedHBMProblem`."""
+
+CondensedCoulombProblem = namedtuple(
+    "CondensedCoulombProblem", CondensedProblem._fields
+)
+CondensedCoulombProblem.__doc__ = """A :class:`CondensedProblem` of a rigid
+Coulomb contact (``law_code = COULOMB``): the same fields in their own type,
+so that the DLFT kernels are compiled only into the residual of this type
+(see :class:`hbmfric.kernels.hbm.CoulombProblem`)."""
+COULOMB_TYPES.append(CondensedCoulombProblem)
 
 
 @jit
@@ -265,6 +282,13 @@ def condensed_residual(y, problem, R, J):
     int
         Contact-state code of the AFT (negative on failure).
     """
+    return _condensed_entry(y, problem, R, J)
+
+
+def condensed_residual_impl(y, problem, R, J):
+    """The body of :func:`condensed_residual` (same contract), a plain
+    function compiled only through overloads (see
+    :func:`hbmfric.kernels.hbm.hbm_residual_impl`)."""
     if problem.law_codes.size > 0:
         return _coordinates_residual(y, problem, R, J)
     status = _condensed_linear(y, problem, R, J)
@@ -274,7 +298,8 @@ def condensed_residual(y, problem, R, J):
     if problem.law_code == COULOMB:
         # DLFT on the condensed linear residual: it is the Schur complement
         # of the full one on the contact rows, which is all DLFT reads
-        return _coulomb(y, problem, R, J)
+        # (compiled for a CondensedCoulombProblem only)
+        return condensed_rigid_coulomb(y, problem, R, J)
     F = np.empty(n)
     dF = np.empty((n, n))
     status = _contact_force(y[:n].copy(), problem, F, dF)
@@ -285,7 +310,66 @@ def condensed_residual(y, problem, R, J):
     return status
 
 
-@jit
+def _condensed_entry(y, problem, R, J):
+    raise NotImplementedError("for jit code")
+
+
+@overload(_condensed_entry, jit_options=JIT_OPTIONS)
+def _condensed_entry_overload(y, problem, R, J):
+    return condensed_residual_impl
+
+
+def condensed_rigid_coulomb(y, problem, R, J):
+    """:func:`_coulomb` for a :class:`CondensedCoulombProblem`; for any other
+    problem type it compiles to ``return NOT_A_COULOMB_PROBLEM`` (see
+    :func:`hbmfric.kernels.hbm.rigid_coulomb`). Callable from jitted code
+    only."""
+    raise NotImplementedError("condensed_rigid_coulomb is for jit code")
+
+
+def _refuse(y, problem, R, J):
+    return NOT_A_COULOMB_PROBLEM
+
+
+@overload(
+    condensed_rigid_coulomb,
+    jit_options=JIT_OPTIONS,
+)
+def _condensed_rigid_coulomb(y, problem, R, J):
+    # the body of _coulomb itself, compiled for this type only
+    return _coulomb if is_coulomb_problem(problem) else _refuse
+
+
+def coulomb_contact_force(y, problem, R, R_lin, J, f):
+    """DLFT force of the rigid Coulomb contact of a
+    :class:`CondensedCoulombProblem` at ``y`` into ``f``: what the residual
+    adds to its linear part; its status. For any other problem type it
+    compiles to ``return NOT_A_COULOMB_PROBLEM`` without compiling the
+    residual. Callable from jitted code only."""
+    raise NotImplementedError("coulomb_contact_force is for jit code")
+
+
+def _refuse_force(y, problem, R, R_lin, J, f):
+    return NOT_A_COULOMB_PROBLEM
+
+
+def _coulomb_force(y, problem, R, R_lin, J, f):
+    # the implementation of ``coulomb_contact_force`` for a Coulomb problem
+    status = _condensed_entry(y, problem, R, J)
+    _condensed_linear(y, problem, R_lin, J)
+    for r in range(f.size):
+        f[r] = R[r] - R_lin[r]
+    return status
+
+
+@overload(
+    coulomb_contact_force,
+    jit_options=JIT_OPTIONS,
+)
+def _coulomb_contact_force(y, problem, R, R_lin, J, f):
+    return _coulomb_force if is_coulomb_problem(problem) else _refuse_force
+
+
 def _coulomb(y, problem, R, J):
     """Add a rigid Coulomb contact to the condensed linear residual, by the
     DLFT scheme the full residual uses
@@ -517,10 +601,7 @@ def condensed_contact_forces(points, problem, F):
         y = points[i].copy()
         if problem.law_code == COULOMB:
             # the DLFT force is what the residual adds to its linear part
-            status = condensed_residual(y, problem, R, J)
-            _condensed_linear(y, problem, R_lin, J)
-            for r in range(n):
-                f[r] = R[r] - R_lin[r]
+            status = coulomb_contact_force(y, problem, R, R_lin, J, f)
         else:
             status = _contact_force(y[:n].copy(), problem, f, dF)
         if status < worst:

@@ -401,7 +401,9 @@ def aft_dahl(params, harmonic_numbers, X, inverse, forward, derivative, F, dF):
             sample_grad[i, c] = grad[sample_at[i], c]
     F[:] = 0.0
     dF[:, :] = 0.0
-    project_samples(forward, sample_force, sample_grad, 0, n_time, 1.0, F, dF)
+    project_samples(
+        forward, sample_force, sample_grad, np.int64(0), n_time, 1.0, F, dF
+    )  # np.int64: not a literal 0, one signature
     return status
 
 

@@ -11,9 +11,13 @@ The problem travels to the kernels as one flat tuple (see
 :func:`hbm_residual`); the Newton corrector passes it through untouched.
 """
 
-import numpy as np
+from collections import namedtuple
 
-from .._jit import jit
+import numpy as np
+from numba import types
+from numba.extending import overload
+
+from .._jit import CACHE, jit, jit_inline
 from .aft import (
     GROSS_SLIP,
     MARCHED,
@@ -33,6 +37,52 @@ NO_CONTACT = -1
 #: AFT scheme codes
 AFT_SAMPLES = 0
 AFT_EVENTS = 1
+#: status of :func:`hbm_residual` for a rigid Coulomb contact in a problem
+#: that is not a :class:`CoulombProblem` (the DLFT is not compiled for it)
+NOT_A_COULOMB_PROBLEM = -102
+
+#: field names of the kernel problem tuple of :func:`hbm_residual`
+FIELDS = (
+    "harmonic_numbers",
+    "mass",
+    "damping",
+    "stiffness",
+    "load",
+    "contact_pairs",
+    "law_codes",
+    "law_params",
+    "aft_scheme",
+    "inverse",
+    "forward",
+    "derivative",
+)
+
+CoulombProblem = namedtuple("CoulombProblem", FIELDS)
+CoulombProblem.__doc__ = """The kernel problem of :func:`hbm_residual` for a
+rigid Coulomb contact (``law_codes[0] = COULOMB``): the same fields as the
+plain tuple, in its own type, so that the DLFT kernels are compiled only
+into the residual of this type and not into every residual (the plain tuple
+of the other laws compiles without them). Built by
+:class:`hbmfric.hbm.HBMProblem`."""
+
+
+#: options of the overloads' implementations: those of the project
+#: decorator (:data:`hbmfric._jit.jit`)
+JIT_OPTIONS = {"cache": CACHE, "nogil": True, "error_model": "numpy"}
+
+
+def is_coulomb_problem(problem) -> bool:
+    """Whether the Numba type ``problem`` is a :class:`CoulombProblem` (or
+    the condensed one, :class:`hbmfric.kernels.condensed.
+    CondensedCoulombProblem`); for compile-time dispatch."""
+    return isinstance(problem, types.BaseNamedTuple) and problem.instance_class in (
+        COULOMB_TYPES
+    )
+
+
+#: the problem classes whose residual compiles the rigid Coulomb DLFT
+#: (the condensed one registers itself)
+COULOMB_TYPES = [CoulombProblem]
 
 
 @jit
@@ -63,7 +113,10 @@ def hbm_residual(y, problem, R, J):
         instead of an AFT: for ``aft_scheme = AFT_EVENTS`` with located
         reversals, plus the linear tail of the response summed to ``K``
         when ``K > 0`` (:mod:`hbmfric.kernels.dlft_tail`); the classic
-        sampled scheme otherwise.
+        sampled scheme otherwise. Such a problem must come as a
+        :class:`CoulombProblem` (the same fields), the only type for which
+        the DLFT kernels are compiled; in a plain tuple the residual
+        returns ``NOT_A_COULOMB_PROBLEM``.
     R : ndarray, shape (n_dof * n_coef,)
         Output: residual, N.
     J : ndarray, shape (n_dof * n_coef, n_dof * n_coef + 1)
@@ -74,6 +127,16 @@ def hbm_residual(y, problem, R, J):
     int
         Contact-state code of the AFT (negative on failure).
     """
+    return _hbm_entry(y, problem, R, J)
+
+
+def hbm_residual_impl(y, problem, R, J):
+    """The body of :func:`hbm_residual` (same contract), a plain function:
+    compiled only through overloads (:func:`_hbm_entry` and
+    :func:`hbmfric.kernels.residual.residual`), never by a ``jit``
+    dispatcher of its own. Numba keys a cache entry by the function and the
+    argument types only, and an entry compiled for an overload crashes when
+    a plain dispatcher of the same function loads it from Python."""
     (
         harmonic_numbers,
         mass,
@@ -126,26 +189,13 @@ def hbm_residual(y, problem, R, J):
     if n_contacts == 0:
         return 0
     if law_codes[0] == COULOMB:
-        # a rigid Coulomb contact is solved alone (checked at the edge)
-        return _coulomb(
-            y,
-            harmonic_numbers,
-            mass,
-            damping,
-            stiffness,
-            contact_pairs[0, 0],
-            law_params[0],
-            aft_scheme,
-            inverse,
-            forward,
-            derivative,
-            R,
-            J,
-        )
+        # a rigid Coulomb contact is solved alone (checked at the edge), in a
+        # CoulombProblem only
+        return rigid_coulomb(y, problem, R, J)
     F = np.empty(n_coef)
     dF = np.empty((n_coef, n_coef))
     x_c = np.empty(n_coef)
-    status = 0
+    status = np.int64(0)  # not a literal 0: one signature of _combined_state
     for i in range(n_contacts):
         if law_codes[i] == CONTACT2D:
             s_i = _contact2d(
@@ -188,6 +238,15 @@ def hbm_residual(y, problem, R, J):
                     J[base_b + r, base_a + c] -= dF[r, c]
                     J[base_b + r, base_b + c] += dF[r, c]
     return status
+
+
+def _hbm_entry(y, problem, R, J):
+    raise NotImplementedError("for jit code")
+
+
+@overload(_hbm_entry, jit_options=JIT_OPTIONS)
+def _hbm_entry_overload(y, problem, R, J):
+    return hbm_residual_impl
 
 
 @jit
@@ -239,7 +298,7 @@ def _combined_state(a, b):
     return a
 
 
-@jit
+@jit_inline
 def _aft(
     law_code,
     law_params,
@@ -277,26 +336,42 @@ def _aft(
     return aft_samples(law_code, law_params, x_c, inverse, forward, F, dF)
 
 
-@jit
-def _coulomb(
-    y,
-    harmonic_numbers,
-    mass,
-    damping,
-    stiffness,
-    contact_dof,
-    law_params,
-    aft_scheme,
-    inverse,
-    forward,
-    derivative,
-    R,
-    J,
-):
-    """The rigid Coulomb contact on ``contact_dof`` by DLFT, added to ``R``
-    and ``J``: with located reversals (``AFT_EVENTS``), plus the linear
-    tail of the response when ``law_params[4] = K > 0``; the classic
+def rigid_coulomb(y, problem, R, J):
+    """Add the rigid Coulomb contact of a :class:`CoulombProblem` to ``R``
+    and ``J`` by DLFT (:func:`_coulomb`); its status. For any other problem
+    type it compiles to ``return NOT_A_COULOMB_PROBLEM``: the DLFT kernels
+    are compiled only for the problems that use them. Callable from jitted
+    code only."""
+    raise NotImplementedError("hbmfric.kernels.hbm.rigid_coulomb is for jit code")
+
+
+def _refuse(y, problem, R, J):
+    return NOT_A_COULOMB_PROBLEM
+
+
+@overload(rigid_coulomb, jit_options=JIT_OPTIONS)
+def _rigid_coulomb(y, problem, R, J):
+    # the body of _coulomb itself, compiled for this type only (a wrapper
+    # calling a _coulomb kernel would emit the DLFT kernels once more)
+    return _coulomb if is_coulomb_problem(problem) else _refuse
+
+
+def _coulomb(y, problem, R, J):
+    """The rigid Coulomb contact of a :class:`CoulombProblem` (on
+    ``contact_pairs[0, 0]``, parameters ``law_params[0]``) by DLFT, added to
+    ``R`` and ``J``: with located reversals (``AFT_EVENTS``), plus the
+    linear tail of the response when ``law_params[4] = K > 0``; the classic
     sampled DLFT otherwise."""
+    harmonic_numbers = problem[0]
+    mass = problem[1]
+    damping = problem[2]
+    stiffness = problem[3]
+    contact_dof = problem[5][0, 0]
+    law_params = problem[7][0]
+    aft_scheme = problem[8]
+    inverse = problem[9]
+    forward = problem[10]
+    derivative = problem[11]
     n_coef = inverse.shape[1]
     omega = y[y.size - 1]
     if aft_scheme == AFT_EVENTS and law_params[4] > 0.0:

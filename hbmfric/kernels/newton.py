@@ -8,7 +8,7 @@ alike.
 
 import numpy as np
 
-from .._jit import jit
+from .._jit import jit, jit_inline
 from .linalg import lu_factor, lu_solve, solve_inplace
 from .residual import residual, rounding_level
 
@@ -301,7 +301,7 @@ def tangent_from_lu(A, piv, out):
     return True
 
 
-@jit
+@jit_inline
 def palc_step(
     problem,
     y,

@@ -1,18 +1,28 @@
 """One residual entry point for the Newton kernels, dispatched at compile
 time on the type of the problem: a :class:`~hbmfric.kernels.condensed.
-CondensedProblem` goes to the condensed residual, any other problem tuple
-to the full HBM residual :func:`hbmfric.kernels.hbm.hbm_residual`.
+CondensedProblem` (or :class:`~hbmfric.kernels.condensed.
+CondensedCoulombProblem`) goes to the condensed residual, any other problem
+tuple to the full HBM residual :func:`hbmfric.kernels.hbm.hbm_residual`.
 
 Numba compiles the caller once per problem type, so the dispatch costs
-nothing at run time.
+nothing at run time. The implementation compiled for a type is the
+residual's body itself (:func:`~hbmfric.kernels.hbm.hbm_residual_impl`,
+:func:`~hbmfric.kernels.condensed.condensed_residual_impl`), not a wrapper
+that calls the residual's dispatcher: a wrapper would be one more compiled
+kernel that links in, optimises and emits the whole residual, all its
+contact laws included, once more (each compiled kernel emits machine code
+for all it calls).
 """
 
 from numba import types
 from numba.extending import overload
 
-from .._jit import CACHE
-from .condensed import CondensedProblem, condensed_residual
-from .hbm import hbm_residual
+from .condensed import (
+    CondensedCoulombProblem,
+    CondensedProblem,
+    condensed_residual_impl,
+)
+from .hbm import JIT_OPTIONS, hbm_residual_impl
 
 
 def residual(y, problem, R, J):
@@ -23,25 +33,17 @@ def residual(y, problem, R, J):
 
 
 def _is_condensed(problem) -> bool:
-    return (
-        isinstance(problem, types.BaseNamedTuple)
-        and problem.instance_class is CondensedProblem
+    return isinstance(problem, types.BaseNamedTuple) and problem.instance_class in (
+        CondensedProblem,
+        CondensedCoulombProblem,
     )
 
 
-@overload(residual, jit_options={"cache": CACHE, "nogil": True})
+@overload(residual, jit_options=JIT_OPTIONS)
 def _residual(y, problem, R, J):
     if _is_condensed(problem):
-
-        def condensed(y, problem, R, J):
-            return condensed_residual(y, problem, R, J)
-
-        return condensed
-
-    def full(y, problem, R, J):
-        return hbm_residual(y, problem, R, J)
-
-    return full
+        return condensed_residual_impl
+    return hbm_residual_impl
 
 
 def rounding_level(problem):
@@ -53,7 +55,7 @@ def rounding_level(problem):
     raise NotImplementedError("hbmfric.kernels.residual.rounding_level is for jit code")
 
 
-@overload(rounding_level, jit_options={"cache": CACHE, "nogil": True})
+@overload(rounding_level, jit_options=JIT_OPTIONS)
 def _rounding_level(problem):
     if _is_condensed(problem):
 
