@@ -105,3 +105,37 @@ def test_method_is_checked():
     sol = hf.periodic_solution(osc, 0.2, 1.0, harmonics=5)
     with pytest.raises(ValueError, match="method"):
         sol.stability(method="floquet")
+
+
+@pytest.mark.stress
+@pytest.mark.parametrize("normal_load", [1.0, 2.0, 10.0])
+def test_stress_beam_verdicts_against_time_integration(normal_load):
+    """Stress: the beam at other normal loads; at 4 points of the branch
+    (stuck and slipping) the automatic verdict against time integration
+    started on the solution nudged by 1e-3: a stable verdict must settle
+    back (first harmonic of the tip within 2e-3, or three times the
+    point's truncation estimate), an unstable one must
+    leave."""
+    beam = paper_beam(normal_load, paper_calibration())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.AccuracyWarning)
+        branch = hf.frf(beam, 2.0, (15.0 * HZ, 110.0 * HZ), harmonics=5)
+    tip = beam.contact_dof
+    for i in np.linspace(0, len(branch) - 1, 6).round().astype(int)[1:-1]:
+        sol = branch.point(int(i))
+        x0, v0 = _state_at_zero(sol.harmonic_numbers, sol.coefficients, sol.omega)
+        with warnings.catch_warnings(record=True):
+            warnings.simplefilter("always", hf.ConvergenceWarning)
+            ref = steady_state(
+                beam,
+                2.0,
+                sol.omega,
+                initial_state=(x0 * (1.0 + 1e-3), v0),
+                tol=1e-9,
+                max_periods=4000,
+            )
+        a = sol.amplitude(harmonic=1, dof=tip)
+        # the reference converges to the exact solution, the point is H = 5's
+        allowance = max(2e-3, 3.0 * float(branch.truncation_error[i]))
+        settled = ref.converged and abs(ref.amplitude(1, dof=tip) - a) < allowance * a
+        assert settled == bool(sol.stable), (normal_load, sol.omega / HZ)
