@@ -11,7 +11,6 @@ is solved by the full harmonic balance."""
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg
 
 from .hbm import HBMProblem
 from .kernels.condensed import (
@@ -44,7 +43,9 @@ def system_modes(system) -> tuple[np.ndarray, np.ndarray]:
     if hasattr(system, "modes"):
         return system.modes()
     M, _, K = system.matrices()
-    w2, shapes = scipy.linalg.eigh(K, M)
+    from scipy.linalg import eigh  # lazy: keeps import hbmfric light
+
+    w2, shapes = eigh(K, M)
     return np.sqrt(np.maximum(w2, 0.0)), shapes
 
 

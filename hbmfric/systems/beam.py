@@ -9,7 +9,6 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
-import scipy.linalg
 
 from .._validate import finite_float, positive_int
 from ..laws import ContactLaw
@@ -225,7 +224,9 @@ class CantileverBeam:
             K[self.contact_dof, self.contact_dof] += self.contact.stuck_stiffness
         elif contact != "free":
             raise ValueError(f"contact must be 'free' or 'stuck', got {contact!r}")
-        w2 = scipy.linalg.eigh(K, M, eigvals_only=True)
+        from scipy.linalg import eigh  # lazy: keeps import hbmfric light
+
+        w2 = eigh(K, M, eigvals_only=True)
         f = np.sqrt(np.maximum(w2, 0.0)) / (2.0 * np.pi)
         return f if n_modes is None else f[: positive_int("n_modes", n_modes)]
 
@@ -271,7 +272,9 @@ class CantileverBeam:
     @cached_property
     def _modes(self) -> tuple[np.ndarray, np.ndarray]:
         M, K = self._structure
-        w2, shapes = scipy.linalg.eigh(K, M)
+        from scipy.linalg import eigh  # lazy: keeps import hbmfric light
+
+        w2, shapes = eigh(K, M)
         return np.sqrt(np.maximum(w2, 0.0)), shapes
 
     @cached_property

@@ -15,7 +15,6 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.linalg
 
 from .._validate import finite_float
 
@@ -61,7 +60,9 @@ class BeamCalibration:
 
 
 def _first_frequency(M: np.ndarray, K: np.ndarray) -> float:
-    w2 = scipy.linalg.eigh(K, M, eigvals_only=True, subset_by_index=(0, 0))[0]
+    from scipy.linalg import eigh  # lazy: keeps import hbmfric light
+
+    w2 = eigh(K, M, eigvals_only=True, subset_by_index=(0, 0))[0]
     return float(np.sqrt(max(w2, 0.0)) / (2.0 * np.pi))
 
 
