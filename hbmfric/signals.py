@@ -132,6 +132,40 @@ def sampled_peak_to_peak(samples: np.ndarray) -> float:
     return float(extremes[0] - extremes[1])
 
 
+def state_at_zero(
+    harmonic_numbers: np.ndarray, coefficients: np.ndarray, fundamental: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """Displacement and velocity at ``t = 0`` of a harmonic series.
+
+    Parameters
+    ----------
+    harmonic_numbers : ndarray of int, shape (n_harmonics,)
+    coefficients : ndarray, shape (n_dof, n_coef)
+        ``[X0, Xc1, Xs1, ...]`` per DOF (``x = X0 + Σ Xc_k cos kωt + Xs_k
+        sin kωt``), m.
+    fundamental : float
+        ω, rad/s.
+
+    Returns
+    -------
+    x, v : ndarray, shape (n_dof,)
+        m and m/s.
+    """
+    coefficients = np.atleast_2d(coefficients)
+    x = np.zeros(coefficients.shape[0])
+    v = np.zeros(coefficients.shape[0])
+    col = 0
+    for k in harmonic_numbers:
+        k = int(k)
+        x += coefficients[:, col]
+        if k == 0:
+            col += 1
+        else:
+            v += k * fundamental * coefficients[:, col + 1]
+            col += 2
+    return x, v
+
+
 def _rows(harmonic_numbers: np.ndarray, theta: np.ndarray) -> np.ndarray:
     return synthesis_matrix(harmonic_numbers, np.atleast_1d(theta))
 

@@ -957,13 +957,14 @@ def _monodromy_stability(
     system, force, omega, harmonic_numbers, coefficients, point_harmonics, subharmonic
 ) -> Stability:
     """:class:`Stability` from the time-domain monodromy of every point."""
+    from .signals import state_at_zero
     from .validation.period_map import monodromy
 
     start = time.perf_counter()
     nu = int(subharmonic or 1)
     rows = []
     for i, w in enumerate(omega):
-        x0, v0 = _state_at_zero(harmonic_numbers, coefficients[i], float(w))
+        x0, v0 = state_at_zero(harmonic_numbers, coefficients[i], float(w))
         result = monodromy(
             system, (x0, v0), force=force, omega=nu * float(w), periods=nu
         )
@@ -989,21 +990,3 @@ def _monodromy_stability(
         elapsed=time.perf_counter() - start,
         criterion="monodromy",
     )
-
-
-def _state_at_zero(harmonic_numbers, coefficients, fundamental: float):
-    """Displacement and velocity at ``t = 0`` from coefficients
-    ``(n_dof, n_coef)`` of harmonics of ``fundamental`` (rad/s)."""
-    x = np.zeros(coefficients.shape[0])
-    v = np.zeros(coefficients.shape[0])
-    col = 0
-    for k in harmonic_numbers:
-        k = int(k)
-        if k == 0:
-            x += coefficients[:, col]
-            col += 1
-        else:
-            x += coefficients[:, col]
-            v += k * fundamental * coefficients[:, col + 1]
-            col += 2
-    return x, v

@@ -166,3 +166,20 @@ def test_refusals():
     )
     with pytest.raises(ValueError, match="another system"):
         monodromy(two_dof, ref)
+
+
+def test_state_at_zero_against_the_series():
+    """``signals.state_at_zero``: the series and its derivative at t = 0,
+    against a direct evaluation and a central difference."""
+    from hbmfric.signals import state_at_zero, synthesis_matrix
+
+    rng = np.random.default_rng(4)
+    hn = np.array([0, 1, 3, 5])
+    X = rng.normal(size=(2, 7))
+    omega = 1.7
+    x0, v0 = state_at_zero(hn, X, omega)
+    h = 1e-6
+    theta = np.array([-omega * h, 0.0, omega * h])
+    x = X @ synthesis_matrix(hn, theta).T
+    np.testing.assert_allclose(x0, x[:, 1], atol=1e-14)
+    np.testing.assert_allclose(v0, (x[:, 2] - x[:, 0]) / (2 * h), rtol=1e-7)

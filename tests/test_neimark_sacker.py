@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 
 import hbmfric as hf
+from hbmfric.signals import state_at_zero
 from hbmfric.validation import monodromy, steady_state
 
 FORCE = 0.005
@@ -60,26 +61,10 @@ def test_neimark_sacker_located_and_converged_in_harmonics(branch):
     assert len(ns9) == 1 and abs(ns9[0].omega - ns.omega) < 1e-6
     # the time-domain monodromy of the located solution: a pair on the circle
     system = energy_sink()
-    sol = _solution_at(system, ns.omega, ns.coefficients, ns.harmonic_numbers)
+    sol = state_at_zero(ns.harmonic_numbers, ns.coefficients, ns.omega)
     td = monodromy(system, sol, force=FORCE, omega=ns.omega)
     pair = td.multipliers[np.abs(td.multipliers.imag) > 0.1]
     assert pair.size == 2 and np.all(np.abs(np.abs(pair) - 1.0) < 1e-3)
-
-
-def _solution_at(system, omega, coefficients, harmonic_numbers):
-    """``(x0, v0)`` at ``t = 0`` of coefficients on ``0 … H``."""
-    x0 = np.zeros(coefficients.shape[0])
-    v0 = np.zeros_like(x0)
-    col = 0
-    for k in harmonic_numbers:
-        if k == 0:
-            x0 += coefficients[:, col]
-            col += 1
-        else:
-            x0 += coefficients[:, col]
-            v0 += k * omega * coefficients[:, col + 1]
-            col += 2
-    return x0, v0
 
 
 def test_hill_against_the_time_domain_monodromy(branch):
@@ -114,7 +99,7 @@ def test_time_integration_settles_before_and_modulates_after(branch):
         i = int(np.argmin(np.abs(branch.omega[:200] - omega)))
         assert bool(hill.stable[i]) == settles
         sol = branch.point(i)
-        x0, v0 = _solution_at(system, sol.omega, sol.coefficients, sol.harmonic_numbers)
+        x0, v0 = state_at_zero(sol.harmonic_numbers, sol.coefficients, sol.omega)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", hf.ConvergenceWarning)
             ref = steady_state(

@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 
 import hbmfric as hf
+from hbmfric.signals import state_at_zero
 from hbmfric.validation import monodromy
 
 OMEGA_RANGE = (2.5, 3.6)
@@ -35,20 +36,6 @@ def preloaded_duffing(preload: float = 1.0):
         static_load={0: preload},
         contacts=[hf.Contact(hf.Cubic(1.0), 0)],
     )
-
-
-def _state(coefficients, harmonic_numbers, omega):
-    X = np.asarray(coefficients)[0]
-    x0, v0, col = 0.0, 0.0, 0
-    for k in harmonic_numbers:
-        if k == 0:
-            x0 += X[col]
-            col += 1
-        else:
-            x0 += X[col]
-            v0 += k * omega * X[col + 1]
-            col += 2
-    return x0, v0
 
 
 @pytest.fixture(scope="module")
@@ -108,7 +95,7 @@ def test_period_doublings_located(branch):
     system = preloaded_duffing()
     for p in points:
         assert abs(p.multiplier + 1.0) < 1e-6
-        x0, v0 = _state(p.coefficients, p.harmonic_numbers, p.omega)
+        x0, v0 = state_at_zero(p.harmonic_numbers, p.coefficients, p.omega)
         td = monodromy(system, (x0, v0), force=0.5, omega=p.omega)
         assert np.min(np.abs(td.multipliers + 1.0)) < 1e-3
 
@@ -183,20 +170,6 @@ def test_doubled_branch_joins_the_two_doublings(doubled):
     assert b2.folds.size == 3
 
 
-def _state_at_zero(solution, fundamental):
-    X = solution.coefficients[0]
-    x0, v0, col = 0.0, 0.0, 0
-    for k in solution.harmonic_numbers:
-        if k == 0:
-            x0 += X[col]
-            col += 1
-        else:
-            x0 += X[col]
-            v0 += k * fundamental * X[col + 1]
-            col += 2
-    return x0, v0
-
-
 def test_doubled_branch_stability_against_the_time_domain_monodromy(doubled):
     """Hill on the period-2T balance against the monodromy of two forcing
     periods, at 5 points of each stretch between the folds: same verdict,
@@ -263,14 +236,20 @@ def test_doubled_branch_against_time_integration(branch, doubled):
     assert candidates
     i = candidates[-1]  # the stretch that returns to the second doubling
     sol = b2.point(i)
-    x0, v0 = _state_at_zero(sol, b2.omega[i])
+    x0, v0 = (
+        float(a[0])
+        for a in state_at_zero(sol.harmonic_numbers, sol.coefficients, b2.omega[i])
+    )
     x = _integrate(2 * b2.omega[i], x0, v0, periods=200)
     assert abs(_half_harmonic(x) - sol.amplitude(harmonic=1)) < 1e-4
     # the period-T solution at the same Ω (unstable there)
     j = int(np.argmin(np.abs(branch.omega - 2 * b2.omega[i])))
     assert not branch.stable[j]
     p1 = branch.point(j)
-    x0, v0 = _state_at_zero(p1, branch.omega[j])
+    x0, v0 = (
+        float(a[0])
+        for a in state_at_zero(p1.harmonic_numbers, p1.coefficients, branch.omega[j])
+    )
     x = _integrate(float(branch.omega[j]), x0 * (1 + 1e-6), v0, periods=400)
     assert _half_harmonic(x) > 0.05
 

@@ -17,7 +17,7 @@ import pytest
 
 import hbmfric as hf
 from hbmfric.paper.beam import HZ, paper_beam, paper_calibration
-from hbmfric.stability import _state_at_zero
+from hbmfric.signals import state_at_zero
 from hbmfric.validation import monodromy, steady_state
 
 
@@ -39,7 +39,7 @@ def test_slipping_beam_is_stable(beam):
     assert stab.criterion == "monodromy"
     assert sol.stable
     assert 0.5 < np.abs(stab.multipliers[0]).max() < 0.95
-    x0, v0 = _state_at_zero(sol.harmonic_numbers, sol.coefficients, omega)
+    x0, v0 = state_at_zero(sol.harmonic_numbers, sol.coefficients, omega)
     with warnings.catch_warnings():
         warnings.simplefilter("error", hf.ConvergenceWarning)
         ref = steady_state(
@@ -123,7 +123,7 @@ def test_stress_beam_verdicts_against_time_integration(normal_load):
     tip = beam.contact_dof
     for i in np.linspace(0, len(branch) - 1, 6).round().astype(int)[1:-1]:
         sol = branch.point(int(i))
-        x0, v0 = _state_at_zero(sol.harmonic_numbers, sol.coefficients, sol.omega)
+        x0, v0 = state_at_zero(sol.harmonic_numbers, sol.coefficients, sol.omega)
         with warnings.catch_warnings(record=True):
             warnings.simplefilter("always", hf.ConvergenceWarning)
             ref = steady_state(

@@ -332,22 +332,12 @@ def state_at_zero(
     -------
     ndarray, shape (5,)
     """
-    from ..signals import synthesis_matrix
+    from .. import signals
 
     X = np.asarray(coefficients, dtype=float)
-    u = np.zeros(2)
-    v = np.zeros(2)
-    col = 0
-    for k in harmonic_numbers:
-        if k == 0:
-            u += X[:, col]
-            col += 1
-            continue
-        u += X[:, col]
-        v += k * omega * X[:, col + 1]
-        col += 2
+    u, v = signals.state_at_zero(harmonic_numbers, X, omega)
     theta = 2.0 * math.pi * np.arange(n_samples) / n_samples
-    u2 = X[1] @ synthesis_matrix(harmonic_numbers, theta).T
+    u2 = X[1] @ signals.synthesis_matrix(harmonic_numbers, theta).T
     force = float(rig.tensioner.hysteresis(u2)[0])
     return np.array([u[0], u[1], v[0], v[1], force])
 

@@ -44,6 +44,7 @@ import numpy as np
 from .._validate import finite_float, positive_int
 from ..errors import ConvergenceError
 from ..kernels.laws import CUBIC, DAHL, JENKINS
+from ..signals import state_at_zero
 from .integrator import MESSAGES, NO_CONTACT, OK
 from .multi_integrator import LAW_1D
 
@@ -388,22 +389,13 @@ def _stick_ratio(u: np.ndarray, kt: float, fs: float) -> np.ndarray:
 def _state_at_zero(solution, fundamental: float, n_dof: int):
     """Displacement and velocity at ``t = 0`` of a harmonic-balance
     solution (harmonics of ``fundamental``, rad/s)."""
-    X = np.asarray(solution.coefficients, dtype=np.float64)
-    if X.shape[0] != n_dof:
+    if np.shape(solution.coefficients)[0] != n_dof:
         raise ValueError("start is a solution of another system")
-    x = np.zeros(n_dof)
-    v = np.zeros(n_dof)
-    col = 0
-    for k in solution.harmonic_numbers:
-        k = int(k)
-        if k == 0:
-            x += X[:, col]
-            col += 1
-        else:
-            x += X[:, col]
-            v += k * fundamental * X[:, col + 1]
-            col += 2
-    return x, v
+    return state_at_zero(
+        solution.harmonic_numbers,
+        np.asarray(solution.coefficients, dtype=np.float64),
+        fundamental,
+    )
 
 
 def _partial(ops: tuple, steps: int) -> tuple:
