@@ -526,6 +526,8 @@ class Branch:
                 exponents=exponents,
                 method=method,
             )
+            if self._stability.criterion == "monodromy":
+                _snap_to_folds(self._stability.stable, self.folds)
             self._method = method
             self._hp = key
         if exponents == "all":
@@ -1013,6 +1015,33 @@ def _stability_runs(piece: slice, stable: np.ndarray | None, join: bool = True):
         )
         for a, b in zip(starts, ends, strict=True)
     ]
+
+
+#: points within which a stability change of the time-domain monodromy is
+#: moved onto a fold of the branch
+FOLD_SNAP = 12
+
+
+def _snap_to_folds(stable: np.ndarray, folds: np.ndarray) -> None:
+    """Move each change of ``stable`` found within ``FOLD_SNAP`` points of a
+    fold onto that fold, in place.
+
+    At a fold a real multiplier crosses +1, so the stability changes there
+    (Hill's exponents are exact at it). The time-domain monodromy's
+    verdict is ill-conditioned next to a fold (the crossing multiplier
+    moves like the square root of the distance, and the monodromy carries
+    a first-order error at stick-slip): it puts the change a few points
+    off."""
+    for f in (int(v) for v in folds):
+        changes = np.flatnonzero(stable[1:] != stable[:-1]) + 1
+        near = changes[np.abs(changes - f) <= FOLD_SNAP]
+        if near.size != 1 or near[0] == f:
+            continue
+        c = int(near[0])
+        if c > f:
+            stable[f:c] = stable[c]
+        else:
+            stable[c:f] = stable[c - 1]
 
 
 def _stability_source(source: dict | None, system) -> dict:
