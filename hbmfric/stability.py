@@ -937,9 +937,9 @@ def _automatic_method(system, n_dof: int) -> str:
     if all(c[3] < 0 and c[0].code in (JENKINS, DAHL, CUBIC) for c in contacts):
         return "monodromy"
     warnings.warn(
-        "Hill's stability of a hysteretic contact (Menq, Iwan, roughness, the "
-        "2D element) on several DOFs is approximate: its linearisation of the "
-        "law is exact only where an exponent crosses zero, and on the paper "
+        "Hill's stability of a hysteretic contact (Menq, Iwan, roughness over "
+        "them, the 2D element) on several DOFs is approximate: its linearisation "
+        "of the law is exact only where an exponent crosses zero, and on the paper "
         "beam with a Jenkins tip it read stable slipping points unstable; "
         "check a verdict by time integration (hf.validation.steady_state)",
         AccuracyWarning,

@@ -8,6 +8,7 @@ Hill's verdicts on the friction-Duffing case."""
 import numpy as np
 import pytest
 import scipy.linalg
+from stability_cases import friction_duffing
 
 import hbmfric as hf
 from hbmfric.validation import exact_periodic_solution, monodromy, steady_state
@@ -93,16 +94,7 @@ def test_friction_duffing_verdicts_against_hill():
     of 1.06-1.22. (Their magnitudes differ from Hill's by up to 0.06:
     Hill's linearisation of a hysteretic law is exact only where an
     exponent crosses zero.)"""
-    structure = hf.LinearStructure(
-        np.eye(1),
-        np.eye(1),
-        0.05 * np.eye(1),
-        load={0: 1.0},
-        contacts=[
-            hf.Contact(hf.Cubic(0.1), 0),
-            hf.Contact(hf.Jenkins(stiffness=0.5, slip_force=0.05), 0),
-        ],
-    )
+    structure = friction_duffing()
     with pytest.warns(hf.AccuracyWarning):  # H = 15 gives extra folds
         branch = hf.frf(structure, 0.2, (0.5, 2.5), harmonics=31)
     stable = branch.stable

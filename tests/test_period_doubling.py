@@ -19,23 +19,13 @@ taken and the other family dropped: 6 of the 10 unstable points read
 
 import numpy as np
 import pytest
+from stability_cases import preloaded_duffing
 
 import hbmfric as hf
 from hbmfric.signals import state_at_zero
 from hbmfric.validation import monodromy
 
 OMEGA_RANGE = (2.5, 3.6)
-
-
-def preloaded_duffing(preload: float = 1.0):
-    return hf.LinearStructure(
-        np.eye(1),
-        np.eye(1),
-        0.02 * np.eye(1),
-        load={0: 1.0},
-        static_load={0: preload},
-        contacts=[hf.Contact(hf.Cubic(1.0), 0)],
-    )
 
 
 @pytest.fixture(scope="module")

@@ -11,6 +11,7 @@ import numba
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
+from stability_cases import FRICTION_DUFFING, friction_duffing
 
 import hbmfric as hf
 from hbmfric.hbm import HBMProblem
@@ -539,24 +540,6 @@ def test_exact_monodromy_of_a_stuck_response():
 
 # -- a friction case with stability changes -----------------------------------
 
-#: Duffing oscillator with a Jenkins contact on the same DOF (light
-#: friction: slip force 0.05 against 0.2 forcing), hardening enough to fold
-FRICTION_DUFFING = dict(c=0.05, k3=0.1, kt=0.5, fs=0.05, force=0.2)
-
-
-def _friction_duffing():
-    d = FRICTION_DUFFING
-    return hf.LinearStructure(
-        np.eye(1),
-        np.eye(1),
-        d["c"] * np.eye(1),
-        load={0: 1.0},
-        contacts=[
-            hf.Contact(hf.Cubic(d["k3"]), 0),
-            hf.Contact(hf.Jenkins(stiffness=d["kt"], slip_force=d["fs"]), 0),
-        ],
-    )
-
 
 @numba.njit(cache=False)
 def _march(omega, x0, v0, slider, periods, params, steps=2048):
@@ -628,7 +611,7 @@ def test_friction_duffing_stability_against_time_integration():
     (Hill's largest multiplier there 0.58-0.92 and 1.06-1.22), stays on it
     where Hill says stable (first harmonic within 2e-3 after 150 periods)
     and leaves it where Hill says unstable (by more than 5 %)."""
-    s = _friction_duffing()
+    s = friction_duffing()
     branch = hf.frf(s, FRICTION_DUFFING["force"], (0.5, 2.5), harmonics=31)
     assert branch.folds.size == 2
     f0, f1 = branch.folds

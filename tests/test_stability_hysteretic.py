@@ -14,6 +14,7 @@ import warnings
 
 import numpy as np
 import pytest
+from stability_cases import friction_duffing
 
 import hbmfric as hf
 from hbmfric.paper.beam import HZ, paper_beam, paper_calibration
@@ -163,16 +164,7 @@ def test_two_dof_friction_duffing_changes_at_the_folds():
     crossing multiplier is within its error there); every point then
     agrees with Hill, exact at folds (the snap moves verdicts only within
     12 points of a fold)."""
-    structure = hf.LinearStructure(
-        np.diag([1.0, 0.1]),
-        np.array([[3.0, -2.0], [-2.0, 2.0]]),
-        np.diag([0.05, 0.01]),
-        load={0: 1.0},
-        contacts=[
-            hf.Contact(hf.Cubic(0.1), 0),
-            hf.Contact(hf.Jenkins(stiffness=0.5, slip_force=0.05), 0),
-        ],
-    )
+    structure = friction_duffing(second_mass=0.1)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", hf.AccuracyWarning)
         branch = hf.frf(structure, 0.2, (0.5, 2.5), harmonics=15)

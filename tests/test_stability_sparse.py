@@ -12,6 +12,7 @@ import pickle
 
 import numpy as np
 import pytest
+from stability_cases import friction_duffing, preloaded_duffing
 
 import hbmfric as hf
 from hbmfric.stability import (
@@ -31,33 +32,6 @@ def _p1():
     return hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0))
 
 
-def _friction_duffing():
-    """Duffing with a light Jenkins contact on the same DOF (two folds)."""
-    return hf.LinearStructure(
-        np.eye(1),
-        np.eye(1),
-        0.05 * np.eye(1),
-        load={0: 1.0},
-        contacts=[
-            hf.Contact(hf.Cubic(0.1), 0),
-            hf.Contact(hf.Jenkins(stiffness=0.5, slip_force=0.05), 0),
-        ],
-    )
-
-
-def _preloaded_duffing():
-    """Duffing with a static preload: a period-doubling stretch near
-    Ω = 3 (``tests/test_period_doubling.py``)."""
-    return hf.LinearStructure(
-        np.eye(1),
-        np.eye(1),
-        0.02 * np.eye(1),
-        load={0: 1.0},
-        static_load={0: 1.0},
-        contacts=[hf.Contact(hf.Cubic(1.0), 0)],
-    )
-
-
 BRANCHES = {
     # two folds, unstable middle stretch
     "duffing": lambda: hf.frf(_duffing(), 0.2, (0.5, 2.0), harmonics=9),
@@ -67,7 +41,7 @@ BRANCHES = {
     ),
     # no symmetry, a period-doubling stretch: eigenvalues at every point
     "preloaded-duffing": lambda: hf.frf(
-        _preloaded_duffing(), 0.5, (2.5, 3.6), harmonics=9
+        preloaded_duffing(), 0.5, (2.5, 3.6), harmonics=9
     ),
     # softening: folds on the other side
     "softening": lambda: hf.frf(
@@ -79,7 +53,7 @@ BRANCHES = {
     "p1-adaptive": lambda: hf.frf(_p1(), 1.5, (0.5, 3.0)),
     # friction and folds
     "friction-duffing": lambda: hf.frf(
-        _friction_duffing(), 0.2, (0.5, 2.5), harmonics=15
+        friction_duffing(), 0.2, (0.5, 2.5), harmonics=15
     ),
 }
 
@@ -251,7 +225,7 @@ def test_period_doubling_changes_no_determinant_sign():
     changes = stab.changes()
     assert changes.size == 2 and not stab.stable[changes[0] : changes[1]].any()
     problem = _stability_problem(
-        _preloaded_duffing(), 0.5, 9, None, branch.info["aft"], 1
+        preloaded_duffing(), 0.5, 9, None, branch.info["aft"], 1
     )
     n = len(branch)
     points = np.empty((n, problem.n_unknowns + 1))

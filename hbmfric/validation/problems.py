@@ -60,6 +60,42 @@ class _TimeProblem:
     def n_dof(self) -> int:
         return self.load.size
 
+    def _step_operators(self, omega: float, steps: int, columns: np.ndarray):
+        """The parts of one Newmark step of ``h = T/N`` that every problem
+        type shares: ``Aᵀ``, ``Bᵀ``, ``q``, ``q₀``, ``K_eff⁻¹ columns``,
+        ``cos_sum`` and ``2/h`` (:mod:`hbmfric.validation.integrator`)."""
+        n = self.n_dof
+        h = 2.0 * np.pi / (omega * steps)
+        k_eff = (4.0 / h**2) * self.mass + (2.0 / h) * self.damping + self.stiffness
+        static = np.zeros(n) if self.static_load is None else self.static_load
+        rhs = np.column_stack(
+            (
+                self.stiffness,
+                self.mass,
+                self.load.real,
+                -self.load.imag,
+                static,
+                columns.reshape(n, -1),
+            )
+        )
+        try:
+            solved = np.linalg.solve(k_eff, rhs)
+        except np.linalg.LinAlgError:
+            raise ValueError(
+                "the effective stiffness (4/h²) M + (2/h) C + K is singular; "
+                "check the system matrices"
+            ) from None
+        # the kernels take the transposes (column-wise products)
+        A_t = np.ascontiguousarray(-2.0 * solved[:, :n].T)
+        B_t = np.ascontiguousarray((4.0 / h) * solved[:, n : 2 * n].T)
+        q = np.ascontiguousarray(solved[:, 2 * n : 2 * n + 2].T)
+        q0 = np.ascontiguousarray(2.0 * solved[:, 2 * n + 2])
+        extra = np.ascontiguousarray(solved[:, 2 * n + 3 :])
+        phase = 2.0 * np.pi * np.arange(steps + 1) / steps
+        samples = np.stack((np.cos(phase), np.sin(phase)))
+        cos_sum = np.ascontiguousarray(samples[:, :-1] + samples[:, 1:])
+        return A_t, B_t, q, q0, extra, cos_sum, 2.0 / h
+
     def initial_state(
         self, state, omega: float, steps: int
     ) -> tuple[np.ndarray, np.ndarray]:
@@ -250,37 +286,18 @@ class SingleContact(_TimeProblem):
     def operators(self, omega: float, steps: int):
         """Newmark operators ``(Aᵀ, Bᵀ, q, q₀, g, cos_sum, 2/h)`` for ``h = T/N``
         (see :mod:`hbmfric.validation.integrator`)."""
-        n = self.n_dof
-        h = 2.0 * np.pi / (omega * steps)
-        k_eff = (4.0 / h**2) * self.mass + (2.0 / h) * self.damping + self.stiffness
-        unit = np.zeros(n)
+        unit = np.zeros(self.n_dof)
         unit[self.contact_dof] = 1.0
-        static = np.zeros(n) if self.static_load is None else self.static_load
-        rhs = np.column_stack(
-            (self.stiffness, self.mass, self.load.real, -self.load.imag, unit, static)
+        A_t, B_t, q, q0, g, cos_sum, two_over_h = self._step_operators(
+            omega, steps, unit
         )
-        try:
-            solved = np.linalg.solve(k_eff, rhs)
-        except np.linalg.LinAlgError:
-            raise ValueError(
-                "the effective stiffness (4/h²) M + (2/h) C + K is singular; "
-                "check the system matrices"
-            ) from None
-        # the kernels take the transposes (column-wise products)
-        A_t = np.ascontiguousarray(-2.0 * solved[:, :n].T)
-        B_t = np.ascontiguousarray((4.0 / h) * solved[:, n : 2 * n].T)
-        q = np.ascontiguousarray(solved[:, 2 * n : 2 * n + 2].T)
-        g = np.ascontiguousarray(solved[:, 2 * n + 2])
-        q0 = np.ascontiguousarray(2.0 * solved[:, 2 * n + 3])
+        g = np.ascontiguousarray(g[:, 0])
         if self.law_code != NO_CONTACT and not g[self.contact_dof] > 0.0:
             raise ValueError(
                 "the effective stiffness must be positive definite at the contact "
                 "DOF; check the system matrices"
             )
-        phase = 2.0 * np.pi * np.arange(steps + 1) / steps
-        samples = np.stack((np.cos(phase), np.sin(phase)))
-        cos_sum = np.ascontiguousarray(samples[:, :-1] + samples[:, 1:])
-        return A_t, B_t, q, q0, g, cos_sum, 2.0 / h
+        return A_t, B_t, q, q0, g, cos_sum, two_over_h
 
     def kernel_system(self, omega: float, steps: int) -> tuple:
         """The kernels' ``system`` tuple for ``h = T/N``
@@ -454,30 +471,11 @@ class SeveralContacts(_TimeProblem):
         return state
 
     def kernel_system(self, omega: float, steps: int) -> tuple:
-        n = self.n_dof
-        h = 2.0 * np.pi / (omega * steps)
-        k_eff = (4.0 / h**2) * self.mass + (2.0 / h) * self.damping + self.stiffness
         B = self.reader()
-        static = np.zeros(n) if self.static_load is None else self.static_load
-        rhs = np.column_stack(
-            (self.stiffness, self.mass, self.load.real, -self.load.imag, static, B.T)
+        A_t, B_t, q, q0, G, cos_sum, two_over_h = self._step_operators(
+            omega, steps, B.T
         )
-        try:
-            solved = np.linalg.solve(k_eff, rhs)
-        except np.linalg.LinAlgError:
-            raise ValueError(
-                "the effective stiffness (4/h²) M + (2/h) C + K is singular; "
-                "check the system matrices"
-            ) from None
-        A_t = np.ascontiguousarray(-2.0 * solved[:, :n].T)
-        B_t = np.ascontiguousarray((4.0 / h) * solved[:, n : 2 * n].T)
-        q = np.ascontiguousarray(solved[:, 2 * n : 2 * n + 2].T)
-        q0 = np.ascontiguousarray(2.0 * solved[:, 2 * n + 2])
-        G = np.ascontiguousarray(solved[:, 2 * n + 3 :])
         Gc = np.ascontiguousarray(B @ G)
-        phase = 2.0 * np.pi * np.arange(steps + 1) / steps
-        samples = np.stack((np.cos(phase), np.sin(phase)))
-        cos_sum = np.ascontiguousarray(samples[:, :-1] + samples[:, 1:])
         return (
             A_t,
             B_t,
@@ -494,7 +492,7 @@ class SeveralContacts(_TimeProblem):
             np.zeros(self.rows.shape[0]),
             self.sizes,
             self.rows,
-            2.0 / h,
+            two_over_h,
             self.param_at,
             np.zeros((self.rows.shape[0], self.rows.shape[0])),
             np.zeros((self.rows.shape[0], self.rows.shape[0])),
