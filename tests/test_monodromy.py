@@ -175,3 +175,13 @@ def test_state_at_zero_against_the_series():
     x = X @ synthesis_matrix(hn, theta).T
     np.testing.assert_allclose(x0, x[:, 1], atol=1e-14)
     np.testing.assert_allclose(v0, (x[:, 2] - x[:, 0]) / (2 * h), rtol=1e-7)
+
+
+def test_zero_forcing_is_the_stuck_linear_oscillator():
+    """At rest (F = 0) a Jenkins contact stays stuck: the multipliers are
+    those of exp(A T) of the stuck linear oscillator (k + kt) plus the
+    slider's neutral 1."""
+    result = monodromy(JENKINS3, (0.0, 0.0), force=0.0, omega=1.2)
+    stuck = np.linalg.eigvals(_linear_monodromy(1.0, 0.02, 1.0 + 3.0, 1.2))
+    expected = np.sort(np.abs(np.append(stuck, 1.0)))
+    np.testing.assert_allclose(np.sort(np.abs(result.multipliers)), expected, atol=1e-5)

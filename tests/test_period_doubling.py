@@ -258,3 +258,13 @@ def test_switching_refuses_what_it_cannot_do(branch, doubled):
         hf.period_doubled_branch(b2, points[0])
     with pytest.raises(ValueError, match="harmonics"):
         hf.period_doubled_branch(branch, points[0], harmonics=4)
+
+
+def test_switching_says_when_no_point_is_found(branch, monkeypatch):
+    """A bordered Newton that does not converge raises ConvergenceError
+    (never a branch of something else)."""
+    from hbmfric import switching
+
+    monkeypatch.setattr(switching, "MAX_NEWTON", 0)
+    with pytest.raises(hf.ConvergenceError, match="period-doubled branch"):
+        hf.period_doubled_branch(branch, branch.special_points()[0])
