@@ -375,6 +375,13 @@ def _parity_blocks(harmonic_numbers: np.ndarray, n_dof: int):
     return odd, even
 
 
+def _parity_of_rows(harmonic_numbers: np.ndarray, n_dof: int) -> np.ndarray:
+    """Parity (0 even, 1 odd) of the harmonic of each row (DOF-major
+    layout), shape (n_dof * n_coef,), int64."""
+    per = np.repeat(harmonic_numbers, np.where(harmonic_numbers == 0, 1, 2))
+    return np.tile(per % 2, n_dof).astype(np.int64)
+
+
 def floquet_exponents(
     jacobian: np.ndarray,
     mass: np.ndarray,
@@ -432,12 +439,13 @@ def _groups(J: np.ndarray, harmonic_numbers, n_dof: int, split: bool) -> list:
 def _pencil_blocks(mass, damping, harmonic_numbers, groups) -> list:
     """Per Hill block (``groups``: index arrays): its indices, the damping
     and Ω-proportional parts of ``Δ1`` (``Δ1 = d1_damp + Ω d1_mass``),
-    ``Δ2`` and the inverse of ``Δ2`` (None when the mass is singular)."""
+    ``Δ2`` and the inverse of ``Δ2`` (None when the mass is singular).
+
+    Built entry by entry on the block's rows (row ``r`` of the DOF-major
+    layout is coefficient ``r % n_coef`` of DOF ``r // n_coef``):
+    ``(A ⊗ B)[r, s] = A[dof_r, dof_s] B[coef_r, coef_s]``."""
     n_coef = sum(g.size for g in groups) // mass.shape[0]
-    eye = np.eye(n_coef)
-    d1_damp = np.kron(damping, eye)
-    d1_mass = 2.0 * np.kron(mass, derivative_operator(harmonic_numbers, 1.0))
-    d2 = np.kron(mass, eye)
+    D = derivative_operator(harmonic_numbers, 1.0)
     try:
         minv = np.linalg.inv(mass)
         if not np.all(np.isfinite(minv)):
@@ -446,9 +454,14 @@ def _pencil_blocks(mass, damping, harmonic_numbers, groups) -> list:
         minv = None
     blocks = []
     for idx in groups:
-        sub = np.ix_(idx, idx)
-        mi = None if minv is None else np.kron(minv, eye)[sub]
-        blocks.append((idx, d1_damp[sub], d1_mass[sub], d2[sub], mi))
+        dof, coef = np.divmod(idx, n_coef)
+        pair_dof = np.ix_(dof, dof)
+        same = np.equal.outer(coef, coef).astype(float)
+        d1_damp = damping[pair_dof] * same
+        d1_mass = 2.0 * mass[pair_dof] * D[np.ix_(coef, coef)]
+        d2 = mass[pair_dof] * same
+        mi = None if minv is None else minv[pair_dof] * same
+        blocks.append((idx, d1_damp, d1_mass, d2, mi))
     return blocks
 
 
@@ -515,8 +528,12 @@ class _Level:
     With ``signs``, the signs of ``det Δ0`` of each Hill block at every
     point are computed too (:meth:`determinant_signs`)."""
 
-    def __init__(self, problem, idx, points, harmonic_numbers, keep, split, signs):
+    def __init__(
+        self, problem, idx, points, harmonic_numbers, keep, split, signs, reflect=False
+    ):
         self.problem = problem
+        self.reflect = reflect  # measure the symmetry of Δ0 (one DOF)
+        self._asymmetry = None  # (asymmetry, largest) when measured
         self.idx = idx  # indices of the points in the whole set
         self.points = points  # (k, n_unknowns + 1): [X in the full basis, Ω]
         self.harmonic_numbers = harmonic_numbers  # of the perturbation
@@ -536,9 +553,10 @@ class _Level:
         # the candidate blocks computed with them
         self._all = None
         self._signs = None
+        self._extremes = None  # (coupling, largest) measured with them
         if idx.size <= self.chunk:
             self._all, self._signs = self._evaluate(
-                np.arange(idx.size), candidates if signs else None
+                np.arange(idx.size), candidates if signs else None, len(candidates) == 2
             )
         self.groups = self._decide_groups(candidates)
         if self._signs is not None and len(self.groups) != len(candidates):
@@ -561,10 +579,12 @@ class _Level:
             return self._all[local]
         return self._evaluate(local)[0]
 
-    def _evaluate(self, local: np.ndarray, groups=None):
+    def _evaluate(self, local: np.ndarray, groups=None, coupling: bool = False):
         """``∂R/∂X`` at the points ``local``, one compiled loop, and the
         signs (k, n_groups) of the determinants of the blocks ``groups``
-        (None: not computed)."""
+        (None: not computed). With ``coupling`` (and every row kept), the
+        largest odd-even coupling and entry are measured in the same loop
+        (``self._extremes``, for :meth:`_decide_groups`)."""
         from .kernels.hill import hill_jacobians
 
         problem = self.problem
@@ -573,6 +593,26 @@ class _Level:
         status = np.empty(local.size, dtype=np.int64)
         blocks, sizes = _block_table(groups or [], self.keep)
         signs = np.empty((local.size, sizes.size), dtype=np.int64)
+        parity = np.zeros(0, dtype=np.int64)
+        if coupling and self.keep is None:
+            parity = _parity_of_rows(self.harmonic_numbers, self.n_dof)
+        skew = np.zeros((0, 0))
+        weight = np.zeros(0)
+        if self.reflect and groups:
+            # rows of harmonic 0 carry half the Galerkin weight of the
+            # others: W = diag(2 there, 1 elsewhere) makes the AFT
+            # Jacobian of a memoryless law symmetric
+            per = np.repeat(
+                problem.harmonic_numbers,
+                np.where(problem.harmonic_numbers == 0, 1, 2),
+            )
+            weight = np.tile(np.where(per == 0, 2.0, 1.0), self.n_dof)
+            skew = 2.0 * np.kron(
+                problem.kernel_problem[2],
+                derivative_operator(problem.harmonic_numbers, 1.0),
+            )
+            skew *= weight[:, None]
+        extremes = np.zeros(3)
         hill_jacobians(
             np.ascontiguousarray(self.points[local]),
             problem.kernel_problem,
@@ -581,6 +621,10 @@ class _Level:
             blocks,
             sizes,
             signs,
+            parity,
+            weight,
+            skew,
+            extremes,
         )
         bad = np.flatnonzero(status < 0)
         if bad.size:
@@ -589,6 +633,10 @@ class _Level:
             raise ValueError(
                 f"the AFT failed at Ω = {omega:.6g} rad/s (code {int(status[j])})"
             )
+        if parity.size:
+            self._extremes = (float(extremes[0]), float(extremes[1]))
+        if skew.size:
+            self._asymmetry = (float(extremes[2]), float(extremes[1]))
         if self.keep is not None:
             J = J[:, self.keep][:, :, self.keep]
         return J, (signs if groups else None)
@@ -609,13 +657,25 @@ class _Level:
         from .kernels.hill import split_extremes
 
         odd, even = candidates
-        coupling, largest = 0.0, 0.0
-        for _, J in self._chunks():
-            c, g = split_extremes(J, odd, even)
-            coupling, largest = max(coupling, c), max(largest, g)
+        if self._extremes is not None:
+            coupling, largest = self._extremes  # measured with the Jacobians
+        else:
+            coupling, largest = 0.0, 0.0
+            for _, J in self._chunks():
+                c, g = split_extremes(J, odd, even)
+                coupling, largest = max(coupling, c), max(largest, g)
         if np.isfinite(largest) and coupling <= SPLIT_TOLERANCE * largest:
             return candidates
         return [np.arange(self.n)]
+
+    def reflection_symmetric(self) -> bool:
+        """Whether ``Δ0 - Ω C ⊗ D₁`` was found symmetric (relative
+        ``SPLIT_TOLERANCE``) at every point of the level (measured with
+        the Jacobians when ``reflect``; False when not measured)."""
+        if self._asymmetry is None:
+            return False
+        asymmetry, largest = self._asymmetry
+        return bool(np.isfinite(largest) and asymmetry <= SPLIT_TOLERANCE * largest)
 
     def exponents(self, local: np.ndarray) -> np.ndarray:
         """Selected exponents (k, 2 n_dof) at the level's points ``local``."""
@@ -664,6 +724,10 @@ _CHUNK_BYTES = 1 << 25
 #: ``exponents="auto"`` computes Hill's eigenvalues at every
 #: ``ANCHOR_SPACING``-th point at least (see :func:`stability_of_points`)
 ANCHOR_SPACING = 64
+#: relative tolerance (to ``c/m`` plus the largest ``|Re λ|``) of the
+#: pairing ``Re(λ₁ + λ₂) = -c/m`` of the two exponents of one DOF that
+#: lets a reflection-symmetric branch go without anchors
+REFLECTION_TOLERANCE = 1e-8
 
 
 def _exponents_at(levels: list, level_of: np.ndarray, local_of, where) -> np.ndarray:
@@ -692,11 +756,18 @@ def _sparse_schedule(
     is adjacent. ``verdict(where)`` returns the stability of the points
     ``where``. Every other point takes the verdict of the computed points
     around it (equal by construction).
+
+    ``anchor_spacing = 0`` (the verdict can change only at a flip): one
+    point per stretch between flips, the two ends of every flip (the
+    first point if there is no flip), and no anchors.
     """
     want = np.zeros(n_points, dtype=bool)
-    want[[0, n_points - 1]] = True
-    want[::anchor_spacing] = True
     f = np.flatnonzero(flips)
+    if anchor_spacing > 0:
+        want[[0, n_points - 1]] = True
+        want[::anchor_spacing] = True
+    elif f.size == 0:
+        want[0] = True
     want[f] = True
     want[f - 1] = True
     computed = np.zeros(n_points, dtype=bool)
@@ -868,7 +939,9 @@ def stability_of_points(
         used[idx] = hn[-1]
         level_of[idx] = len(levels)
         local_of[idx] = np.arange(idx.size)
-        levels.append(_Level(problem, idx, points, hn, keep, symmetric, sparse))
+        levels.append(
+            _Level(problem, idx, points, hn, keep, symmetric, sparse, reflect=sparse)
+        )
 
     def exponents_at(where: np.ndarray) -> np.ndarray:
         return _exponents_at(levels, level_of, local_of, where)
@@ -889,12 +962,33 @@ def stability_of_points(
         flips = np.zeros(n_points, dtype=bool)
         flips[1:] = np.any(signs[1:] != signs[:-1], axis=1) | zero[1:] | zero[:-1]
 
+        # Δ0 - Ω C ⊗ D₁ symmetric at every point (a memoryless law): the
+        # pencil's eigenvalues pair as λ, -c/m - λ, the verdict changes
+        # only at a flip (stability_of_points); checked on the computed
+        # points' exponents, anchors again where it fails
+        c_over_m = float(
+            problems[0][1].kernel_problem[2][0, 0]
+            / problems[0][1].kernel_problem[1][0, 0]
+        )
+        reflected = subharmonic == 1 and all(lv.reflection_symmetric() for lv in levels)
+        paired = [True]
+
         def verdict(where: np.ndarray) -> np.ndarray:
             lam = exponents_at(where)
             exps[where] = lam
+            total = lam.real.sum(axis=1)
+            size = c_over_m + np.abs(lam.real).max(axis=1)
+            paired[0] &= bool(
+                np.all(np.abs(total + c_over_m) <= REFLECTION_TOLERANCE * size)
+            )
             return lam.real.max(axis=1) < 0.0
 
-        computed, stable = _sparse_schedule(n_points, flips, verdict, ANCHOR_SPACING)
+        spacing = 0 if reflected else ANCHOR_SPACING
+        computed, stable = _sparse_schedule(n_points, flips, verdict, spacing)
+        if spacing == 0 and not paired[0]:
+            computed, stable = _sparse_schedule(
+                n_points, flips, verdict, ANCHOR_SPACING
+            )
     else:
         computed = np.ones(n_points, dtype=bool)
         if n_points:

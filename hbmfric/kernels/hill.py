@@ -17,10 +17,13 @@ from .linalg import lu_factor
 
 
 @jit
-def hill_jacobians(points, problem, jac, status, blocks, sizes, signs):
+def hill_jacobians(
+    points, problem, jac, status, blocks, sizes, signs, parity, weight, skew, extremes
+):
     """``∂R/∂X`` of the HBM residual at many solutions, and optionally the
-    signs of the determinants of diagonal blocks of each (computed while
-    the Jacobian is fresh in the cache).
+    signs of the determinants of diagonal blocks of each and the size of
+    the coupling between two index sets (computed while the Jacobian is
+    fresh in the cache).
 
     Parameters
     ----------
@@ -39,17 +42,54 @@ def hill_jacobians(points, problem, jac, status, blocks, sizes, signs):
     sizes : ndarray of int64, shape (n_blocks,)
     signs : ndarray of int64, shape (n_points, n_blocks)
         Output: as :func:`block_determinant_signs`.
+    parity : ndarray of int64, shape (n,) or (0,)
+        Class (0 or 1) of each row and column, e.g. the parity of its
+        harmonic; empty: no coupling measured.
+    weight : ndarray, shape (n,) or (0,)
+        Row weights of the symmetry test (``W jac`` is tested, ``W =
+        diag(weight)``: the inverse of the Galerkin weight of each row).
+    skew : ndarray, shape (n, n) or (0, 0)
+        Skew part of ``W jac`` per unit Ω that the symmetry test discounts
+        (``2 W C ⊗ D₁``, the damping's ``Ω C ⊗ D₁`` doubled, ``D₁`` the
+        derivative operator at Ω = 1); empty: no test.
+    extremes : ndarray, shape (3,)
+        Output: the largest ``|jac[i, r, c]|`` with ``parity[r] !=
+        parity[c]`` over all points (0 when ``parity`` is empty), the
+        largest entry of all, and the largest ``|jac[i, r, c] - jac[i, c,
+        r] - Ω_i skew[r, c]|`` of ``W jac`` (0 when ``skew`` is empty); inf where an
+        entry is not finite (as :func:`split_extremes`).
     """
     n = jac.shape[1]
     R = np.empty(n)
     J = np.empty((n, n + 1))
+    coupling = 0.0
+    largest = 0.0
+    asymmetry = 0.0
+    check = parity.size == n
+    symmetric = skew.shape[0] == n
     for i in range(points.shape[0]):
         status[i] = hbm_residual(points[i], problem, R, J)
         for r in range(n):
             for c in range(n):
-                jac[i, r, c] = J[r, c]
+                v = J[r, c]
+                jac[i, r, c] = v
+                a = abs(v)
+                if not a <= largest:
+                    largest = a if a == a else np.inf
+                if check and parity[r] != parity[c] and not a <= coupling:
+                    coupling = a if a == a else np.inf
+        if symmetric:
+            w = points[i, n]
+            for r in range(n):
+                for c in range(r + 1, n):
+                    a = abs(weight[r] * J[r, c] - weight[c] * J[c, r] - w * skew[r, c])
+                    if not a <= asymmetry:
+                        asymmetry = a if a == a else np.inf
         for b in range(blocks.shape[0]):
             signs[i, b] = _sign_of_det(J, blocks[b, : sizes[b]])
+    extremes[0] = coupling
+    extremes[1] = largest
+    extremes[2] = asymmetry
 
 
 @jit
