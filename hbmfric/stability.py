@@ -533,7 +533,7 @@ class _Level:
     ):
         self.problem = problem
         self.reflect = reflect  # measure the symmetry of Δ0 (one DOF)
-        self._asymmetry = None  # (asymmetry, largest) when measured
+        self._asymmetry = None  # relative asymmetry when measured
         self.idx = idx  # indices of the points in the whole set
         self.points = points  # (k, n_unknowns + 1): [X in the full basis, Ω]
         self.harmonic_numbers = harmonic_numbers  # of the perturbation
@@ -624,6 +624,7 @@ class _Level:
             parity,
             weight,
             skew,
+            SPLIT_TOLERANCE,
             extremes,
         )
         bad = np.flatnonzero(status < 0)
@@ -636,7 +637,7 @@ class _Level:
         if parity.size:
             self._extremes = (float(extremes[0]), float(extremes[1]))
         if skew.size:
-            self._asymmetry = (float(extremes[2]), float(extremes[1]))
+            self._asymmetry = float(extremes[2])
         if self.keep is not None:
             J = J[:, self.keep][:, :, self.keep]
         return J, (signs if groups else None)
@@ -669,13 +670,14 @@ class _Level:
         return [np.arange(self.n)]
 
     def reflection_symmetric(self) -> bool:
-        """Whether ``Δ0 - Ω C ⊗ D₁`` was found symmetric (relative
-        ``SPLIT_TOLERANCE``) at every point of the level (measured with
-        the Jacobians when ``reflect``; False when not measured)."""
+        """Whether ``W (Δ0 - Ω C ⊗ D₁)`` was found symmetric (relative
+        ``SPLIT_TOLERANCE`` to each point's largest entry; ``W``: 2 on the
+        rows of harmonic 0, 1 elsewhere) at every point of the level
+        (measured with the Jacobians when ``reflect``; False when not
+        measured)."""
         if self._asymmetry is None:
             return False
-        asymmetry, largest = self._asymmetry
-        return bool(np.isfinite(largest) and asymmetry <= SPLIT_TOLERANCE * largest)
+        return bool(self._asymmetry <= SPLIT_TOLERANCE)
 
     def exponents(self, local: np.ndarray) -> np.ndarray:
         """Selected exponents (k, 2 n_dof) at the level's points ``local``."""

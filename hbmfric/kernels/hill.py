@@ -18,7 +18,18 @@ from .linalg import lu_factor
 
 @jit
 def hill_jacobians(
-    points, problem, jac, status, blocks, sizes, signs, parity, weight, skew, extremes
+    points,
+    problem,
+    jac,
+    status,
+    blocks,
+    sizes,
+    signs,
+    parity,
+    weight,
+    skew,
+    tolerance,
+    extremes,
 ):
     """``∂R/∂X`` of the HBM residual at many solutions, and optionally the
     signs of the determinants of diagonal blocks of each and the size of
@@ -52,12 +63,18 @@ def hill_jacobians(
         Skew part of ``W jac`` per unit Ω that the symmetry test discounts
         (``2 W C ⊗ D₁``, the damping's ``Ω C ⊗ D₁`` doubled, ``D₁`` the
         derivative operator at Ω = 1); empty: no test.
+    tolerance : float
+        The symmetry test stops at the first point whose asymmetry
+        exceeds ``tolerance`` (relative to its largest entry).
     extremes : ndarray, shape (3,)
         Output: the largest ``|jac[i, r, c]|`` with ``parity[r] !=
         parity[c]`` over all points (0 when ``parity`` is empty), the
-        largest entry of all, and the largest ``|jac[i, r, c] - jac[i, c,
-        r] - Ω_i skew[r, c]|`` of ``W jac`` (0 when ``skew`` is empty); inf where an
-        entry is not finite (as :func:`split_extremes`).
+        largest entry of all (inf where an entry is not finite, as
+        :func:`split_extremes`), and the asymmetry: the largest over the
+        points of ``max |W jac - (W jac)ᵀ - Ω_i skew|`` relative to the
+        point's largest ``|jac|`` up to the first point above
+        ``tolerance`` (0 when ``skew`` is empty; inf for a point with a
+        non-finite entry or no nonzero one).
     """
     n = jac.shape[1]
     R = np.empty(n)
@@ -69,22 +86,32 @@ def hill_jacobians(
     symmetric = skew.shape[0] == n
     for i in range(points.shape[0]):
         status[i] = hbm_residual(points[i], problem, R, J)
+        here = 0.0
         for r in range(n):
             for c in range(n):
                 v = J[r, c]
                 jac[i, r, c] = v
                 a = abs(v)
-                if not a <= largest:
-                    largest = a if a == a else np.inf
+                if not a <= here:
+                    here = a if a == a else np.inf
                 if check and parity[r] != parity[c] and not a <= coupling:
                     coupling = a if a == a else np.inf
+        if not here <= largest:
+            largest = here
         if symmetric:
             w = points[i, n]
+            worst = 0.0
             for r in range(n):
                 for c in range(r + 1, n):
-                    a = abs(weight[r] * J[r, c] - weight[c] * J[c, r] - w * skew[r, c])
-                    if not a <= asymmetry:
-                        asymmetry = a if a == a else np.inf
+                    d = weight[r] * J[r, c] - weight[c] * J[c, r] - w * skew[r, c]
+                    a = abs(d)
+                    if not a <= worst:
+                        worst = a if a == a else np.inf
+            ratio = worst / here if 0.0 < here < np.inf else np.inf
+            if not ratio <= asymmetry:
+                asymmetry = ratio if ratio == ratio else np.inf
+            if not asymmetry <= tolerance:
+                symmetric = False  # one point suffices to refuse
         for b in range(blocks.shape[0]):
             signs[i, b] = _sign_of_det(J, blocks[b, : sizes[b]])
     extremes[0] = coupling
