@@ -554,7 +554,12 @@ class _Level:
         self._all = None
         self._signs = None
         self._extremes = None  # (coupling, largest) measured with them
-        if idx.size <= self.chunk:
+        if signs and reflect and len(candidates) == 2 and _memoryless(problem, keep):
+            # signs from the tangent stiffness's spectrum; the Jacobians
+            # of the few computed points are evaluated when asked for
+            self._signs, self._extremes = _memoryless_signs(problem, points, candidates)
+            self._asymmetry = 0.0  # symmetric by construction (W-weighted)
+        elif idx.size <= self.chunk:
             self._all, self._signs = self._evaluate(
                 np.arange(idx.size), candidates if signs else None, len(candidates) == 2
             )
@@ -708,6 +713,69 @@ class _Level:
             block_determinant_signs(J, blocks, sizes, out)
             signs[local] = out
         return signs
+
+
+#: a block's determinant sign counts as 0 (a flip on both sides of the
+#: point) where its smallest LU pivot is below this share of its largest:
+#: the spectral Jacobian of :func:`_memoryless_signs` equals the AFT's up to
+#: rounding only, and a sign taken that close to singular could differ
+SIGN_GUARD = 1e-11
+
+
+def _memoryless(problem, keep) -> bool:
+    """Whether the Jacobians of ``problem`` can come from the spectrum of
+    the tangent stiffness (:func:`hbmfric.kernels.hill.memoryless_jacobians`):
+    one DOF, every row kept, every contact memoryless (``Cubic``) between
+    the DOF and ground, one fundamental (no subharmonic)."""
+    from .kernels.laws import CUBIC
+
+    kp = problem.kernel_problem
+    if keep is not None or kp[1].shape[0] != 1 or type(kp).__name__ != "tuple":
+        return False
+    if getattr(problem, "subharmonic", 1) not in (None, 1):
+        return False
+    pairs, codes = np.asarray(kp[5]), np.asarray(kp[6])
+    hn = np.asarray(kp[0])
+    return bool(
+        np.all(codes == CUBIC)
+        and (pairs.size == 0 or (np.all(pairs[:, 0] == 0) and np.all(pairs[:, 1] < 0)))
+        and np.array_equal(hn, np.arange(hn.size))
+    )
+
+
+def _memoryless_signs(problem, points: np.ndarray, groups: list):
+    """Signs (k, n_groups) of the blocks ``groups`` of the Jacobians at
+    ``points`` (k, n + 1), and the (coupling, largest) pair of
+    :meth:`_Level._decide_groups`, from the tangent stiffness's spectrum."""
+    from .kernels.hill import memoryless_jacobians
+
+    kp = problem.kernel_problem
+    hn = np.asarray(kp[0])
+    n_time = kp[9].shape[0]
+    theta = 2.0 * np.pi * np.arange(n_time) / n_time
+    m = np.arange(2 * int(hn[-1]) + 1)[:, None]
+    structure = np.array([kp[1][0, 0], kp[2][0, 0], kp[3][0, 0]], dtype=float)
+    blocks, sizes = _block_table(groups, None)
+    signs = np.empty((points.shape[0], sizes.size), dtype=np.int64)
+    extremes = np.zeros(2)
+    n = problem.n_unknowns
+    memoryless_jacobians(
+        np.ascontiguousarray(points),
+        hn.astype(np.int64),
+        structure,
+        np.asarray(kp[6], dtype=np.int64),
+        np.ascontiguousarray(kp[7], dtype=float),
+        np.cos(m * theta),
+        np.sin(m * theta),
+        np.empty((n, n)),
+        blocks,
+        sizes,
+        signs,
+        _parity_of_rows(hn, 1),
+        SIGN_GUARD,
+        extremes,
+    )
+    return signs, (float(extremes[0]), float(extremes[1]))
 
 
 def _block_table(groups: list, keep) -> tuple[np.ndarray, np.ndarray]:

@@ -110,11 +110,13 @@ def _level(system, force, branch, harmonics):
     return level, problem
 
 
-def test_measured_symmetry_against_numpy(duffing_branch, p1_branch):
+def test_measured_symmetry_against_numpy(duffing_branch, p1_branch, monkeypatch):
     """The asymmetry measured in the compiled Jacobian loop is NumPy's
     ``max |W J - (W J)ᵀ - 2 Ω W C ⊗ D₁|`` relative to each point's
     largest entry (``W``: 2 on the rows of harmonic 0, 1 elsewhere):
-    rounding on the Duffing, of the order of the entries on P1."""
+    rounding on the Duffing, of the order of the entries on P1 (the
+    Duffing's Jacobians from the AFT here, not from the spectrum)."""
+    monkeypatch.setattr(stab_mod, "_memoryless", lambda problem, keep: False)
     for system, force, branch, h, memoryless in (
         (_duffing(), 0.2, duffing_branch, 9, True),
         (_p1(), 0.5, p1_branch, 15, False),
@@ -187,3 +189,46 @@ def test_failed_pairing_brings_the_anchors_back(duffing_branch, monkeypatch):
     full = duffing_branch.stability(exponents="all")
     np.testing.assert_array_equal(stable, full.stable)
     duffing_branch._stability = None
+
+
+def test_spectral_jacobians_and_signs_against_the_aft(duffing_branch):
+    """The Jacobians a memoryless one-DOF branch takes from the spectrum
+    of its tangent stiffness equal the AFT's (``HBMProblem.residual``) to
+    rounding, and the signs of their odd and even blocks at every point
+    of the Duffing branch equal those of NumPy's determinants of the AFT
+    Jacobians' blocks (both signs of the odd block occur: the folds)."""
+    from hbmfric.kernels.hill import memoryless_jacobians
+    from hbmfric.stability import SIGN_GUARD, _memoryless, _parity_blocks
+
+    level, problem = _level(_duffing(), 0.2, duffing_branch, 9)
+    assert _memoryless(problem, None) and level._all is None
+    n = problem.n_unknowns
+    J = level.jacobians(np.arange(len(duffing_branch)))  # the AFT's
+    kp = problem.kernel_problem
+    hn = problem.harmonic_numbers
+    theta = 2.0 * np.pi * np.arange(kp[9].shape[0]) / kp[9].shape[0]
+    m = np.arange(2 * hn[-1] + 1)[:, None]
+    jac = np.empty((n, n))
+    for i in (0, 150, duffing_branch.folds[0], 300, len(duffing_branch) - 1):
+        memoryless_jacobians(
+            level.points[i : i + 1],
+            hn,
+            np.array([1.0, 0.05, 1.0]),
+            np.asarray(kp[6]),
+            kp[7],
+            np.cos(m * theta),
+            np.sin(m * theta),
+            jac,
+            np.zeros((0, 1), dtype=np.int64),
+            np.zeros(0, dtype=np.int64),
+            np.empty((1, 0), dtype=np.int64),
+            np.zeros(n, dtype=np.int64),
+            SIGN_GUARD,
+            np.zeros(2),
+        )
+        np.testing.assert_allclose(jac, J[i], rtol=0, atol=1e-13 * np.abs(J[i]).max())
+    signs = level.determinant_signs()
+    for b, g in enumerate(_parity_blocks(hn, 1)):
+        ref = np.sign(np.linalg.det(J[:, g][:, :, g]))
+        np.testing.assert_array_equal(signs[:, b], ref)
+    assert set(signs[:, 0]) == {-1, 1}

@@ -13,6 +13,7 @@ import numpy as np
 
 from .._jit import jit
 from .hbm import hbm_residual
+from .laws import law_update
 from .linalg import lu_factor
 
 
@@ -178,3 +179,156 @@ def split_extremes(jac, odd, even):
                 if not a <= coupling:
                     coupling = a if a == a else np.inf
     return coupling, largest
+
+
+@jit
+def memoryless_jacobians(
+    points,
+    harmonic_numbers,
+    structure,
+    law_codes,
+    law_params,
+    cos_table,
+    sin_table,
+    jac,
+    blocks,
+    sizes,
+    signs,
+    parity,
+    guard,
+    extremes,
+):
+    """HBM Jacobians of one DOF with memoryless contacts to ground, from
+    the spectrum of the tangent stiffness, and the signs of diagonal
+    blocks of them.
+
+    The sampled AFT Jacobian of a memoryless law is ``dF[r, s] = Σ_i
+    forward[r, i] k(θ_i) inverse[i, s]`` with ``k = Σ f'(x)`` the tangent
+    stiffness of the contacts at the samples. Products of two basis
+    functions are sums of ``cos`` and ``sin`` of ``(a ± b) θ``, so ``dF``
+    is assembled from the discrete coefficients ``C_m = Σ_i k_i cos mθ_i``
+    and ``S_m = Σ_i k_i sin mθ_i`` (``m = 0 … 2H``) at ``O(n_time H)`` per
+    point instead of the ``O(n_time n²)`` of the product: the same matrix
+    up to rounding (``tests/test_stability_reflection.py``).
+
+    Parameters
+    ----------
+    points : ndarray, shape (n_points, n + 1)
+        Unknowns ``[X, Ω]`` in the full basis ``0 … H`` (``n = 2H + 1``),
+        m and rad/s.
+    harmonic_numbers : ndarray of int64, shape (H + 1,)
+        ``0, 1, …, H``.
+    structure : ndarray, shape (3,)
+        Mass, damping and stiffness of the DOF (kg, N s/m, N/m).
+    law_codes : ndarray of int64, shape (n_contacts,)
+    law_params : ndarray, shape (n_contacts, n_params)
+    cos_table, sin_table : ndarray, shape (2H + 1, n_time)
+        ``cos mθ_i`` and ``sin mθ_i`` at the AFT samples ``θ_i = 2π i /
+        n_time``.
+    jac : ndarray, shape (n, n)
+        Work array: the Jacobian of the current point, N/m.
+    blocks, sizes, signs
+        As :func:`hill_jacobians` (a sign is 0 also where the block's
+        smallest LU pivot is below ``guard`` times its largest).
+    parity : ndarray of int64, shape (n,)
+        Parity of each row's harmonic.
+    guard : float
+    extremes : ndarray, shape (2,)
+        Output: the largest odd-even coupling and the largest entry over
+        the points, as :func:`hill_jacobians`.
+    """
+    n = jac.shape[0]
+    n_h = harmonic_numbers.size
+    n_time = cos_table.shape[1]
+    m_max = cos_table.shape[0]
+    mass = structure[0]
+    damping = structure[1]
+    stiffness = structure[2]
+    k_t = np.empty(n_time)
+    C = np.empty(m_max)
+    S = np.empty(m_max)
+    coupling = 0.0
+    largest = 0.0
+    inv_n = 1.0 / n_time
+    for p in range(points.shape[0]):
+        X = points[p]
+        w = X[n]
+        for i in range(n_time):
+            u = X[0]
+            for k in range(1, n_h):
+                u += X[2 * k - 1] * cos_table[k, i] + X[2 * k] * sin_table[k, i]
+            kk = 0.0
+            for c in range(law_codes.size):
+                kk += law_update(law_codes[c], law_params[c], 0.0, 0.0, u)[3]
+            k_t[i] = kk
+        for m in range(m_max):
+            acc_c = 0.0
+            acc_s = 0.0
+            for i in range(n_time):
+                acc_c += k_t[i] * cos_table[m, i]
+                acc_s += k_t[i] * sin_table[m, i]
+            C[m] = acc_c * inv_n
+            S[m] = acc_s * inv_n
+        # harmonic 0 (row and column 0), then the pairs (cos k, sin k) at
+        # rows 2k - 1, 2k
+        jac[0, 0] = stiffness + C[0]
+        for b_ in range(1, n_h):
+            jac[0, 2 * b_ - 1] = C[b_]
+            jac[0, 2 * b_] = S[b_]
+            jac[2 * b_ - 1, 0] = 2.0 * C[b_]
+            jac[2 * b_, 0] = 2.0 * S[b_]
+        for a_ in range(1, n_h):
+            ra = 2 * a_ - 1
+            for b_ in range(1, n_h):
+                cb = 2 * b_ - 1
+                d = a_ - b_
+                cd = C[d] if d >= 0 else C[-d]
+                sd = S[d] if d >= 0 else -S[-d]  # sin((a - b) θ)
+                jac[ra, cb] = cd + C[a_ + b_]
+                jac[ra, cb + 1] = S[a_ + b_] - sd
+                jac[ra + 1, cb] = S[a_ + b_] + sd
+                jac[ra + 1, cb + 1] = cd - C[a_ + b_]
+            kw = a_ * w
+            jac[ra, ra] += stiffness - mass * kw * kw
+            jac[ra + 1, ra + 1] += stiffness - mass * kw * kw
+            jac[ra, ra + 1] += damping * kw
+            jac[ra + 1, ra] -= damping * kw
+        for r in range(n):
+            for c in range(n):
+                v = abs(jac[r, c])
+                if not v <= largest:
+                    largest = v if v == v else np.inf
+                if parity[r] != parity[c] and not v <= coupling:
+                    coupling = v if v == v else np.inf
+        for blk in range(blocks.shape[0]):
+            signs[p, blk] = _guarded_sign(jac, blocks[blk, : sizes[blk]], guard)
+    extremes[0] = coupling
+    extremes[1] = largest
+
+
+@jit
+def _guarded_sign(J, block, guard):
+    """Sign of ``det J[block][:, block]``; 0 where the LU fails or its
+    smallest pivot is below ``guard`` times its largest."""
+    m = block.size
+    W = np.empty((m, m))
+    p = np.empty(m, dtype=np.int64)
+    for r in range(m):
+        for c in range(m):
+            W[r, c] = J[block[r], block[c]]
+    if not lu_factor(W, p):
+        return 0
+    small = np.inf
+    big = 0.0
+    s = 1
+    for k in range(m):
+        if p[k] != k:
+            s = -s
+        d = W[k, k]
+        if d < 0.0:
+            s = -s
+        small = min(small, abs(d))
+        big = max(big, abs(d))
+    if not small > guard * big:
+        return 0
+    return s
