@@ -1117,22 +1117,53 @@ def _automatic_method(system, n_dof: int) -> str:
 NEUTRAL_TOLERANCE = 1e-6
 
 
+def monodromy_multipliers(
+    system, force, harmonic_numbers, coefficients, omega, subharmonic=1
+) -> np.ndarray:
+    """Floquet multipliers of one harmonic-balance solution by the
+    time-domain monodromy (:func:`hbmfric.validation.monodromy`, its
+    defaults), sorted by decreasing modulus.
+
+    Parameters
+    ----------
+    system : Oscillator or compatible
+    force : float
+        Forcing amplitude, N.
+    harmonic_numbers : ndarray of int, shape (n_harmonics,)
+    coefficients : ndarray, shape (n_dof, n_coef)
+        The solution, m.
+    omega : float
+        Ω of the solution (its fundamental), rad/s.
+    subharmonic : int
+        Order ``ν``: the map runs over ``ν`` forcing periods of ``ν Ω``.
+
+    Returns
+    -------
+    ndarray of complex, shape (n_state,)
+    """
+    from .signals import state_at_zero
+    from .validation.period_map import monodromy
+
+    nu = int(subharmonic or 1)
+    x0, v0 = state_at_zero(harmonic_numbers, coefficients, float(omega))
+    result = monodromy(
+        system, (x0, v0), force=force, omega=nu * float(omega), periods=nu
+    )
+    return result.multipliers
+
+
 def _monodromy_stability(
     system, force, omega, harmonic_numbers, coefficients, point_harmonics, subharmonic
 ) -> Stability:
     """:class:`Stability` from the time-domain monodromy of every point."""
-    from .signals import state_at_zero
-    from .validation.period_map import monodromy
-
     start = time.perf_counter()
-    nu = int(subharmonic or 1)
     rows = []
     for i, w in enumerate(omega):
-        x0, v0 = state_at_zero(harmonic_numbers, coefficients[i], float(w))
-        result = monodromy(
-            system, (x0, v0), force=force, omega=nu * float(w), periods=nu
+        rows.append(
+            monodromy_multipliers(
+                system, force, harmonic_numbers, coefficients[i], float(w), subharmonic
+            )
         )
-        rows.append(result.multipliers)
     mu = np.array(rows, dtype=complex).reshape(omega.size, -1)
     period = 2.0 * np.pi / omega  # the map's duration: ν forcing periods
     with np.errstate(divide="ignore"):
