@@ -95,10 +95,15 @@ def hill_jacobians(
                 a = abs(v)
                 if not a <= here:
                     here = a if a == a else np.inf
-                if check and parity[r] != parity[c] and not a <= coupling:
-                    coupling = a if a == a else np.inf
         if not here <= largest:
             largest = here
+        if check:
+            for r in range(n):
+                for c in range(n):
+                    if parity[r] != parity[c]:
+                        a = abs(J[r, c])
+                        if not a <= coupling:
+                            coupling = a if a == a else np.inf
         if symmetric:
             w = points[i, n]
             worst = 0.0
