@@ -773,6 +773,7 @@ def _memoryless_signs(problem, points: np.ndarray, groups: list):
         signs,
         _parity_of_rows(hn, 1),
         SIGN_GUARD,
+        True,  # Cubic, the only memoryless law, is odd
         extremes,
     )
     return signs, (float(extremes[0]), float(extremes[1]))

@@ -209,7 +209,10 @@ def test_spectral_jacobians_and_signs_against_the_aft(duffing_branch):
     theta = 2.0 * np.pi * np.arange(kp[9].shape[0]) / kp[9].shape[0]
     m = np.arange(2 * hn[-1] + 1)[:, None]
     jac = np.empty((n, n))
-    for i in (0, 150, duffing_branch.folds[0], 300, len(duffing_branch) - 1):
+    # half a period (the odd solution of an odd law) and the whole one
+    cases = [(i, True) for i in (0, 150, duffing_branch.folds[0], 300)]
+    cases += [(i, False) for i in (150, len(duffing_branch) - 1)]
+    for i, odd_law in cases:
         memoryless_jacobians(
             level.points[i : i + 1],
             hn,
@@ -224,6 +227,7 @@ def test_spectral_jacobians_and_signs_against_the_aft(duffing_branch):
             np.empty((1, 0), dtype=np.int64),
             np.zeros(n, dtype=np.int64),
             SIGN_GUARD,
+            odd_law,
             np.zeros(2),
         )
         np.testing.assert_allclose(jac, J[i], rtol=0, atol=1e-13 * np.abs(J[i]).max())

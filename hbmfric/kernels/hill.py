@@ -201,6 +201,7 @@ def memoryless_jacobians(
     signs,
     parity,
     guard,
+    odd_law,
     extremes,
 ):
     """HBM Jacobians of one DOF with memoryless contacts to ground, from
@@ -238,6 +239,10 @@ def memoryless_jacobians(
     parity : ndarray of int64, shape (n,)
         Parity of each row's harmonic.
     guard : float
+    odd_law : bool
+        Every law is odd (``f(-u) = -f(u)``): at a point with no even
+        harmonic, the sums run over half a period (the tangent stiffness
+        repeats after it, its odd harmonics are zero).
     extremes : ndarray, shape (2,)
         Output: the largest odd-even coupling and the largest entry over
         the points, as :func:`hill_jacobians`.
@@ -258,22 +263,37 @@ def memoryless_jacobians(
     for p in range(points.shape[0]):
         X = points[p]
         w = X[n]
-        for i in range(n_time):
-            u = X[0]
-            for k in range(1, n_h):
+        # odd solution (no even harmonic) and an even sample count: the
+        # tangent stiffness of an odd law repeats after half a period,
+        # its odd harmonics vanish and the even ones are twice the sum
+        # over the first half
+        half = n_time % 2 == 0 and odd_law
+        for k in range(0, n_h, 2):
+            if X[max(2 * k - 1, 0)] != 0.0 or X[2 * k] != 0.0:
+                half = False
+        count = n_time // 2 if half else n_time
+        step = 2 if half else 1
+        for i in range(count):
+            u = 0.0 if half else X[0]
+            for k in range(1, n_h, step):
                 u += X[2 * k - 1] * cos_table[k, i] + X[2 * k] * sin_table[k, i]
             kk = 0.0
             for c in range(law_codes.size):
                 kk += law_update(law_codes[c], law_params[c], 0.0, 0.0, u)[3]
             k_t[i] = kk
+        scale = 2.0 * inv_n if half else inv_n
         for m in range(m_max):
+            if half and m % 2 == 1:
+                C[m] = 0.0
+                S[m] = 0.0
+                continue
             acc_c = 0.0
             acc_s = 0.0
-            for i in range(n_time):
+            for i in range(count):
                 acc_c += k_t[i] * cos_table[m, i]
                 acc_s += k_t[i] * sin_table[m, i]
-            C[m] = acc_c * inv_n
-            S[m] = acc_s * inv_n
+            C[m] = acc_c * scale
+            S[m] = acc_s * scale
         # harmonic 0 (row and column 0), then the pairs (cos k, sin k) at
         # rows 2k - 1, 2k
         jac[0, 0] = stiffness + C[0]
