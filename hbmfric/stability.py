@@ -2,7 +2,7 @@
 
 A periodic solution ``x_p(t)`` of ``M ẍ + C ẋ + K x + f_nl(x) = p(t)`` is
 perturbed by ``e^{λt} q(t)`` with ``q`` periodic of the same period. In the
-real Fourier basis of :mod:`hbmfric.kernels.dft` (per DOF ``[a0, a1, b1, a2,
+real Fourier basis of :mod:`hbmfric.kernels.fourier.dft` (per DOF ``[a0, a1, b1, a2,
 b2, …]``), the time derivative is the block-diagonal operator ``D``
 (``D[a_k, b_k] = kΩ``, ``D[b_k, a_k] = -kΩ``) and
 ``d/dt (e^{λt} q) = e^{λt} (λ + D) q``, so the linearised balance of the
@@ -484,7 +484,7 @@ def _stability_problem(system, force, harmonics, n_time, aft, subharmonic):
     """The full-basis, uncondensed HBM problem whose Jacobian Hill's
     method needs."""
     from .hbm import HBMProblem
-    from .kernels.dlft import COULOMB
+    from .kernels.dlft.coulomb import COULOMB
 
     problem = HBMProblem(
         system,
@@ -590,7 +590,7 @@ class _Level:
         (None: not computed). With ``coupling`` (and every row kept), the
         largest odd-even coupling and entry are measured in the same loop
         (``self._extremes``, for :meth:`_decide_groups`)."""
-        from .kernels.hill import hill_jacobians
+        from .kernels.stability.hill import hill_jacobians
 
         problem = self.problem
         n_full = problem.n_unknowns
@@ -660,7 +660,7 @@ class _Level:
         them, else the whole."""
         if len(candidates) == 1:
             return candidates
-        from .kernels.hill import split_extremes
+        from .kernels.stability.hill import split_extremes
 
         odd, even = candidates
         if self._extremes is not None:
@@ -704,7 +704,7 @@ class _Level:
         point of the level (0: numerically singular)."""
         if self._signs is not None:
             return self._signs
-        from .kernels.hill import block_determinant_signs
+        from .kernels.stability.hill import block_determinant_signs
 
         blocks, sizes = _block_table(self.groups, None)
         signs = np.empty((self.idx.size, sizes.size), dtype=np.int64)
@@ -724,10 +724,10 @@ SIGN_GUARD = 1e-11
 
 def _memoryless(problem, keep) -> bool:
     """Whether the Jacobians of ``problem`` can come from the spectrum of
-    the tangent stiffness (:func:`hbmfric.kernels.hill.memoryless_jacobians`):
+    the tangent stiffness (:func:`hbmfric.kernels.stability.hill.memoryless_jacobians`):
     one DOF, every row kept, every contact memoryless (``Cubic``) between
     the DOF and ground, one fundamental (no subharmonic)."""
-    from .kernels.laws import CUBIC
+    from .kernels.laws.updates import CUBIC
 
     kp = problem.kernel_problem
     if keep is not None or kp[1].shape[0] != 1 or type(kp).__name__ != "tuple":
@@ -747,7 +747,7 @@ def _memoryless_signs(problem, points: np.ndarray, groups: list):
     """Signs (k, n_groups) of the blocks ``groups`` of the Jacobians at
     ``points`` (k, n + 1), and the (coupling, largest) pair of
     :meth:`_Level._decide_groups`, from the tangent stiffness's spectrum."""
-    from .kernels.hill import memoryless_jacobians
+    from .kernels.stability.hill import memoryless_jacobians
 
     kp = problem.kernel_problem
     hn = np.asarray(kp[0])
@@ -1090,7 +1090,7 @@ def _automatic_method(system, n_dof: int) -> str:
     time-domain monodromy can be formed, else ``"hill"`` (with an
     :class:`~hbmfric.AccuracyWarning` when Hill's verdicts are then
     approximate)."""
-    from .kernels.laws import CUBIC, DAHL, JENKINS
+    from .kernels.laws.updates import CUBIC, DAHL, JENKINS
     from .systems.protocol import check_system
 
     if n_dof <= 1:

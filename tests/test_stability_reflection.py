@@ -197,7 +197,7 @@ def test_spectral_jacobians_and_signs_against_the_aft(duffing_branch):
     rounding, and the signs of their odd and even blocks at every point
     of the Duffing branch equal those of NumPy's determinants of the AFT
     Jacobians' blocks (both signs of the odd block occur: the folds)."""
-    from hbmfric.kernels.hill import memoryless_jacobians
+    from hbmfric.kernels.stability.hill import memoryless_jacobians
     from hbmfric.stability import SIGN_GUARD, _memoryless, _parity_blocks
 
     level, problem = _level(_duffing(), 0.2, duffing_branch, 9)

@@ -11,10 +11,10 @@ real exponents crosses zero.
 
 import numpy as np
 
-from .._jit import jit
-from .hbm import hbm_residual
-from .laws import law_update
-from .linalg import lu_factor
+from ..._jit import jit
+from ..laws.updates import law_update
+from ..linalg.lu import lu_factor
+from ..residuals.hbm import hbm_residual
 
 
 @jit
@@ -43,7 +43,7 @@ def hill_jacobians(
         Unknowns ``[X, Ω]`` of each solution (``n = n_dof * n_coef``,
         coefficients in m, Ω in rad/s).
     problem : tuple
-        Kernel problem of :func:`hbmfric.kernels.hbm.hbm_residual`.
+        Kernel problem of :func:`hbmfric.kernels.residuals.hbm.hbm_residual`.
     jac : ndarray, shape (n_points, n, n)
         Output: the Jacobians (the Ω column left out), N/m.
     status : ndarray of int64, shape (n_points,)
