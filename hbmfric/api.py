@@ -44,7 +44,7 @@ def _problem(system, force, harmonics, n_time, symmetry, aft, condense, subharmo
     data = check_system(system)  # before anything reads the system
     if condense is None:
         condense = condensed_by_default(system)
-    if isinstance(condense, str) and condense in ("modal", "direct"):
+    if isinstance(condense, str) and condense in ("modal", "state", "direct"):
         return CondensedHBMProblem(
             system,
             force,

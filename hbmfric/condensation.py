@@ -18,6 +18,7 @@ from .kernels.condensed import (
     AFT_SAMPLES,
     DIRECT,
     MODAL,
+    STATE,
     CondensedCoulombProblem,
     CondensedProblem,
     condensed_contact_forces,
@@ -33,7 +34,15 @@ from .systems.contacts import check_contacts, contact_arrays
 #: as classical (modal) damping
 _CLASSICAL_TOL = 1e-8
 
-RECEPTANCE_METHODS = ("auto", "modal", "direct")
+RECEPTANCE_METHODS = ("auto", "modal", "state", "direct")
+
+#: largest error of the receptance from complex modes against direct solves
+#: (relative to the largest receptance term, at the test pulsations of
+#: :func:`state_space_modes`) accepted; beyond it the direct solve is used
+STATE_TOL = 1e-10
+
+#: complex modes per system matrices (:func:`state_space_modes`)
+_STATE_CACHE: dict = {}
 
 
 def system_modes(system) -> tuple[np.ndarray, np.ndarray]:
@@ -151,6 +160,88 @@ def modal_damping(system) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     return omega, shapes, diag
 
 
+def state_space_modes(mass, damping, stiffness):
+    """Complex modes of ``M ẍ + C ẋ + K x = f`` (any damping matrix), such
+    that ``Z(ω)⁻¹ = (K - ω² M + iω C)⁻¹ = X diag(1/(iω - λ_r)) Y`` exactly.
+
+    The first-order form is balanced by the undamped modes (``K φ_r = ω_r²
+    M φ_r``, mass-normalised; ``x = Φ η``): with the state ``z = [Ω η; η̇]``
+    (``Ω = diag(ω_r)``), ``ż = A z + [0; Φᵀ f]`` and ``A = [[0, Ω], [-Ω,
+    -Φᵀ C Φ]]``, whose entries are all pulsations. With ``A = V diag(λ)
+    V⁻¹``: ``X = Φ Ω⁻¹ V[:n]`` and ``Y = V⁻¹[:, n:] Φᵀ``.
+
+    The decomposition is checked against direct solves of ``Z(ω)`` at the
+    pulsation 0, at every undamped natural pulsation below 10 times the
+    lowest elastic one and at geometric midpoints between them; it is
+    returned only when the largest error there is below :data:`STATE_TOL`
+    relative to the largest term of ``Z⁻¹`` (defective or nearly repeated
+    modes make ``V`` ill-conditioned and fail this check). Cached per
+    matrices.
+
+    Parameters
+    ----------
+    mass, damping, stiffness : ndarray, shape (n_dof, n_dof)
+        Symmetric; ``K`` positive definite (no rigid-body mode).
+
+    Returns
+    -------
+    tuple or None
+        ``(poles, X, Y, error)``: ``λ_r`` (rad/s, shape (2 n_dof,)),
+        ``X`` (shape (n_dof, 2 n_dof)), ``Y`` (shape (2 n_dof, n_dof)),
+        complex, and the relative error measured; None when ``K`` is not
+        positive definite, the eigenproblem fails or the check fails (the
+        caller then solves directly).
+    """
+    M, C, K = (np.ascontiguousarray(a, dtype=float) for a in (mass, damping, stiffness))
+    key = (M.tobytes(), C.tobytes(), K.tobytes())
+    if key in _STATE_CACHE:
+        return _STATE_CACHE[key]
+    out = _state_space_modes(M, C, K)
+    if len(_STATE_CACHE) >= 8:
+        _STATE_CACHE.pop(next(iter(_STATE_CACHE)))
+    _STATE_CACHE[key] = out
+    return out
+
+
+def _state_space_modes(M, C, K):
+    from scipy.linalg import LinAlgError, eig, eigh  # lazy
+
+    n = M.shape[0]
+    try:
+        w2, phi = eigh(K, M)
+    except LinAlgError:
+        return None
+    if not np.all(w2 > 0.0):
+        return None
+    omega = np.sqrt(w2)
+    A = np.zeros((2 * n, 2 * n))
+    A[:n, n:] = np.diag(omega)
+    A[n:, :n] = -np.diag(omega)
+    A[n:, n:] = -(phi.T @ C @ phi)
+    try:
+        poles, V = eig(A)
+        V_inv = np.linalg.inv(V)
+    except (LinAlgError, np.linalg.LinAlgError):
+        return None
+    if not (np.all(np.isfinite(poles)) and np.all(np.isfinite(V_inv))):
+        return None
+    X = (phi / omega) @ V[:n]
+    Y = V_inv[:, n:] @ phi.T
+    # test pulsations: 0, the natural ones up to 10 x the lowest, midpoints
+    low = omega[omega <= 10.0 * omega[0]]
+    mids = np.sqrt(low[1:] * low[:-1])
+    test = np.concatenate([[0.0], low, mids, [2.0 * omega[-1]]])
+    error = 0.0
+    for w in test:
+        exact = np.linalg.inv(K - w * w * M + 1j * w * C)
+        approx = (X / (1j * w - poles)) @ Y
+        scale = float(np.max(np.abs(exact)))
+        error = max(error, float(np.max(np.abs(approx - exact))) / scale)
+    if not error <= STATE_TOL:
+        return None
+    return poles, X, Y, error
+
+
 def _singular(stiffness) -> bool:
     """True when ``stiffness`` (shape (n, n), N/m) is singular to rounding:
     a rigid-body mode of the structure without its contact."""
@@ -251,10 +342,30 @@ class CondensedHBMProblem(HBMProblem):
                 "receptance='modal' needs classical (modal or Rayleigh) damping and "
                 "no rigid-body mode; use receptance='direct'"
             )
+        state = None
+        if receptance == "state" or (
+            receptance == "auto" and modal is None and self.multi
+        ):
+            if not self.multi:
+                raise ValueError(
+                    "receptance='state' is for several contacts (or one between "
+                    "two DOFs); use receptance='direct'"
+                )
+            state = state_space_modes(*self._matrices)
+            if state is None and receptance == "state":
+                raise ValueError(
+                    "the complex modes do not reproduce the direct receptance "
+                    f"to {STATE_TOL:g} (defective or nearly repeated modes, or "
+                    "a rigid-body mode); use receptance='direct'"
+                )
+            receptance = "direct" if state is None else "state"
         if receptance == "auto":
             receptance = "direct" if modal is None else "modal"
 
+        #: "modal", "state" or "direct"; "auto" chose "direct" for several
+        #: contacts only when the complex modes failed their check
         self.receptance_method = receptance
+        self._state = state
         self.contact_dof = int(system.contact_dof)
         self._modal = modal if receptance == "modal" else None
         self.shapes = None if self._modal is None else np.ascontiguousarray(modal[1])
@@ -293,6 +404,24 @@ class CondensedHBMProblem(HBMProblem):
         empty = np.zeros((0, 0))
         modal = self._modal
         coordinate_shapes = np.zeros((law_codes.size, 0))
+        n_c = law_codes.size
+        state_parts = (
+            np.zeros((n_c, 0), dtype=complex),
+            np.zeros((0, n_c), dtype=complex),
+            np.zeros(0, dtype=complex),
+            np.zeros((0, self.n_coef), dtype=complex),
+        )
+        method = MODAL if modal is not None else DIRECT
+        if self._state is not None:
+            poles, X, Y, _ = self._state
+            B = self.selection
+            state_parts = (
+                np.ascontiguousarray(B @ X),
+                np.ascontiguousarray(Y @ B.T),
+                np.ascontiguousarray(poles),
+                np.ascontiguousarray(Y @ load),
+            )
+            method = STATE
         if modal is not None:
             omega, shapes, modal_c = modal
             if self.multi:
@@ -303,6 +432,9 @@ class CondensedHBMProblem(HBMProblem):
                 np.ascontiguousarray(modal_c),
                 np.ascontiguousarray(shapes.T @ load),
             )
+            direct_parts = (empty, empty, empty, empty)
+        elif method == STATE:
+            modal_parts = (np.zeros(0), np.zeros(0), np.zeros(0), empty)
             direct_parts = (empty, empty, empty, empty)
         else:
             modal_parts = (np.zeros(0), np.zeros(0), np.zeros(0), empty)
@@ -319,7 +451,7 @@ class CondensedHBMProblem(HBMProblem):
             inverse,
             forward,
             derivative,
-            np.int64(MODAL if modal is not None else DIRECT),
+            np.int64(method),
             np.int64(self.contact_dof),
             *direct_parts,
             float(mass[self.contact_dof, self.contact_dof]),
@@ -327,6 +459,7 @@ class CondensedHBMProblem(HBMProblem):
             law_codes,
             np.ascontiguousarray(law_rows),
             coordinate_shapes,
+            *state_parts,
             np.zeros(1),
         )
         self.n_unknowns = self.n_coordinates * self.n_coef

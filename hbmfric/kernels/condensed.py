@@ -107,6 +107,8 @@ AFT_EVENTS = 1
 #: receptance methods
 MODAL = 0
 DIRECT = 1
+#: complex modes of the first-order form (several contacts only)
+STATE = 2
 #: status returned when a direct solve meets a singular dynamic stiffness
 SINGULAR_RECEPTANCE = -100
 
@@ -136,6 +138,11 @@ CondensedProblem = namedtuple(
         "law_codes",  # int64 (n_c,)
         "law_rows",  # float64 (n_c, n_params): parameters per contact, padded
         "coordinate_shapes",  # float64 (n_c, n_modes): ψ = B Φ (MODAL)
+        # complex modes of the first-order form (STATE; empty otherwise)
+        "state_left",  # complex128 (n_c, n_states): L = B X
+        "state_right",  # complex128 (n_states, n_c): R = Y Bᵀ
+        "state_poles",  # complex128 (n_states,): λ_r, rad/s
+        "state_load",  # complex128 (n_states, n_coef): Y P per coefficient
         # output, shape (1,): rounding level (N) of the last residual on
         # several coordinates (:func:`_coordinates_linear`), 0 otherwise
         "rounding",
@@ -770,6 +777,60 @@ def _direct_coordinate_receptance(k, omega, col, problem, G, dG, p, dp, work):
 
 
 @jit
+def _state_coordinate_receptance(k, omega, col, problem, G, p, c, dc, rho):
+    """``G_k`` and ``p_k`` from the complex modes of the first-order form
+    (``method == STATE``): ``G = L diag(c) R``, ``p = L (c ⊙ ρ)`` with
+    ``c_r = 1/(ikΩ - λ_r)``, ``ρ`` the modal load of harmonic ``k``. Fills
+    ``c``, ``dc = dc/dΩ = -ik c²`` and ``ρ`` (shape (n_states,)) for
+    :func:`_state_derivative`; ``G`` (n_c, n_c), ``p`` (n_c,) complex.
+    Cost ``O(n_states n_c²)``: one complex matrix product, no
+    factorisation."""
+    left = problem.state_left
+    right = problem.state_right
+    poles = problem.state_poles
+    load = problem.state_load
+    n_c, n_s = left.shape
+    s = 1j * (k * omega)
+    for r in range(n_s):
+        cr = 1.0 / (s - poles[r])
+        c[r] = cr
+        dc[r] = -1j * k * cr * cr
+        if k == 0:
+            rho[r] = load[r, col]
+        else:
+            rho[r] = load[r, col] - 1j * load[r, col + 1]
+    scaled = np.empty((n_c, n_s), dtype=np.complex128)
+    for a in range(n_c):
+        pa = 0.0j
+        for r in range(n_s):
+            v = left[a, r] * c[r]
+            scaled[a, r] = v
+            pa += v * rho[r]
+        p[a] = pa
+    G[:, :] = np.dot(scaled, right)
+
+
+@jit
+def _state_derivative(problem, r_lin, c, dc, rho, out, tmp):
+    """``(dG/dΩ) r + dp/dΩ = L (dc ⊙ (R r + ρ))`` for the complex modes
+    (``O(n_states n_c)``, ``dG/dΩ`` never formed) into ``out`` (n_c,);
+    ``tmp``: work, (n_states,)."""
+    left = problem.state_left
+    right = problem.state_right
+    n_c, n_s = left.shape
+    for r in range(n_s):
+        v = rho[r]
+        for b in range(n_c):
+            v += right[r, b] * r_lin[b]
+        tmp[r] = dc[r] * v
+    for a in range(n_c):
+        v = 0.0j
+        for r in range(n_s):
+            v += left[a, r] * tmp[r]
+        out[a] = v
+
+
+@jit
 def _invert(G, D, A):
     """``D = G⁻¹`` (complex, shape (m, m)) by Gauss-Jordan elimination
     with partial pivoting; ``A`` is work of the same shape. False if a
@@ -820,6 +881,7 @@ def _coordinate_work(problem):
     """Work arrays of :func:`_coordinates_residual`."""
     n_c = problem.law_codes.size
     n_modes = problem.coordinate_shapes.shape[1]
+    n_s = problem.state_poles.size
     n = problem.mass.shape[0]
     complex_square = np.empty((n_c, n_c), dtype=np.complex128)
     direct = (
@@ -830,9 +892,14 @@ def _coordinate_work(problem):
         np.empty(n, dtype=np.complex128),
         np.empty((n, n_c + 1), dtype=np.complex128),
     )
+    state = (
+        np.empty(n_s, dtype=np.complex128),
+        np.empty(n_s, dtype=np.complex128),
+        np.empty(n_s, dtype=np.complex128),
+        np.empty(n_s, dtype=np.complex128),
+    )
     return (
         complex_square,
-        complex_square.copy(),
         complex_square.copy(),
         complex_square.copy(),
         complex_square.copy(),
@@ -841,22 +908,29 @@ def _coordinate_work(problem):
         np.empty(n_modes, dtype=np.complex128),
         np.empty(n_modes, dtype=np.complex128),
         direct,
+        state,
     )
 
 
 @jit
 def _coordinates_linear(y, problem, R, J):
-    """Linear part ``D_k (q̂_k - p_k)`` of the residual on the contact
+    """Linear part ``r̂_k = D_k (q̂_k - p_k)`` of the residual on the contact
     coordinates and its Jacobian (``J`` overwritten); 0, or
-    ``SINGULAR_RECEPTANCE``."""
+    ``SINGULAR_RECEPTANCE``.
+
+    ``dr̂/dΩ = dD e - D dp = -D (dG r̂ + dp)`` (from ``dD = -D dG D``), so
+    ``dD`` is never formed: two matrix-vector products per harmonic."""
     hn = problem.harmonic_numbers
     n_coef = problem.inverse.shape[1]
     n_c = problem.law_codes.size
     n = n_c * n_coef
     omega = y[n]
     J[:, :] = 0.0
-    G, dG, D, dD, work, p, dp, inv_d, dinv, direct = _coordinate_work(problem)
+    G, dG, D, work, p, dp, inv_d, dinv, direct, state = _coordinate_work(problem)
+    c, dc, rho, tmp = state
     e = np.empty(n_c, dtype=np.complex128)
+    r_lin = np.empty(n_c, dtype=np.complex128)
+    v = np.empty(n_c, dtype=np.complex128)
     level = 0.0
     col = 0
     for k in hn:
@@ -865,35 +939,37 @@ def _coordinates_linear(y, problem, R, J):
                 k, omega, col, problem, G, dG, p, dp, direct
             ):
                 return SINGULAR_RECEPTANCE
+        elif problem.method == STATE:
+            _state_coordinate_receptance(k, omega, col, problem, G, p, c, dc, rho)
         else:
             _modal_coordinate_receptance(
                 k, omega, col, problem, G, dG, p, dp, inv_d, dinv
             )
         if not _invert(G, D, work):
             return SINGULAR_RECEPTANCE
-        # dD = -D dG D
-        for a in range(n_c):
-            for b in range(n_c):
-                s = 0.0j
-                for c in range(n_c):
-                    s += dG[a, c] * D[c, b]
-                work[a, b] = s
-        for a in range(n_c):
-            for b in range(n_c):
-                s = 0.0j
-                for c in range(n_c):
-                    s += D[a, c] * work[c, b]
-                dD[a, b] = -s
         for a in range(n_c):
             i = a * n_coef + col
             e[a] = (y[i] + 0.0j if k == 0 else y[i] - 1j * y[i + 1]) - p[a]
         level = max(level, _rounding_level(G, D, e))
         for a in range(n_c):
-            r = 0.0j
+            s = 0.0j
+            for b in range(n_c):
+                s += D[a, b] * e[b]
+            r_lin[a] = s
+        # v = dG r + dp
+        if problem.method == STATE:
+            _state_derivative(problem, r_lin, c, dc, rho, v, tmp)
+        else:
+            for a in range(n_c):
+                s = dp[a]
+                for b in range(n_c):
+                    s += dG[a, b] * r_lin[b]
+                v[a] = s
+        for a in range(n_c):
+            r = r_lin[a]
             dr = 0.0j
             for b in range(n_c):
-                r += D[a, b] * e[b]
-                dr += dD[a, b] * e[b] - D[a, b] * dp[b]
+                dr -= D[a, b] * v[b]
             ra = a * n_coef + col
             R[ra] = r.real
             J[ra, n] = dr.real
