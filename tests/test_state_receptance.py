@@ -1,0 +1,92 @@
+"""The receptance of several contact coordinates from the complex modes of
+the first-order form (``receptance="state"``, issue 15 stop 24).
+
+References, each independent of the complex modes: dense complex solves of
+``K - ω² M + iω C`` (NumPy), and the direct-receptance kernel path."""
+
+import numpy as np
+import pytest
+
+import hbmfric as hf
+from hbmfric.condensation import CondensedHBMProblem, state_space_modes
+
+HZ = 2.0 * np.pi
+
+
+def test_complex_modes_reproduce_the_lap_joints_receptance():
+    """``B X diag(1/(iω - λ)) Y Bᵀ`` against ``B Z(ω)⁻¹ Bᵀ`` by dense solves,
+    and the same for the drive load, over the harmonics 1-15 of the
+    figure's 125-185 Hz: 1e-10 of the largest term (the lap joint's
+    reduced model has non-classical damping and natural pulsations from
+    12.6 to 8e5 rad/s)."""
+    s = hf.lap_joint(10)
+    M, C, K = (np.asarray(a) for a in s.matrices())
+    poles, X, Y, _ = state_space_modes(M, C, K)
+    p = CondensedHBMProblem(s, 1.0, harmonics=3)
+    B = p.selection
+    load = s.load_vector(1.0).astype(complex)
+    worst = 0.0
+    for f in (125.0, 162.0, 185.0):
+        for k in range(1, 16, 2):
+            w = k * HZ * f
+            Z = K - w * w * M + 1j * w * C
+            exact = B @ np.linalg.solve(Z, np.column_stack([B.T, load]))
+            approx = B @ ((X / (1j * w - poles)) @ (Y @ np.column_stack([B.T, load])))
+            worst = max(worst, np.max(np.abs(approx - exact)) / np.max(np.abs(exact)))
+    assert worst < 1e-10
+
+
+def test_lap_joint_residual_by_complex_modes_is_the_direct_one():
+    """The condensed residual and Jacobian of the lap joint (H = 15, at
+    three times the free linear response at 162 Hz, partly slipping) with
+    the complex modes against the direct solve per harmonic, to 1e-9 of
+    their largest terms (the receptance's 1e-12 times the condition number
+    of ``G``, about 1e4)."""
+    s = hf.lap_joint(10)
+    state = CondensedHBMProblem(s, 36.0, 15)
+    direct = CondensedHBMProblem(s, 36.0, 15, receptance="direct")
+    assert state.receptance_method == "state"
+    omega = HZ * 162.0
+    y = np.append(3.0 * direct.linear_response(omega, "free"), omega)
+    Ra, Ja, sa = state.residual(y)
+    Rb, Jb, sb = direct.residual(y)
+    assert sa == sb >= 0
+    assert np.max(np.abs(Ra - Rb)) < 1e-9 * np.max(np.abs(Rb))
+    assert np.max(np.abs(Ja - Jb)) < 1e-9 * np.max(np.abs(Jb))
+    dOmega = np.max(np.abs(Ja[:, -1] - Jb[:, -1]))
+    assert dOmega < 1e-8 * np.max(np.abs(Jb[:, -1]))
+
+
+def _three_dof(critical: bool):
+    """Three DOFs, damping non-classical (modes 2 and 3 coupled); every
+    mode critically damped (defective double poles) or lightly damped."""
+    M = np.eye(3)
+    K = np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
+    w2, phi = np.linalg.eigh(K)
+    modal = np.diag((2.0 if critical else 0.1) * np.sqrt(w2))
+    modal[1, 2] = modal[2, 1] = 0.05
+    C = phi @ modal @ phi.T
+    contacts = [
+        hf.Contact(hf.Jenkins(stiffness=1.0, slip_force=0.05), 0),
+        hf.Contact(hf.Jenkins(stiffness=1.0, slip_force=0.05), 1, 2),
+    ]
+    return hf.LinearStructure(M, K, damping=C, contacts=contacts, load={2: 1.0})
+
+
+def test_defective_modes_fall_back_to_the_direct_solve():
+    """Critically damped modes (double poles, no basis of eigenvectors):
+    the complex modes fail their check, ``"auto"`` takes the direct solve
+    and ``receptance="state"`` refuses; the same structure lightly damped
+    takes the complex modes, whose branch point equals the direct one."""
+    defective = _three_dof(critical=True)
+    assert state_space_modes(*defective.matrices()) is None
+    assert CondensedHBMProblem(defective, 0.1, 5).receptance_method == "direct"
+    with pytest.raises(ValueError, match="receptance='direct'"):
+        CondensedHBMProblem(defective, 0.1, 5, receptance="state")
+    light = _three_dof(critical=False)
+    assert CondensedHBMProblem(light, 0.1, 5).receptance_method == "state"
+    a = hf.periodic_solution(light, 0.1, 1.1, harmonics=5, condense="state")
+    b = hf.periodic_solution(light, 0.1, 1.1, harmonics=5, condense="direct")
+    assert a.converged and b.converged
+    scale = np.max(np.abs(b.coefficients))
+    assert np.max(np.abs(a.coefficients - b.coefficients)) < 1e-10 * scale
