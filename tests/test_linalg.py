@@ -79,3 +79,39 @@ def test_first_harmonic_response_against_complex_solve():
     assert count == 1
     np.testing.assert_array_equal(out2[0], 0.0)
     np.testing.assert_allclose(out2[1, 0], [1 / 0.75, 1 / 3.75], rtol=1e-14)
+
+
+@pytest.mark.parametrize("n", [31, 32, 33, 120])
+def test_lapack_and_loop_orders_solve_alike(n):
+    """Both sides of ``LAPACK_MIN_ORDER`` against NumPy, a strided view
+    included (the LAPACK path copies whatever the layout)."""
+    from hbmfric.kernels.linalg import LAPACK_MIN_ORDER
+
+    assert 31 < LAPACK_MIN_ORDER <= 32
+    rng = np.random.default_rng(n)
+    A = rng.standard_normal((n, n)) + 0.1 * np.eye(n)[::-1]
+    b = rng.standard_normal(n)
+    expected = np.linalg.solve(A, b)
+    big = np.zeros((n + 3, 2 * n))
+    view = big[1 : n + 1, ::2]
+    view[:] = A
+    piv = np.empty(n, dtype=np.int64)
+    assert lu_factor(view, piv)
+    got = b.copy()
+    lu_solve(view, piv, got)
+    np.testing.assert_allclose(got, expected, rtol=1e-9, atol=1e-9)
+    assert np.all(big[0] == 0.0) and np.all(big[:, 1::2] == 0.0)
+    # the factors reproduce P A = L U with the 0-based swap convention
+    L = np.tril(view, -1) + np.eye(n)
+    U = np.triu(view)
+    PA = A.copy()
+    for k in range(n):
+        PA[[k, piv[k]]] = PA[[piv[k], k]]
+    np.testing.assert_allclose(L @ U, PA, atol=1e-10 * np.abs(A).max())
+
+
+def test_lapack_order_singular_fails():
+    n = 40
+    A = np.ones((n, n))
+    assert not lu_factor(A.copy(), np.empty(n, dtype=np.int64))
+    assert not solve_inplace(A.copy(), np.ones(n))
