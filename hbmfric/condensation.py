@@ -422,6 +422,7 @@ class CondensedHBMProblem(HBMProblem):
             np.zeros((0, n_c), dtype=complex),
             np.zeros(0, dtype=complex),
             np.zeros((0, self.n_coef), dtype=complex),
+            np.zeros(0, dtype=complex),
         )
         method = MODAL if modal is not None else DIRECT
         if self._state is not None:
@@ -432,6 +433,7 @@ class CondensedHBMProblem(HBMProblem):
                 np.ascontiguousarray(Y @ B.T),
                 np.ascontiguousarray(poles),
                 np.ascontiguousarray(Y @ load),
+                np.ascontiguousarray(X[self.contact_dof]),
             )
             method = STATE
         if modal is not None:
@@ -472,6 +474,9 @@ class CondensedHBMProblem(HBMProblem):
             np.ascontiguousarray(law_rows),
             coordinate_shapes,
             *state_parts,
+            # the curve rule draws the contact DOF, recovered (not for the
+            # direct receptance: it watches coordinate 0 there)
+            np.int64(self.contact_dof if self.multi else -1),
             np.zeros(1),
         )
         self.n_unknowns = self.n_coordinates * self.n_coef

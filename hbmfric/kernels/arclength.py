@@ -20,6 +20,7 @@ import numpy as np
 
 from .._jit import jit, jit_inline
 from .newton import CONVERGED, _norm_inf, palc_step
+from .residual import drawn_output
 from .truncation import output_measure, truncation_change
 
 # indices into the settings array
@@ -243,12 +244,40 @@ def chord_error(y0, t0, y1, t1, scale, column):
     length = np.sqrt(length)
     w0, dw0, a0, da0 = _drawn(y0, t0, scale, column)
     w1, dw1, a1, da1 = _drawn(y1, t1, scale, column)
+    rest = CURVE_REST * scale[column]
+    return _chord(length, w0, dw0, a0, da0, w1, dw1, a1, da1, rest)
+
+
+@jit
+def problem_chord_error(problem, y0, t0, y1, t1, scale, column):
+    """:func:`chord_error` of what ``problem`` draws: the unknown at
+    ``column``, or for a problem condensed onto several contact coordinates
+    the output DOF recovered from them
+    (:func:`hbmfric.kernels.residual.drawn_output`)."""
+    ok, w0, dw0, a0, da0 = drawn_output(problem, y0, t0, scale, column)
+    if not ok:
+        return chord_error(y0, t0, y1, t1, scale, column)
+    _, w1, dw1, a1, da1 = drawn_output(problem, y1, t1, scale, column)
+    length = 0.0
+    for i in range(y0.size):
+        d = (y1[i] - y0[i]) / scale[i]
+        length += d * d
+    length = np.sqrt(length)
+    rest = CURVE_REST * scale[column]
+    return _chord(length, w0, dw0, a0, da0, w1, dw1, a1, da1, rest)
+
+
+@jit
+def _chord(length, w0, dw0, a0, da0, w1, dw1, a1, da1, rest):
+    """The estimate of :func:`chord_error` from the drawn values at both
+    ends (Ω, ``a₁`` and their derivatives along the scaled arc length),
+    the chord length ``length`` and the amplitude floor ``rest``."""
     if not (np.isfinite(a0) and np.isfinite(a1)):
         return 0.0
     # relative units: Ω by the mean of the ends, a by the smaller one (at
     # least CURVE_REST of the displacement scale)
     rw = 0.5 * (w0 + w1)
-    ra = max(min(a0, a1), CURVE_REST * scale[column])
+    ra = max(min(a0, a1), rest)
     ex = (w1 - w0) / rw
     el = (a1 - a0) / ra
     ax = (length * dw0) / rw - ex
@@ -505,8 +534,8 @@ def advance(
     target = settings[CURVE_TOL]
     if target > 0.0:
         target = chord_target(settings)
-        curve = chord_error(
-            y, tangent, y_new, t_new, scale, int(settings[CURVE_COLUMN])
+        curve = problem_chord_error(
+            problem, y, tangent, y_new, t_new, scale, int(settings[CURVE_COLUMN])
         )
         length2 = 0.0
         for i in range(y.size):

@@ -143,6 +143,10 @@ CondensedProblem = namedtuple(
         "state_right",  # complex128 (n_states, n_c): R = Y Bᵀ
         "state_poles",  # complex128 (n_states,): λ_r, rad/s
         "state_load",  # complex128 (n_states, n_coef): Y P per coefficient
+        "state_output",  # complex128 (n_states,): row of X at output_dof
+        # several contacts: the DOF whose first harmonic the curve rule
+        # draws (recovered, :func:`coordinates_drawn`); -1: coordinate 0
+        "output_dof",  # int64
         # output, shape (1,): rounding level (N) of the last residual on
         # several coordinates (:func:`_coordinates_linear`), 0 otherwise
         "rounding",
@@ -1091,3 +1095,135 @@ def _coordinate_forces(points, problem, F):
             for j in range(n_coef):
                 F[i, base + j] = f[j]
     return worst
+
+
+# ----------------------------------------------------------------------
+# the drawn DOF of a problem condensed onto several contact coordinates
+
+
+@jit
+def coordinates_drawn(problem, y, t, scale, column):
+    """Ω, the amplitude ``a`` of the forced harmonic of the output DOF
+    (``problem.output_dof``) recovered from the contact coordinates, and
+    their derivatives along the continuation's scaled arc length, at a
+    solution ``y`` with unit tangent ``t`` (scaled): what the curve rule
+    draws (:func:`hbmfric.kernels.arclength.chord_error`).
+
+    At a solution the contact forces are ``f̂ = -r̂`` with ``r̂ = D (q̂ -
+    p)`` the linear part of the residual, so the output is linear in the
+    coordinates of the harmonic: ``x̂ = x_p + g_cᵀ r̂`` with ``x_p = e_cᵀ
+    Z⁻¹ P̂`` and ``g_c = B Z⁻¹ e_c``. Along the arc ``dr̂ = D (dq̂ - dΩ (dG
+    r̂ + dp))``. Modal sums (classical damping) or complex modes only.
+
+    Parameters
+    ----------
+    problem : CondensedProblem
+    y : ndarray, shape (n_c * n_coef + 1,)
+        ``[q, Ω]``, m and rad/s.
+    t : ndarray, shape (n_c * n_coef + 1,)
+        Unit tangent in the scaled variables.
+    scale : ndarray, shape (n_c * n_coef + 1,)
+        Scales of the variables.
+    column : int
+        Column of the forced harmonic's cosine coefficient (of coordinate
+        0, or within any coordinate's block).
+
+    Returns
+    -------
+    tuple of (bool, float, float, float, float)
+        False when not applicable (one contact to ground, the direct
+        receptance, no output DOF, a singular ``G``; then the coordinate at
+        ``column`` is drawn); Ω, dΩ/ds, ``a`` (m; NaN at rest), da/ds.
+    """
+    n_c = problem.law_codes.size
+    c_out = problem.output_dof
+    if n_c == 0 or c_out < 0 or problem.method == DIRECT:
+        return False, 0.0, 0.0, 0.0, 0.0
+    hn = problem.harmonic_numbers
+    n_coef = problem.inverse.shape[1]
+    n = n_c * n_coef
+    col = column % n_coef
+    k = 0
+    at = 0
+    for h in hn:
+        if at == col:
+            k = h
+            break
+        at += 1 if h == 0 else 2
+    omega = y[n]
+    d_omega = t[n] * scale[n]
+    state = problem.method == STATE
+    n_m = problem.state_poles.size if state else problem.omega_squared.size
+    c = np.empty(n_m, dtype=np.complex128)
+    dc = np.empty(n_m, dtype=np.complex128)
+    rho = np.empty(n_m, dtype=np.complex128)
+    h_out = np.empty(n_m, dtype=np.complex128)
+    left = np.empty((n_c, n_m), dtype=np.complex128)
+    w = k * omega
+    for r in range(n_m):
+        if state:
+            cr = 1.0 / (1j * w - problem.state_poles[r])
+            dc[r] = -1j * k * cr * cr
+            h_out[r] = problem.state_output[r]
+            q_c = problem.state_load[r, col]
+            q_s = problem.state_load[r, col + 1] if k != 0 else 0.0j
+        else:
+            damping = problem.modal_damping[r]
+            cr = 1.0 / (problem.omega_squared[r] - w * w + 1j * w * damping)
+            dc[r] = k * (2.0 * w - 1j * damping) * cr * cr
+            h_out[r] = problem.contact_shapes[r]
+            q_c = problem.modal_load[r, col] + 0.0j
+            q_s = problem.modal_load[r, col + 1] + 0.0j if k != 0 else 0.0j
+        c[r] = cr
+        rho[r] = q_c - 1j * q_s
+        for a in range(n_c):
+            if state:
+                left[a, r] = problem.state_left[a, r]
+            else:
+                left[a, r] = problem.coordinate_shapes[a, r]
+    # right factor: R = Y Bᵀ (complex modes) or Ψᵀ (modal)
+    right = np.empty((n_m, n_c), dtype=np.complex128)
+    for r in range(n_m):
+        for a in range(n_c):
+            right[r, a] = problem.state_right[r, a] if state else left[a, r]
+    scaled = np.empty((n_c, n_m), dtype=np.complex128)
+    p = np.empty(n_c, dtype=np.complex128)
+    for a in range(n_c):
+        s = 0.0j
+        for r in range(n_m):
+            scaled[a, r] = left[a, r] * c[r]
+            s += scaled[a, r] * rho[r]
+        p[a] = s
+    G = np.dot(scaled, right)
+    D = np.empty((n_c, n_c), dtype=np.complex128)
+    work = np.empty((n_c, n_c), dtype=np.complex128)
+    if not _invert(G, D, work):
+        return False, 0.0, 0.0, 0.0, 0.0
+    e = np.empty(n_c, dtype=np.complex128)
+    dq = np.empty(n_c, dtype=np.complex128)
+    for a in range(n_c):
+        i = a * n_coef + col
+        if k == 0:
+            e[a] = y[i] - p[a]
+            dq[a] = t[i] * scale[i]
+        else:
+            e[a] = y[i] - 1j * y[i + 1] - p[a]
+            dq[a] = t[i] * scale[i] - 1j * t[i + 1] * scale[i + 1]
+    r_lin = np.dot(D, e)
+    # v = dG r + dp = L (dc ⊙ (R r + ρ))
+    rr = np.dot(right, r_lin)
+    tmp = np.empty(n_m, dtype=np.complex128)
+    for r in range(n_m):
+        tmp[r] = dc[r] * (rr[r] + rho[r])
+    v = np.dot(left, tmp)
+    dr = np.dot(D, dq - d_omega * v)
+    drr = np.dot(right, dr)
+    x = 0.0j
+    dx = 0.0j
+    for r in range(n_m):
+        x += h_out[r] * c[r] * (rho[r] + rr[r])
+        dx += h_out[r] * (d_omega * dc[r] * (rho[r] + rr[r]) + c[r] * drr[r])
+    a = abs(x)
+    if not a > 0.0:
+        return True, omega, d_omega, np.nan, np.nan
+    return True, omega, d_omega, a, (x.real * dx.real + x.imag * dx.imag) / a
