@@ -88,22 +88,26 @@ def can_condense(system) -> bool:
 
 
 def condensed_by_default(system) -> bool:
-    """What ``condense=None`` chooses: :func:`can_condense`, for one contact
-    to ground only. Several contacts are condensed when asked
-    (``condense=True``, ``"modal"`` or ``"direct"``).
+    """What ``condense=None`` chooses: :func:`can_condense`, with the
+    receptance from modal sums (classical damping) or complex modes
+    (:func:`state_space_modes`) for several contacts.
 
-    The step collapse of the condensed continuation at the lap joint's
-    stuck resonance (stop 22) is fixed (the corrector accepts the residual's
-    rounding level, :func:`hbmfric.kernels.condensed._rounding_level`), and
-    condensed the joint's 9 curves take a third of the time with the same
-    peaks. It stays opt-in because its curve rule watches the first
-    contact's coordinate (a relative slip), not the contact DOF a branch
-    reports by default. On the joint the straight lines between the
-    points then stray from the branch by up to 5e-4 on that DOF (Fex/P =
-    0.04; warned), where the full solve keeps 1e-4 (``bench/README.md``)."""
+    Several contacts are condensed by default since stop 24: the condensed
+    curve rule draws the contact DOF recovered from the coordinates
+    (:func:`hbmfric.kernels.condensed.coordinates_drawn`), the DOF a
+    branch reports and checks, so the chords keep the curve tolerance as
+    in full (the lap joint, N = 10, H = 15: ``Branch.curve_errors`` at
+    most 1e-4 condensed and full). When neither receptance applies (the
+    complex modes fail their check; the direct solve remains, whose curve
+    rule watches the first coordinate) several contacts are solved in
+    full."""
     if not can_condense(system):
         return False
-    return _single(check_contacts(system, int(system.n_dof)))
+    if _single(check_contacts(system, int(system.n_dof))):
+        return True
+    if modal_damping(system) is not None:
+        return True
+    return state_space_modes(*system.matrices()) is not None
 
 
 def _single(contacts) -> bool:

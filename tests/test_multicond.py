@@ -281,10 +281,10 @@ def test_condensed_frf_of_several_contacts_estimates_its_accuracy():
     chain with five contacts, covers the range and gives a finite
     truncation estimate at every point (the accuracy rules watch the first
     coordinate). Over 0.1-2.5 rad/s: 2434 points, 15 s condensed, 64 s
-    full; here a part of it. (Several contacts are not condensed by
-    default since stop 22: see ``condensed_by_default``.)"""
+    full; here a part of it. (Several contacts are condensed by default
+    again since stop 24: see ``condensed_by_default``.)"""
     s = _structure(CONTACT_SETS["five"])
-    assert not hf.frf(s, 0.1, (0.3, 0.35), 3).info["condensed"]
+    assert hf.frf(s, 0.1, (0.3, 0.35), 3).info["condensed"]
     branch = hf.frf(s, 0.1, (0.3, 0.6), harmonic_tolerance=1e-3, condense=True)
     assert branch.complete and branch.info["condensed"]
     assert np.all(np.isfinite(branch.truncation_error))
