@@ -90,3 +90,61 @@ def test_defective_modes_fall_back_to_the_direct_solve():
     assert a.converged and b.converged
     scale = np.max(np.abs(b.coefficients))
     assert np.max(np.abs(a.coefficients - b.coefficients)) < 1e-10 * scale
+
+
+def _tangent(J):
+    """Unit null vector of the Jacobian ``J`` (shape (n, n + 1)): the
+    branch's tangent, by SVD."""
+    t = np.linalg.svd(J)[2][-1]
+    return t / np.linalg.norm(t)
+
+
+@pytest.mark.parametrize("receptance", ["state", "modal"])
+def test_curve_rule_draws_the_recovered_contact_dof(receptance):
+    """What the condensed curve rule draws
+    (:func:`hbmfric.kernels.condensed.coordinates_drawn`): the amplitude
+    of the first harmonic of the contact DOF and its derivative along the
+    branch's tangent, against the recovery of every DOF
+    (``full_coefficients``: the AFT forces and dense solves or modal sums)
+    at the solution and at two points a small step along the tangent
+    (central difference). Lap joint (complex modes) and a chain with
+    Rayleigh damping (modal sums), partly slipping."""
+    from hbmfric.kernels.condensed import coordinates_drawn
+
+    if receptance == "state":
+        s = hf.lap_joint(10)
+        force, omega, H = 0.04 * 36e3, HZ * 146.0, 7
+    else:
+        M = np.diag(1.0 + 0.1 * np.arange(5))
+        K = 2.0 * np.eye(5) - np.eye(5, k=1) - np.eye(5, k=-1)
+        K[-1, -1] = 1.0
+        contacts = [
+            hf.Contact(hf.Jenkins(stiffness=1.0, slip_force=0.03), 1),
+            hf.Contact(hf.Jenkins(stiffness=0.5, slip_force=0.02), 2, 4),
+        ]
+        s = hf.LinearStructure(
+            M, K, contacts=contacts, load={4: 1.0}, rayleigh=(0.01, 0.02)
+        )
+        force, omega, H = 0.1, 0.5, 7
+    sol = hf.periodic_solution(s, force, omega, harmonics=H, condense=receptance)
+    assert sol.converged
+    p = CondensedHBMProblem(s, force, H, receptance=receptance)
+    assert p.receptance_method == receptance and p.multi
+    y = np.append(p.unknowns_from_full(sol.coefficients), omega)
+    R, J, _ = p.residual(y)
+    assert np.max(np.abs(R)) < 1e-8 * force
+    t = _tangent(J)
+    hn = list(p.harmonic_numbers)
+    col = sum(1 if k == 0 else 2 for k in hn[: hn.index(1)])
+    ok, w, dw, a, da = coordinates_drawn(p.kernel_problem, y, t, np.ones_like(y), col)
+    assert ok and w == omega and dw == t[-1]
+    c = p.contact_dof
+
+    def amplitude(point):
+        X = p.full_coefficients(point[None])[0]
+        return np.hypot(X[c, col], X[c, col + 1])
+
+    assert a == pytest.approx(amplitude(y), rel=1e-8)
+    h = 1e-4 * np.linalg.norm(y)
+    fd = (amplitude(y + h * t) - amplitude(y - h * t)) / (2.0 * h)
+    assert da == pytest.approx(fd, rel=1e-5)

@@ -954,7 +954,10 @@ def _coordinates_linear(y, problem, R, J):
         for a in range(n_c):
             i = a * n_coef + col
             e[a] = (y[i] + 0.0j if k == 0 else y[i] - 1j * y[i + 1]) - p[a]
-        level = max(level, _rounding_level(G, D, e))
+        g_scale = 0.0
+        if problem.method == STATE:
+            g_scale = _state_sum_norm(problem, c)
+        level = max(level, _rounding_level(G, D, e, g_scale))
         for a in range(n_c):
             s = 0.0j
             for b in range(n_c):
@@ -994,10 +997,36 @@ def _coordinates_linear(y, problem, R, J):
 
 
 @jit
-def _rounding_level(G, D, e):
+def _state_sum_norm(problem, c):
+    """``‖ |L| diag|c| |R| ‖∞``: the ∞-norm of the sum of the absolute
+    terms of ``G = L diag(c) R`` (complex modes), the scale of its
+    rounding. On the lap joint 80 times ``‖G‖∞`` (its relative
+    coordinates are small differences of the modes' terms)."""
+    left = problem.state_left
+    right = problem.state_right
+    n_c, n_s = left.shape
+    weight = np.empty(n_s)
+    for r in range(n_s):
+        s = 0.0
+        for b in range(n_c):
+            s += abs(right[r, b])
+        weight[r] = abs(c[r]) * s
+    worst = 0.0
+    for a in range(n_c):
+        row = 0.0
+        for r in range(n_s):
+            row += abs(left[a, r]) * weight[r]
+        worst = max(worst, row)
+    return worst
+
+
+@jit
+def _rounding_level(G, D, e, g_scale=0.0):
     """Rounding level (N) of ``D e`` with ``D = G⁻¹`` computed from ``G``
     (complex, shapes (m, m), (m, m), (m,)): ``eps κ max_a Σ_b |D_ab| |e_b|``
-    with ``κ = ‖G‖∞ ‖D‖∞`` the condition number of ``G``.
+    with ``κ = ‖G‖∞ ‖D‖∞`` the condition number of ``G``; ``‖G‖∞`` is
+    replaced by ``g_scale`` when larger (the sum of the absolute terms of a
+    sum that computes ``G``, :func:`_state_sum_norm`).
 
     The rounding of ``G`` (a modal sum or a direct solve) reaches ``D`` as
     ``κ eps`` relative, so the linear part of the residual on several
@@ -1018,7 +1047,7 @@ def _rounding_level(G, D, e):
             sg += abs(G[a, b])
             sd += abs(D[a, b])
             se += abs(D[a, b]) * abs(e[b])
-        g_norm = max(g_norm, sg)
+        g_norm = max(g_norm, sg, g_scale)
         d_norm = max(d_norm, sd)
         worst = max(worst, se)
     return 2.220446049250313e-16 * g_norm * d_norm * worst
@@ -1143,13 +1172,15 @@ def coordinates_drawn(problem, y, t, scale, column):
     n_coef = problem.inverse.shape[1]
     n = n_c * n_coef
     col = column % n_coef
-    k = 0
+    k = -1
     at = 0
     for h in hn:
         if at == col:
             k = h
             break
         at += 1 if h == 0 else 2
+    if k <= 0:  # not the cosine of a harmonic above the mean
+        return False, 0.0, 0.0, 0.0, 0.0
     omega = y[n]
     d_omega = t[n] * scale[n]
     state = problem.method == STATE
