@@ -298,11 +298,15 @@ class CondensedHBMProblem(HBMProblem):
     system, force, harmonics, n_time, symmetry, aft, subharmonic
         As :class:`~hbmfric.hbm.HBMProblem` (a rigid :class:`~hbmfric.Coulomb`
         contact is solved by DLFT on the condensed residual).
-    receptance : {"auto", "modal", "direct"}
+    receptance : {"auto", "modal", "state", "direct"}
         ``"modal"``: modal superposition with all modes (exact for
-        classical damping, the fast path); ``"direct"``: a complex solve of
-        ``K - ω² M + iω C`` per harmonic and residual evaluation (any
-        damping); ``"auto"``: modal when the damping is classical.
+        classical damping, the fast path); ``"state"`` (several contacts):
+        the complex modes of the first-order form (any damping,
+        :func:`state_space_modes`, ``O(n_states n_c²)`` per harmonic, no
+        factorisation); ``"direct"``: a complex solve of ``K - ω² M + iω
+        C`` per harmonic and residual evaluation (any damping); ``"auto"``:
+        modal when the damping is classical, else complex modes for
+        several contacts when they pass their check, else direct.
     """
 
     condensed = True
@@ -659,9 +663,9 @@ class CondensedHBMProblem(HBMProblem):
 
     def _coordinate_recover(self, points: np.ndarray, F: np.ndarray) -> np.ndarray:
         """:meth:`full_coefficients` for several contacts:
-        ``x̂_k = Z(kΩ)⁻¹ (P̂_k - Bᵀ f̂_k)`` per harmonic, by modal sums or
-        direct solves (plain NumPy); ``F`` of shape (n_points, n_c,
-        n_coef)."""
+        ``x̂_k = Z(kΩ)⁻¹ (P̂_k - Bᵀ f̂_k)`` per harmonic, by modal sums,
+        complex modes or direct solves (plain NumPy); ``F`` of shape
+        (n_points, n_c, n_coef)."""
         omega = points[:, -1]
         loads = self._complex_load()
         cols = coefficient_columns(self.harmonic_numbers)
@@ -676,6 +680,9 @@ class CondensedHBMProblem(HBMProblem):
                 omega_r, shapes, modal_c = self._modal
                 d = omega_r**2 - w[:, None] ** 2 + 1j * w[:, None] * modal_c
                 x = ((rhs @ shapes) / d) @ shapes.T
+            elif self.receptance_method == "state":
+                poles, X, Y, _ = self._state
+                x = ((rhs @ Y.T) / (1j * w[:, None] - poles)) @ X.T
             else:
                 x = self._direct_response(w, rhs)
             out[:, :, c] = x.real

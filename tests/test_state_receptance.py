@@ -104,8 +104,8 @@ def test_curve_rule_draws_the_recovered_contact_dof(receptance):
     """What the condensed curve rule draws
     (:func:`hbmfric.kernels.condensed.coordinates_drawn`): the amplitude
     of the first harmonic of the contact DOF and its derivative along the
-    branch's tangent, against the recovery of every DOF
-    (``full_coefficients``: the AFT forces and dense solves or modal sums)
+    branch's tangent, against the recovery of every DOF by dense solves
+    (``full_coefficients`` of ``receptance="direct"``, with the AFT forces)
     at the solution and at two points a small step along the tangent
     (central difference). Lap joint (complex modes) and a chain with
     Rayleigh damping (modal sums), partly slipping."""
@@ -139,9 +139,10 @@ def test_curve_rule_draws_the_recovered_contact_dof(receptance):
     ok, w, dw, a, da = coordinates_drawn(p.kernel_problem, y, t, np.ones_like(y), col)
     assert ok and w == omega and dw == t[-1]
     c = p.contact_dof
+    direct = CondensedHBMProblem(s, force, H, receptance="direct")
 
     def amplitude(point):
-        X = p.full_coefficients(point[None])[0]
+        X = direct.full_coefficients(point[None])[0]
         return np.hypot(X[c, col], X[c, col + 1])
 
     assert a == pytest.approx(amplitude(y), rel=1e-8)

@@ -65,7 +65,9 @@ and the residual, in the dynamic-stiffness form of the single contact
 
     r̂_k = D_k (q̂_k - p_k) + f̂_k,     D_k = G_k⁻¹   (n_c x n_c, complex),
 
-with ``dD/dΩ = -D (dG/dΩ) D``. ``G`` is complex symmetric (``Z`` is) and
+with ``dD/dΩ = -D (dG/dΩ) D``, so ``d(D (q̂ - p))/dΩ = -D (dG/dΩ D (q̂ -
+p) + dp/dΩ)``: two matrix-vector products per harmonic, ``dD`` is not
+formed. ``G`` is complex symmetric (``Z`` is) and
 regular when ``B`` has full row rank (checked at the edge). Modal:
 ``G_ab = Σ_r ψ_ar ψ_br / d_r`` with ``ψ = B Φ`` (``coordinate_shapes``);
 direct: one LU of ``Z`` per harmonic, ``Z_c = Z⁻¹ Bᵀ`` (``n_c`` solves),
@@ -74,6 +76,19 @@ contact's force is the AFT of its law on its own coordinate (the dispatch
 of the full residual, :func:`hbmfric.kernels.hbm._aft`), so ``df/dq`` is
 block diagonal. The single contact to ground keeps the path above
 (``law_codes`` empty); any other set of contacts fills ``law_codes``.
+
+Complex modes (``method == STATE``, any damping): with the decomposition
+``Z(ω)⁻¹ = X diag(1/(iω - λ_r)) Y`` of
+:func:`hbmfric.condensation.state_space_modes` (``2 n_dof`` poles), ``G =
+L diag(c) R`` with ``L = B X``, ``R = Y Bᵀ``, ``c_r = 1/(ikΩ - λ_r)``: one
+complex matrix product per harmonic, ``O(n_states n_c²)``, and no
+factorisation (:func:`_state_coordinate_receptance`). ``dG/dΩ`` is never
+formed: the Ω column needs only ``dG r̂ + dp = L (dc ⊙ (R r̂ + ρ))``
+(:func:`_state_derivative`, ``O(n_states n_c)``). Its rounding scales with
+the sum of the absolute terms (:func:`_state_sum_norm`).
+
+The curve rule of the continuation draws the contact DOF recovered from the
+coordinates (:func:`coordinates_drawn`; modal sums and complex modes).
 
 The problem travels as a :class:`CondensedProblem` named tuple; the residual
 dispatcher :func:`hbmfric.kernels.residual.residual` recognises its type.
