@@ -126,13 +126,16 @@ def test_curve_rule_draws_the_recovered_contact_dof(receptance):
             M, K, contacts=contacts, load={4: 1.0}, rayleigh=(0.01, 0.02)
         )
         force, omega, H = 0.1, 0.5, 7
-    sol = hf.periodic_solution(s, force, omega, harmonics=H, condense=receptance)
+    # solved with the direct receptance: its Newton stops at 1e-11 of the
+    # load here, the complex modes' at their (larger) rounding level
+    sol = hf.periodic_solution(s, force, omega, harmonics=H, condense="direct")
     assert sol.converged
     p = CondensedHBMProblem(s, force, H, receptance=receptance)
     assert p.receptance_method == receptance and p.multi
     y = np.append(p.unknowns_from_full(sol.coefficients), omega)
     R, J, _ = p.residual(y)
-    assert np.max(np.abs(R)) < 1e-8 * force
+    # converged to the rounding level of D = G⁻¹ (κ(G) 1e4 on the joint)
+    assert np.max(np.abs(R)) <= max(1e-10 * force, p.rounding_level())
     t = _tangent(J)
     hn = list(p.harmonic_numbers)
     col = sum(1 if k == 0 else 2 for k in hn[: hn.index(1)])
@@ -146,6 +149,6 @@ def test_curve_rule_draws_the_recovered_contact_dof(receptance):
         return np.hypot(X[c, col], X[c, col + 1])
 
     assert a == pytest.approx(amplitude(y), rel=1e-8)
-    h = 1e-4 * np.linalg.norm(y)
+    h = 1e-6 * np.linalg.norm(y)
     fd = (amplitude(y + h * t) - amplitude(y - h * t)) / (2.0 * h)
     assert da == pytest.approx(fd, rel=1e-5)
