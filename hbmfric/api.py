@@ -93,6 +93,9 @@ def _describe(system, problem: HBMProblem, extra: dict) -> dict:
         "aft": problem.aft,
         "condensed": bool(getattr(problem, "condensed", False)),
     }
+    if info["condensed"]:
+        # "modal", "state" (complex modes) or "direct"
+        info["receptance"] = problem.receptance_method
     info.update(extra)
     return info
 

@@ -90,6 +90,10 @@ def test_defective_modes_fall_back_to_the_direct_solve():
     assert a.converged and b.converged
     scale = np.max(np.abs(b.coefficients))
     assert np.max(np.abs(a.coefficients - b.coefficients)) < 1e-10 * scale
+    # by default: condensed by complex modes, or (defective) solved in full
+    branch = hf.frf(light, 0.1, (1.0, 1.1), harmonics=3)
+    assert branch.info["condensed"] and branch.info["receptance"] == "state"
+    assert not hf.frf(defective, 0.1, (1.0, 1.1), harmonics=3).info["condensed"]
 
 
 def _tangent(J):
