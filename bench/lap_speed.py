@@ -33,8 +33,8 @@ import numpy as np  # noqa: E402
 import hbmfric as hf  # noqa: E402
 from hbmfric.condensation import CondensedHBMProblem  # noqa: E402
 from hbmfric.hbm import HBMProblem  # noqa: E402
-from hbmfric.kernels.condensed import condensed_contact_forces  # noqa: E402
-from hbmfric.kernels.linalg import lu_factor  # noqa: E402
+from hbmfric.kernels.linalg.lu import lu_factor  # noqa: E402
+from hbmfric.kernels.residuals.condensed import condensed_contact_forces  # noqa: E402
 
 HZ = 2.0 * np.pi
 FORCE = 36.0  # N: Fex/P = 1e-3 of the 36 kN preload

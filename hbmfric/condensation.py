@@ -1,5 +1,5 @@
 """Harmonic balance condensed onto the contacts: the plain-Python layer
-that builds the data of :mod:`hbmfric.kernels.condensed` (modal or direct
+that builds the data of :mod:`hbmfric.kernels.residuals.condensed` (modal or direct
 receptance) and recovers the response of every DOF afterwards.
 
 One contact to ground is condensed onto its DOF; several contacts (or one
@@ -13,7 +13,8 @@ from __future__ import annotations
 import numpy as np
 
 from .hbm import HBMProblem
-from .kernels.condensed import (
+from .kernels.dlft.coulomb import COULOMB
+from .kernels.residuals.condensed import (
     AFT_EVENTS,
     AFT_SAMPLES,
     DIRECT,
@@ -25,7 +26,6 @@ from .kernels.condensed import (
     condensed_modal_recover,
     condensed_residual,
 )
-from .kernels.dlft import COULOMB
 from .laws import Contact2D
 from .signals import coefficient_columns
 from .systems.contacts import check_contacts, contact_arrays
@@ -94,7 +94,7 @@ def condensed_by_default(system) -> bool:
 
     Several contacts are condensed by default since stop 24: the condensed
     curve rule draws the contact DOF recovered from the coordinates
-    (:func:`hbmfric.kernels.condensed.coordinates_drawn`), the DOF a
+    (:func:`hbmfric.kernels.residuals.condensed.coordinates_drawn`), the DOF a
     branch reports and checks, so the chords keep the curve tolerance as
     in full (the lap joint, N = 10, H = 15: ``Branch.curve_errors`` at
     most 1e-4 condensed and full). When neither receptance applies (the
@@ -287,7 +287,7 @@ class CondensedHBMProblem(HBMProblem):
     ``n_c * n_coef`` coefficients of the contact coordinates ``q = B x``
     (:func:`selection_matrix`), coordinate by coordinate, in the order of
     ``system.contacts``; the residual uses the receptance matrix
-    ``B Z(kΩ)⁻¹ Bᵀ`` per harmonic (:mod:`hbmfric.kernels.condensed`).
+    ``B Z(kΩ)⁻¹ Bᵀ`` per harmonic (:mod:`hbmfric.kernels.residuals.condensed`).
     ``problem.system`` is then a view of the system in coordinates
     (``n_dof`` the number of coordinates, ``contact_dof`` 0: the
     continuation's accuracy and curve rules watch the first coordinate);
@@ -502,7 +502,7 @@ class CondensedHBMProblem(HBMProblem):
         """Rounding level (N) of the last residual evaluated: on several
         contact coordinates that of ``D = G⁻¹`` (the condition number of
         the receptance matrix times eps times the terms ``|D| |q - p|``,
-        :func:`hbmfric.kernels.condensed._rounding_level`), which the
+        :func:`hbmfric.kernels.residuals.condensed._rounding_level`), which the
         corrector accepts as converged; 0 for one contact to ground."""
         return float(self.kernel_problem.rounding[0])
 

@@ -27,7 +27,7 @@ CHORD_FRACTIONS = (0.21132486540518713, 0.5, 0.7886751345948129)
 FOLD_CAP = 1e3
 #: amplitudes below this fraction of the displacement scale count as at
 #: rest in :attr:`Branch.curve_errors` (errors relative to that floor; the
-#: compiled rule's ``kernels.arclength.CURVE_REST``)
+#: compiled rule's ``kernels.steps.arclength.CURVE_REST``)
 CURVE_REST = 1e-4
 
 
@@ -367,7 +367,7 @@ class Branch:
         points and
         their :attr:`tangents` (the cubic Hermite curve through both
         points against the chord, as
-        :func:`hbmfric.kernels.arclength.chord_error`). 0 between two
+        :func:`hbmfric.kernels.steps.arclength.chord_error`). 0 between two
         pieces (no line is drawn there). None without tangents."""
         metric = self._arc_metric()
         if metric is None:

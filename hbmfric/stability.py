@@ -2,7 +2,7 @@
 
 A periodic solution ``x_p(t)`` of ``M ẍ + C ẋ + K x + f_nl(x) = p(t)`` is
 perturbed by ``e^{λt} q(t)`` with ``q`` periodic of the same period. In the
-real Fourier basis of :mod:`hbmfric.kernels.dft` (per DOF ``[a0, a1, b1, a2,
+real Fourier basis of :mod:`hbmfric.kernels.fourier.dft` (per DOF ``[a0, a1, b1, a2,
 b2, …]``), the time derivative is the block-diagonal operator ``D``
 (``D[a_k, b_k] = kΩ``, ``D[b_k, a_k] = -kΩ``) and
 ``d/dt (e^{λt} q) = e^{λt} (λ + D) q``, so the linearised balance of the
@@ -471,7 +471,7 @@ def _stability_problem(system, force, harmonics, n_time, aft, subharmonic):
     """The full-basis, uncondensed HBM problem whose Jacobian Hill's
     method needs."""
     from .hbm import HBMProblem
-    from .kernels.dlft import COULOMB
+    from .kernels.dlft.coulomb import COULOMB
 
     problem = HBMProblem(
         system,
@@ -565,7 +565,7 @@ class _Level:
         """``∂R/∂X`` at the points ``local``, one compiled loop, and the
         signs (k, n_groups) of the determinants of the blocks ``groups``
         (None: not computed)."""
-        from .kernels.hill import hill_jacobians
+        from .kernels.stability.hill import hill_jacobians
 
         problem = self.problem
         n_full = problem.n_unknowns
@@ -606,7 +606,7 @@ class _Level:
         them, else the whole."""
         if len(candidates) == 1:
             return candidates
-        from .kernels.hill import split_extremes
+        from .kernels.stability.hill import split_extremes
 
         odd, even = candidates
         coupling, largest = 0.0, 0.0
@@ -637,7 +637,7 @@ class _Level:
         point of the level (0: numerically singular)."""
         if self._signs is not None:
             return self._signs
-        from .kernels.hill import block_determinant_signs
+        from .kernels.stability.hill import block_determinant_signs
 
         blocks, sizes = _block_table(self.groups, None)
         signs = np.empty((self.idx.size, sizes.size), dtype=np.int64)
@@ -925,7 +925,7 @@ def _automatic_method(system, n_dof: int) -> str:
     time-domain monodromy can be formed, else ``"hill"`` (with an
     :class:`~hbmfric.AccuracyWarning` when Hill's verdicts are then
     approximate)."""
-    from .kernels.laws import CUBIC, DAHL, JENKINS
+    from .kernels.laws.updates import CUBIC, DAHL, JENKINS
     from .systems.protocol import check_system
 
     if n_dof <= 1:

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from hbmfric.kernels.linalg import lu_factor, lu_solve, solve_inplace
+from hbmfric.kernels.linalg.lu import lu_factor, lu_solve, solve_inplace
 
 
 @pytest.mark.parametrize("n", [1, 2, 5, 17])
@@ -44,11 +44,11 @@ def test_non_finite_entry_off_the_pivots_fails_the_solve():
 
 
 def test_first_harmonic_response_against_complex_solve():
-    """The real 2n-system of ``kernels.linear`` against NumPy's complex
+    """The real 2n-system of ``kernels.linalg.linear_response`` against NumPy's complex
     solve of ``(K - Ω² M + iΩ C) x = p_c - i p_s``; a singular dynamic
     stiffness (undamped, at a natural frequency) gives zeros and is
     counted."""
-    from hbmfric.kernels.linear import first_harmonic_response
+    from hbmfric.kernels.linalg.linear_response import first_harmonic_response
 
     rng = np.random.default_rng(3)
     n = 4
@@ -85,7 +85,7 @@ def test_first_harmonic_response_against_complex_solve():
 def test_lapack_and_loop_orders_solve_alike(n):
     """Both sides of ``LAPACK_MIN_ORDER`` against NumPy, a strided view
     included (the LAPACK path copies whatever the layout)."""
-    from hbmfric.kernels.linalg import LAPACK_MIN_ORDER
+    from hbmfric.kernels.linalg.lu import LAPACK_MIN_ORDER
 
     assert 31 < LAPACK_MIN_ORDER <= 32
     rng = np.random.default_rng(n)

@@ -106,14 +106,14 @@ def _tangent(J):
 @pytest.mark.parametrize("receptance", ["state", "modal"])
 def test_curve_rule_draws_the_recovered_contact_dof(receptance):
     """What the condensed curve rule draws
-    (:func:`hbmfric.kernels.condensed.coordinates_drawn`): the amplitude
+    (:func:`hbmfric.kernels.residuals.condensed.coordinates_drawn`): the amplitude
     of the first harmonic of the contact DOF and its derivative along the
     branch's tangent, against the recovery of every DOF by dense solves
     (``full_coefficients`` of ``receptance="direct"``, with the AFT forces)
     at the solution and at two points a small step along the tangent
     (central difference). Lap joint (complex modes) and a chain with
     Rayleigh damping (modal sums), partly slipping."""
-    from hbmfric.kernels.condensed import coordinates_drawn
+    from hbmfric.kernels.residuals.condensed import coordinates_drawn
 
     if receptance == "state":
         s = hf.lap_joint(10)

@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._validate import finite_float
-from ..dahl import ModifiedDahl
+from ..laws import ModifiedDahl
 
 GRAVITY = 9.81
 

@@ -11,9 +11,9 @@ real exponents crosses zero.
 
 import numpy as np
 
-from .._jit import jit
-from .hbm import hbm_residual
-from .linalg import lu_factor
+from ..._jit import jit
+from ..linalg.lu import lu_factor
+from ..residuals.hbm import hbm_residual
 
 
 @jit
@@ -28,7 +28,7 @@ def hill_jacobians(points, problem, jac, status, blocks, sizes, signs):
         Unknowns ``[X, Ω]`` of each solution (``n = n_dof * n_coef``,
         coefficients in m, Ω in rad/s).
     problem : tuple
-        Kernel problem of :func:`hbmfric.kernels.hbm.hbm_residual`.
+        Kernel problem of :func:`hbmfric.kernels.residuals.hbm.hbm_residual`.
     jac : ndarray, shape (n_points, n, n)
         Output: the Jacobians (the Ω column left out), N/m.
     status : ndarray of int64, shape (n_points,)

@@ -74,12 +74,12 @@ Law codes and their parameter arrays
 ``DAHL`` (modified Dahl restoring force): ``params = [β, μ, a, b, d, e]``
     Rate-independent relaxation towards the envelopes ``h_u = a u + b``
     (loading) and ``h_l = d u + e`` (unloading); see
-    :mod:`hbmfric.kernels.dahl`.
+    :mod:`hbmfric.kernels.laws.dahl`.
 """
 
 import numpy as np
 
-from .._jit import jit
+from ..._jit import jit
 from .dahl import dahl_update
 
 JENKINS = 0

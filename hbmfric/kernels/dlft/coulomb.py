@@ -56,11 +56,11 @@ H = 31 for the same case.
 
 import numpy as np
 
-from .._jit import jit
-from .aft import GROSS_SLIP, STUCK
+from ..._jit import jit
+from ..aft.schemes import GROSS_SLIP, STUCK
 
 #: law code of the rigid Coulomb contact, solved by DLFT (not by the AFT law
-#: march of :mod:`hbmfric.kernels.laws`; chosen far from the AFT law codes)
+#: march of :mod:`hbmfric.kernels.laws.updates`; chosen far from the AFT law codes)
 COULOMB = 100
 
 

@@ -18,7 +18,7 @@ order 32 5.3 against 6.1 µs; at order 780 13 against 68 ms; at order 1780
 import numpy as np
 from numba import types
 
-from .._jit import jit
+from ..._jit import jit
 
 LAPACK_MIN_ORDER = 32
 """Order from which :func:`lu_factor` calls LAPACK's ``dgetrf``."""

@@ -7,10 +7,10 @@ from typing import ClassVar
 
 import numpy as np
 
-from ._validate import finite_array, finite_float
-from .kernels import laws as _k
-from .kernels.dahl import DAHL_NOT_CONVERGED, dahl_periodic
-from .laws import ContactLaw
+from .._validate import finite_array, finite_float
+from ..kernels.aft.dahl import DAHL_NOT_CONVERGED, dahl_periodic
+from ..kernels.laws import updates as _k
+from .base import ContactLaw
 
 
 def _pair(name: str, value) -> tuple[float, float]:
