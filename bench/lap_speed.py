@@ -79,6 +79,12 @@ def iteration_costs(n_pairs, harmonics=15, full=True):
     row["aft_ms"] = 1e3 * _best(
         lambda: condensed_contact_forces(y[None], c.kernel_problem, F)
     )
+    # every contact in gross slip: 30 times the amplitude
+    y30 = np.append(30.0 * y[:-1], y[-1])
+    row["aft_slip_ms"] = 1e3 * _best(
+        lambda: condensed_contact_forces(y30[None], c.kernel_problem, F)
+    )
+    row["state_residual_slip_ms"] = 1e3 * _best(lambda: c.residual(y30))
     _, J, _ = c.residual(y)
     row["cond_lu_ms"] = 1e3 * _lu_time(J)
     if full:
