@@ -290,7 +290,9 @@ class CondensedHBMProblem(HBMProblem):
     ``B Z(kΩ)⁻¹ Bᵀ`` per harmonic (:mod:`hbmfric.kernels.residuals.condensed`).
     ``problem.system`` is then a view of the system in coordinates
     (``n_dof`` the number of coordinates, ``contact_dof`` 0: the
-    continuation's accuracy and curve rules watch the first coordinate);
+    continuation's accuracy rules watch the first coordinate; its curve
+    rule draws the contact DOF recovered from the coordinates with modal
+    sums or complex modes, the first coordinate with direct solves);
     ``problem.structure`` is the system itself.
 
     Parameters
@@ -704,9 +706,10 @@ class _CoordinateView:
     """The system as the continuation of a problem condensed onto several
     contact coordinates sees it: every attribute of the system, except
     ``n_dof`` (the number of coordinates, the blocks of the unknowns),
-    ``contact_dof`` = 0 (the first coordinate, the one the accuracy and
-    curve rules watch) and no ``output_weights`` (they weigh DOFs, not
-    coordinates)."""
+    ``contact_dof`` = 0 (the first coordinate, the one the accuracy rules
+    watch; the curve rule draws the recovered contact DOF, see
+    :class:`CondensedHBMProblem`) and no ``output_weights`` (they weigh
+    DOFs, not coordinates)."""
 
     contact_dof = 0
     output_weights = None
