@@ -143,8 +143,11 @@ def test_curve_rule_draws_the_recovered_contact_dof(receptance):
     t = _tangent(J)
     hn = list(p.harmonic_numbers)
     col = sum(1 if k == 0 else 2 for k in hn[: hn.index(1)])
-    ok, w, dw, a, da = coordinates_drawn(p.kernel_problem, y, t, np.ones_like(y), col)
-    assert ok and w == omega and dw == t[-1]
+    X = np.empty(p.n_coef)
+    ok, w, dw, a, da, v, n_coef = coordinates_drawn(
+        p.kernel_problem, y, t, np.ones_like(y), col, X
+    )
+    assert ok and w == omega and dw == t[-1] and n_coef == p.n_coef
     c = p.contact_dof
     direct = CondensedHBMProblem(s, force, H, receptance="direct")
 
@@ -153,6 +156,13 @@ def test_curve_rule_draws_the_recovered_contact_dof(receptance):
         return np.hypot(X[c, col], X[c, col + 1])
 
     assert a == pytest.approx(amplitude(y), rel=1e-8)
+    Xd = direct.full_coefficients(y[None])[0, c]
+    np.testing.assert_allclose(X, Xd, rtol=0, atol=1e-8 * np.max(np.abs(Xd)))
     h = 1e-6 * np.linalg.norm(y)
     fd = (amplitude(y + h * t) - amplitude(y - h * t)) / (2.0 * h)
     assert da == pytest.approx(fd, rel=1e-5)
+    dX = (
+        direct.full_coefficients((y + h * t)[None])[0, c]
+        - direct.full_coefficients((y - h * t)[None])[0, c]
+    ) / (2.0 * h)
+    assert v == pytest.approx(np.sum(dX**2), rel=1e-4)

@@ -1146,12 +1146,14 @@ def _coordinate_forces(points, problem, F):
 
 
 @jit
-def coordinates_drawn(problem, y, t, scale, column):
+def coordinates_drawn(problem, y, t, scale, column, coefficients):
     """Ω, the amplitude ``a`` of the forced harmonic of the output DOF
     (``problem.output_dof``) recovered from the contact coordinates, and
     their derivatives along the continuation's scaled arc length, at a
     solution ``y`` with unit tangent ``t`` (scaled): what the curve rule
-    draws (:func:`hbmfric.kernels.steps.arclength.chord_error`).
+    draws (:func:`hbmfric.kernels.steps.arclength.chord_error`); also the
+    output's coefficients of every harmonic and the squared norm of their
+    derivatives (the metric of ``Branch.curve_errors``).
 
     At a solution the contact forces are ``f̂ = -r̂`` with ``r̂ = D (q̂ -
     p)`` the linear part of the residual, so the output is linear in the
@@ -1171,31 +1173,59 @@ def coordinates_drawn(problem, y, t, scale, column):
     column : int
         Column of the forced harmonic's cosine coefficient (of coordinate
         0, or within any coordinate's block).
+    coefficients : ndarray, shape (>= n_coef,)
+        Output: the output DOF's coefficients (m), first ``n_coef``.
 
     Returns
     -------
-    tuple of (bool, float, float, float, float)
+    tuple of (bool, float, float, float, float, float, int)
         False when not applicable (one contact to ground, the direct
         receptance, no output DOF, a singular ``G``; then the coordinate at
-        ``column`` is drawn); Ω, dΩ/ds, ``a`` (m; NaN at rest), da/ds.
+        ``column`` is drawn); Ω, dΩ/ds, ``a`` (m; NaN at rest), da/ds, the
+        sum of the squared derivatives of the coefficients (m²) and the
+        number of coefficients (``n_coef``).
     """
     n_c = problem.law_codes.size
-    c_out = problem.output_dof
-    if n_c == 0 or c_out < 0 or problem.method == DIRECT:
-        return False, 0.0, 0.0, 0.0, 0.0
+    if n_c == 0 or problem.output_dof < 0 or problem.method == DIRECT:
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0
     hn = problem.harmonic_numbers
     n_coef = problem.inverse.shape[1]
+    col_forced = column % n_coef
+    a = np.nan
+    da = np.nan
+    speed2 = 0.0
+    found = False
+    col = 0
+    for k in hn:
+        ok, x, dx = _drawn_harmonic(problem, y, t, scale, k, col)
+        if not ok:
+            return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0
+        coefficients[col] = x.real
+        speed2 += dx.real * dx.real
+        if k != 0:
+            coefficients[col + 1] = -x.imag
+            speed2 += dx.imag * dx.imag
+            if col == col_forced:
+                found = True
+                amp = abs(x)
+                if amp > 0.0:
+                    a = amp
+                    da = (x.real * dx.real + x.imag * dx.imag) / amp
+        col += 1 if k == 0 else 2
+    if not found:  # not the cosine of a harmonic above the mean
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0
     n = n_c * n_coef
-    col = column % n_coef
-    k = -1
-    at = 0
-    for h in hn:
-        if at == col:
-            k = h
-            break
-        at += 1 if h == 0 else 2
-    if k <= 0:  # not the cosine of a harmonic above the mean
-        return False, 0.0, 0.0, 0.0, 0.0
+    return True, y[n], t[n] * scale[n], a, da, speed2, n_coef
+
+
+@jit
+def _drawn_harmonic(problem, y, t, scale, k, col):
+    """Complex amplitude ``x̂`` of harmonic ``k`` (columns from ``col``) of
+    the output DOF at ``y`` and its derivative along ``t`` (see
+    :func:`coordinates_drawn`); False if ``G`` is singular."""
+    n_c = problem.law_codes.size
+    n_coef = problem.inverse.shape[1]
+    n = n_c * n_coef
     omega = y[n]
     d_omega = t[n] * scale[n]
     state = problem.method == STATE
@@ -1244,7 +1274,7 @@ def coordinates_drawn(problem, y, t, scale, column):
     D = np.empty((n_c, n_c), dtype=np.complex128)
     work = np.empty((n_c, n_c), dtype=np.complex128)
     if not _invert(G, D, work):
-        return False, 0.0, 0.0, 0.0, 0.0
+        return False, 0.0j, 0.0j
     e = np.empty(n_c, dtype=np.complex128)
     dq = np.empty(n_c, dtype=np.complex128)
     for a in range(n_c):
@@ -1269,7 +1299,4 @@ def coordinates_drawn(problem, y, t, scale, column):
     for r in range(n_m):
         x += h_out[r] * c[r] * (rho[r] + rr[r])
         dx += h_out[r] * (d_omega * dc[r] * (rho[r] + rr[r]) + c[r] * drr[r])
-    a = abs(x)
-    if not a > 0.0:
-        return True, omega, d_omega, np.nan, np.nan
-    return True, omega, d_omega, a, (x.real * dx.real + x.imag * dx.imag) / a
+    return True, x, dx

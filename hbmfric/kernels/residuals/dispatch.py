@@ -75,26 +75,28 @@ def _rounding_level(problem):
     return full
 
 
-def drawn_output(problem, y, t, scale, column):
+def drawn_output(problem, y, t, scale, column, coefficients):
     """What the curve rule draws at a solution ``y`` with unit tangent
     ``t`` when it is not the unknown at ``column``: ``(True, Ω, dΩ/ds, a,
-    da/ds)`` of the output DOF recovered from the contact coordinates of a
-    condensed problem (:func:`hbmfric.kernels.residuals.condensed.coordinates_drawn`),
-    ``(False, 0, 0, 0, 0)`` for any other problem. Callable from jitted
+    da/ds, |dX/ds|², n_coef)`` of the output DOF recovered from the contact
+    coordinates of a condensed problem, its coefficients into
+    ``coefficients``
+    (:func:`hbmfric.kernels.residuals.condensed.coordinates_drawn`),
+    ``(False, 0, 0, 0, 0, 0, 0)`` for any other problem. Callable from jitted
     code only."""
     raise NotImplementedError("drawn_output is for jit code")
 
 
 @overload(drawn_output, jit_options=JIT_OPTIONS)
-def _drawn_output(problem, y, t, scale, column):
+def _drawn_output(problem, y, t, scale, column, coefficients):
     if _is_condensed(problem):
 
-        def condensed(problem, y, t, scale, column):
-            return coordinates_drawn(problem, y, t, scale, column)
+        def condensed(problem, y, t, scale, column, coefficients):
+            return coordinates_drawn(problem, y, t, scale, column, coefficients)
 
         return condensed
 
-    def full(problem, y, t, scale, column):
-        return False, 0.0, 0.0, 0.0, 0.0
+    def full(problem, y, t, scale, column, coefficients):
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0
 
     return full

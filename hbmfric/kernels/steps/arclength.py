@@ -249,22 +249,36 @@ def chord_error(y0, t0, y1, t1, scale, column):
 
 
 @jit
-def problem_chord_error(problem, y0, t0, y1, t1, scale, column):
+def problem_chord_error(problem, y0, t0, y1, t1, scale, column, base_scale):
     """:func:`chord_error` of what ``problem`` draws: the unknown at
     ``column``, or for a problem condensed onto several contact coordinates
     the output DOF recovered from them
-    (:func:`hbmfric.kernels.residuals.dispatch.drawn_output`)."""
-    ok, w0, dw0, a0, da0 = drawn_output(problem, y0, t0, scale, column)
+    (:func:`hbmfric.kernels.residuals.dispatch.drawn_output`), with the
+    cubic parametrised as ``Branch.curve_errors`` does: by the arc length
+    on that DOF's coefficients (scale ``base_scale``) and Ω."""
+    m = y0.size
+    x0 = np.empty(m)
+    x1 = np.empty(m)
+    ok, w0, dw0, a0, da0, v0, n_coef = drawn_output(problem, y0, t0, scale, column, x0)
     if not ok:
         return chord_error(y0, t0, y1, t1, scale, column)
-    _, w1, dw1, a1, da1 = drawn_output(problem, y1, t1, scale, column)
-    length = 0.0
-    for i in range(y0.size):
-        d = (y1[i] - y0[i]) / scale[i]
+    ok, w1, dw1, a1, da1, v1, _ = drawn_output(problem, y1, t1, scale, column, x1)
+    if not ok:
+        return chord_error(y0, t0, y1, t1, scale, column)
+    n = m - 1
+    width = scale[n]
+    length = ((w1 - w0) / width) ** 2
+    for i in range(n_coef):
+        d = (x1[i] - x0[i]) / base_scale
         length += d * d
     length = np.sqrt(length)
-    rest = CURVE_REST * scale[column]
-    return _chord(length, w0, dw0, a0, da0, w1, dw1, a1, da1, rest)
+    # speeds along the kernel's arc length in the branch's metric
+    s0 = np.sqrt(v0 / base_scale**2 + (dw0 / width) ** 2)
+    s1 = np.sqrt(v1 / base_scale**2 + (dw1 / width) ** 2)
+    if not (s0 > 0.0 and s1 > 0.0):
+        return 0.0
+    rest = CURVE_REST * base_scale
+    return _chord(length, w0, dw0 / s0, a0, da0 / s0, w1, dw1 / s1, a1, da1 / s1, rest)
 
 
 @jit
@@ -535,7 +549,14 @@ def advance(
     if target > 0.0:
         target = chord_target(settings)
         curve = problem_chord_error(
-            problem, y, tangent, y_new, t_new, scale, int(settings[CURVE_COLUMN])
+            problem,
+            y,
+            tangent,
+            y_new,
+            t_new,
+            scale,
+            int(settings[CURVE_COLUMN]),
+            settings[BASE_SCALE],
         )
         length2 = 0.0
         for i in range(y.size):
