@@ -112,3 +112,18 @@ def test_singular_matrix_of_larger_order_fails():
     A = np.ones((n, n))
     assert not lu_factor(A.copy(), np.empty(n, dtype=np.int64))
     assert not solve_inplace(A.copy(), np.ones(n))
+
+
+def test_complex_products_against_numpy():
+    """The loop products the condensed kernels use instead of BLAS."""
+    from hbmfric.kernels.linalg.products import matmul, matvec
+
+    rng = np.random.default_rng(7)
+    A = rng.normal(size=(5, 9)) + 1j * rng.normal(size=(5, 9))
+    B = rng.normal(size=(9, 4)) + 1j * rng.normal(size=(9, 4))
+    A[2, 3] = 0.0  # the zero-skip path
+    x = rng.normal(size=9) + 1j * rng.normal(size=9)
+    out = np.full((5, 4), np.nan + 0j)
+    matmul(A, B, out)
+    np.testing.assert_allclose(out, A @ B, rtol=1e-14, atol=1e-14)
+    np.testing.assert_allclose(matvec(A, x), A @ x, rtol=1e-14, atol=1e-14)

@@ -107,6 +107,7 @@ from ..dlft.coulomb import COULOMB, dlft_contact, dlft_located
 from ..dlft.tail import contact_receptance, dlft_tail
 from ..laws.updates import DAHL, JENKINS, is_masing
 from ..linalg.lu import lu_factor, lu_solve, solve_inplace
+from ..linalg.products import matmul, matvec
 from .hbm import (
     COULOMB_TYPES,
     JIT_OPTIONS,
@@ -826,7 +827,7 @@ def _state_coordinate_receptance(k, omega, col, problem, G, p, c, dc, rho):
             scaled[a, r] = v
             pa += v * rho[r]
         p[a] = pa
-    G[:, :] = np.dot(scaled, right)
+    matmul(scaled, right, G)
 
 
 @jit
@@ -1270,7 +1271,8 @@ def _drawn_harmonic(problem, y, t, scale, k, col):
             scaled[a, r] = left[a, r] * c[r]
             s += scaled[a, r] * rho[r]
         p[a] = s
-    G = np.dot(scaled, right)
+    G = np.empty((n_c, n_c), dtype=np.complex128)
+    matmul(scaled, right, G)
     D = np.empty((n_c, n_c), dtype=np.complex128)
     work = np.empty((n_c, n_c), dtype=np.complex128)
     if not _invert(G, D, work):
@@ -1285,15 +1287,15 @@ def _drawn_harmonic(problem, y, t, scale, k, col):
         else:
             e[a] = y[i] - 1j * y[i + 1] - p[a]
             dq[a] = t[i] * scale[i] - 1j * t[i + 1] * scale[i + 1]
-    r_lin = np.dot(D, e)
+    r_lin = matvec(D, e)
     # v = dG r + dp = L (dc ⊙ (R r + ρ))
-    rr = np.dot(right, r_lin)
+    rr = matvec(right, r_lin)
     tmp = np.empty(n_m, dtype=np.complex128)
     for r in range(n_m):
         tmp[r] = dc[r] * (rr[r] + rho[r])
-    v = np.dot(left, tmp)
-    dr = np.dot(D, dq - d_omega * v)
-    drr = np.dot(right, dr)
+    v = matvec(left, tmp)
+    dr = matvec(D, dq - d_omega * v)
+    drr = matvec(right, dr)
     x = 0.0j
     dx = 0.0j
     for r in range(n_m):
