@@ -56,8 +56,8 @@ def scenes() -> list[Scene]:
     cal = paper_calibration()
     beam = (15.0 * HZ, 110.0 * HZ)
     return [
-        Scene("tensioner 2 N", rig, 2.0, band, (11,)),
-        Scene("tensioner 5 N", rig, 5.0, band, (15,)),
+        Scene("tensioner 2 N", rig, 2.0, band, (11, 15)),
+        Scene("tensioner 5 N", rig, 5.0, band, (15, 21)),
         Scene("beam Fn=5 N", paper_beam(5.0, cal), 2.0, beam, (11, 13)),
         Scene("beam Fn=1 N", paper_beam(1.0, cal), 2.0, beam, (23, 27)),
         Scene("beam Fn=0.5 N", paper_beam(0.5, cal), 2.0, beam, (41,)),
@@ -150,13 +150,45 @@ def profile(scene: Scene, repeats: int = 3) -> dict:
     return best
 
 
+def tensioner_whole(force: float, harmonics: int, every: int = 1) -> dict:
+    """Largest error of every ``every``-th point of the fixed-``H`` branch of
+    the tensioner at ``force`` against the shooting reference at its own
+    frequency (tension range, first harmonics of both DOFs;
+    :mod:`bench.tensioner_reference`), and the frequency where it is."""
+    from bench import tensioner_reference as tr
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.AccuracyWarning)
+        branch = hf.frf(tr.RIG, force, tr._band(), harmonics)
+    values = tr.quantities(branch)
+    worst, at = 0.0, math.nan
+    for i in range(0, len(branch), every):
+        fq = branch.omega[i] / (2.0 * math.pi)
+        start = (branch.harmonic_numbers, branch.coefficients[i], branch.omega[i])
+        _, rv = tr.reference(force, fq, start)
+        e = float(np.max(tr._relative(values[i], rv)))
+        if e > worst:
+            worst, at = e, fq
+    return {"force": force, "H": harmonics, "error": worst, "at_Hz": at}
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--repeats", type=int, default=5)
     p.add_argument("--scenes", default="", help="comma-separated scene names")
     p.add_argument("--profile", action="store_true")
+    p.add_argument(
+        "--whole",
+        default="",
+        help="force:H,... fixed-H tensioner branches checked point by point",
+    )
     a = p.parse_args(argv)
     names = [s.strip() for s in a.scenes.split(",") if s.strip()]
+    if a.whole:
+        for item in a.whole.split(","):
+            f, h = item.split(":")
+            print(tensioner_whole(float(f), int(h)), flush=True)
+        return 0
     print(f"load: {os.getloadavg()}", flush=True)
     for scene in scenes():
         if names and scene.name not in names:
