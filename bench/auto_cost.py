@@ -93,7 +93,12 @@ def compare(scene: Scene, repeats: int) -> dict:
         "estimate_max": float(np.max(auto.truncation_error)),
         "info": {
             k: auto.info.get(k)
-            for k in ("harmonic_switches", "harmonic_resolves", "harmonic_calibrations")
+            for k in (
+                "harmonic_switches",
+                "harmonic_resolves",
+                "harmonic_settled",
+                "harmonic_calibrations",
+            )
         },
     }
 
@@ -141,6 +146,7 @@ def profile(scene: Scene, repeats: int = 3) -> dict:
                     for k in (
                         "harmonic_switches",
                         "harmonic_resolves",
+                        "harmonic_settled",
                         "harmonic_calibrations",
                     )
                 }

@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernels.truncation import branch_truncation
+from ..kernels.truncation import MAX_CONFIRMED, branch_truncation
 from .adaptive import (
     CARRY_FLOOR,
     CHANGE_FACTOR,
@@ -57,6 +57,7 @@ def truncation_errors(
     points: np.ndarray,
     tolerance: float | None = None,
     stretch: np.ndarray | None = None,
+    max_confirmed: int = MAX_CONFIRMED,
 ) -> np.ndarray:
     """Estimated relative truncation error of each point of a branch.
 
@@ -74,6 +75,11 @@ def truncation_errors(
         within a stretch, whose first and last points are calibrated: the
         points of one level of an adaptive run come from separate parts of
         the branch.
+    max_confirmed : int, default ``MAX_CONFIRMED``
+        Calibrations of carried estimates that exceed ``tolerance`` after
+        which the rest keep their carried value (a bound on the cost of a
+        branch far above it; the final pass of an adaptive run gives the
+        number of points: every point it would solve again is calibrated).
 
     Returns
     -------
@@ -113,6 +119,7 @@ def truncation_errors(
         EVERY,
         N_WORST,
         np.inf if tolerance is None else float(tolerance),
+        int(max_confirmed),
         kp,
         output,
         rates,

@@ -417,7 +417,10 @@ class AdaptiveContinuation:
         Level changes (each a zero-padding or truncation of the point).
     n_resolves : int
         Points solved again at a higher level because they exceeded the
-        tolerance.
+        tolerance (in the run or in :meth:`settle`).
+    n_settled : int
+        Of those, the ones solved again by :meth:`settle` (each rung
+        counted).
     n_calibrations : int
         Change estimates computed (each one residual and LU in the next
         level's basis).
@@ -448,6 +451,7 @@ class AdaptiveContinuation:
         self.n_switches = 0
         self.n_resolves = 0
         self.n_calibrations = 0
+        self.n_settled = 0
         self._lowered = (0, 0)  # level left by the last lowering, and where
         # change computed by a trace for its last point, not yet decided on
         self._pending_change = math.nan
@@ -796,12 +800,18 @@ class AdaptiveContinuation:
         ``levels``) until it meets it or the ladder ends.
 
         Between calibrations the run decides on a carried estimate; the
-        final estimate (``estimate(problem, points, tolerance, stretch)``,
-        :func:`hbmfric.continuation.accuracy.truncation_errors`, which
-        calibrates every point whose carried estimate exceeds the
-        tolerance) can find a point the run let through just over it (the
-        point before a raise, about once a branch). Such a point is solved
-        at fixed Ω from its zero-padded self (a few Newton iterations).
+        final estimate (``estimate(problem, points, tolerance, stretch,
+        max_confirmed)``,
+        :func:`hbmfric.continuation.accuracy.truncation_errors`) calibrates
+        every point whose carried estimate exceeds the tolerance (no bound
+        on their number: a carried estimate can be several times the fresh
+        one, and a point solved again costs more than a calibration), so
+        only points whose own calibration fails are solved again. It can
+        find points the run let through (where the estimate rose between
+        two calibrations of the run). Such a point is solved at fixed Ω
+        from its zero-padded self (a few Newton iterations); the points
+        solved again at one level are estimated together (one compiled
+        call, each its own stretch: each is calibrated).
 
         Returns
         -------
@@ -821,19 +831,36 @@ class AdaptiveContinuation:
                 np.array([points[i] for i in idx]),
                 tol,
                 stretch[idx],
+                len(idx),
             )
-        for i in np.flatnonzero(errors > tol):
-            h = levels[i]
-            while errors[i] > tol and h < self.ladder[-1]:
+        failing = [int(i) for i in np.flatnonzero(errors > tol)]
+        while failing:
+            # one rung up for every failing point, then one estimate per level
+            solved: dict[int, list[int]] = {}
+            for i in failing:
+                h = levels[i]
+                if h >= self.ladder[-1]:
+                    continue
                 h_new = min(lv for lv in self.ladder if lv > h)
                 dst = self._cont(h_new)
                 guess = self.pad(points[i], h, h_new)
                 y, status, _ = dst.solve_at(float(points[i][-1]), guess[:-1])
                 if status != _newton.CONVERGED or not np.all(np.isfinite(y)):
-                    break
-                points[i], levels[i], h = y, h_new, h_new
-                errors[i] = estimate(dst.problem, y[None, :], tol)[0]
+                    continue
+                points[i], levels[i] = y, h_new
+                solved.setdefault(h_new, []).append(i)
                 self.n_resolves += 1
+                self.n_settled += 1
+            failing = []
+            for h_new, idx in solved.items():
+                errors[idx] = estimate(
+                    self._level(h_new).problem,
+                    np.array([points[i] for i in idx]),
+                    tol,
+                    np.arange(len(idx)),
+                    len(idx),
+                )
+                failing += [i for i in idx if errors[i] > tol]
         return errors
 
     def run(self) -> tuple[ContinuationState, list[np.ndarray], list[int], float]:

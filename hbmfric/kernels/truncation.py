@@ -369,6 +369,7 @@ def branch_truncation(
     every,
     n_worst,
     tolerance,
+    max_confirmed,
     problem,
     output,
     rates,
@@ -410,9 +411,14 @@ def branch_truncation(
         free measure.
     tolerance : float
         A point whose carried estimate exceeds it is calibrated too
-        (``inf``: none), until ``MAX_CONFIRMED`` calibrations have exceeded
+        (``inf``: none), until ``max_confirmed`` calibrations have exceeded
         it (the branch is then known to miss it; the rest keep their
         carried estimate, a bound on the cost of a branch far above it).
+    max_confirmed : int
+        That bound (``MAX_CONFIRMED`` for a fixed-``H`` branch; the final
+        pass of an adaptive run, which solves every point over the
+        tolerance again, calibrates them all: a carried estimate can be
+        far above the fresh one).
     problem, output, rates, first, synthesis, y, R, J, A, dX
         The probe level, as in :func:`truncation_change` (``output`` is
         its ``weights``).
@@ -495,7 +501,7 @@ def branch_truncation(
         if right >= 0 and ratio[right] > carried:
             carried = ratio[right]
         errors[i] = carried * measure[i]
-        if errors[i] > tolerance and confirmed < MAX_CONFIRMED:
+        if errors[i] > tolerance and confirmed < max_confirmed:
             change = truncation_change(
                 points[i], problem, output, rates, first, synthesis, y, R, J, A, dX
             )
