@@ -58,6 +58,8 @@ def truncation_errors(
     tolerance: float | None = None,
     stretch: np.ndarray | None = None,
     max_confirmed: int = MAX_CONFIRMED,
+    known: np.ndarray | None = None,
+    every: int | None = None,
 ) -> np.ndarray:
     """Estimated relative truncation error of each point of a branch.
 
@@ -80,6 +82,14 @@ def truncation_errors(
         which the rest keep their carried value (a bound on the cost of a
         branch far above it; the final pass of an adaptive run gives the
         number of points: every point it would solve again is calibrated).
+    known : ndarray, shape (n_points,), optional
+        Estimates the adaptive run calibrated at these points (same level
+        and probe level), NaN elsewhere: used as they are (each counts as
+        a calibrated point; no second calibration).
+    every : int, optional
+        Calibrate every ``every``-th non-linear point of each stretch
+        (default ``EVERY``; the final pass of an adaptive run, whose own
+        calibrations are at most ``RECALIBRATE`` points apart, gives more).
 
     Returns
     -------
@@ -111,12 +121,19 @@ def truncation_errors(
             raise ValueError(
                 f"stretch must be a non-decreasing label per point, shape ({n_points},)"
             )
+    if known is None:
+        known = np.full(n_points, np.nan)
+    else:
+        known = np.ascontiguousarray(known, dtype=np.float64)
+        if known.shape != (n_points,):
+            raise ValueError(f"known must have shape ({n_points},)")
     branch_truncation(
         points,
+        known,
         stretch,
         columns,
         weights,
-        EVERY,
+        EVERY if every is None else max(1, int(every)),
         N_WORST,
         np.inf if tolerance is None else float(tolerance),
         int(max_confirmed),

@@ -458,6 +458,9 @@ class AdaptiveContinuation:
         self._no_lower_before = 0  # point count before which no lowering
         # (level, point, tangent, point count) before the last move
         self._moved = None
+        #: per stored point, its estimate where the run calibrated it at
+        #: its level (NaN elsewhere): reused by :meth:`settle`
+        self._fresh: list[float] = []
         self._reset()
 
     def _reset(self) -> None:
@@ -522,6 +525,10 @@ class AdaptiveContinuation:
             change = self._probe(h).change(y)
         self._pending_change = math.nan
         est = CHANGE_FACTOR * change
+        # ``y`` is the last stored point (a decision after it): its estimate
+        # at this level, for the final pass
+        if self._fresh:
+            self._fresh[-1] = est
         # not carried from the onset of slip (:data:`ONSET`)
         if est >= ONSET * self.tolerance or h != self.ladder[0]:
             self._factor = est / max(measure, 1e-300)
@@ -583,6 +590,8 @@ class AdaptiveContinuation:
             state.points[-1] = y.copy()
             state.tangents[-1] = t * dst.scale
             levels[-1] = h
+            if self._fresh:
+                self._fresh[-1] = math.nan
             self.n_resolves += 1
         elif h < h_old:
             state.y = y_old
@@ -614,6 +623,8 @@ class AdaptiveContinuation:
         state.J = dst._J
         state.points[-1] = y.copy()
         state.tangents[-1] = t * dst.scale
+        if self._fresh:
+            self._fresh[-1] = math.nan  # the caller calibrates it again
         self.n_switches += 1
         self.n_resolves += 1
         self._reset()
@@ -637,6 +648,8 @@ class AdaptiveContinuation:
                 state.points[-1] = state.y.copy()
                 state.tangents[-1] = self.pad(state.tangents[-1], h, lowest)
                 levels[-1] = lowest
+                if self._fresh:
+                    self._fresh[-1] = math.nan
                 return lowest
             return h
         last = self._last
@@ -801,8 +814,12 @@ class AdaptiveContinuation:
 
         Between calibrations the run decides on a carried estimate; the
         final estimate (``estimate(problem, points, tolerance, stretch,
-        max_confirmed)``,
-        :func:`hbmfric.continuation.accuracy.truncation_errors`) calibrates
+        max_confirmed, known, every)``,
+        :func:`hbmfric.continuation.accuracy.truncation_errors`) reuses the
+        run's calibrations (``known``; they are at most ``RECALIBRATE``
+        points apart on a level, so no periodic calibration is added:
+        ``every`` beyond the points), calibrates the first and last point
+        of each stretch, the two of largest free measure per level and
         every point whose carried estimate exceeds the tolerance (no bound
         on their number: a carried estimate can be several times the fresh
         one, and a point solved again costs more than a calibration), so
@@ -824,6 +841,11 @@ class AdaptiveContinuation:
         # stretches of consecutive points at one level: a level's ratio to
         # the free measure is carried only within one
         stretch = np.cumsum(np.diff(levels_array, prepend=-1) != 0)
+        # the run's own calibrations (at most RECALIBRATE points apart on a
+        # level) count as calibrated points: no periodic ones on top
+        known = np.full(len(points), np.nan)
+        if len(self._fresh) == len(points):
+            known[:] = self._fresh
         for h in np.unique(levels_array):
             idx = np.flatnonzero(levels_array == h)
             errors[idx] = estimate(
@@ -832,6 +854,8 @@ class AdaptiveContinuation:
                 tol,
                 stretch[idx],
                 len(idx),
+                known[idx],
+                len(idx) + 1,
             )
         failing = [int(i) for i in np.flatnonzero(errors > tol)]
         while failing:
@@ -884,6 +908,7 @@ class AdaptiveContinuation:
         h = self.ladder[min(START, len(self.ladder) - 1)]
         state = self._cont(h).init()
         levels = [h] * len(state.points)
+        self._fresh = [math.nan] * len(state.points)
         if state.stop_reason == NO_START:
             return state, state.points, levels, time.perf_counter() - start
         h = self._adapt(state, h, levels)
@@ -908,6 +933,10 @@ class AdaptiveContinuation:
             state = cont._trace(state, watch, self._capacity, self._calibration)
             new = len(state.points) - before
             levels.extend([h] * new)
+            # the compiled stretch's calibrations (its accepted points come
+            # first; a point landed on the boundary or bridged after them)
+            fresh = cont.trace_estimates.tolist()[:new]
+            self._fresh.extend(fresh + [math.nan] * (new - len(fresh)))
             self._last = float(watch[_arclength.W_LAST])
             self._age = int(watch[_arclength.W_AGE])
             self._factor = float(watch[_arclength.W_FACTOR])

@@ -363,6 +363,7 @@ MAX_CONFIRMED = 8
 @jit
 def branch_truncation(
     points,
+    known,
     stretch,
     columns,
     weights,
@@ -390,6 +391,10 @@ def branch_truncation(
     ----------
     points : ndarray, shape (n_points, n + 1)
         ``[X, Ω]`` per point in the branch's basis.
+    known : ndarray, shape (n_points,)
+        Estimates already calibrated (by the adaptive run, with the same
+        probe level), NaN elsewhere: such a point counts as calibrated
+        with that value (no second calibration).
     stretch : ndarray of int64, shape (n_points,)
         Label of the stretch of consecutive branch points each point
         belongs to (non-decreasing). A ratio is carried only within a
@@ -470,11 +475,15 @@ def branch_truncation(
     ratio = np.zeros(n_points)
     for q in range(n_nl):
         i = nonlinear[q]
-        if chosen[i]:
+        if np.isfinite(known[i]):
+            chosen[i] = True
+            errors[i] = known[i]
+        elif chosen[i]:
             change = truncation_change(
                 points[i], problem, output, rates, first, synthesis, y, R, J, A, dX
             )
             errors[i] = factor * change
+        if chosen[i]:
             ratio[i] = max(errors[i] / max(measure[i], 1e-300), floor)
     # carried: the larger ratio of the calibrated neighbours on either side
     # within the stretch (its first and last non-linear points are
