@@ -178,11 +178,70 @@ def tensioner_whole(force: float, harmonics: int, every: int = 1) -> dict:
     return {"force": force, "H": harmonics, "error": worst, "at_Hz": at}
 
 
+def check_auto(names=None) -> list[dict]:
+    """Every point of the default (auto) branch of each scene against its
+    independent reference: shooting for the tensioner (tension range and
+    first harmonics of both DOFs), the exact event-driven solution for the
+    beam and the paper's SDOF scenes (first harmonic and half peak-to-peak
+    at the contact DOF, :func:`hbmfric.validation.branch_errors`)."""
+    from bench import exact_reference as er
+    from bench import tensioner_reference as tr
+    from hbmfric.validation import branch_errors
+
+    rows = []
+    for scene in [s for s in scenes() if s.name.startswith("tensioner")]:
+        if names and scene.name not in names:
+            continue
+        branch = _frf(scene, "auto")
+        values = tr.quantities(branch)
+        worst, at = 0.0, math.nan
+        for i in range(len(branch)):
+            fq = branch.omega[i] / (2.0 * math.pi)
+            start = (branch.harmonic_numbers, branch.coefficients[i], branch.omega[i])
+            _, rv = tr.reference(scene.force, fq, start)
+            e = float(np.max(tr._relative(values[i], rv)))
+            if e > worst:
+                worst, at = e, fq
+        rows.append(
+            {
+                "scene": scene.name,
+                "points": len(branch),
+                "error": worst,
+                "at": at,
+                "estimate_max": float(np.max(branch.truncation_error)),
+            }
+        )
+        print(rows[-1], flush=True)
+    for scene in er.scenes():
+        if names and scene.name not in names:
+            continue
+        branch = _frf(scene, "auto")
+        err = branch_errors(branch, scene.system, on_failure="raise")
+        true = np.maximum(err.error_h1, err.error_hpp)
+        i = int(np.argmax(true))
+        rows.append(
+            {
+                "scene": scene.name,
+                "points": len(branch),
+                "error": float(true[i]),
+                "at": float(err.omega[i]),
+                "estimate_max": float(np.max(branch.truncation_error)),
+            }
+        )
+        print(rows[-1], flush=True)
+    return rows
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--repeats", type=int, default=5)
     p.add_argument("--scenes", default="", help="comma-separated scene names")
     p.add_argument("--profile", action="store_true")
+    p.add_argument(
+        "--check",
+        action="store_true",
+        help="every point of each default branch against its reference",
+    )
     p.add_argument(
         "--whole",
         default="",
@@ -190,6 +249,9 @@ def main(argv: list[str] | None = None) -> int:
     )
     a = p.parse_args(argv)
     names = [s.strip() for s in a.scenes.split(",") if s.strip()]
+    if a.check:
+        check_auto(names)
+        return 0
     if a.whole:
         for item in a.whole.split(","):
             f, h = item.split(":")
