@@ -60,6 +60,7 @@ def truncation_errors(
     max_confirmed: int = MAX_CONFIRMED,
     known: np.ndarray | None = None,
     every: int | None = None,
+    probe=None,
 ) -> np.ndarray:
     """Estimated relative truncation error of each point of a branch.
 
@@ -90,6 +91,11 @@ def truncation_errors(
         Calibrate every ``every``-th non-linear point of each stretch
         (default ``EVERY``; the final pass of an adaptive run, whose own
         calibrations are at most ``RECALIBRATE`` points apart, gives more).
+    probe : optional
+        The probe level to calibrate with, as the adaptive run built it
+        (:class:`~hbmfric.continuation.adaptive._Level`; its ``known``
+        estimates come from it); default: built once per problem at
+        :func:`~hbmfric.continuation.adaptive.probe_level`.
 
     Returns
     -------
@@ -107,9 +113,14 @@ def truncation_errors(
         return errors
     cached = getattr(problem, "_accuracy_levels", None)
     if cached is None:
-        cached = problem._accuracy_levels = _levels(problem)
-    level, probe, columns, weights = cached
+        cached = problem._accuracy_levels = _levels(problem, probe is None)
+    level, own, columns, weights = cached
     if probe is None:
+        if own is None and columns is not None:
+            own = _levels(problem, True)[1]
+            problem._accuracy_levels = (level, own, columns, weights)
+        probe = own
+    if probe is None or columns is None:
         errors[:] = np.inf
         return errors
     kp, synthesis, output, rates, y, R, J, A, dX = probe.work()
@@ -152,14 +163,17 @@ def truncation_errors(
     return errors
 
 
-def _levels(problem) -> tuple:
-    """The problem's own level, its probe level (None for ``H = 1``) and
-    the column and weight arguments of
-    :func:`~hbmfric.kernels.truncation.branch_truncation`."""
+def _levels(problem, with_probe: bool = True) -> tuple:
+    """The problem's own level, its probe level (None for ``H = 1`` or
+    when not ``with_probe``) and the column and weight arguments of
+    :func:`~hbmfric.kernels.truncation.branch_truncation` (None for
+    ``H = 1``)."""
     level = _Level(problem, None)
     if not level.top:
         return level, None, None, None
-    probe = _Level(problem.with_harmonics(probe_level(level.h)), None)
+    probe = None
+    if with_probe:
+        probe = _Level(problem.with_harmonics(probe_level(level.h)), None)
     columns = np.array(level.columns, dtype=np.int64)
     weights = np.array(
         [level.h, level.prev_weight, LINEAR * 1e-4, CHANGE_FACTOR, CARRY_FLOOR]

@@ -814,7 +814,7 @@ class AdaptiveContinuation:
 
         Between calibrations the run decides on a carried estimate; the
         final estimate (``estimate(problem, points, tolerance, stretch,
-        max_confirmed, known, every)``,
+        max_confirmed, known, every, probe)``,
         :func:`hbmfric.continuation.accuracy.truncation_errors`) reuses the
         run's calibrations (``known``; they are at most ``RECALIBRATE``
         points apart on a level, so no periodic calibration is added:
@@ -856,6 +856,7 @@ class AdaptiveContinuation:
                 len(idx),
                 known[idx],
                 len(idx) + 1,
+                self._probe(int(h)),
             )
         failing = [int(i) for i in np.flatnonzero(errors > tol)]
         while failing:
@@ -883,6 +884,9 @@ class AdaptiveContinuation:
                     tol,
                     np.arange(len(idx)),
                     len(idx),
+                    None,
+                    None,
+                    self._probe(h_new),
                 )
                 failing += [i for i in idx if errors[i] > tol]
         return errors
