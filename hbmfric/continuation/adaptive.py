@@ -69,7 +69,11 @@ a branch of 130-220 points):
   lowest level at once (the point itself too: its dropped harmonics are
   zero);
 * at the end (:meth:`AdaptiveContinuation.settle`) every point whose final
-  estimate exceeds the tolerance is solved again one rung higher.
+  estimate exceeds the tolerance is solved again one rung higher. The final
+  estimate keeps the run's own calibrations (the compiled stretch reports
+  each; no point is calibrated twice) and calibrates every point whose
+  carried estimate exceeds the tolerance, so only points over it by their
+  own calibration are solved again (bench/README.md "Issue 14, stop 24").
 
 The lowest level is ``H = 3``, not 1: a stuck point costs about as much
 at both (SDOF Jenkins, compiled continuation: 9.7 µs at H = 1, 10.9 µs at
