@@ -16,7 +16,7 @@ For every case, also the cost of one Newton iteration with every contact
 in gross slip (Ω = 0.3 rad/s, random coefficients of amplitude 1, twenty
 times the slip displacement, so that no block of the Jacobian is
 diagonal): one residual-and-Jacobian evaluation and one LU of the Jacobian
-by the project's kernel (:func:`hbmfric.kernels.linalg.lu_factor`, which
+by the project's kernel (:func:`hbmfric.kernels.linalg.lu.lu_factor`, which
 skips zero multipliers: the sparse full Jacobian factors faster than its
 size says), condensed and uncondensed, median of ``repeats``.
 
@@ -38,7 +38,7 @@ import numpy as np
 import hbmfric as hf
 from hbmfric.condensation import CondensedHBMProblem
 from hbmfric.hbm import HBMProblem
-from hbmfric.kernels.linalg import lu_factor
+from hbmfric.kernels.linalg.lu import lu_factor
 
 CASES = [
     (10, 1),

@@ -9,7 +9,7 @@ event-driven reference (:func:`hbmfric.validation.branch_errors`; true error
 = the larger of the relative errors of the first-harmonic amplitude and of
 half the peak-to-peak at the contact DOF), and the first-order change of the
 same two measures is computed
-(:func:`hbmfric.kernels.truncation.truncation_change`) to the next rung of
+(:func:`hbmfric.kernels.steps.truncation.truncation_change`) to the next rung of
 the ladder (``c1``, the former estimate), to two rungs up (``c2``, the
 probe level of :mod:`hbmfric.continuation.adaptive`), to ``2 H + 1``
 (``cx``) and to ``3 H`` (``c3``). Printed per ``H`` and change: the largest

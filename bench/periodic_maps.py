@@ -37,7 +37,7 @@ import numpy as np
 import hbmfric as hf
 from hbmfric.api import _problem
 from hbmfric.continuation import Continuation, ContinuationOptions
-from hbmfric.kernels import newton as _newton
+from hbmfric.kernels.steps import newton as _newton
 from hbmfric.signals import harmonic_amplitude
 
 RTOL = 1e-4

@@ -24,10 +24,10 @@ import numpy as np
 
 import hbmfric as hf
 from hbmfric.hbm import HBMProblem
-from hbmfric.kernels import arclength as _arclength
-from hbmfric.kernels import newton as _newton
-from hbmfric.kernels.aft import aft_jenkins_events
-from hbmfric.kernels.hbm import hbm_residual
+from hbmfric.kernels.aft.schemes import aft_jenkins_events
+from hbmfric.kernels.residuals.hbm import hbm_residual
+from hbmfric.kernels.steps import arclength as _arclength
+from hbmfric.kernels.steps import newton as _newton
 
 OSC = hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0))
 

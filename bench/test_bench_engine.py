@@ -12,7 +12,7 @@ import pytest
 
 import hbmfric as hf
 from hbmfric.hbm import HBMProblem
-from hbmfric.kernels.aft import aft_jenkins_events, aft_samples
+from hbmfric.kernels.aft.schemes import aft_jenkins_events, aft_samples
 
 LAW = hf.Jenkins(stiffness=3.0, slip_force=1.0)
 OSC = hf.Oscillator(mass=1.0, damping=0.02, stiffness=1.0, contact=LAW)

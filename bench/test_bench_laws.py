@@ -11,8 +11,8 @@ import pytest
 
 import hbmfric as hf
 from hbmfric.hbm import HBMProblem
-from hbmfric.kernels.aft import aft_jenkins_events, aft_samples
-from hbmfric.kernels.masing import aft_masing
+from hbmfric.kernels.aft.masing import aft_masing
+from hbmfric.kernels.aft.schemes import aft_jenkins_events, aft_samples
 
 LAWS = {
     "jenkins": hf.Jenkins(stiffness=3.0, slip_force=1.0),

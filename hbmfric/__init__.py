@@ -9,8 +9,6 @@ dry-friction contacts, with Numba-compiled AFT kernels.
 
 from .api import frf, periodic_solution
 from .continuation import ContinuationOptions
-from .coulomb import Coulomb
-from .dahl import ModifiedDahl
 from .errors import (
     AccuracyWarning,
     CacheWarning,
@@ -23,10 +21,12 @@ from .errors import (
 from .laws import (
     Contact2D,
     ContactLaw,
+    Coulomb,
     Cubic,
     Iwan,
     Jenkins,
     Menq,
+    ModifiedDahl,
     Roughness,
     hertz_mindlin_stiffness,
 )

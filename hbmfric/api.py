@@ -139,7 +139,7 @@ def frf(
     symmetry : bool, optional
         Odd harmonics only; default: whenever the system is symmetric.
     aft : {"auto", "events", "samples"}
-        AFT scheme (see :mod:`hbmfric.kernels.aft`).
+        AFT scheme (see :mod:`hbmfric.kernels.aft.schemes`).
     sweep : {"up", "down"}
         Start at the low end and sweep up, or at the high end and sweep down.
     harmonic_tolerance : float, default 1e-4

@@ -1,5 +1,5 @@
 """Harmonic balance condensed onto the contacts: the plain-Python layer
-that builds the data of :mod:`hbmfric.kernels.condensed` (modal or direct
+that builds the data of :mod:`hbmfric.kernels.residuals.condensed` (modal or direct
 receptance) and recovers the response of every DOF afterwards.
 
 One contact to ground is condensed onto its DOF; several contacts (or one
@@ -13,7 +13,8 @@ from __future__ import annotations
 import numpy as np
 
 from .hbm import HBMProblem
-from .kernels.condensed import (
+from .kernels.dlft.coulomb import COULOMB
+from .kernels.residuals.condensed import (
     AFT_EVENTS,
     AFT_SAMPLES,
     DIRECT,
@@ -24,7 +25,6 @@ from .kernels.condensed import (
     condensed_modal_recover,
     condensed_residual,
 )
-from .kernels.dlft import COULOMB
 from .laws import Contact2D
 from .signals import coefficient_columns
 from .systems.contacts import check_contacts, contact_arrays
@@ -85,7 +85,7 @@ def condensed_by_default(system) -> bool:
 
     The step collapse of the condensed continuation at the lap joint's
     stuck resonance (stop 22) is fixed (the corrector accepts the residual's
-    rounding level, :func:`hbmfric.kernels.condensed._rounding_level`), and
+    rounding level, :func:`hbmfric.kernels.residuals.condensed._rounding_level`), and
     condensed the joint's 9 curves take a third of the time with the same
     peaks. It stays opt-in because its curve rule watches the first
     contact's coordinate (a relative slip), not the contact DOF a branch
@@ -180,7 +180,7 @@ class CondensedHBMProblem(HBMProblem):
     ``n_c * n_coef`` coefficients of the contact coordinates ``q = B x``
     (:func:`selection_matrix`), coordinate by coordinate, in the order of
     ``system.contacts``; the residual uses the receptance matrix
-    ``B Z(kΩ)⁻¹ Bᵀ`` per harmonic (:mod:`hbmfric.kernels.condensed`).
+    ``B Z(kΩ)⁻¹ Bᵀ`` per harmonic (:mod:`hbmfric.kernels.residuals.condensed`).
     ``problem.system`` is then a view of the system in coordinates
     (``n_dof`` the number of coordinates, ``contact_dof`` 0: the
     continuation's accuracy and curve rules watch the first coordinate);
@@ -344,7 +344,7 @@ class CondensedHBMProblem(HBMProblem):
         """Rounding level (N) of the last residual evaluated: on several
         contact coordinates that of ``D = G⁻¹`` (the condition number of
         the receptance matrix times eps times the terms ``|D| |q - p|``,
-        :func:`hbmfric.kernels.condensed._rounding_level`), which the
+        :func:`hbmfric.kernels.residuals.condensed._rounding_level`), which the
         corrector accepts as converged; 0 for one contact to ground."""
         return float(self.kernel_problem.rounding[0])
 

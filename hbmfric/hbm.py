@@ -10,12 +10,12 @@ import math
 import numpy as np
 
 from ._validate import finite_float, positive_int
-from .kernels.dft import fourier_matrices
-from .kernels.dlft import COULOMB
-from .kernels.dlft_tail import tail_length
-from .kernels.hbm import AFT_EVENTS, AFT_SAMPLES, CoulombProblem, hbm_residual
-from .kernels.laws import JENKINS, MASING
-from .kernels.linear import first_harmonic_response
+from .kernels.dlft.coulomb import COULOMB
+from .kernels.dlft.tail import tail_length
+from .kernels.fourier.dft import fourier_matrices
+from .kernels.laws.updates import JENKINS, MASING
+from .kernels.linalg.linear_response import first_harmonic_response
+from .kernels.residuals.hbm import AFT_EVENTS, AFT_SAMPLES, CoulombProblem, hbm_residual
 from .laws import Contact2D
 from .signals import coefficient_columns
 from .systems.contacts import contact_arrays
@@ -41,7 +41,7 @@ _DFT_CACHE: dict = {}
 
 
 def _fourier_matrices(harmonic_numbers: np.ndarray, odd: bool, n_time: int):
-    """:func:`~hbmfric.kernels.dft.fourier_matrices`, computed once per
+    """:func:`~hbmfric.kernels.fourier.dft.fourier_matrices`, computed once per
     discretisation."""
     key = (int(harmonic_numbers[-1]), bool(odd), int(n_time))
     if key not in _DFT_CACHE:
@@ -68,7 +68,7 @@ def default_n_time(harmonic_numbers: np.ndarray, aft: str) -> int:
     (at least 32). ``samples``: ``16 H`` rounded to a
     multiple of 8, alias-free for a cubic law and keeping the friction
     aliasing small (the modified Dahl law's AFT locates the reversals of
-    the displacement between samples, :func:`hbmfric.kernels.dahl.aft_dahl`).
+    the displacement between samples, :func:`hbmfric.kernels.aft.dahl.aft_dahl`).
     """
     h_max = int(harmonic_numbers[-1])
     if aft == "events":
@@ -112,14 +112,14 @@ class HBMProblem:
     aft : {"auto", "events", "samples"}
         AFT scheme; "auto" uses event location for Jenkins (exact Fourier
         integrals) and for the Masing laws Menq and Iwan (located reversal
-        points, :mod:`hbmfric.kernels.masing`), samples otherwise. A rigid
+        points, :mod:`hbmfric.kernels.aft.masing`), samples otherwise. A rigid
         :class:`~hbmfric.Coulomb` contact is solved by DLFT: "auto" and
         "events" with located reversals and the holding force
-        (:func:`hbmfric.kernels.dlft.dlft_located`; with the reversals
+        (:func:`hbmfric.kernels.dlft.coulomb.dlft_located`; with the reversals
         located on the velocity including the linear tail of the response,
-        :mod:`hbmfric.kernels.dlft_tail`, when the law has
+        :mod:`hbmfric.kernels.dlft.tail`, when the law has
         ``linear_tail=True`` and the mass matrix is invertible), "samples" by
-        the classic sampled DLFT (:func:`hbmfric.kernels.dlft.dlft_contact`).
+        the classic sampled DLFT (:func:`hbmfric.kernels.dlft.coulomb.dlft_contact`).
     subharmonic : int
         ``ν >= 1``: the unknowns are harmonics of ``Ω/ν`` (the Ω of ``y``
         is then the fundamental ``Ω/ν``) and the forcing sits on harmonic
@@ -277,7 +277,7 @@ class HBMProblem:
 
     def _tail(self, law, mass: np.ndarray, aft: str) -> tuple[float, float]:
         """``((M⁻¹)_cc, K)`` of the linear tail of a rigid Coulomb contact
-        (:mod:`hbmfric.kernels.dlft_tail`); ``K = 0`` (no tail) for
+        (:mod:`hbmfric.kernels.dlft.tail`); ``K = 0`` (no tail) for
         ``aft="samples"``, ``linear_tail=False`` or a singular mass matrix."""
         if aft != "events" or not law.linear_tail:
             return 0.0, 0.0
@@ -343,7 +343,7 @@ class HBMProblem:
 
     def rounding_level(self) -> float:
         """Rounding level (N) of the last residual evaluated beyond the
-        generic floor of its terms (:func:`hbmfric.kernels.newton.
+        generic floor of its terms (:func:`hbmfric.kernels.steps.newton.
         rounding_floor`): 0 here; a problem condensed onto several contact
         coordinates reports the one of its receptance inverse."""
         return 0.0

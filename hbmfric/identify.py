@@ -30,8 +30,8 @@ from pathlib import Path
 import numpy as np
 
 from ._validate import finite_array, finite_float
-from .dahl import ModifiedDahl
-from .kernels.dahl import dahl_march
+from .kernels.aft.dahl import dahl_march
+from .laws import ModifiedDahl
 
 #: fewest samples per cycle and complete cycles a record must hold
 MIN_SAMPLES_PER_CYCLE = 40

@@ -11,7 +11,7 @@ dissipates per cycle:
 Its periodic motions of frequency ``ω`` form the nonlinear mode; ``D`` is
 the mode's equivalent (modal) damping ratio. Harmonic balance of this
 equation with the HBM residual of the forced problem
-(:mod:`hbmfric.kernels.hbm`, its AFT of every law with the analytic
+(:mod:`hbmfric.kernels.residuals.hbm`, its AFT of every law with the analytic
 Jacobian) gives ``n_dof n_coef`` equations for the coefficients ``X``,
 ``ω`` and ``D``; two more close the system:
 
@@ -78,8 +78,8 @@ from .errors import (
     HbmfricWarning,
 )
 from .hbm import HBMProblem, _stuck_stiffnesses
-from .kernels.dlft import COULOMB
-from .kernels.hbm import hbm_residual
+from .kernels.dlft.coulomb import COULOMB
+from .kernels.residuals.hbm import hbm_residual
 from .signals import coefficient_columns
 from .stability import derivative_operator
 from .systems.protocol import check_load, check_system
@@ -142,7 +142,7 @@ class NonlinearMode:
         Equivalent modal damping ratio ``D`` (dimensionless).
     coefficients : ndarray, shape (n_points, n_dof, n_coef)
         Fourier coefficients of every DOF, m (layout of
-        :mod:`hbmfric.kernels.dft`).
+        :mod:`hbmfric.kernels.fourier.dft`).
     harmonic_numbers : ndarray of int, shape (n_harmonics,)
     mode : int
         Number of the linear mode (1 = lowest, of the structure with the

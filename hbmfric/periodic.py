@@ -40,8 +40,8 @@ from .continuation import Continuation, ContinuationOptions
 from .continuation.adaptive import LADDER, START
 from .errors import AccuracyWarning, ConvergenceError, ConvergenceWarning
 from .hbm import HBMProblem
-from .kernels import newton as _newton
-from .kernels.aft import STATE_NAMES, STUCK
+from .kernels.aft.schemes import STATE_NAMES, STUCK
+from .kernels.steps import newton as _newton
 from .results import PeriodicSolution
 
 #: ``harmonics="auto"`` stops when two successive ladder steps change the

@@ -27,7 +27,7 @@ CHORD_FRACTIONS = (0.21132486540518713, 0.5, 0.7886751345948129)
 FOLD_CAP = 1e3
 #: amplitudes below this fraction of the displacement scale count as at
 #: rest in :attr:`Branch.curve_errors` (errors relative to that floor; the
-#: compiled rule's ``kernels.arclength.CURVE_REST``)
+#: compiled rule's ``kernels.steps.arclength.CURVE_REST``)
 CURVE_REST = 1e-4
 
 
@@ -367,7 +367,7 @@ class Branch:
         points and
         their :attr:`tangents` (the cubic Hermite curve through both
         points against the chord, as
-        :func:`hbmfric.kernels.arclength.chord_error`). 0 between two
+        :func:`hbmfric.kernels.steps.arclength.chord_error`). 0 between two
         pieces (no line is drawn there). None without tangents."""
         metric = self._arc_metric()
         if metric is None:
@@ -538,7 +538,10 @@ class Branch:
         """Folds and stability changes, each located between the two branch
         points that bracket it (:mod:`hbmfric.bifurcation`: a root search
         on the Ω tangent or on the largest Floquet exponent along the
-        solutions between the points, each a full Newton solve).
+        solutions between the points, each a full Newton solve). Where the
+        stability comes from the time-domain monodromy (``criterion ==
+        "monodromy"``), a change away from a fold is located on the
+        monodromy's largest multiplier instead.
 
         Parameters
         ----------
@@ -568,7 +571,12 @@ class Branch:
         from .bifurcation import locate_special_points
 
         src = _stability_source(self._source, system)
-        changes = self.stability(src["system"]).changes() if stability else None
+        changes, method = None, "hill"
+        if stability:
+            stab = self.stability(src["system"])
+            changes = stab.changes()
+            if stab.criterion == "monodromy":
+                method = "monodromy"
         h = (
             self.point_harmonics
             if self.point_harmonics is not None
@@ -588,6 +596,7 @@ class Branch:
             aft=self.info.get("aft", "auto"),
             subharmonic=int(self.info.get("subharmonic", 1)),
             symmetric=bool(self.info.get("odd_only", False)),
+            stability_method=method,
         )
 
     @property

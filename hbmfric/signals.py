@@ -1,5 +1,5 @@
 """Amplitude measures of periodic signals given by their Fourier coefficients
-(layout of :mod:`hbmfric.kernels.dft`)."""
+(layout of :mod:`hbmfric.kernels.fourier.dft`)."""
 
 from __future__ import annotations
 

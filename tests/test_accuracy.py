@@ -133,7 +133,7 @@ def test_compiled_changes_equal_one_call_per_point():
     from hbmfric.api import _problem
     from hbmfric.continuation.adaptive import _Level
     from hbmfric.continuation.palc import Continuation
-    from hbmfric.kernels.truncation import truncation_change, truncation_changes
+    from hbmfric.kernels.steps.truncation import truncation_change, truncation_changes
 
     osc = oscillator()
     p = _problem(osc, 0.5, 7, None, None, "auto", None)
@@ -220,7 +220,7 @@ def _estimate_in_numpy(problem, points, tolerance, stretch=None):
         _Level,
         probe_level,
     )
-    from hbmfric.kernels.truncation import MAX_CONFIRMED
+    from hbmfric.kernels.steps.truncation import MAX_CONFIRMED
 
     if stretch is None:
         stretch = np.zeros(len(points), dtype=int)

@@ -8,7 +8,7 @@ import hbmfric as hf
 from hbmfric.api import _problem
 from hbmfric.continuation import adaptive
 from hbmfric.continuation.palc import Continuation
-from hbmfric.kernels import arclength
+from hbmfric.kernels.steps import arclength
 
 OSC = hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0))
 
@@ -207,7 +207,7 @@ def test_change_estimate_matches_solved_change():
 )
 def test_compiled_stretches_decide_as_python(monkeypatch, system, force, tol):
     """Between decisions the adaptive run stays at its level inside the
-    compiled trace (``kernels.arclength.stays``, due calibrations
+    compiled trace (``kernels.steps.arclength.stays``, due calibrations
     included); with that rule switched off every point goes through
     ``AdaptiveContinuation._adapt`` in Python. Both must give the same
     branch bit for bit: same points, levels and counters, calibrations
@@ -308,7 +308,10 @@ def test_auto_compiles_nothing_per_level():
     other levels (another force and tolerance) adds no signature, and the
     adaptive run's compiled trace (calibrations included) is the fixed-H
     one."""
-    from hbmfric.kernels import aft, arclength, hbm, linalg, newton, truncation
+    from hbmfric.kernels.aft import schemes as aft
+    from hbmfric.kernels.linalg import lu as linalg
+    from hbmfric.kernels.residuals import hbm
+    from hbmfric.kernels.steps import arclength, newton, truncation
 
     hf.frf(OSC, 0.5, (0.5, 3.0), 7)
     traces = len(arclength.trace.signatures)

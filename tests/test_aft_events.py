@@ -20,8 +20,8 @@ from naive import (
     synthesize_derivative,
 )
 
-from hbmfric.kernels.aft import GROSS_SLIP, aft_jenkins_events
-from hbmfric.kernels.dft import fourier_matrices
+from hbmfric.kernels.aft.schemes import GROSS_SLIP, aft_jenkins_events
+from hbmfric.kernels.fourier.dft import fourier_matrices
 
 H15 = np.arange(0, 16, dtype=np.int64)
 

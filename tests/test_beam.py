@@ -342,7 +342,8 @@ def test_condensed_kernels_compile_once():
         import json
         import numpy as np
         import hbmfric as hf
-        from hbmfric.kernels import condensed, newton
+        from hbmfric.kernels.residuals import condensed
+        from hbmfric.kernels.steps import newton
 
         def counts():
             out = {}
@@ -371,8 +372,10 @@ def test_condensed_kernels_compile_once():
     )
     report = json.loads(out.stdout.strip().splitlines()[-1])
     assert report["second"] == report["first"]
-    assert report["first"]["hbmfric.kernels.condensed.condensed_residual"] == 1
-    assert report["first"]["hbmfric.kernels.newton.correct"] == 1
+    assert (
+        report["first"]["hbmfric.kernels.residuals.condensed.condensed_residual"] == 1
+    )
+    assert report["first"]["hbmfric.kernels.steps.newton.correct"] == 1
 
 
 class _BeamWithDashpot:

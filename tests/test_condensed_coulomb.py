@@ -152,8 +152,8 @@ def test_modal_tail_receptance_against_direct_solves():
     """The modal sums of the tail coefficients (beam, 39 modes) against
     :func:`contact_receptance` (direct complex solves of the dynamic
     stiffness), odd and all harmonics."""
-    from hbmfric.kernels.condensed import _modal_tail_receptance
-    from hbmfric.kernels.dlft_tail import contact_receptance
+    from hbmfric.kernels.dlft.tail import contact_receptance
+    from hbmfric.kernels.residuals.condensed import _modal_tail_receptance
 
     cal = hf.CantileverBeam.calibrate()
     beam = cal.beam.with_contact(hf.Coulomb(slip_force=2.0, linear_tail=True))
@@ -278,7 +278,10 @@ def test_condensed_coulomb_kernels_compile_once():
         """
         import json, sys
         import hbmfric as hf
-        from hbmfric.kernels import condensed, dlft, dlft_tail, newton
+        from hbmfric.kernels.residuals import condensed
+        from hbmfric.kernels.dlft import coulomb as dlft
+        from hbmfric.kernels.dlft import tail as dlft_tail
+        from hbmfric.kernels.steps import newton
         sys.path.insert(0, TESTS_DIR)
         from test_condensed_coulomb import Chain
 
@@ -312,7 +315,9 @@ def test_condensed_coulomb_kernels_compile_once():
     )
     report = json.loads(out.stdout.strip().splitlines()[-1])
     assert report["second"] == report["first"]
-    assert report["first"]["hbmfric.kernels.condensed.condensed_residual"] == 1
+    assert (
+        report["first"]["hbmfric.kernels.residuals.condensed.condensed_residual"] == 1
+    )
 
 
 def test_samples_scheme_and_penalty_reach_the_condensed_kernel():

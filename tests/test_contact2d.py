@@ -15,10 +15,10 @@ from scipy.optimize import root
 
 import hbmfric as hf
 from hbmfric.errors import ConvergenceError
-from hbmfric.kernels import contact2d as k2
-from hbmfric.kernels.aft import aft_samples
-from hbmfric.kernels.dft import fourier_matrices
-from hbmfric.kernels.laws import JENKINS
+from hbmfric.kernels.aft import contact2d as k2
+from hbmfric.kernels.aft.schemes import aft_samples
+from hbmfric.kernels.fourier.dft import fourier_matrices
+from hbmfric.kernels.laws.updates import JENKINS
 
 KT = 3e4
 KN = 1e5

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import hbmfric as hf
-from hbmfric.kernels.laws import JENKINS
+from hbmfric.kernels.laws.updates import JENKINS
 from hbmfric.validation import steady_state
 from hbmfric.validation.integrator import contact_update
 

@@ -17,11 +17,11 @@ Undamped, ``g₁ = 0``, ``g₂ = ω F_s tan(πω/2ωₙ)/(k r)`` and
 ``U = sin(π/r) / (r (1 + cos(π/r)))``, ``r = ω/ωₙ``: Den Hartog's formula.
 
 Measured accuracy (H = 31). Default (``hf.Coulomb(linear_tail=True)``,
-:mod:`hbmfric.kernels.dlft_tail`: switches located on the velocity plus its
+:mod:`hbmfric.kernels.dlft.tail`: switches located on the velocity plus its
 linear tail above H): peak within 3e-4, first harmonic within 2e-7 for
 F_s/P = 0.1-0.7 in the non-stop regime, third order in H; 2e-4 to 5e-4 in
 the stop regime (F_s/P = 0.3). Located DLFT without the tail
-(``linear_tail=False``, :func:`hbmfric.kernels.dlft.dlft_located`): 5e-4
+(``linear_tail=False``, :func:`hbmfric.kernels.dlft.coulomb.dlft_located`): 5e-4
 to 3e-3 relative in the non-stop regime for F_s/P <= 0.3, 6e-3 at 0.4 and
 1e-2 at 0.6; 2e-4 to 2e-3 in the stop regime; first order in H. The
 classic DLFT (``aft="samples"``, stick/slip decided on the predicted force)
@@ -38,7 +38,7 @@ from scipy.integrate import solve_ivp
 
 import hbmfric as hf
 from hbmfric.hbm import HBMProblem
-from hbmfric.kernels.dlft import dlft_correct
+from hbmfric.kernels.dlft.coulomb import dlft_correct
 
 M, K = 1.0, 1.0
 
@@ -542,8 +542,8 @@ def test_jacobian_against_finite_differences(system, force, omega, state, aft):
 def test_kernels_compile_once():
     """Other slip forces, penalties, masses and harmonic counts reuse the
     compiled DLFT kernels (no recompilation per parameter value)."""
-    from hbmfric.kernels.dlft import dlft_contact, dlft_located
-    from hbmfric.kernels.dlft_tail import contact_receptance, dlft_tail
+    from hbmfric.kernels.dlft.coulomb import dlft_contact, dlft_located
+    from hbmfric.kernels.dlft.tail import contact_receptance, dlft_tail
 
     # Other tests may already have compiled these kernels from inside other
     # jitted callers (with other array layouts), so the count is compared
@@ -780,8 +780,11 @@ def test_coulomb_problem_type_carries_the_dlft():
     refusal status (the DLFT is not compiled into it), in a CoulombProblem
     the DLFT residual of the problem itself."""
     from hbmfric.condensation import CondensedHBMProblem
-    from hbmfric.kernels.condensed import CondensedCoulombProblem, CondensedProblem
-    from hbmfric.kernels.hbm import (
+    from hbmfric.kernels.residuals.condensed import (
+        CondensedCoulombProblem,
+        CondensedProblem,
+    )
+    from hbmfric.kernels.residuals.hbm import (
         NOT_A_COULOMB_PROBLEM,
         CoulombProblem,
         hbm_residual,

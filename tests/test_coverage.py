@@ -229,8 +229,8 @@ def test_masing_force_continuous_when_reversal_pair_crosses_a_sample(n_time):
     AFT used to see only extremes bracketed by the sampled slope: the pair
     and its minor loop dropped out while it sat inside one interval and the
     force jumped by 0.2 f_s (110 times the typical step)."""
-    from hbmfric.kernels.dft import fourier_matrices
-    from hbmfric.kernels.masing import aft_masing
+    from hbmfric.kernels.aft.masing import aft_masing
+    from hbmfric.kernels.fourier.dft import fourier_matrices
 
     law = hf.Menq.from_stiffness(stiffness=1000.0, slip_force=1.0)
     hn = np.array([1, 3], dtype=np.int64)

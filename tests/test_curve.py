@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import hbmfric as hf
-from hbmfric.kernels import arclength
+from hbmfric.kernels.steps import arclength
 from hbmfric.validation import (
     branch_curve_error,
     curve_references,

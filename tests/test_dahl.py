@@ -8,9 +8,10 @@ from scipy.integrate import solve_ivp
 
 import hbmfric as hf
 from hbmfric.hbm import HBMProblem
-from hbmfric.kernels.dahl import aft_dahl, dahl_update
-from hbmfric.kernels.dft import fourier_matrices
-from hbmfric.kernels.laws import DAHL, law_update
+from hbmfric.kernels.aft.dahl import aft_dahl
+from hbmfric.kernels.fourier.dft import fourier_matrices
+from hbmfric.kernels.laws.dahl import dahl_update
+from hbmfric.kernels.laws.updates import DAHL, law_update
 
 LAW = hf.ModifiedDahl(
     beta=800.0, exponent=1.0, upper=(2.0e4, 300.0), lower=(1.2e4, 150.0)

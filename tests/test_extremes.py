@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 
 import hbmfric as hf
-from hbmfric.kernels import aft as _aft
-from hbmfric.kernels.dft import fourier_matrices
+from hbmfric.kernels.aft import schemes as _aft
+from hbmfric.kernels.fourier.dft import fourier_matrices
 
 #: wall-time allowance per call, s (each call takes milliseconds once the
 #: kernels are compiled; compilation itself happens in the first call)

@@ -38,7 +38,7 @@ def test_import_loads_no_matplotlib_and_compiles_nothing(tmp_path):
             m for m in ("scipy.optimize", "scipy.integrate") if m in sys.modules
         )
         import numpy as np
-        from hbmfric.kernels.dft import n_coefficients
+        from hbmfric.kernels.fourier.dft import n_coefficients
         n_coefficients(np.array([1, 3]))
         after_call = compiled()
         print(json.dumps({"import": at_import, "call": after_call, "mpl": mpl,
@@ -62,3 +62,45 @@ def test_import_loads_no_matplotlib_and_compiles_nothing(tmp_path):
         k: v for k, v in report["import"].items() if v
     }
     assert sum(report["call"].values()) > 0  # ... and it sees a compilation
+
+
+#: the kernels' folders in the order of ``hbmfric/kernels/__init__.py``
+KERNEL_STAGES = (
+    "fourier",
+    "linalg",
+    "laws",
+    "aft",
+    "dlft",
+    "residuals",
+    "steps",
+    "stability",
+)
+
+
+def test_kernel_folders_import_only_earlier_stages():
+    """Each folder of ``hbmfric/kernels`` imports only from itself and the
+    folders before it in the documented order (no module of the package
+    outside ``kernels`` but ``_jit``); every kernel module sits in one of
+    them."""
+    import ast
+
+    kernels = ROOT / "hbmfric" / "kernels"
+    assert {p.name for p in kernels.iterdir() if p.is_dir()} - {
+        "__pycache__"
+    } == set(KERNEL_STAGES)
+    assert [p.name for p in kernels.glob("*.py")] == ["__init__.py"]
+    for rank, stage in enumerate(KERNEL_STAGES):
+        for path in (kernels / stage).glob("*.py"):
+            for node in ast.walk(ast.parse(path.read_text())):
+                if not isinstance(node, ast.ImportFrom) or not node.level:
+                    continue
+                where = f"{path.relative_to(ROOT)}:{node.lineno}"
+                module = node.module or ""
+                if node.level == 1:
+                    continue  # the same folder
+                if node.level == 3:
+                    assert module == "_jit", where
+                    continue
+                assert node.level == 2, where
+                target = module.split(".")[0]
+                assert target in KERNEL_STAGES[:rank], where

@@ -194,8 +194,10 @@ def test_source_key_follows_kernel_sources(tmp_path):
     assert len(key) == 16
 
     rel = [os.path.relpath(p, copy) for p in _jit.kernel_sources(str(copy))]
-    assert os.path.join("kernels", "residual.py") in rel  # caches via @overload
-    assert os.path.join("kernels", "dft.py") in rel
+    assert (
+        os.path.join("kernels", "residuals", "dispatch.py") in rel
+    )  # caches via @overload
+    assert os.path.join("kernels", "fourier", "dft.py") in rel
     assert "_jit.py" in rel
     assert "api.py" not in rel
 
@@ -205,19 +207,19 @@ def test_source_key_follows_kernel_sources(tmp_path):
     assert _jit.source_key(str(copy)) == key
 
     # Editing any kernel, even one only called from other files, changes it.
-    with open(copy / "kernels" / "dft.py", "a") as f:
+    with open(copy / "kernels" / "fourier" / "dft.py", "a") as f:
         f.write("\n# a comment\n")
     key2 = _jit.source_key(str(copy))
     assert key2 != key
 
     # A plain module that a kernel imports (constants frozen into compiled
     # code) counts as a kernel source too.
-    (copy / "kernels" / "constants.py").write_text("LIMIT = 3\n")
+    (copy / "kernels" / "fourier" / "constants.py").write_text("LIMIT = 3\n")
     assert _jit.source_key(str(copy)) == key2
-    with open(copy / "kernels" / "dft.py", "a") as f:
+    with open(copy / "kernels" / "fourier" / "dft.py", "a") as f:
         f.write("from .constants import (\n    LIMIT,\n)\n")
     key3 = _jit.source_key(str(copy))
-    (copy / "kernels" / "constants.py").write_text("LIMIT = 4\n")
+    (copy / "kernels" / "fourier" / "constants.py").write_text("LIMIT = 4\n")
     assert _jit.source_key(str(copy)) != key3
 
 
@@ -235,13 +237,13 @@ def test_cache_base_resolution(tmp_path):
 
 
 def test_package_kernels_use_the_keyed_cache():
-    from hbmfric.kernels import dft
+    from hbmfric.kernels.fourier import dft
 
     if not _jit.CACHE:
         pytest.skip("no writable cache in this environment")
     assert os.path.basename(_jit.CACHE_DIR) == _jit.source_key()
     cache = dft.evaluate._cache
-    assert cache.cache_path == os.path.join(_jit.CACHE_DIR, "kernels")
+    assert cache.cache_path == os.path.join(_jit.CACHE_DIR, "kernels", "fourier")
 
 
 @pytest.mark.slow
@@ -283,14 +285,14 @@ def test_real_package_without_cache_location(tmp_path):
 #: continuation (``jit_inline``: compiled as kernels of their own they would
 #: each emit the whole residual once more)
 NOT_IN_A_JENKINS_FRF = (
-    "hbmfric.kernels.dlft_tail.",
-    "hbmfric.kernels.dlft.",
-    "hbmfric.kernels.hbm._coulomb",
-    "hbmfric.kernels.condensed._coulomb",
-    "hbmfric.kernels.hbm._aft",
-    "hbmfric.kernels.arclength.advance",
-    "hbmfric.kernels.arclength.stays",
-    "hbmfric.kernels.newton.palc_step",
+    "hbmfric.kernels.dlft.tail.",
+    "hbmfric.kernels.dlft.coulomb.",
+    "hbmfric.kernels.residuals.hbm._coulomb",
+    "hbmfric.kernels.residuals.condensed._coulomb",
+    "hbmfric.kernels.residuals.hbm._aft",
+    "hbmfric.kernels.steps.arclength.advance",
+    "hbmfric.kernels.steps.arclength.stays",
+    "hbmfric.kernels.steps.newton.palc_step",
 )
 
 
@@ -342,8 +344,8 @@ def test_cold_jenkins_frf_compiles_only_what_it_uses(tmp_path):
     names = json.loads(line[len("NAMES") :])
     ours = [n for n in names if n.startswith("hbmfric.")]
     # the residual's body, compiled once (under the chain, not as a wrapper)
-    assert ours.count("hbmfric.kernels.hbm.hbm_residual_impl") == 1
-    assert "hbmfric.kernels.residual._residual.<locals>.full" not in ours
+    assert ours.count("hbmfric.kernels.residuals.hbm.hbm_residual_impl") == 1
+    assert "hbmfric.kernels.residuals.dispatch._residual.<locals>.full" not in ours
     assert not [n for n in ours if n.startswith(NOT_IN_A_JENKINS_FRF)]
     twice = sorted({n for n in ours if ours.count(n) > 1})
     # a kernel with several call signatures by design (e.g. one per

@@ -52,7 +52,7 @@ from naive import (
 )
 
 from hbmfric.hbm import HBMProblem
-from hbmfric.kernels.aft import (
+from hbmfric.kernels.aft.schemes import (
     GROSS_SLIP,
     MEMORYLESS,
     STUCK,
@@ -60,8 +60,8 @@ from hbmfric.kernels.aft import (
     aft_samples,
     periodic_force,
 )
-from hbmfric.kernels.dft import fourier_matrices
-from hbmfric.kernels.laws import CUBIC, JENKINS, law_update
+from hbmfric.kernels.fourier.dft import fourier_matrices
+from hbmfric.kernels.laws.updates import CUBIC, JENKINS, law_update
 from hbmfric.laws import Cubic, Jenkins
 from hbmfric.systems.oscillator import Oscillator
 

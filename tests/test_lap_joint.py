@@ -380,11 +380,11 @@ def test_condensed_residual_reports_its_rounding_level():
     amplified by ``cond(G)``, so ``R`` jitters as Ω moves by a few ulps.
     Near the stuck resonance that jitter exceeds both the tolerance (1e-10
     of the load) and the generic floor of the residual's terms
-    (:func:`~hbmfric.kernels.newton.rounding_floor`), and the level the
+    (:func:`~hbmfric.kernels.steps.newton.rounding_floor`), and the level the
     problem reports (which the corrector accepts) bounds it. The point is
     the stuck linear response, an exact solution at this level."""
     from hbmfric.condensation import CondensedHBMProblem
-    from hbmfric.kernels.newton import rounding_floor
+    from hbmfric.kernels.steps.newton import rounding_floor
     from hbmfric.paper.lap_joint import LAP_JOINT_SCENE
 
     joint = hf.LapJoint(n_pairs=10, bolt_preload=12000.0)

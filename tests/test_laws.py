@@ -153,7 +153,7 @@ def test_law_step_contract_for_scalar_state_laws():
     plain-NumPy laws along a random path; trial steps leave the state alone."""
     from naive import cubic_force, jenkins_update
 
-    from hbmfric.kernels import laws as kl
+    from hbmfric.kernels.laws import updates as kl
 
     rng = np.random.default_rng(7)
     path = np.cumsum(rng.normal(0.0, 0.4, 200))

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from hbmfric.kernels.linalg import lu_factor, lu_solve, solve_inplace
+from hbmfric.kernels.linalg.lu import lu_factor, lu_solve, solve_inplace
 
 
 @pytest.mark.parametrize("n", [1, 2, 5, 17])
@@ -44,11 +44,11 @@ def test_non_finite_entry_off_the_pivots_fails_the_solve():
 
 
 def test_first_harmonic_response_against_complex_solve():
-    """The real 2n-system of ``kernels.linear`` against NumPy's complex
+    """The real 2n-system of ``kernels.linalg.linear_response`` against NumPy's complex
     solve of ``(K - Ω² M + iΩ C) x = p_c - i p_s``; a singular dynamic
     stiffness (undamped, at a natural frequency) gives zeros and is
     counted."""
-    from hbmfric.kernels.linear import first_harmonic_response
+    from hbmfric.kernels.linalg.linear_response import first_harmonic_response
 
     rng = np.random.default_rng(3)
     n = 4
@@ -79,3 +79,36 @@ def test_first_harmonic_response_against_complex_solve():
     assert count == 1
     np.testing.assert_array_equal(out2[0], 0.0)
     np.testing.assert_allclose(out2[1, 0], [1 / 0.75, 1 / 3.75], rtol=1e-14)
+
+
+@pytest.mark.parametrize("n", [31, 120])
+def test_lu_of_a_strided_view_against_numpy(n):
+    """A strided view of a larger buffer against NumPy; the buffer outside
+    the view untouched; the factors reproduce ``P A = L U``."""
+    rng = np.random.default_rng(n)
+    A = rng.standard_normal((n, n)) + 0.1 * np.eye(n)[::-1]
+    b = rng.standard_normal(n)
+    expected = np.linalg.solve(A, b)
+    big = np.zeros((n + 3, 2 * n))
+    view = big[1 : n + 1, ::2]
+    view[:] = A
+    piv = np.empty(n, dtype=np.int64)
+    assert lu_factor(view, piv)
+    got = b.copy()
+    lu_solve(view, piv, got)
+    np.testing.assert_allclose(got, expected, rtol=1e-9, atol=1e-9)
+    assert np.all(big[0] == 0.0) and np.all(big[:, 1::2] == 0.0)
+    # the factors reproduce P A = L U with the 0-based swap convention
+    L = np.tril(view, -1) + np.eye(n)
+    U = np.triu(view)
+    PA = A.copy()
+    for k in range(n):
+        PA[[k, piv[k]]] = PA[[piv[k], k]]
+    np.testing.assert_allclose(L @ U, PA, atol=1e-10 * np.abs(A).max())
+
+
+def test_singular_matrix_of_larger_order_fails():
+    n = 40
+    A = np.ones((n, n))
+    assert not lu_factor(A.copy(), np.empty(n, dtype=np.int64))
+    assert not solve_inplace(A.copy(), np.ones(n))

@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 import hbmfric as hf
-from hbmfric.kernels.aft import GROSS_SLIP, MICROSLIP, STUCK, aft_samples
-from hbmfric.kernels.dft import fourier_matrices
-from hbmfric.kernels.laws import linear_limit
-from hbmfric.kernels.masing import aft_masing
+from hbmfric.kernels.aft.masing import aft_masing
+from hbmfric.kernels.aft.schemes import GROSS_SLIP, MICROSLIP, STUCK, aft_samples
+from hbmfric.kernels.fourier.dft import fourier_matrices
+from hbmfric.kernels.laws.updates import linear_limit
 
 MENQ = hf.Menq.from_stiffness(stiffness=3e4, slip_force=10.0, microslip_onset=0.5)
 IWAN = hf.Iwan.segalman(

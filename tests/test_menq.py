@@ -10,7 +10,7 @@ from naive import loop_work, menq_virgin, shear_lag_bar
 from scipy.integrate import quad
 
 import hbmfric as hf
-from hbmfric.kernels import laws as kl
+from hbmfric.kernels.laws import updates as kl
 
 LAW = hf.Menq.from_stiffness(stiffness=3e4, slip_force=10.0, microslip_onset=0.5)
 BAR = (LAW.axial_rigidity, LAW.length, LAW.shear_stiffness, LAW.friction_limit)

@@ -345,7 +345,8 @@ def test_condensed_coordinate_kernels_compile_once():
         import json, sys, warnings
         import numpy as np
         import hbmfric as hf
-        from hbmfric.kernels import condensed, newton
+        from hbmfric.kernels.residuals import condensed
+        from hbmfric.kernels.steps import newton
         sys.path.insert(0, TESTS_DIR)
         import test_multicond as t
 
@@ -378,7 +379,9 @@ def test_condensed_coordinate_kernels_compile_once():
     )
     report = json.loads(out.stdout.strip().splitlines()[-1])
     assert report["second"] == report["first"]
-    assert report["first"]["hbmfric.kernels.condensed.condensed_residual"] == 1
+    assert (
+        report["first"]["hbmfric.kernels.residuals.condensed.condensed_residual"] == 1
+    )
 
 
 def test_condensed_tangents_are_unit_on_the_contact_dof():

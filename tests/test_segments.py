@@ -1,11 +1,11 @@
-"""Fourier integrals over pieces of the period (kernels/segments.py) against
+"""Fourier integrals over pieces of the period (kernels/fourier/segments.py) against
 Gauss–Legendre quadrature and plain NumPy sums."""
 
 import numpy as np
 import pytest
 
-from hbmfric.kernels.dft import fourier_matrices
-from hbmfric.kernels.segments import (
+from hbmfric.kernels.fourier.dft import fourier_matrices
+from hbmfric.kernels.fourier.segments import (
     add_segment_integrals,
     basis_integrals,
     product_integrals,

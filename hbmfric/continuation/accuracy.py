@@ -10,7 +10,7 @@ output (the contact DOF's displacement, or the system's ``output_weights``),
 
 where ``change`` is the first-order change of those two measures when the
 basis grows to the probe level (:func:`~hbmfric.continuation.adaptive.probe_level`,
-about ``2 H``; :func:`hbmfric.kernels.truncation.truncation_change`, one
+about ``2 H``; :func:`hbmfric.kernels.steps.truncation.truncation_change`, one
 residual and one LU in the larger basis) and ``m`` the free measure
 ``H max(|X_H|, (K'/H)^4 |X_K'|) / |X_1|`` of the point.
 
@@ -26,7 +26,7 @@ slowly along a branch; the free measure alone does not, see
 whose carried estimate exceeds it is calibrated too (until ``MAX_CONFIRMED``
 of them exceed it: the branch then misses it for sure), so that no warning
 rests on a carried estimate alone. The whole rule runs in one compiled call
-(:func:`hbmfric.kernels.truncation.branch_truncation`). A
+(:func:`hbmfric.kernels.steps.truncation.branch_truncation`). A
 point whose response is linear (stuck contact: no higher harmonic) has
 estimate 0. The problem's own level and its probe level (problem, work
 arrays) are built once per problem.
@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernels.truncation import MAX_CONFIRMED, branch_truncation
+from ..kernels.steps.truncation import MAX_CONFIRMED, branch_truncation
 from .adaptive import (
     CARRY_FLOOR,
     CHANGE_FACTOR,
@@ -166,7 +166,7 @@ def truncation_errors(
 def _levels(problem, with_probe: bool = True) -> tuple:
     """The problem's own level, its probe level (None for ``H = 1`` or
     when not ``with_probe``) and the column and weight arguments of
-    :func:`~hbmfric.kernels.truncation.branch_truncation` (None for
+    :func:`~hbmfric.kernels.steps.truncation.branch_truncation` (None for
     ``H = 1``)."""
     level = _Level(problem, None)
     if not level.top:

@@ -15,7 +15,7 @@ carries drifted 8-fold within 32 points where the tension's first harmonic
 nearly vanishes, 93 Hz at f1 = 2 N). Their change when the basis grows
 to the probe level (:func:`probe_level`: two rungs of the ladder up, about
 ``2 H``) is computed to first order by
-:func:`hbmfric.kernels.truncation.truncation_change` (one residual and one
+:func:`hbmfric.kernels.steps.truncation.truncation_change` (one residual and one
 LU in the larger basis at the zero-padded point: about one Newton
 iteration there). That calibration runs every ``RECALIBRATE`` points and
 before a decision (at most once in ``MIN_GAP`` points); at every other
@@ -48,7 +48,7 @@ Decisions, after every accepted point (the estimate at the next point is
 extrapolated from the last two at the same level). Most points need none:
 between calibrations, a point whose carried estimate is clear of both
 thresholds (or a linear point at the lowest level) keeps the level inside
-the compiled continuation (:func:`hbmfric.kernels.arclength.stays`, the
+the compiled continuation (:func:`hbmfric.kernels.steps.arclength.stays`, the
 same test as the start of :meth:`AdaptiveContinuation._adapt`); a due
 calibration runs there too and keeps the level when its fresh estimate
 does (the same rule as ``_adapt`` after a calibration), so the run returns
@@ -100,9 +100,9 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..kernels import arclength as _arclength
-from ..kernels import newton as _newton
-from ..kernels.truncation import output_measure, truncation_change
+from ..kernels.steps import arclength as _arclength
+from ..kernels.steps import newton as _newton
+from ..kernels.steps.truncation import output_measure, truncation_change
 from ..systems.protocol import output_weights
 from .options import ContinuationOptions
 from .palc import MIN_STEP, NO_START, Continuation, ContinuationState
@@ -338,7 +338,7 @@ class _Level:
 
     def measure(self, y: np.ndarray) -> float:
         """Free measure of the watched output at ``y`` (this level's
-        layout; :func:`~hbmfric.kernels.truncation.output_measure`, the
+        layout; :func:`~hbmfric.kernels.steps.truncation.output_measure`, the
         compiled run's own arithmetic); inf for ``H = 1``."""
         first, top, prev = self.columns
         return float(
@@ -730,7 +730,7 @@ class AdaptiveContinuation:
     def _watch(self, h: int, levels: list) -> np.ndarray:
         """The stay rule of :meth:`_adapt` at level ``h`` with the current
         calibration, as the watch array of
-        :func:`hbmfric.kernels.arclength.trace` (same thresholds, same
+        :func:`hbmfric.kernels.steps.arclength.trace` (same thresholds, same
         arithmetic: the compiled stretch keeps the level exactly where
         :meth:`_adapt` would). Sets the stretch's capacity and calibration
         arguments."""
@@ -926,7 +926,7 @@ class AdaptiveContinuation:
             before = len(state.points)
             cont = self._levels[h].cont
             watch = self._watch(h, levels)
-            # the points' share of the curve budget (kernels.arclength.
+            # the points' share of the curve budget (kernels.steps.arclength.
             # chord_target): the current point's estimate; unknown right
             # after a level change, where the raise aimed at TARGET. Not
             # charged when the harmonic tolerance exceeds the curve's (the

@@ -51,12 +51,12 @@ class ContinuationOptions:
         line joining two consecutive points, in the plane users draw
         (Ω against the first-harmonic amplitude of the contact DOF, both
         on log axes: a relative amplitude error), from the points' tangents
-        (:func:`hbmfric.kernels.arclength.chord_error`); a longer step is
+        (:func:`hbmfric.kernels.steps.arclength.chord_error`); a longer step is
         rejected and the next step is sized to keep below it. With
         ``harmonics="auto"`` the points' own estimated truncation error is
         charged against it: the chord gets the tolerance less the point's
         estimate, at least a quarter of it
-        (:func:`hbmfric.kernels.arclength.chord_target`), so that chord
+        (:func:`hbmfric.kernels.steps.arclength.chord_target`), so that chord
         and points together stay within it. The first step of a run is an
         eighth of ``initial_step``. None or 0: off (steps from the
         corrector's effort and the tangent turn alone).

@@ -4,7 +4,7 @@ The continuation is an iterator with explicit state: :meth:`Continuation.init`
 solves the first point and returns a :class:`ContinuationState`;
 :meth:`Continuation.step` advances it by one accepted (or rejected) step,
 so a user can drive a run by hand; :meth:`Continuation.run` traces the
-whole branch in compiled stretches (:func:`hbmfric.kernels.arclength.trace`,
+whole branch in compiled stretches (:func:`hbmfric.kernels.steps.arclength.trace`,
 the same step and rules as ``step``, without a return to Python per point).
 
 One step: tangent predictor ``y_p = y + ds t`` (``t`` from
@@ -38,8 +38,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..kernels import arclength as _arclength
-from ..kernels import newton as _newton
+from ..kernels.steps import arclength as _arclength
+from ..kernels.steps import newton as _newton
 from .options import ContinuationOptions
 
 #: stop reasons
@@ -172,12 +172,12 @@ class Continuation:
         self._settings = self._settings_array()
         self._no_watch = np.zeros(_arclength.N_WATCH)
         self._no_calibration = None  # built on first use
-        #: how the last compiled trace ended (``kernels.arclength`` codes)
+        #: how the last compiled trace ended (``kernels.steps.arclength`` codes)
         self.trace_outcome = 0
         self.trace_estimates = np.zeros(0)
 
     def _settings_array(self) -> np.ndarray:
-        """Options as the flat array of :mod:`hbmfric.kernels.arclength`."""
+        """Options as the flat array of :mod:`hbmfric.kernels.steps.arclength`."""
         o = self.options
         s = np.empty(_arclength.N_SETTINGS)
         s[_arclength.MIN_STEP] = o.min_step
@@ -216,7 +216,7 @@ class Continuation:
             # rigid Coulomb (DLFT): with the rule the beam's branches took
             # 3-10 times the points (the stuck tip at round-off amplitude
             # stalled the steps: 1551 points, 866 rejections at f_s = 2 N;
-            # with the CURVE_REST floor of kernels.arclength 869 points,
+            # with the CURVE_REST floor of kernels.steps.arclength 869 points,
             # 2.5-3x the time, bench/README.md issue 18); its branches keep
             # the former step control, their curve error is still
             # estimated and warned about
@@ -391,7 +391,7 @@ class Continuation:
         y : ndarray, shape (n_unknowns + 1,)
             ``[X, Ω]`` at full load (NaN when nothing converged).
         status : int
-            ``CONVERGED`` or a failure code of :mod:`hbmfric.kernels.newton`.
+            ``CONVERGED`` or a failure code of :mod:`hbmfric.kernels.steps.newton`.
         evaluations : int
             Residual evaluations spent.
         """
@@ -594,9 +594,9 @@ class Continuation:
         """Steps until the branch leaves the range, the step collapses,
         ``max_steps`` is spent, ``capacity`` points are accepted or (with a
         ``watch`` array) a point needs an adaptive-harmonics decision, in
-        one compiled call (:func:`hbmfric.kernels.arclength.trace`;
+        one compiled call (:func:`hbmfric.kernels.steps.arclength.trace`;
         ``calibration``: the next level's problem and work arrays of
-        :func:`hbmfric.kernels.arclength.stays`)."""
+        :func:`hbmfric.kernels.steps.arclength.stays`)."""
         budget = self.options.max_steps - (state.n_steps + state.n_rejected)
         if budget <= 0:
             return self._finish(state, MAX_STEPS)

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from ..kernels import arclength as _arclength
+from ..kernels.steps import arclength as _arclength
 from .options import ContinuationOptions
 
 
@@ -17,7 +17,7 @@ class StepController:
     accepted corrector run; :meth:`reject` returns the shrunk step after a
     failed or rejected one. Neither clips below ``min_step``: the caller
     stops when the step falls under it. The rule itself is the compiled
-    :func:`hbmfric.kernels.arclength.next_step`, which the continuation
+    :func:`hbmfric.kernels.steps.arclength.next_step`, which the continuation
     kernels use.
     """
 

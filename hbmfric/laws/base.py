@@ -8,7 +8,7 @@ from typing import ClassVar
 import numpy as np
 
 from .._validate import finite_array, finite_float, positive_int
-from ..kernels import laws as _k
+from ..kernels.laws import updates as _k
 
 
 @dataclass(frozen=True)
@@ -17,7 +17,7 @@ class ContactLaw:
 
     Every law has an integer kernel ``code`` and a flat ``params`` array; the
     AFT march (harmonic balance) and the time-integration reference both
-    evaluate the law through :func:`hbmfric.kernels.laws.law_step` with
+    evaluate the law through :func:`hbmfric.kernels.laws.updates.law_step` with
     them, so the two paths cannot disagree on the law.
     """
 
@@ -57,7 +57,7 @@ class ContactLaw:
             enough to keep ``|f| <= f_s``; for the Masing laws (Menq, Iwan)
             the loop vertex of largest ``|u|`` lies on the virgin curve.
         """
-        from ..kernels.aft import periodic_force
+        from ..kernels.aft.schemes import periodic_force
 
         u = finite_array("u", u)
         if u.size < 2:

@@ -8,7 +8,7 @@ from typing import ClassVar, NamedTuple
 import numpy as np
 
 from .._validate import finite_array, finite_float, positive_int
-from ..kernels import contact2d as _k
+from ..kernels.aft import contact2d as _k
 from .jenkins import Jenkins
 
 
@@ -23,7 +23,7 @@ class Contact2DForces(NamedTuple):
     jacobian : ndarray, shape (2 n_coef, 2 n_coef)
         ``d force / d displacement`` (tangential block first), N/m.
     state : int
-        Contact-state code (:data:`hbmfric.kernels.contact2d.STATE_NAMES`).
+        Contact-state code (:data:`hbmfric.kernels.aft.contact2d.STATE_NAMES`).
     message : str
         What ``state`` means.
     """
@@ -35,7 +35,7 @@ class Contact2DForces(NamedTuple):
 
 
 #: passes of the steady-state march allowed (two are always enough in exact
-#: arithmetic, see :mod:`hbmfric.kernels.contact2d`)
+#: arithmetic, see :mod:`hbmfric.kernels.aft.contact2d`)
 MAX_PASSES = 4
 
 
@@ -186,7 +186,7 @@ class Contact2D:
         ----------
         X : array_like, shape (2, n_coef)
             Coefficients of ``u`` (row 0) and ``v`` (row 1), m, in the layout
-            of :mod:`hbmfric.kernels.dft` (``[X0, Xc1, Xs1, …]``).
+            of :mod:`hbmfric.kernels.fourier.dft` (``[X0, Xc1, Xs1, …]``).
         harmonics : array_like of int, shape (n_harmonics,)
             Distinct non-negative harmonic numbers, increasing. Include 0:
             the preload gives the normal force a mean.
@@ -197,7 +197,7 @@ class Contact2D:
         -------
         Contact2DForces
         """
-        from ..kernels.dft import fourier_matrices, n_coefficients
+        from ..kernels.fourier.dft import fourier_matrices, n_coefficients
 
         h = np.ascontiguousarray(harmonics, dtype=np.int64)
         if h.ndim != 1 or h.size == 0:

@@ -8,7 +8,7 @@ from typing import ClassVar
 import numpy as np
 
 from .._validate import finite_float, positive_int
-from ..kernels import laws as _k
+from ..kernels.laws import updates as _k
 from .base import ContactLaw, energy_masing
 
 

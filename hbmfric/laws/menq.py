@@ -1,4 +1,4 @@
-"""Menq microslip: an elastic bar on an elastic shear layer (SPEC §4)."""
+"""Menq microslip: an elastic bar on an elastic shear layer (docs/laws.md)."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from typing import ClassVar
 import numpy as np
 
 from .._validate import finite_float
-from ..kernels import laws as _k
+from ..kernels.laws import updates as _k
 from .base import ContactLaw, energy_masing, slip_force_from
 
 #: Gauss–Legendre rule for the virgin-curve integral in the slip length

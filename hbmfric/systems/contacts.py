@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..kernels.dlft import COULOMB
+from ..kernels.dlft.coulomb import COULOMB
 from ..laws import Contact2D, ContactLaw
 
 

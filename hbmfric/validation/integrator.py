@@ -26,7 +26,7 @@ two matrix-vector products, then a scalar equation for the contact DOF
 
 and ``x₁ = x_lin - g f₁``. The contact force is therefore implicit and
 updated exactly at every step instant: the law is evaluated only through
-:func:`hbmfric.kernels.laws.law_step`, the contract the AFT march of the
+:func:`hbmfric.kernels.laws.updates.law_step`, the contract the AFT march of the
 harmonic balance uses too (the law state, whose first entry is the force, is
 advanced once the step is solved). The scalar equation is solved by Newton's method
 on ``df/du`` with a bisection safeguard; for the piecewise-linear Jenkins law
@@ -39,7 +39,7 @@ never formed. Kernels report problems by the status codes below.
 import numpy as np
 
 from .._jit import jit
-from ..kernels.laws import is_masing, law_step, law_update
+from ..kernels.laws.updates import is_masing, law_step, law_update
 
 #: law code meaning "no contact" (``g`` and the contact force are ignored)
 NO_CONTACT = -1
@@ -85,7 +85,7 @@ def contact_update(code, params, f_prev, u_prev, target, g_c):
     """Solve ``u + g_c f(u) = target`` for a scalar-state law.
 
     ``f(u) = law_update(code, params, f_prev, u_prev, u)`` (the law's state
-    is its force, so this is :func:`hbmfric.kernels.laws.law_step` without
+    is its force, so this is :func:`hbmfric.kernels.laws.updates.law_step` without
     an array); Newton's method from ``u_prev`` (the stick predictor) through
     :func:`_newton_update`. :func:`contact_update_state` is the same for
     laws with a state array.

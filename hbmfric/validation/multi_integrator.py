@@ -19,8 +19,8 @@ With ``Bc`` the ``m × n`` matrix that reads the coordinates from ``x``
 an ``m``-dimensional equation for the coordinates at the end of the step,
 solved by Newton's method on the block-diagonal tangent of the laws
 (``df/du`` of each 1D law at fixed history through
-:func:`hbmfric.kernels.laws.law_step`; for the 2D element the tangent of
-:func:`hbmfric.kernels.contact2d.contact2d_step`: ``kt`` while stuck,
+:func:`hbmfric.kernels.laws.updates.law_step`; for the 2D element the tangent of
+:func:`hbmfric.kernels.aft.contact2d.contact2d_step`: ``kt`` while stuck,
 ``±μ kn`` on ``v`` while slipping, ``kn`` on the normal while closed, 0
 while open), with halving of the step while the residual does not
 decrease. The laws' states are advanced once the step is solved.
@@ -33,15 +33,15 @@ between its samples).
 Law state layout (``law_state``, flat): the ``m`` coordinate forces first
 (``law_state[0]`` the first coordinate's force, which the caller's
 convergence test reads), then each contact's own state (a 1D law's
-:func:`~hbmfric.kernels.laws.state_size` entries, whose first is its
+:func:`~hbmfric.kernels.laws.updates.state_size` entries, whose first is its
 force; a 2D element's slider position).
 """
 
 import numpy as np
 
 from .._jit import jit
-from ..kernels.contact2d import PHASE_OPEN, PHASE_STICK, contact2d_step
-from ..kernels.laws import law_step
+from ..kernels.aft.contact2d import PHASE_OPEN, PHASE_STICK, contact2d_step
+from ..kernels.laws.updates import law_step
 from .integrator import NEWTON_FAILED, NOT_FINITE, OK, _store_state
 
 #: kind of a contact in the kernels' arrays

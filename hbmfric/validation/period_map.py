@@ -43,7 +43,7 @@ import numpy as np
 
 from .._validate import finite_float, positive_int
 from ..errors import ConvergenceError
-from ..kernels.laws import CUBIC, DAHL, JENKINS
+from ..kernels.laws.updates import CUBIC, DAHL, JENKINS
 from ..signals import state_at_zero
 from .integrator import MESSAGES, NO_CONTACT, OK
 from .multi_integrator import LAW_1D

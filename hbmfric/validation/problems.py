@@ -18,9 +18,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validate import finite_float
-from ..kernels.contact2d import contact2d_step
-from ..kernels.dlft import COULOMB
-from ..kernels.laws import law_init, state_size
+from ..kernels.aft.contact2d import contact2d_step
+from ..kernels.dlft.coulomb import COULOMB
+from ..kernels.laws.updates import law_init, state_size
 from ..systems.protocol import check_load, check_system
 from .integrator import NO_CONTACT, OK, newmark_periods, record_period
 from .multi_integrator import (

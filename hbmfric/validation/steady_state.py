@@ -2,7 +2,7 @@
 integration, analysed into harmonics.
 
 Independent of the harmonic-balance path except for the contact-law kernels
-(:func:`hbmfric.kernels.laws.law_step` and ``law_init``), which both evaluate
+(:func:`hbmfric.kernels.laws.updates.law_step` and ``law_init``), which both evaluate
 (so that they cannot disagree on the law). The Newmark kernels are in
 :mod:`hbmfric.validation.integrator`.
 """

@@ -40,7 +40,7 @@ def test_stress_fast(case):
 
 #: rigid Coulomb, F = 10 f_s, H = 15 (both sweeps): no H = 15 solution in
 #: (0.3414, 0.3488) — the residual jumps there. At 0.341433 the velocity of
-#: the linear tail (kernels/dlft_tail.py) grazes zero inside a slip phase,
+#: the linear tail (kernels/dlft/tail.py) grazes zero inside a slip phase,
 #: the march adds a reversal pair (2 -> 3 -> 4 events), the switching
 #: conditions of that topology have no root, and the kernel falls back to
 #: the located scheme without the tail, whose residual differs by 6.7e-2 N
@@ -82,7 +82,7 @@ KNOWN = {
     "coulomb ratio=10": _COULOMB_GAP,
     "coulomb ratio=10 sweep=down": _COULOMB_GAP,
     # "dahl ratio=10 stiffness_ratio=10000" stalled until the Dahl AFT
-    # located the reversals of u between samples (kernels/dahl.py)
+    # located the reversals of u between samples (kernels/laws/dahl.py)
 }
 
 

@@ -35,7 +35,7 @@ reference position ``w = 0`` (the contact closed at ``u = 0``), marches
 passes until the slider at the end of a pass repeats the previous one (two
 passes, unless rounding decides otherwise) within the pass budget, and
 keeps the last pass. With a constant normal load this is the Jenkins
-convention of :mod:`hbmfric.kernels.aft`: a stuck slider sits at 0, shifted
+convention of :mod:`hbmfric.kernels.aft.schemes`: a stuck slider sits at 0, shifted
 only as far as needed.
 
 Jacobian: with ``E_i`` the inverse-DFT row of sample ``i``, the slider
@@ -48,13 +48,13 @@ located closure ``dw = ((1 - s) E_j + s E_i, (u_i - u_j) ds)`` with
 
 Coefficient layout: ``X`` and ``F`` have shape ``(2, n_coef)``, row 0
 tangential, row 1 normal, each row in the layout of
-:mod:`hbmfric.kernels.dft`; the Jacobian has shape ``(2 n_coef, 2 n_coef)``
+:mod:`hbmfric.kernels.fourier.dft`; the Jacobian has shape ``(2 n_coef, 2 n_coef)``
 with the tangential block first in both directions.
 """
 
 import numpy as np
 
-from .._jit import jit
+from ..._jit import jit
 
 #: phases of one time step (:func:`contact2d_step`)
 PHASE_OPEN = 0
@@ -63,7 +63,7 @@ PHASE_SLIP_POSITIVE = 2
 PHASE_SLIP_NEGATIVE = 3
 
 #: contact-state codes returned by :func:`aft_contact2d` (the positive ones
-#: that mean the same as in :mod:`hbmfric.kernels.aft` share its values)
+#: that mean the same as in :mod:`hbmfric.kernels.aft.schemes` share its values)
 STUCK = 1
 GROSS_SLIP = 2
 SEPARATES = 5
@@ -246,7 +246,7 @@ def aft_contact2d(params, X, inverse, forward, F, dF, max_passes):
         Coefficients of the tangential (row 0) and normal (row 1, positive
         closing) relative displacements, m.
     inverse : ndarray, shape (n_time, n_coef)
-        Inverse DFT matrix (:func:`hbmfric.kernels.dft.fourier_matrices`).
+        Inverse DFT matrix (:func:`hbmfric.kernels.fourier.dft.fourier_matrices`).
     forward : ndarray, shape (n_coef, n_time)
         Forward DFT matrix.
     F : ndarray, shape (2, n_coef)

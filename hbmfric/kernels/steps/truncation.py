@@ -9,9 +9,9 @@ Used by the adaptive-harmonics continuation
 
 import numpy as np
 
-from .._jit import jit
-from .linalg import solve_inplace
-from .residual import residual
+from ..._jit import jit
+from ..linalg.lu import solve_inplace
+from ..residuals.dispatch import residual
 
 
 @jit
@@ -224,7 +224,7 @@ def truncation_change(x, problem, weights, rates, first, synthesis, y, R, J, A, 
         ``[X, Ω]`` in the smaller basis.
     problem : tuple or CondensedProblem
         Kernel problem of the larger basis
-        (:func:`hbmfric.kernels.residual.residual`).
+        (:func:`hbmfric.kernels.residuals.dispatch.residual`).
     weights : ndarray, shape (2, n_dof)
         Displacement (row 0) and velocity (row 1, s) weights of the output
         per DOF among the unknowns (``n = n_dof * n_coef``).

@@ -1,13 +1,13 @@
 """One residual entry point for the Newton kernels, dispatched at compile
-time on the type of the problem: a :class:`~hbmfric.kernels.condensed.
-CondensedProblem` (or :class:`~hbmfric.kernels.condensed.
+time on the type of the problem: a :class:`~hbmfric.kernels.residuals.condensed.
+CondensedProblem` (or :class:`~hbmfric.kernels.residuals.condensed.
 CondensedCoulombProblem`) goes to the condensed residual, any other problem
-tuple to the full HBM residual :func:`hbmfric.kernels.hbm.hbm_residual`.
+tuple to the full HBM residual :func:`hbmfric.kernels.residuals.hbm.hbm_residual`.
 
 Numba compiles the caller once per problem type, so the dispatch costs
 nothing at run time. The implementation compiled for a type is the
-residual's body itself (:func:`~hbmfric.kernels.hbm.hbm_residual_impl`,
-:func:`~hbmfric.kernels.condensed.condensed_residual_impl`), not a wrapper
+residual's body itself (:func:`~hbmfric.kernels.residuals.hbm.hbm_residual_impl`,
+:func:`~hbmfric.kernels.residuals.condensed.condensed_residual_impl`), not a wrapper
 that calls the residual's dispatcher: a wrapper would be one more compiled
 kernel that links in, optimises and emits the whole residual, all its
 contact laws included, once more (each compiled kernel emits machine code
@@ -28,8 +28,10 @@ from .hbm import JIT_OPTIONS, hbm_residual_impl
 def residual(y, problem, R, J):
     """Residual and Jacobian of ``problem`` at ``y = [X, Ω]`` into ``R``,
     ``J``; returns the AFT contact-state code. Callable from jitted code
-    only (see :func:`hbmfric.kernels.hbm.hbm_residual` for the contract)."""
-    raise NotImplementedError("hbmfric.kernels.residual.residual is for jit code")
+    only (see :func:`hbmfric.kernels.residuals.hbm.hbm_residual` for the contract)."""
+    raise NotImplementedError(
+        "hbmfric.kernels.residuals.dispatch.residual is for jit code"
+    )
 
 
 def _is_condensed(problem) -> bool:
@@ -48,11 +50,13 @@ def _residual(y, problem, R, J):
 
 def rounding_level(problem):
     """Rounding level (N) of the last residual of ``problem`` beyond the
-    generic :func:`hbmfric.kernels.newton.rounding_floor`: the level a
+    generic :func:`hbmfric.kernels.steps.newton.rounding_floor`: the level a
     condensed problem on several contact coordinates reports (its ``D =
     G⁻¹`` carries the condition number of ``G``), 0 for any other problem.
     Callable from jitted code only."""
-    raise NotImplementedError("hbmfric.kernels.residual.rounding_level is for jit code")
+    raise NotImplementedError(
+        "hbmfric.kernels.residuals.dispatch.rounding_level is for jit code"
+    )
 
 
 @overload(rounding_level, jit_options=JIT_OPTIONS)

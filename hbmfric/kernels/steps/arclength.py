@@ -1,7 +1,7 @@
 """Pseudo-arclength continuation steps with their acceptance rules, compiled.
 
 :func:`advance` is one step of the continuation as a whole: predictor and
-corrector (:func:`hbmfric.kernels.newton.palc_step`), the acceptance tests
+corrector (:func:`hbmfric.kernels.steps.newton.palc_step`), the acceptance tests
 (Newton converged, tangent turn, distance from the predictor, the corner
 rules), fold detection, the next step size and the displacement scale that
 follows the amplitude. :func:`trace` repeats it into preallocated arrays,
@@ -18,7 +18,7 @@ Settings come as one flat array indexed by the constants below (built by
 
 import numpy as np
 
-from .._jit import jit, jit_inline
+from ..._jit import jit, jit_inline
 from .newton import CONVERGED, _norm_inf, palc_step
 from .truncation import output_measure, truncation_change
 
@@ -334,7 +334,7 @@ def follow_amplitude(y, tangent, scale, base_scale):
 def top_measure(y, watch, weights, rates):
     """Free truncation measure ``H max(|Z_H|, w |Z_K'|) / |Z_1|`` of the
     watched output ``Z`` (``weights``, ``rates``: see
-    :func:`~hbmfric.kernels.truncation.output_measure`) at the point ``y``
+    :func:`~hbmfric.kernels.steps.truncation.output_measure`) at the point ``y``
     (columns and ``w`` from ``watch``, see
     :meth:`hbmfric.continuation.adaptive._Level.measure`): inf without a
     retained harmonic above the first, 0 for an output at rest."""
@@ -362,7 +362,7 @@ def stays(y, watch, calibration):
     AdaptiveContinuation._adapt` repeats the same test first).
 
     A due calibration (``watch[W_CALIBRATE] != 0``) runs here:
-    :func:`~hbmfric.kernels.truncation.truncation_change` on the next
+    :func:`~hbmfric.kernels.steps.truncation.truncation_change` on the next
     level's problem, watched output and work arrays ``calibration =
     (problem, synthesis, weights, rates, y, R, J, A, dX)``; the level is
     kept when the fresh estimate ahead is at most the raise threshold and
@@ -434,7 +434,7 @@ def advance(
     Parameters
     ----------
     problem : tuple
-        HBM problem (:func:`hbmfric.kernels.residual.residual`).
+        HBM problem (:func:`hbmfric.kernels.residuals.dispatch.residual`).
     y, tangent : ndarray, shape (n + 1,)
         In: current point (physical units) and unit tangent (scaled). Out,
         when accepted: the new point and tangent.
@@ -446,7 +446,7 @@ def advance(
     settings : ndarray, shape (N_SETTINGS,)
         Options, see the index constants of this module.
     R, J, A, piv, y_pred, y_new, t_new : ndarray
-        Work arrays of :func:`~hbmfric.kernels.newton.palc_step`. On
+        Work arrays of :func:`~hbmfric.kernels.steps.newton.palc_step`. On
         ``LEFT_RANGE``, ``y_new`` holds the corrected point outside the
         range.
 

@@ -8,8 +8,8 @@ one-DOF system, as much as a few continuation steps.
 
 import numpy as np
 
-from .._jit import jit
-from .linalg import solve_inplace
+from ..._jit import jit
+from .lu import solve_inplace
 
 
 @jit

@@ -13,7 +13,7 @@ fast as an FFT inside Numba and they give the AFT Jacobian directly.
 
 import numpy as np
 
-from .._jit import jit
+from ..._jit import jit
 
 
 @jit

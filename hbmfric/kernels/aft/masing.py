@@ -1,9 +1,9 @@
 """AFT of Masing laws (Menq, Iwan) with located reversal points.
 
 The law is marched through the samples by
-:func:`hbmfric.kernels.laws.masing_step`, the same update the time integrator
+:func:`hbmfric.kernels.laws.updates.masing_step`, the same update the time integrator
 uses, but the path between samples is not taken as straight: every extreme
-of ``u(θ)`` is found and located (:func:`hbmfric.kernels.aft._find_reversals`,
+of ``u(θ)`` is found and located (:func:`hbmfric.kernels.aft.schemes._find_reversals`,
 the search of the Jenkins event AFT, which also finds a pair of extremes
 closer than a sample interval) and inserted into the path, so the reversal
 points and the loop vertex carry their exact displacement. The force at the
@@ -17,7 +17,7 @@ e.g. a stiff Menq contact near the third superharmonic resonance.)
 
 Steady state: the march starts at the located extreme of largest ``|u|``, on
 the virgin curve (the contact closed at ``u = 0``; see
-:mod:`hbmfric.kernels.aft`), and one pass is exact. A loop that stays on the
+:mod:`hbmfric.kernels.aft.schemes`), and one pass is exact. A loop that stays on the
 linear part of the curves is linear and is not marched. When every harmonic
 is odd the loop is antisymmetric, ``f(θ + π) = -f(θ)``, and half a period is
 marched.
@@ -29,18 +29,10 @@ Jacobian: at a reversal ``u'(θ_r) = 0``, so ``du_r/dX`` is the basis at
 
 import numpy as np
 
-from .._jit import jit
-from .aft import (
-    _MAX_DEPTH,
-    GROSS_SLIP,
-    MICROSLIP,
-    STUCK,
-    _derivative_bounds,
-    _find_reversals,
-    _samples_uv,
-)
-from .dft import basis_at, evaluate
-from .laws import (
+from ..._jit import jit
+from ..fourier.dft import basis_at, evaluate
+from ..fourier.segments import project_samples
+from ..laws.updates import (
     MASING_ENTRY,
     MASING_HEADER,
     law_init,
@@ -50,7 +42,15 @@ from .laws import (
     slip_limit,
     virgin_curve,
 )
-from .segments import project_samples
+from .schemes import (
+    _MAX_DEPTH,
+    GROSS_SLIP,
+    MICROSLIP,
+    STUCK,
+    _derivative_bounds,
+    _find_reversals,
+    _samples_uv,
+)
 
 
 @jit

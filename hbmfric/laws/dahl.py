@@ -1,4 +1,4 @@
-"""The modified Dahl restoring-force model as a contact law (SPEC §4)."""
+"""The modified Dahl restoring-force model as a contact law (docs/laws.md)."""
 
 from __future__ import annotations
 
@@ -7,10 +7,10 @@ from typing import ClassVar
 
 import numpy as np
 
-from ._validate import finite_array, finite_float
-from .kernels import laws as _k
-from .kernels.dahl import DAHL_NOT_CONVERGED, dahl_periodic
-from .laws import ContactLaw
+from .._validate import finite_array, finite_float
+from ..kernels.aft.dahl import DAHL_NOT_CONVERGED, dahl_periodic
+from ..kernels.laws import updates as _k
+from .base import ContactLaw
 
 
 def _pair(name: str, value) -> tuple[float, float]:
@@ -139,7 +139,7 @@ class ModifiedDahl(ContactLaw):
     def energy_per_cycle(self, amplitude: float, n_time: int = 4096) -> float:
         """Energy dissipated per cycle under ``u = X cos θ``, J.
 
-        ``μ = 1``: the closed form (SPEC §4)
+        ``μ = 1``: the closed form (docs/laws.md)
         ``W = 2 (b − e − (a + d)/β)(X − tanh(βX)/β)``; otherwise the loop
         area ``∮ F du`` of :meth:`hysteresis` on ``n_time`` samples
         (trapezoidal rule).

@@ -31,14 +31,14 @@ Two ways to evaluate ``g`` and ``p`` (``method``):
     ``p = (x_p)_c``; with ``Z' = dZ/dΩ = k (-2ω M + i C)``,
     ``dg/dΩ = -zᵀ Z' z`` and ``dp/dΩ = -zᵀ Z' x_p``. The complex systems
     are solved in real form (``2 n_dof`` unknowns) by
-    :func:`hbmfric.kernels.linalg.solve_inplace`.
+    :func:`hbmfric.kernels.linalg.lu.solve_inplace`.
 
 The contact force comes from the same AFT kernels as in the full residual
 (:func:`_contact_force`). A rigid Coulomb contact is handled by the same DLFT
 scheme as in the full residual (:func:`_coulomb`): located reversals
-(:func:`hbmfric.kernels.dlft.dlft_located`, the default), with the linear
-tail (:func:`hbmfric.kernels.dlft_tail.dlft_tail`) when the law asks for it,
-or the classic one (:func:`hbmfric.kernels.dlft.dlft_contact`) for
+(:func:`hbmfric.kernels.dlft.coulomb.dlft_located`, the default), with the linear
+tail (:func:`hbmfric.kernels.dlft.tail.dlft_tail`) when the law asks for it,
+or the classic one (:func:`hbmfric.kernels.dlft.coulomb.dlft_contact`) for
 ``aft="samples"``. DLFT reads only the contact rows of the linear residual,
 and the condensed residual is their Schur complement: at any point where the
 eliminated rows hold (every condensed point, by construction) the force
@@ -47,7 +47,7 @@ holding force ``h = λ_X + M_cc ü`` of the located scheme, are those of the
 full residual, so both paths have the same solutions. The tail needs the
 receptance at the contact DOF for the harmonics beyond the balance,
 ``G(kΩ)`` for ``k <= K``: a modal sum (:func:`_modal_tail_receptance`) or
-the direct solves of :func:`hbmfric.kernels.dlft_tail.contact_receptance`.
+the direct solves of :func:`hbmfric.kernels.dlft.tail.contact_receptance`.
 
 Several contacts (:func:`_coordinates_residual`)
 -------------------------------------------------
@@ -71,12 +71,12 @@ regular when ``B`` has full row rank (checked at the edge). Modal:
 direct: one LU of ``Z`` per harmonic, ``Z_c = Z⁻¹ Bᵀ`` (``n_c`` solves),
 ``G = B Z_c``, ``dG/dΩ = -Z_cᵀ Z' Z_c``, ``dp/dΩ = -Z_cᵀ Z' Z⁻¹ P̂``. Every
 contact's force is the AFT of its law on its own coordinate (the dispatch
-of the full residual, :func:`hbmfric.kernels.hbm._aft`), so ``df/dq`` is
+of the full residual, :func:`hbmfric.kernels.residuals.hbm._aft`), so ``df/dq`` is
 block diagonal. The single contact to ground keeps the path above
 (``law_codes`` empty); any other set of contacts fills ``law_codes``.
 
 The problem travels as a :class:`CondensedProblem` named tuple; the residual
-dispatcher :func:`hbmfric.kernels.residual.residual` recognises its type.
+dispatcher :func:`hbmfric.kernels.residuals.dispatch.residual` recognises its type.
 """
 
 from collections import namedtuple
@@ -84,11 +84,14 @@ from collections import namedtuple
 import numpy as np
 from numba.extending import overload
 
-from .._jit import jit
-from .aft import aft_jenkins_events, aft_samples
-from .dahl import aft_dahl
-from .dlft import COULOMB, dlft_contact, dlft_located
-from .dlft_tail import contact_receptance, dlft_tail
+from ..._jit import jit
+from ..aft.dahl import aft_dahl
+from ..aft.masing import aft_masing
+from ..aft.schemes import aft_jenkins_events, aft_samples
+from ..dlft.coulomb import COULOMB, dlft_contact, dlft_located
+from ..dlft.tail import contact_receptance, dlft_tail
+from ..laws.updates import DAHL, JENKINS, is_masing
+from ..linalg.lu import lu_factor, lu_solve, solve_inplace
 from .hbm import (
     COULOMB_TYPES,
     JIT_OPTIONS,
@@ -97,11 +100,8 @@ from .hbm import (
     _combined_state,
     is_coulomb_problem,
 )
-from .laws import DAHL, JENKINS, is_masing
-from .linalg import lu_factor, lu_solve, solve_inplace
-from .masing import aft_masing
 
-#: AFT scheme codes (same values as :mod:`hbmfric.kernels.hbm`)
+#: AFT scheme codes (same values as :mod:`hbmfric.kernels.residuals.hbm`)
 AFT_SAMPLES = 0
 AFT_EVENTS = 1
 #: receptance methods
@@ -150,7 +150,7 @@ CondensedCoulombProblem = namedtuple(
 CondensedCoulombProblem.__doc__ = """A :class:`CondensedProblem` of a rigid
 Coulomb contact (``law_code = COULOMB``): the same fields in their own type,
 so that the DLFT kernels are compiled only into the residual of this type
-(see :class:`hbmfric.kernels.hbm.CoulombProblem`)."""
+(see :class:`hbmfric.kernels.residuals.hbm.CoulombProblem`)."""
 COULOMB_TYPES.append(CondensedCoulombProblem)
 
 
@@ -288,7 +288,7 @@ def condensed_residual(y, problem, R, J):
 def condensed_residual_impl(y, problem, R, J):
     """The body of :func:`condensed_residual` (same contract), a plain
     function compiled only through overloads (see
-    :func:`hbmfric.kernels.hbm.hbm_residual_impl`)."""
+    :func:`hbmfric.kernels.residuals.hbm.hbm_residual_impl`)."""
     if problem.law_codes.size > 0:
         return _coordinates_residual(y, problem, R, J)
     status = _condensed_linear(y, problem, R, J)
@@ -322,7 +322,7 @@ def _condensed_entry_overload(y, problem, R, J):
 def condensed_rigid_coulomb(y, problem, R, J):
     """:func:`_coulomb` for a :class:`CondensedCoulombProblem`; for any other
     problem type it compiles to ``return NOT_A_COULOMB_PROBLEM`` (see
-    :func:`hbmfric.kernels.hbm.rigid_coulomb`). Callable from jitted code
+    :func:`hbmfric.kernels.residuals.hbm.rigid_coulomb`). Callable from jitted code
     only."""
     raise NotImplementedError("condensed_rigid_coulomb is for jit code")
 
@@ -373,7 +373,7 @@ def _coulomb_contact_force(y, problem, R, R_lin, J, f):
 def _coulomb(y, problem, R, J):
     """Add a rigid Coulomb contact to the condensed linear residual, by the
     DLFT scheme the full residual uses
-    (:func:`hbmfric.kernels.hbm.hbm_residual`): located, with the linear
+    (:func:`hbmfric.kernels.residuals.hbm.hbm_residual`): located, with the linear
     tail when ``law_params[4] = K > 0``, classic for ``AFT_SAMPLES``."""
     params = problem.law_params
     if problem.aft_scheme != AFT_EVENTS:
@@ -434,7 +434,7 @@ def _coulomb(y, problem, R, J):
 @jit
 def _modal_tail_receptance(problem, omega, mu, q, dq):
     """Tail coefficients of the contact receptance by modal sums: as
-    :func:`hbmfric.kernels.dlft_tail.contact_receptance` (same outputs and
+    :func:`hbmfric.kernels.dlft.tail.contact_receptance` (same outputs and
     conventions: ``q_k = G(kΩ) [k ∉ S] - a₂/k²``, ``a₂ = -μ/Ω²``, ``q[0]``
     flags odd harmonics only), with ``G(kΩ) = Σ_r φ_cr² / d_r(kΩ)``.
 
@@ -521,7 +521,7 @@ def _condensed_linear(y, problem, R, J):
 @jit
 def _contact_force(x, problem, F, dF):
     """AFT of the contact law at the contact coefficients ``x`` (the same
-    dispatch as :func:`hbmfric.kernels.hbm.hbm_residual`)."""
+    dispatch as :func:`hbmfric.kernels.residuals.hbm.hbm_residual`)."""
     code = problem.law_code
     events = problem.aft_scheme == AFT_EVENTS
     if code == JENKINS and events:

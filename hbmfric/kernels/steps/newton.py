@@ -8,9 +8,9 @@ alike.
 
 import numpy as np
 
-from .._jit import jit, jit_inline
-from .linalg import lu_factor, lu_solve, solve_inplace
-from .residual import residual, rounding_level
+from ..._jit import jit, jit_inline
+from ..linalg.lu import lu_factor, lu_solve, solve_inplace
+from ..residuals.dispatch import residual, rounding_level
 
 CONVERGED = 0
 MAX_ITERATIONS = 1
@@ -114,8 +114,8 @@ def correct(
     Convergence: ``max |R| <= max(tol_residual, rounding_floor(J, y),
     rounding_level(problem))`` (the rounding level of the residual's terms,
     and the one a condensed residual reports for its receptance inverse,
-    :func:`hbmfric.kernels.residual.rounding_level`) and the Newton update *from
-    the current iterate* is below ``tol_step`` in scaled variables; the
+    :func:`hbmfric.kernels.residuals.dispatch.rounding_level`) and the Newton
+    update *from the current iterate* is below ``tol_step`` in scaled variables; the
     update is then not applied (the point is within ``tol_step`` of the
     solution of the linearisation), which saves the residual evaluation
     that checking the size of the last applied update would cost.
@@ -128,7 +128,7 @@ def correct(
     Parameters
     ----------
     problem : tuple
-        HBM problem, see :func:`hbmfric.kernels.hbm.hbm_residual`.
+        HBM problem, see :func:`hbmfric.kernels.residuals.hbm.hbm_residual`.
     y : ndarray, shape (n + 1,)
         In: start point. Out: the last iterate (the solution on success).
     y_pred : ndarray, shape (n + 1,)
@@ -330,7 +330,7 @@ def palc_step(
     Parameters
     ----------
     problem : tuple
-        HBM problem (:func:`hbmfric.kernels.hbm.hbm_residual`).
+        HBM problem (:func:`hbmfric.kernels.residuals.hbm.hbm_residual`).
     y, tangent_prev : ndarray, shape (n + 1,)
         Current point (physical units) and unit tangent (scaled).
     ds : float

@@ -5,7 +5,7 @@ System: ``M ẍ + C ẋ + K x + Σ_i (e_a - e_b) f_i(x_a - x_b) = p(t)``, with
 ``f_i`` the law of contact ``i`` acting between DOFs ``a`` and ``b`` (or
 on ``a`` against ground). Unknowns ``y = [X, Ω]`` with ``X`` stored DOF by DOF,
 ``X[d * n_coef:(d + 1) * n_coef]`` the coefficients of DOF ``d`` (layout of
-:mod:`hbmfric.kernels.dft`).
+:mod:`hbmfric.kernels.fourier.dft`).
 
 The problem travels to the kernels as one flat tuple (see
 :func:`hbm_residual`); the Newton corrector passes it through untouched.
@@ -17,8 +17,11 @@ import numpy as np
 from numba import types
 from numba.extending import overload
 
-from .._jit import CACHE, jit, jit_inline
-from .aft import (
+from ..._jit import CACHE, jit, jit_inline
+from ..aft.contact2d import CONTACT2D, MAX_PASSES, aft_contact2d
+from ..aft.dahl import aft_dahl
+from ..aft.masing import aft_masing
+from ..aft.schemes import (
     GROSS_SLIP,
     MARCHED,
     MICROSLIP,
@@ -26,12 +29,9 @@ from .aft import (
     aft_jenkins_events,
     aft_samples,
 )
-from .contact2d import CONTACT2D, MAX_PASSES, aft_contact2d
-from .dahl import aft_dahl
-from .dlft import COULOMB, dlft_contact, dlft_located
-from .dlft_tail import SINGULAR_RECEPTANCE, contact_receptance, dlft_tail
-from .laws import DAHL, JENKINS, is_masing
-from .masing import aft_masing
+from ..dlft.coulomb import COULOMB, dlft_contact, dlft_located
+from ..dlft.tail import SINGULAR_RECEPTANCE, contact_receptance, dlft_tail
+from ..laws.updates import DAHL, JENKINS, is_masing
 
 NO_CONTACT = -1
 #: AFT scheme codes
@@ -73,7 +73,7 @@ JIT_OPTIONS = {"cache": CACHE, "nogil": True, "error_model": "numpy"}
 
 def is_coulomb_problem(problem) -> bool:
     """Whether the Numba type ``problem`` is a :class:`CoulombProblem` (or
-    the condensed one, :class:`hbmfric.kernels.condensed.
+    the condensed one, :class:`hbmfric.kernels.residuals.condensed.
     CondensedCoulombProblem`); for compile-time dispatch."""
     return isinstance(problem, types.BaseNamedTuple) and problem.instance_class in (
         COULOMB_TYPES
@@ -109,10 +109,10 @@ def hbm_residual(y, problem, R, J):
         padded). ``law_codes[0] = COULOMB`` (rigid Coulomb, the only
         contact, on ``a`` to ground, ``law_params[0] = [slip_force,
         penalty, penalty_damping, (M⁻¹)_cc, K]``) is solved by DLFT
-        (:mod:`hbmfric.kernels.dlft`)
+        (:mod:`hbmfric.kernels.dlft.coulomb`)
         instead of an AFT: for ``aft_scheme = AFT_EVENTS`` with located
         reversals, plus the linear tail of the response summed to ``K``
-        when ``K > 0`` (:mod:`hbmfric.kernels.dlft_tail`); the classic
+        when ``K > 0`` (:mod:`hbmfric.kernels.dlft.tail`); the classic
         sampled scheme otherwise. Such a problem must come as a
         :class:`CoulombProblem` (the same fields), the only type for which
         the DLFT kernels are compiled; in a plain tuple the residual
@@ -133,7 +133,7 @@ def hbm_residual(y, problem, R, J):
 def hbm_residual_impl(y, problem, R, J):
     """The body of :func:`hbm_residual` (same contract), a plain function:
     compiled only through overloads (:func:`_hbm_entry` and
-    :func:`hbmfric.kernels.residual.residual`), never by a ``jit``
+    :func:`hbmfric.kernels.residuals.dispatch.residual`), never by a ``jit``
     dispatcher of its own. Numba keys a cache entry by the function and the
     argument types only, and an entry compiled for an overload crashes when
     a plain dispatcher of the same function loads it from Python."""
@@ -251,7 +251,7 @@ def _hbm_entry_overload(y, problem, R, J):
 
 @jit
 def _contact2d(y, dofs, params, inverse, forward, n_coef, R, J):
-    """The 2D element (:mod:`hbmfric.kernels.contact2d`) on the tangential
+    """The 2D element (:mod:`hbmfric.kernels.aft.contact2d`) on the tangential
     pair ``dofs[0] - dofs[1]`` and the normal pair ``dofs[2] - dofs[3]``
     (``-1``: ground), added to ``R`` and ``J``; its state code."""
     X = np.empty((2, n_coef))
@@ -342,7 +342,9 @@ def rigid_coulomb(y, problem, R, J):
     type it compiles to ``return NOT_A_COULOMB_PROBLEM``: the DLFT kernels
     are compiled only for the problems that use them. Callable from jitted
     code only."""
-    raise NotImplementedError("hbmfric.kernels.hbm.rigid_coulomb is for jit code")
+    raise NotImplementedError(
+        "hbmfric.kernels.residuals.hbm.rigid_coulomb is for jit code"
+    )
 
 
 def _refuse(y, problem, R, J):

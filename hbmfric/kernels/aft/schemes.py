@@ -6,7 +6,7 @@ and the Jacobian ``dF/dX`` out, plus an integer contact-state code.
 
 ``aft_samples``
     The classic scheme: sample ``u(θ)`` at ``n_time`` instants, march the law
-    through the samples (:func:`hbmfric.kernels.laws.law_update`), transform
+    through the samples (:func:`hbmfric.kernels.laws.updates.law_update`), transform
     the sampled force back with the forward DFT. The Jacobian is carried
     through the march analytically. Works for every law.
 ``aft_jenkins_events``
@@ -22,7 +22,7 @@ and the Jacobian ``dF/dX`` out, plus an integer contact-state code.
     for any ``n_time > 2 H``, and the Jacobian needs one ``n_coef²``
     assembly instead of ``O(n_time n_coef²)`` work.
 
-Steady-state rules (SPEC §3): a contact in gross slip is marched once, from
+Steady-state rules (docs/physics.md): a contact in gross slip is marched once, from
 the sample of maximum displacement in the saturated state ``f = +f_s``; a
 stuck contact is linear and is not marched (``f = kt (u - z)``, slider at the
 reference position ``z = 0`` unless the displacement forces it to shift).
@@ -39,9 +39,10 @@ marched: ``F = F_v + K0 (u - u_v)``.
 
 import numpy as np
 
-from .._jit import jit
-from .dft import basis_at, evaluate
-from .laws import (
+from ..._jit import jit
+from ..fourier.dft import basis_at, evaluate
+from ..fourier.segments import trig_series
+from ..laws.updates import (
     CUBIC,
     JENKINS,
     MASING_ENTRY,
@@ -55,7 +56,6 @@ from .laws import (
     slip_limit,
     virgin_curve,
 )
-from .segments import trig_series
 
 #: contact-state codes returned by the AFT kernels
 MEMORYLESS = 0
@@ -99,7 +99,7 @@ def _masing_march(code, params, u, inverse, force, grad, with_grad):
     """Steady-state force of a Masing law over one sampled period.
 
     Marches from the vertex of largest ``|u|`` (on the virgin curve) through
-    :func:`hbmfric.kernels.laws.masing_step`; with ``with_grad`` also fills
+    :func:`hbmfric.kernels.laws.updates.masing_step`; with ``with_grad`` also fills
     ``grad[i] = df_i/dX``: on the branch from the reversal sample ``r``,
     ``f_i = f_r + 2 s F_load(s (u_i - u_r)/2)`` so
     ``df_i/dX = df_r/dX + k_i (E_i - E_r)``.

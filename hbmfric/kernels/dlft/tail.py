@@ -2,7 +2,7 @@
 
 Why a tail
 ----------
-In :func:`hbmfric.kernels.dlft.dlft_located` the contact reverses (or
+In :func:`hbmfric.kernels.dlft.coulomb.dlft_located` the contact reverses (or
 sticks) where the *truncated* relative velocity ``v_H`` changes sign. The
 exact velocity has a kink there (the force jumps, so the acceleration does):
 its Fourier coefficients decay as ``1/k²`` and ``v_H`` is ``O(1/H)`` off
@@ -35,7 +35,7 @@ jump through ``T(0)``:
 
 with ``J_i = -2 s_i f_s`` for a reversal and ``J_i = h(θ_i) - s_i f_s`` for
 the start of a stick phase (``h`` the holding force of
-:func:`~hbmfric.kernels.dlft.dlft_located`, ``s_i`` the slip direction
+:func:`~hbmfric.kernels.dlft.coulomb.dlft_located`, ``s_i`` the slip direction
 before the event). It is solved by Newton in ``θ``; the Jacobian of the
 contact force follows from the implicit function theorem,
 ``dθ/dy = -(∂G/∂θ)⁻¹ ∂G/∂y``. Which events occur and of which kind (the
@@ -55,7 +55,7 @@ continuous with a stick event at ``h = s f_s``, whose jump vanishes), and
 a stick phase ends where the holding force ``|h|`` reaches ``f_s`` (the
 penalised force ``h + ε (u - w) + η u̇`` carries the ringing of ``u``),
 located on the interpolant of ``h`` between samples with the DFT corrected
-for the jump's position (:func:`~hbmfric.kernels.dlft.stick_end`), so that
+for the jump's position (:func:`~hbmfric.kernels.dlft.coulomb.stick_end`), so that
 the residual stays continuous when the end crosses a sample. Newton
 keeps each event on a downward zero of ``s G_j``: after a short slip
 that follows a stick end the corrected velocity can dip below zero and
@@ -80,9 +80,10 @@ coefficients); the end of a stick phase is found on the samples.
 
 import numpy as np
 
-from .._jit import jit
-from .aft import GROSS_SLIP, STUCK
-from .dlft import (
+from ..._jit import jit
+from ..aft.schemes import GROSS_SLIP, STUCK
+from ..linalg.lu import solve_inplace
+from .coulomb import (
     _jump_correction,
     add_samples,
     contact_samples,
@@ -91,10 +92,9 @@ from .dlft import (
     stick_sample,
     stuck_at_reference,
 )
-from .linalg import solve_inplace
 
 #: status when a dynamic stiffness of the tail is singular (as in
-#: :mod:`hbmfric.kernels.condensed`)
+#: :mod:`hbmfric.kernels.residuals.condensed`)
 SINGULAR_RECEPTANCE = -100
 #: event kinds
 REVERSAL = 0
@@ -439,7 +439,7 @@ def _solve_switching(n_e, kinds, signs, theta, slip_force, step_limit,
 def _march(with_grad, slip_force, eps, eta, omega, harmonic_numbers, base,
            U, Hc, dH, u, d, dc, hh, dhh, inverse, derivative, n_given, given,
            kinds, signs, theta, dtheta, force, grad, F, dF, work):  # fmt: skip
-    """The march of :func:`~hbmfric.kernels.dlft.dlft_located` on the
+    """The march of :func:`~hbmfric.kernels.dlft.coulomb.dlft_located` on the
     corrected velocity samples ``dc``.
 
     In slip, a given event ``given[e]`` within three samples (or a quarter
@@ -647,7 +647,7 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
               inverse, forward, derivative, R, J):  # fmt: skip
     """Rigid Coulomb contact by located DLFT with the linear tail.
 
-    As :func:`hbmfric.kernels.dlft.dlft_located`, with the velocity events
+    As :func:`hbmfric.kernels.dlft.coulomb.dlft_located`, with the velocity events
     located on ``v_H + v_tail`` (module doc).
 
     Parameters
@@ -665,7 +665,7 @@ def dlft_tail(params, harmonic_numbers, base, m_cc, q, dq, a2, da2, y,
     a2, da2 : float
         Closed-form high-frequency coefficient ``-μ/Ω²`` and its Ω-derivative.
     y, inverse, forward, derivative, R, J
-        As in :func:`~hbmfric.kernels.dlft.dlft_located`.
+        As in :func:`~hbmfric.kernels.dlft.coulomb.dlft_located`.
 
     Returns
     -------

@@ -1,7 +1,7 @@
 """Fourier integrals of a contact force over pieces of the period.
 
 A force known over one period has the coefficients (layout of
-:mod:`hbmfric.kernels.dft`)
+:mod:`hbmfric.kernels.fourier.dft`)
 
     F_r = c_r ∫ f(θ) ψ_r(θ) dθ,   c_r = 1/(2π) for the mean, 1/π otherwise,
 
@@ -23,7 +23,7 @@ with ``ψ_r`` the basis function of row ``r`` (``1``, ``cos kθ`` or
 
 import numpy as np
 
-from .._jit import jit
+from ..._jit import jit
 
 
 @jit
@@ -194,7 +194,7 @@ def project_samples(forward, force, grad, start, count, weight, F, dF):
     Parameters
     ----------
     forward : ndarray, shape (n_coef, n_time)
-        Forward DFT matrix (:func:`hbmfric.kernels.dft.fourier_matrices`).
+        Forward DFT matrix (:func:`hbmfric.kernels.fourier.dft.fourier_matrices`).
     force : ndarray, shape (n_time,)
         Force samples, N (only the selected ones are read).
     grad : ndarray, shape (>= n_time, n_grad)

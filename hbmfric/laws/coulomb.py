@@ -1,7 +1,7 @@
 """The rigid Coulomb contact: stick/slip without tangential compliance.
 
 Harmonic balance solves it by the dynamic Lagrangian frequency–time method
-(:mod:`hbmfric.kernels.dlft`), not by an AFT law march: in stick its force is
+(:mod:`hbmfric.kernels.dlft.coulomb`), not by an AFT law march: in stick its force is
 not a function of the displacement but whatever the dynamics need.
 """
 
@@ -13,9 +13,9 @@ from typing import ClassVar
 
 import numpy as np
 
-from ._validate import finite_array, finite_float
-from .kernels.dlft import COULOMB
-from .laws import ContactLaw
+from .._validate import finite_array, finite_float
+from ..kernels.dlft.coulomb import COULOMB
+from .base import ContactLaw
 
 
 @dataclass(frozen=True)
@@ -53,12 +53,12 @@ class Coulomb(ContactLaw):
     linear_tail : bool, optional
         Locate the stick/slip switches on the relative velocity including
         the harmonics above ``H``, which the linear structure slaves to the
-        contact force (:mod:`hbmfric.kernels.dlft_tail`). Default True:
+        contact force (:mod:`hbmfric.kernels.dlft.tail`). Default True:
         third order in ``H`` in the non-stop regime (at H = 31 the first
         harmonic is 1e-7 off Den Hartog, the peak 2e-4), 2e-4 to 5e-4 off
         an event-driven integration in the stop regime (F_s/P = 0.3).
         False: the located DLFT on the truncated velocity
-        (:func:`hbmfric.kernels.dlft.dlft_located`), first order in ``H``
+        (:func:`hbmfric.kernels.dlft.coulomb.dlft_located`), first order in ``H``
         (3e-3 to 1e-2 at H = 31), about twice as fast on a branch. Not used with
         ``aft="samples"`` nor for a singular mass matrix; far from a
         solution (more than ``max(8, H/2)`` velocity events per period)
