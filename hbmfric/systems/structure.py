@@ -24,7 +24,7 @@ import numpy as np
 
 from .._validate import finite_float
 from ..laws import ContactLaw
-from .contacts import Contact
+from .contacts import Contact, shared_directions
 
 #: relative tolerance of the symmetry checks of M, C and K
 SYMMETRY_TOL = 1e-10
@@ -342,6 +342,13 @@ class LinearStructure:
             ]
             if a == rest[0] or (rest[1] is not None and rest[1] == rest[2]):
                 raise ValueError(f"contacts[{i}] acts between a DOF and itself")
+            shared = shared_directions(a, *rest)
+            if shared:
+                raise ValueError(
+                    f"contacts[{i}] uses DOF {shared[0]} both tangentially and "
+                    "normally: a 2D element needs distinct tangential and normal "
+                    "DOFs"
+                )
             out.append(Contact(c.law, a, *rest))
         return tuple(out)
 
