@@ -74,3 +74,22 @@ def test_a_complex_matrix_is_refused_not_truncated(role):
 def test_strings_are_no_matrix():
     with pytest.raises(ValueError, match="mass must be a real"):
         hf.LinearStructure([["1", "0"], ["0", "1"]], np.eye(2))
+
+
+def test_a_matlab_v73_file_is_named_as_such(tmp_path):
+    """read_matrices said "no mass matrix found ... the file has nothing
+    readable" for a v7.3 (HDF5) file."""
+    import scipy.io
+
+    path = tmp_path / "model.mat"
+    scipy.io.savemat(path, {"M": np.eye(2), "K": np.eye(2)})
+    data = bytearray(path.read_bytes())
+    data[124:126] = b"\x00\x02"  # the header's version field: 7.3
+    path.write_bytes(bytes(data))
+    for call in (
+        lambda: hf.read_matrix(path, "K"),
+        lambda: hf.read_matrices(path),
+        lambda: hf.LinearStructure.from_file(path),
+    ):
+        with pytest.raises(ValueError, match="v7.3"):
+            call()

@@ -33,6 +33,12 @@ DEFAULT_NAMES = {
 }
 
 
+_V73 = (
+    "{path}: MATLAB v7.3 (HDF5) files are not read; save with "
+    "save(..., '-v7') or export the matrices as Matrix Market"
+)
+
+
 def _dense(value, label: str) -> np.ndarray:
     if hasattr(value, "toarray"):
         value = value.toarray()
@@ -113,10 +119,7 @@ def read_matrix(path: str | Path, name: str | None = None) -> np.ndarray:
         try:
             data = loadmat(str(path))
         except NotImplementedError:
-            raise ValueError(
-                f"{path}: MATLAB v7.3 (HDF5) files are not read; save with "
-                "save(..., '-v7') or export the matrices as Matrix Market"
-            ) from None
+            raise ValueError(_V73.format(path=path)) from None
         arrays = {k: v for k, v in data.items() if not k.startswith("__")}
     elif suffix == ".npz":
         with np.load(path, allow_pickle=False) as data:
@@ -180,7 +183,7 @@ def read_matrices(
         try:
             present = [entry[0] for entry in whosmat(str(path))]
         except NotImplementedError:
-            present = []
+            raise ValueError(_V73.format(path=path)) from None
     else:
         if not path.is_file():
             raise FileNotFoundError(f"no such matrix file: {path}")
