@@ -181,11 +181,10 @@ def test_non_converged_reference_never_passes(monkeypatch):
 def test_branch_side_next_to_the_folds(distance):
     """``periodic_solution(branch_side=...)`` a relative ``distance`` short
     of each fold of a cubic case (the Duffing of docs/stability.md), from
-    either side: the first value that
-    the sweep from that side (``hf.frf``, up or down) meets there, to 1e-3.
-    Within 1e-6 of a fold the continuation from a side turned back between
-    two points short of the target and returned another branch (issue
-    14)."""
+    either side: the first value that the sweep from that side
+    (``hf.frf``, up or down) meets there, to 1e-3. Within 1e-6 of a fold
+    the continuation from a side turned back between two points short of
+    the target and returned another branch (issue 14)."""
     system, force, omega = build(
         Case(law="cubic", ratio=0.2, stiffness_ratio=0.1, zeta=0.025)
     )
