@@ -4,10 +4,11 @@ P1 (m = 1, c = 0.02, k = 1, Jenkins kt = 3, f_s = 1), F = 0.5, Ω in
 (0.5, 3), H = 15 fixed: the warm trace time (``Branch.elapsed``) against
 the time of ``Branch.stability()`` (``exponents="auto"``: eigenvalues at a
 few points) and of ``Branch.stability(exponents="all")`` on the same
-branch, minimum of ``--repeat`` interleaved runs; then the Duffing case of
-``tests/test_stability.py``: how close the stability changes lie to the
-folds; with ``--beam`` the paper beam (several DOFs: eigenvalues at every
-point), F_n = 5 N.
+branch, minimum of ``--repeat`` interleaved runs; the same for the
+hardening Duffing of ``tests/test_stability.py`` (H = 9) and for P1's
+oscillator with a Menq contact (H = 15); then the Duffing case: how close
+the stability changes lie to the folds; with ``--beam`` the paper beam
+(several DOFs: eigenvalues at every point), F_n = 5 N.
 
     python -m bench.stability [--repeat 10] [--beam]
 """
@@ -24,6 +25,23 @@ import hbmfric as hf
 
 def p1_ratio(repeat: int) -> dict:
     law = hf.Jenkins(stiffness=3.0, slip_force=1.0)
+    osc = hf.Oscillator(1.0, 0.02, 1.0, law)
+    hf.frf(osc, 0.5, (0.5, 3.0), harmonics=15).stability()  # warm
+    return _ratio(lambda: hf.frf(osc, 0.5, (0.5, 3.0), harmonics=15), repeat)
+
+
+def duffing_ratio(repeat: int) -> dict:
+    """The hardening Duffing of ``tests/test_stability.py`` (two folds, an
+    unstable middle stretch; memoryless: no anchors)."""
+    osc = hf.Oscillator(1.0, 0.05, 1.0, hf.Cubic(0.1))
+    hf.frf(osc, 0.2, (0.5, 2.0), harmonics=9).stability()  # warm
+    return _ratio(lambda: hf.frf(osc, 0.2, (0.5, 2.0), harmonics=9), repeat)
+
+
+def menq_ratio(repeat: int) -> dict:
+    """P1's oscillator with a Menq contact of the same stiffness and slip
+    force, H = 15 (hysteretic: anchors)."""
+    law = hf.Menq.from_stiffness(stiffness=3.0, slip_force=1.0)
     osc = hf.Oscillator(1.0, 0.02, 1.0, law)
     hf.frf(osc, 0.5, (0.5, 3.0), harmonics=15).stability()  # warm
     return _ratio(lambda: hf.frf(osc, 0.5, (0.5, 3.0), harmonics=15), repeat)
@@ -86,7 +104,11 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=10)
     parser.add_argument("--beam", action="store_true")
     args = parser.parse_args()
-    cases = [("P1 F=0.5 H=15", p1_ratio)]
+    cases = [
+        ("P1 F=0.5 H=15", p1_ratio),
+        ("Duffing F=0.2 H=9", duffing_ratio),
+        ("Menq SDOF F=0.5 H=15", menq_ratio),
+    ]
     if args.beam:
         cases.append(("beam Fn=5", beam_ratio))
     for name, run in cases:

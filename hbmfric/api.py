@@ -44,7 +44,7 @@ def _problem(system, force, harmonics, n_time, symmetry, aft, condense, subharmo
     data = check_system(system)  # before anything reads the system
     if condense is None:
         condense = condensed_by_default(system)
-    if isinstance(condense, str) and condense in ("modal", "direct"):
+    if isinstance(condense, str) and condense in ("modal", "state", "direct"):
         return CondensedHBMProblem(
             system,
             force,
@@ -58,7 +58,8 @@ def _problem(system, force, harmonics, n_time, symmetry, aft, condense, subharmo
         )
     if not isinstance(condense, bool | np.bool_):
         raise ValueError(
-            f"condense must be True, False, None, 'modal' or 'direct', got {condense!r}"
+            f"condense must be True, False, None, 'modal', 'state' or 'direct', got "
+            f"{condense!r}"
         )
     cls = CondensedHBMProblem if condense else HBMProblem
     return cls(
@@ -92,6 +93,9 @@ def _describe(system, problem: HBMProblem, extra: dict) -> dict:
         "aft": problem.aft,
         "condensed": bool(getattr(problem, "condensed", False)),
     }
+    if info["condensed"]:
+        # "modal", "state" (complex modes) or "direct"
+        info["receptance"] = problem.receptance_method
     info.update(extra)
     return info
 
@@ -157,7 +161,7 @@ def frf(
     options : ContinuationOptions, optional
     amplitude_scale : float, optional
         Displacement scale of the arc length, m.
-    condense : bool or {"modal", "direct"}, optional
+    condense : bool or {"modal", "state", "direct"}, optional
         Solve the HBM on the contact DOF only (linear DOFs eliminated per
         harmonic by the dynamic receptance, every DOF recovered at the
         end); several 1D contacts: on their contact coordinates (relative
@@ -165,16 +169,18 @@ def frf(
         (:mod:`hbmfric.condensation`). Default: one contact to ground
         on a system with several DOFs, symmetric matrices and a regular
         ``K`` (:func:`~hbmfric.condensation.condensed_by_default`).
-        Several contacts are condensed only when asked (``True``,
-        ``"modal"``, ``"direct"``; fewer independent contact coordinates
-        than DOFs and no 2D element): the curve rule of the condensed
-        continuation watches the first contact's coordinate, not the
-        contact DOF drawn by default (the lap joint: chords up to 5e-4 off
-        on that DOF, warned, against 1e-4 in full).
+        Several contacts (fewer independent contact coordinates than
+        DOFs, no 2D element) are condensed by default when their
+        receptance comes from modal sums or complex modes; the curve rule
+        of the condensed continuation draws the contact DOF recovered from
+        the coordinates.
         The receptance comes from modal superposition with all modes when
-        the damping is classical, else from a direct solve per harmonic;
-        ``"modal"`` or ``"direct"`` force one. ``False`` solves the full
-        HBM.
+        the damping is classical; else, for several contacts, from the
+        complex modes of the first-order form when they reproduce direct
+        solves (:func:`~hbmfric.condensation.state_space_modes`); else from
+        a direct solve per harmonic (several contacts are then solved in
+        full by default). ``"modal"``, ``"state"`` or ``"direct"`` force
+        one. ``False`` solves the full HBM.
     retrace : bool, default True
         When the run ends without covering the range (the step collapsed,
         the step budget ran out, or the path turned back at a fold and

@@ -209,6 +209,7 @@ def locate_special_points(
     aft: str = "auto",
     subharmonic: int = 1,
     symmetric: bool = False,
+    stability_method: str = "hill",
 ) -> list[SpecialPoint]:
     """Locate the folds and stability changes of a branch.
 
@@ -230,6 +231,15 @@ def locate_special_points(
         Intervals with a stability change (None: stability not located).
     n_time, aft, subharmonic, symmetric
         The discretisation (as for :func:`hbmfric.stability.stability_of_points`).
+    stability_method : {"hill", "monodromy"}
+        How ``changes`` were found. ``"monodromy"`` (the time-domain
+        monodromy decided, :attr:`hbmfric.stability.Stability.criterion`):
+        a change in an interval without a fold is located on the largest
+        modulus of the monodromy's multipliers (Brent's method on
+        ``max |μ| - (1 + NEUTRAL_TOLERANCE)`` along the bordered path,
+        each trial a full Newton solve and a monodromy), where Hill's
+        exponents, which disagree with it, keep one sign; a change at a
+        fold stays with Hill's exponents (exact there).
 
     Returns
     -------
@@ -252,9 +262,20 @@ def locate_special_points(
             full = _to_full_basis(harmonic_numbers, coefficients[j], h)
             ends.append(np.append(full.reshape(-1), float(omega[j])))
         path = _BorderedPath(problem, ends[0], ends[1])
+        on_monodromy = None
+        if stability_method == "monodromy" and i not in folds:
+            on_monodromy = (system, force, subharmonic)
         try:
             found.extend(
-                _locate(path, problem, i, i in folds, i in change_set, symmetric)
+                _locate(
+                    path,
+                    problem,
+                    i,
+                    i in folds,
+                    i in change_set,
+                    symmetric,
+                    on_monodromy,
+                )
             )
         except (_NotSolved, ValueError) as exc:
             warnings.warn(
@@ -267,8 +288,18 @@ def locate_special_points(
     return found
 
 
-def _locate(path, problem, i: int, fold: bool, change: bool, symmetric: bool):
-    """The special points of one interval."""
+def _locate(
+    path,
+    problem,
+    i: int,
+    fold: bool,
+    change: bool,
+    symmetric: bool,
+    on_monodromy=None,
+):
+    """The special points of one interval (``on_monodromy``: ``(system,
+    force, subharmonic)`` to locate the stability change on the
+    time-domain monodromy)."""
     L = path.length
     hn = problem.harmonic_numbers
     n_dof = problem.n_unknowns // problem.n_coef
@@ -284,7 +315,9 @@ def _locate(path, problem, i: int, fold: bool, change: bool, symmetric: bool):
             FOLD, i, float(y[-1]), hn.copy(), y[:-1].reshape(n_dof, -1).copy()
         )
         out.append(fold_point)
-    if change:
+    if change and on_monodromy is not None:
+        out.append(_locate_on_monodromy(path, problem, i, *on_monodromy))
+    elif change:
 
         def largest_real(sigma: float) -> float:
             y, J = path.solve(sigma)
@@ -312,6 +345,56 @@ def _locate(path, problem, i: int, fold: bool, change: bool, symmetric: bool):
                 )
             )
     return out
+
+
+#: a crossing multiplier with ``|Im μ|`` below this (it is formed by
+#: finite differences of a time integration) is real
+MONODROMY_REAL_TOL = 1e-3
+
+
+def _locate_on_monodromy(path, problem, i: int, system, force, subharmonic):
+    """The stability change of one interval located on the time-domain
+    monodromy: the root of ``max |μ| - (1 + NEUTRAL_TOLERANCE)`` (the
+    monodromy's stability verdict) along the bordered path; its kind
+    from the crossing multiplier (real positive: branch point, real
+    negative: period doubling, else Neimark–Sacker)."""
+    from .stability import NEUTRAL_TOLERANCE, monodromy_multipliers
+
+    hn = problem.harmonic_numbers
+    n_dof = problem.n_unknowns // problem.n_coef
+    L = path.length
+
+    def multipliers(sigma: float) -> np.ndarray:
+        y, _ = path.solve(sigma)
+        X = y[:-1].reshape(n_dof, -1)
+        return monodromy_multipliers(system, force, hn, X, float(y[-1]), subharmonic)
+
+    def excess(sigma: float) -> float:
+        return float(np.abs(multipliers(sigma)).max()) - (1.0 + NEUTRAL_TOLERANCE)
+
+    r0, r1 = excess(0.0), excess(L)
+    if r0 * r1 > 0.0:
+        raise ValueError(
+            "the monodromy's largest |μ| has one side of 1 over the interval"
+        )
+    s = scipy.optimize.brentq(excess, 0.0, L, xtol=ROOT_TOL * L)
+    y, _ = path.solve(s)
+    mu = multipliers(s)
+    crossing = complex(mu[int(np.argmax(np.abs(mu)))])
+    if abs(crossing.imag) > MONODROMY_REAL_TOL:
+        kind = NEIMARK_SACKER
+    elif crossing.real < 0.0:
+        kind = PERIOD_DOUBLING
+    else:
+        kind = BRANCH_POINT
+    return SpecialPoint(
+        kind,
+        i,
+        float(y[-1]),
+        hn.copy(),
+        y[:-1].reshape(n_dof, -1).copy(),
+        multiplier=crossing,
+    )
 
 
 __all__ = [

@@ -19,6 +19,7 @@ from .kernels.residuals.condensed import (
     AFT_SAMPLES,
     DIRECT,
     MODAL,
+    STATE,
     CondensedCoulombProblem,
     CondensedProblem,
     condensed_contact_forces,
@@ -33,7 +34,15 @@ from .systems.contacts import check_contacts, contact_arrays
 #: as classical (modal) damping
 _CLASSICAL_TOL = 1e-8
 
-RECEPTANCE_METHODS = ("auto", "modal", "direct")
+RECEPTANCE_METHODS = ("auto", "modal", "state", "direct")
+
+#: largest error of the receptance from complex modes against direct solves
+#: (relative to the largest receptance term, at the test pulsations of
+#: :func:`state_space_modes`) accepted; beyond it the direct solve is used
+STATE_TOL = 1e-10
+
+#: complex modes per system matrices (:func:`state_space_modes`)
+_STATE_CACHE: dict = {}
 
 
 def system_modes(system) -> tuple[np.ndarray, np.ndarray]:
@@ -79,22 +88,26 @@ def can_condense(system) -> bool:
 
 
 def condensed_by_default(system) -> bool:
-    """What ``condense=None`` chooses: :func:`can_condense`, for one contact
-    to ground only. Several contacts are condensed when asked
-    (``condense=True``, ``"modal"`` or ``"direct"``).
+    """What ``condense=None`` chooses: :func:`can_condense`, with the
+    receptance from modal sums (classical damping) or complex modes
+    (:func:`state_space_modes`) for several contacts.
 
-    The step collapse of the condensed continuation at the lap joint's
-    stuck resonance (stop 22) is fixed (the corrector accepts the residual's
-    rounding level, :func:`hbmfric.kernels.residuals.condensed._rounding_level`), and
-    condensed the joint's 9 curves take a third of the time with the same
-    peaks. It stays opt-in because its curve rule watches the first
-    contact's coordinate (a relative slip), not the contact DOF a branch
-    reports by default. On the joint the straight lines between the
-    points then stray from the branch by up to 5e-4 on that DOF (Fex/P =
-    0.04; warned), where the full solve keeps 1e-4 (``bench/README.md``)."""
+    Several contacts are condensed by default since stop 24: the condensed
+    curve rule draws the contact DOF recovered from the coordinates
+    (:func:`hbmfric.kernels.residuals.condensed.coordinates_drawn`), the DOF a
+    branch reports and checks, so the chords keep the curve tolerance as
+    in full (the lap joint, N = 10, H = 15: ``Branch.curve_errors`` at
+    most 1e-4 condensed and full). When neither receptance applies (the
+    complex modes fail their check; the direct solve remains, whose curve
+    rule watches the first coordinate) several contacts are solved in
+    full."""
     if not can_condense(system):
         return False
-    return _single(check_contacts(system, int(system.n_dof)))
+    if _single(check_contacts(system, int(system.n_dof))):
+        return True
+    if modal_damping(system) is not None:
+        return True
+    return state_space_modes(*system.matrices()) is not None
 
 
 def _single(contacts) -> bool:
@@ -151,6 +164,100 @@ def modal_damping(system) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     return omega, shapes, diag
 
 
+def state_space_modes(mass, damping, stiffness):
+    """Complex modes of ``M ẍ + C ẋ + K x = f`` (any damping matrix), such
+    that ``Z(ω)⁻¹ = (K - ω² M + iω C)⁻¹ = X diag(1/(iω - λ_r)) Y``.
+
+    The first-order form is scaled by the Cholesky factors ``K = L_K L_Kᵀ``
+    and ``M = L_M L_Mᵀ``: with the state ``z = [L_Kᵀ x; L_Mᵀ ẋ]``,
+    ``ż = A z + [0; L_M⁻¹ f]``, ``A = [[0, Sᵀ], [-S, -L_M⁻¹ C L_M⁻ᵀ]]`` and
+    ``S = L_M⁻¹ L_K`` (its singular values are the undamped natural
+    pulsations, so ``A`` is nearly normal for light damping and its
+    eigenvectors well conditioned). With ``A = V diag(λ) V⁻¹``:
+    ``X = L_K⁻ᵀ V[:n]`` and ``Y = V⁻¹[:, n:] L_M⁻¹``. (Balancing by the
+    undamped modes instead loses ``eps ω_max²/ω_min²`` relative on the
+    low modes, 2e-6 on the lap joint.)
+
+    The decomposition is checked against direct solves of ``Z(ω)`` at the
+    pulsation 0 and at (up to 24) geometric midpoints between consecutive
+    natural pulsations; it is returned only when the error at each is
+    below :data:`STATE_TOL` relative to the largest term of ``Z⁻¹``, plus
+    ``16 eps κ₁(Z)`` (the direct solve's own error where ``Z`` is
+    ill-conditioned: 1e-8 at the lap joint's suspension modes, 1e-12 in
+    its bending range). Defective or nearly repeated modes make ``V``
+    ill-conditioned and fail this check. Cached per matrices.
+
+    Parameters
+    ----------
+    mass, damping, stiffness : ndarray, shape (n_dof, n_dof)
+        Symmetric; ``M`` and ``K`` positive definite (no rigid-body mode).
+
+    Returns
+    -------
+    tuple or None
+        ``(poles, X, Y, error)``: ``λ_r`` (rad/s, shape (2 n_dof,)), ``X``
+        (shape (n_dof, 2 n_dof)), ``Y`` (shape (2 n_dof, n_dof)), complex,
+        and the largest relative error measured; None when ``M`` or ``K``
+        is not positive definite, the eigenproblem fails or the check
+        fails (the caller then solves directly).
+    """
+    M, C, K = (np.ascontiguousarray(a, dtype=float) for a in (mass, damping, stiffness))
+    key = (M.tobytes(), C.tobytes(), K.tobytes())
+    if key in _STATE_CACHE:
+        return _STATE_CACHE[key]
+    out = _state_space_modes(M, C, K)
+    if len(_STATE_CACHE) >= 8:
+        _STATE_CACHE.pop(next(iter(_STATE_CACHE)))
+    _STATE_CACHE[key] = out
+    return out
+
+
+def _state_space_modes(M, C, K):
+    from scipy.linalg import LinAlgError, cholesky, eig, solve_triangular  # lazy
+
+    n = M.shape[0]
+    try:
+        L_k = cholesky(K, lower=True)
+        L_m = cholesky(M, lower=True)
+    except LinAlgError:
+        return None
+    S = solve_triangular(L_m, L_k, lower=True)
+    C_s = solve_triangular(L_m, solve_triangular(L_m, C, lower=True).T, lower=True)
+    A = np.zeros((2 * n, 2 * n))
+    A[:n, n:] = S.T
+    A[n:, :n] = -S
+    A[n:, n:] = -C_s
+    try:
+        poles, V = eig(A)
+        V_inv = np.linalg.inv(V)
+    except (LinAlgError, np.linalg.LinAlgError, ValueError):
+        return None
+    if not (np.all(np.isfinite(poles)) and np.all(np.isfinite(V_inv))):
+        return None
+    X = solve_triangular(L_k.T, V[:n], lower=False)
+    Y = solve_triangular(L_m.T, V_inv[:, n:].T, lower=False).T
+    # test pulsations: 0 and geometric midpoints between consecutive
+    # natural pulsations (at most 24)
+    omega = np.unique(np.abs(poles.imag))
+    omega = omega[omega > 0.0]
+    mids = np.sqrt(omega[1:] * omega[:-1])
+    mids = mids[np.diff(omega) > 1e-3 * omega[1:]]
+    if mids.size > 24:
+        mids = mids[np.unique(np.linspace(0, mids.size - 1, 24).astype(int))]
+    error = 0.0
+    for w in np.concatenate([[0.0], mids]):
+        Z = K - w * w * M + 1j * w * C
+        exact = np.linalg.inv(Z)
+        approx = (X / (1j * w - poles)) @ Y
+        scale = float(np.max(np.abs(exact)))
+        kappa = np.linalg.norm(Z, 1) * np.linalg.norm(exact, 1)
+        err = float(np.max(np.abs(approx - exact))) / scale
+        if not err <= STATE_TOL + 16.0 * np.finfo(float).eps * kappa:
+            return None
+        error = max(error, err)
+    return poles, X, Y, error
+
+
 def _singular(stiffness) -> bool:
     """True when ``stiffness`` (shape (n, n), N/m) is singular to rounding:
     a rigid-body mode of the structure without its contact."""
@@ -183,7 +290,9 @@ class CondensedHBMProblem(HBMProblem):
     ``B Z(kΩ)⁻¹ Bᵀ`` per harmonic (:mod:`hbmfric.kernels.residuals.condensed`).
     ``problem.system`` is then a view of the system in coordinates
     (``n_dof`` the number of coordinates, ``contact_dof`` 0: the
-    continuation's accuracy and curve rules watch the first coordinate);
+    continuation's accuracy rules watch the first coordinate; its curve
+    rule draws the contact DOF recovered from the coordinates with modal
+    sums or complex modes, the first coordinate with direct solves);
     ``problem.structure`` is the system itself.
 
     Parameters
@@ -191,11 +300,15 @@ class CondensedHBMProblem(HBMProblem):
     system, force, harmonics, n_time, symmetry, aft, subharmonic
         As :class:`~hbmfric.hbm.HBMProblem` (a rigid :class:`~hbmfric.Coulomb`
         contact is solved by DLFT on the condensed residual).
-    receptance : {"auto", "modal", "direct"}
+    receptance : {"auto", "modal", "state", "direct"}
         ``"modal"``: modal superposition with all modes (exact for
-        classical damping, the fast path); ``"direct"``: a complex solve of
-        ``K - ω² M + iω C`` per harmonic and residual evaluation (any
-        damping); ``"auto"``: modal when the damping is classical.
+        classical damping, the fast path); ``"state"`` (several contacts):
+        the complex modes of the first-order form (any damping,
+        :func:`state_space_modes`, ``O(n_states n_c²)`` per harmonic, no
+        factorisation); ``"direct"``: a complex solve of ``K - ω² M + iω
+        C`` per harmonic and residual evaluation (any damping); ``"auto"``:
+        modal when the damping is classical, else complex modes for
+        several contacts when they pass their check, else direct.
     """
 
     condensed = True
@@ -251,10 +364,30 @@ class CondensedHBMProblem(HBMProblem):
                 "receptance='modal' needs classical (modal or Rayleigh) damping and "
                 "no rigid-body mode; use receptance='direct'"
             )
+        state = None
+        if receptance == "state" or (
+            receptance == "auto" and modal is None and self.multi
+        ):
+            if not self.multi:
+                raise ValueError(
+                    "receptance='state' is for several contacts (or one between "
+                    "two DOFs); use receptance='direct'"
+                )
+            state = state_space_modes(*self._matrices)
+            if state is None and receptance == "state":
+                raise ValueError(
+                    "the complex modes do not reproduce the direct receptance "
+                    f"to {STATE_TOL:g} (defective or nearly repeated modes, or "
+                    "a rigid-body mode); use receptance='direct'"
+                )
+            receptance = "direct" if state is None else "state"
         if receptance == "auto":
             receptance = "direct" if modal is None else "modal"
 
+        #: "modal", "state" or "direct"; "auto" chose "direct" for several
+        #: contacts only when the complex modes failed their check
         self.receptance_method = receptance
+        self._state = state
         self.contact_dof = int(system.contact_dof)
         self._modal = modal if receptance == "modal" else None
         self.shapes = None if self._modal is None else np.ascontiguousarray(modal[1])
@@ -293,6 +426,26 @@ class CondensedHBMProblem(HBMProblem):
         empty = np.zeros((0, 0))
         modal = self._modal
         coordinate_shapes = np.zeros((law_codes.size, 0))
+        n_c = law_codes.size
+        state_parts = (
+            np.zeros((n_c, 0), dtype=complex),
+            np.zeros((0, n_c), dtype=complex),
+            np.zeros(0, dtype=complex),
+            np.zeros((0, self.n_coef), dtype=complex),
+            np.zeros(0, dtype=complex),
+        )
+        method = MODAL if modal is not None else DIRECT
+        if self._state is not None:
+            poles, X, Y, _ = self._state
+            B = self.selection
+            state_parts = (
+                np.ascontiguousarray(B @ X),
+                np.ascontiguousarray(Y @ B.T),
+                np.ascontiguousarray(poles),
+                np.ascontiguousarray(Y @ load),
+                np.ascontiguousarray(X[self.contact_dof]),
+            )
+            method = STATE
         if modal is not None:
             omega, shapes, modal_c = modal
             if self.multi:
@@ -303,6 +456,9 @@ class CondensedHBMProblem(HBMProblem):
                 np.ascontiguousarray(modal_c),
                 np.ascontiguousarray(shapes.T @ load),
             )
+            direct_parts = (empty, empty, empty, empty)
+        elif method == STATE:
+            modal_parts = (np.zeros(0), np.zeros(0), np.zeros(0), empty)
             direct_parts = (empty, empty, empty, empty)
         else:
             modal_parts = (np.zeros(0), np.zeros(0), np.zeros(0), empty)
@@ -319,7 +475,7 @@ class CondensedHBMProblem(HBMProblem):
             inverse,
             forward,
             derivative,
-            np.int64(MODAL if modal is not None else DIRECT),
+            np.int64(method),
             np.int64(self.contact_dof),
             *direct_parts,
             float(mass[self.contact_dof, self.contact_dof]),
@@ -327,6 +483,10 @@ class CondensedHBMProblem(HBMProblem):
             law_codes,
             np.ascontiguousarray(law_rows),
             coordinate_shapes,
+            *state_parts,
+            # the curve rule draws the contact DOF, recovered (not for the
+            # direct receptance: it watches coordinate 0 there)
+            np.int64(self.contact_dof if self.multi else -1),
             np.zeros(1),
         )
         self.n_unknowns = self.n_coordinates * self.n_coef
@@ -505,9 +665,9 @@ class CondensedHBMProblem(HBMProblem):
 
     def _coordinate_recover(self, points: np.ndarray, F: np.ndarray) -> np.ndarray:
         """:meth:`full_coefficients` for several contacts:
-        ``x̂_k = Z(kΩ)⁻¹ (P̂_k - Bᵀ f̂_k)`` per harmonic, by modal sums or
-        direct solves (plain NumPy); ``F`` of shape (n_points, n_c,
-        n_coef)."""
+        ``x̂_k = Z(kΩ)⁻¹ (P̂_k - Bᵀ f̂_k)`` per harmonic, by modal sums,
+        complex modes or direct solves (plain NumPy); ``F`` of shape
+        (n_points, n_c, n_coef)."""
         omega = points[:, -1]
         loads = self._complex_load()
         cols = coefficient_columns(self.harmonic_numbers)
@@ -522,6 +682,9 @@ class CondensedHBMProblem(HBMProblem):
                 omega_r, shapes, modal_c = self._modal
                 d = omega_r**2 - w[:, None] ** 2 + 1j * w[:, None] * modal_c
                 x = ((rhs @ shapes) / d) @ shapes.T
+            elif self.receptance_method == "state":
+                poles, X, Y, _ = self._state
+                x = ((rhs @ Y.T) / (1j * w[:, None] - poles)) @ X.T
             else:
                 x = self._direct_response(w, rhs)
             out[:, :, c] = x.real
@@ -543,9 +706,10 @@ class _CoordinateView:
     """The system as the continuation of a problem condensed onto several
     contact coordinates sees it: every attribute of the system, except
     ``n_dof`` (the number of coordinates, the blocks of the unknowns),
-    ``contact_dof`` = 0 (the first coordinate, the one the accuracy and
-    curve rules watch) and no ``output_weights`` (they weigh DOFs, not
-    coordinates)."""
+    ``contact_dof`` = 0 (the first coordinate, the one the accuracy rules
+    watch; the curve rule draws the recovered contact DOF, see
+    :class:`CondensedHBMProblem`) and no ``output_weights`` (they weigh
+    DOFs, not coordinates)."""
 
     contact_dof = 0
     output_weights = None

@@ -128,7 +128,7 @@ def periodic_solution(
         Newton tolerances and the settings of the continuation fallback;
         its ``max_steps`` bounds the steps of all the fallback traces
         together (from below and from above).
-    condense : bool or {"modal", "direct"}, optional
+    condense : bool or {"modal", "state", "direct"}, optional
         As in :func:`hbmfric.frf`.
     branch_side : {None, "below", "above"}
         Which solution to return where several coexist (between the folds

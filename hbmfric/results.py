@@ -578,7 +578,10 @@ class Branch:
         """Folds and stability changes, each located between the two branch
         points that bracket it (:mod:`hbmfric.bifurcation`: a root search
         on the Ω tangent or on the largest Floquet exponent along the
-        solutions between the points, each a full Newton solve).
+        solutions between the points, each a full Newton solve). Where the
+        stability comes from the time-domain monodromy (``criterion ==
+        "monodromy"``), a change away from a fold is located on the
+        monodromy's largest multiplier instead.
 
         Parameters
         ----------
@@ -608,7 +611,12 @@ class Branch:
         from .bifurcation import locate_special_points
 
         src = _stability_source(self._source, system)
-        changes = self.stability(src["system"]).changes() if stability else None
+        changes, method = None, "hill"
+        if stability:
+            stab = self.stability(src["system"])
+            changes = stab.changes()
+            if stab.criterion == "monodromy":
+                method = "monodromy"
         h = (
             self.point_harmonics
             if self.point_harmonics is not None
@@ -628,6 +636,7 @@ class Branch:
             aft=self.info.get("aft", "auto"),
             subharmonic=int(self.info.get("subharmonic", 1)),
             symmetric=bool(self.info.get("odd_only", False)),
+            stability_method=method,
         )
 
     @property

@@ -375,6 +375,13 @@ def _parity_blocks(harmonic_numbers: np.ndarray, n_dof: int):
     return odd, even
 
 
+def _parity_of_rows(harmonic_numbers: np.ndarray, n_dof: int) -> np.ndarray:
+    """Parity (0 even, 1 odd) of the harmonic of each row (DOF-major
+    layout), shape (n_dof * n_coef,), int64."""
+    per = np.repeat(harmonic_numbers, np.where(harmonic_numbers == 0, 1, 2))
+    return np.tile(per % 2, n_dof).astype(np.int64)
+
+
 def floquet_exponents(
     jacobian: np.ndarray,
     mass: np.ndarray,
@@ -432,12 +439,13 @@ def _groups(J: np.ndarray, harmonic_numbers, n_dof: int, split: bool) -> list:
 def _pencil_blocks(mass, damping, harmonic_numbers, groups) -> list:
     """Per Hill block (``groups``: index arrays): its indices, the damping
     and Ω-proportional parts of ``Δ1`` (``Δ1 = d1_damp + Ω d1_mass``),
-    ``Δ2`` and the inverse of ``Δ2`` (None when the mass is singular)."""
+    ``Δ2`` and the inverse of ``Δ2`` (None when the mass is singular).
+
+    Built entry by entry on the block's rows (row ``r`` of the DOF-major
+    layout is coefficient ``r % n_coef`` of DOF ``r // n_coef``):
+    ``(A ⊗ B)[r, s] = A[dof_r, dof_s] B[coef_r, coef_s]``."""
     n_coef = sum(g.size for g in groups) // mass.shape[0]
-    eye = np.eye(n_coef)
-    d1_damp = np.kron(damping, eye)
-    d1_mass = 2.0 * np.kron(mass, derivative_operator(harmonic_numbers, 1.0))
-    d2 = np.kron(mass, eye)
+    D = derivative_operator(harmonic_numbers, 1.0)
     try:
         minv = np.linalg.inv(mass)
         if not np.all(np.isfinite(minv)):
@@ -446,9 +454,14 @@ def _pencil_blocks(mass, damping, harmonic_numbers, groups) -> list:
         minv = None
     blocks = []
     for idx in groups:
-        sub = np.ix_(idx, idx)
-        mi = None if minv is None else np.kron(minv, eye)[sub]
-        blocks.append((idx, d1_damp[sub], d1_mass[sub], d2[sub], mi))
+        dof, coef = np.divmod(idx, n_coef)
+        pair_dof = np.ix_(dof, dof)
+        same = np.equal.outer(coef, coef).astype(float)
+        d1_damp = damping[pair_dof] * same
+        d1_mass = 2.0 * mass[pair_dof] * D[np.ix_(coef, coef)]
+        d2 = mass[pair_dof] * same
+        mi = None if minv is None else minv[pair_dof] * same
+        blocks.append((idx, d1_damp, d1_mass, d2, mi))
     return blocks
 
 
@@ -515,8 +528,12 @@ class _Level:
     With ``signs``, the signs of ``det Δ0`` of each Hill block at every
     point are computed too (:meth:`determinant_signs`)."""
 
-    def __init__(self, problem, idx, points, harmonic_numbers, keep, split, signs):
+    def __init__(
+        self, problem, idx, points, harmonic_numbers, keep, split, signs, reflect=False
+    ):
         self.problem = problem
+        self.reflect = reflect  # measure the symmetry of Δ0 (one DOF)
+        self._asymmetry = None  # relative asymmetry when measured
         self.idx = idx  # indices of the points in the whole set
         self.points = points  # (k, n_unknowns + 1): [X in the full basis, Ω]
         self.harmonic_numbers = harmonic_numbers  # of the perturbation
@@ -536,9 +553,15 @@ class _Level:
         # the candidate blocks computed with them
         self._all = None
         self._signs = None
-        if idx.size <= self.chunk:
+        self._extremes = None  # (coupling, largest) measured with them
+        if signs and reflect and len(candidates) == 2 and _memoryless(problem, keep):
+            # signs from the tangent stiffness's spectrum; the Jacobians
+            # of the few computed points are evaluated when asked for
+            self._signs, self._extremes = _memoryless_signs(problem, points, candidates)
+            self._asymmetry = 0.0  # symmetric by construction (W-weighted)
+        elif idx.size <= self.chunk:
             self._all, self._signs = self._evaluate(
-                np.arange(idx.size), candidates if signs else None
+                np.arange(idx.size), candidates if signs else None, len(candidates) == 2
             )
         self.groups = self._decide_groups(candidates)
         if self._signs is not None and len(self.groups) != len(candidates):
@@ -561,10 +584,12 @@ class _Level:
             return self._all[local]
         return self._evaluate(local)[0]
 
-    def _evaluate(self, local: np.ndarray, groups=None):
+    def _evaluate(self, local: np.ndarray, groups=None, coupling: bool = False):
         """``∂R/∂X`` at the points ``local``, one compiled loop, and the
         signs (k, n_groups) of the determinants of the blocks ``groups``
-        (None: not computed)."""
+        (None: not computed). With ``coupling`` (and every row kept), the
+        largest odd-even coupling and entry are measured in the same loop
+        (``self._extremes``, for :meth:`_decide_groups`)."""
         from .kernels.stability.hill import hill_jacobians
 
         problem = self.problem
@@ -573,6 +598,26 @@ class _Level:
         status = np.empty(local.size, dtype=np.int64)
         blocks, sizes = _block_table(groups or [], self.keep)
         signs = np.empty((local.size, sizes.size), dtype=np.int64)
+        parity = np.zeros(0, dtype=np.int64)
+        if coupling and self.keep is None:
+            parity = _parity_of_rows(self.harmonic_numbers, self.n_dof)
+        skew = np.zeros((0, 0))
+        weight = np.zeros(0)
+        if self.reflect and groups:
+            # rows of harmonic 0 carry half the Galerkin weight of the
+            # others: W = diag(2 there, 1 elsewhere) makes the AFT
+            # Jacobian of a memoryless law symmetric
+            per = np.repeat(
+                problem.harmonic_numbers,
+                np.where(problem.harmonic_numbers == 0, 1, 2),
+            )
+            weight = np.tile(np.where(per == 0, 2.0, 1.0), self.n_dof)
+            skew = 2.0 * np.kron(
+                problem.kernel_problem[2],
+                derivative_operator(problem.harmonic_numbers, 1.0),
+            )
+            skew *= weight[:, None]
+        extremes = np.zeros(3)
         hill_jacobians(
             np.ascontiguousarray(self.points[local]),
             problem.kernel_problem,
@@ -581,6 +626,11 @@ class _Level:
             blocks,
             sizes,
             signs,
+            parity,
+            weight,
+            skew,
+            SPLIT_TOLERANCE,
+            extremes,
         )
         bad = np.flatnonzero(status < 0)
         if bad.size:
@@ -589,6 +639,10 @@ class _Level:
             raise ValueError(
                 f"the AFT failed at Ω = {omega:.6g} rad/s (code {int(status[j])})"
             )
+        if parity.size:
+            self._extremes = (float(extremes[0]), float(extremes[1]))
+        if skew.size:
+            self._asymmetry = float(extremes[2])
         if self.keep is not None:
             J = J[:, self.keep][:, :, self.keep]
         return J, (signs if groups else None)
@@ -609,13 +663,26 @@ class _Level:
         from .kernels.stability.hill import split_extremes
 
         odd, even = candidates
-        coupling, largest = 0.0, 0.0
-        for _, J in self._chunks():
-            c, g = split_extremes(J, odd, even)
-            coupling, largest = max(coupling, c), max(largest, g)
+        if self._extremes is not None:
+            coupling, largest = self._extremes  # measured with the Jacobians
+        else:
+            coupling, largest = 0.0, 0.0
+            for _, J in self._chunks():
+                c, g = split_extremes(J, odd, even)
+                coupling, largest = max(coupling, c), max(largest, g)
         if np.isfinite(largest) and coupling <= SPLIT_TOLERANCE * largest:
             return candidates
         return [np.arange(self.n)]
+
+    def reflection_symmetric(self) -> bool:
+        """Whether ``W (Δ0 - Ω C ⊗ D₁)`` was found symmetric (relative
+        ``SPLIT_TOLERANCE`` to each point's largest entry; ``W``: 2 on the
+        rows of harmonic 0, 1 elsewhere) at every point of the level
+        (measured with the Jacobians when ``reflect``; False when not
+        measured)."""
+        if self._asymmetry is None:
+            return False
+        return bool(self._asymmetry <= SPLIT_TOLERANCE)
 
     def exponents(self, local: np.ndarray) -> np.ndarray:
         """Selected exponents (k, 2 n_dof) at the level's points ``local``."""
@@ -648,6 +715,70 @@ class _Level:
         return signs
 
 
+#: a block's determinant sign counts as 0 (a flip on both sides of the
+#: point) where its smallest LU pivot is below this share of its largest:
+#: the spectral Jacobian of :func:`_memoryless_signs` equals the AFT's up to
+#: rounding only, and a sign taken that close to singular could differ
+SIGN_GUARD = 1e-11
+
+
+def _memoryless(problem, keep) -> bool:
+    """Whether the Jacobians of ``problem`` can come from the spectrum of
+    the tangent stiffness (:func:`hbmfric.kernels.stability.hill.memoryless_jacobians`):
+    one DOF, every row kept, every contact memoryless (``Cubic``) between
+    the DOF and ground, one fundamental (no subharmonic)."""
+    from .kernels.laws.updates import CUBIC
+
+    kp = problem.kernel_problem
+    if keep is not None or kp[1].shape[0] != 1 or type(kp).__name__ != "tuple":
+        return False
+    if getattr(problem, "subharmonic", 1) not in (None, 1):
+        return False
+    pairs, codes = np.asarray(kp[5]), np.asarray(kp[6])
+    hn = np.asarray(kp[0])
+    return bool(
+        np.all(codes == CUBIC)
+        and (pairs.size == 0 or (np.all(pairs[:, 0] == 0) and np.all(pairs[:, 1] < 0)))
+        and np.array_equal(hn, np.arange(hn.size))
+    )
+
+
+def _memoryless_signs(problem, points: np.ndarray, groups: list):
+    """Signs (k, n_groups) of the blocks ``groups`` of the Jacobians at
+    ``points`` (k, n + 1), and the (coupling, largest) pair of
+    :meth:`_Level._decide_groups`, from the tangent stiffness's spectrum."""
+    from .kernels.stability.hill import memoryless_jacobians
+
+    kp = problem.kernel_problem
+    hn = np.asarray(kp[0])
+    n_time = kp[9].shape[0]
+    theta = 2.0 * np.pi * np.arange(n_time) / n_time
+    m = np.arange(2 * int(hn[-1]) + 1)[:, None]
+    structure = np.array([kp[1][0, 0], kp[2][0, 0], kp[3][0, 0]], dtype=float)
+    blocks, sizes = _block_table(groups, None)
+    signs = np.empty((points.shape[0], sizes.size), dtype=np.int64)
+    extremes = np.zeros(2)
+    n = problem.n_unknowns
+    memoryless_jacobians(
+        np.ascontiguousarray(points),
+        hn.astype(np.int64),
+        structure,
+        np.asarray(kp[6], dtype=np.int64),
+        np.ascontiguousarray(kp[7], dtype=float),
+        np.cos(m * theta),
+        np.sin(m * theta),
+        np.empty((n, n)),
+        blocks,
+        sizes,
+        signs,
+        _parity_of_rows(hn, 1),
+        SIGN_GUARD,
+        True,  # Cubic, the only memoryless law, is odd
+        extremes,
+    )
+    return signs, (float(extremes[0]), float(extremes[1]))
+
+
 def _block_table(groups: list, keep) -> tuple[np.ndarray, np.ndarray]:
     """Index blocks as a padded table (n_blocks, m_max) and their sizes,
     mapped through ``keep`` (indices of the kept rows in the full
@@ -664,6 +795,10 @@ _CHUNK_BYTES = 1 << 25
 #: ``exponents="auto"`` computes Hill's eigenvalues at every
 #: ``ANCHOR_SPACING``-th point at least (see :func:`stability_of_points`)
 ANCHOR_SPACING = 64
+#: relative tolerance (to ``c/m`` plus the largest ``|Re λ|``) of the
+#: pairing ``Re(λ₁ + λ₂) = -c/m`` of the two exponents of one DOF that
+#: lets a reflection-symmetric branch go without anchors
+REFLECTION_TOLERANCE = 1e-8
 
 
 def _exponents_at(levels: list, level_of: np.ndarray, local_of, where) -> np.ndarray:
@@ -692,11 +827,18 @@ def _sparse_schedule(
     is adjacent. ``verdict(where)`` returns the stability of the points
     ``where``. Every other point takes the verdict of the computed points
     around it (equal by construction).
+
+    ``anchor_spacing = 0`` (the verdict can change only at a flip): one
+    point per stretch between flips, the two ends of every flip (the
+    first point if there is no flip), and no anchors.
     """
     want = np.zeros(n_points, dtype=bool)
-    want[[0, n_points - 1]] = True
-    want[::anchor_spacing] = True
     f = np.flatnonzero(flips)
+    if anchor_spacing > 0:
+        want[[0, n_points - 1]] = True
+        want[::anchor_spacing] = True
+    elif f.size == 0:
+        want[0] = True
     want[f] = True
     want[f - 1] = True
     computed = np.zeros(n_points, dtype=bool)
@@ -868,7 +1010,9 @@ def stability_of_points(
         used[idx] = hn[-1]
         level_of[idx] = len(levels)
         local_of[idx] = np.arange(idx.size)
-        levels.append(_Level(problem, idx, points, hn, keep, symmetric, sparse))
+        levels.append(
+            _Level(problem, idx, points, hn, keep, symmetric, sparse, reflect=sparse)
+        )
 
     def exponents_at(where: np.ndarray) -> np.ndarray:
         return _exponents_at(levels, level_of, local_of, where)
@@ -889,12 +1033,33 @@ def stability_of_points(
         flips = np.zeros(n_points, dtype=bool)
         flips[1:] = np.any(signs[1:] != signs[:-1], axis=1) | zero[1:] | zero[:-1]
 
+        # Δ0 - Ω C ⊗ D₁ symmetric at every point (a memoryless law): the
+        # pencil's eigenvalues pair as λ, -c/m - λ, the verdict changes
+        # only at a flip (stability_of_points); checked on the computed
+        # points' exponents, anchors again where it fails
+        c_over_m = float(
+            problems[0][1].kernel_problem[2][0, 0]
+            / problems[0][1].kernel_problem[1][0, 0]
+        )
+        reflected = subharmonic == 1 and all(lv.reflection_symmetric() for lv in levels)
+        paired = [True]
+
         def verdict(where: np.ndarray) -> np.ndarray:
             lam = exponents_at(where)
             exps[where] = lam
+            total = lam.real.sum(axis=1)
+            size = c_over_m + np.abs(lam.real).max(axis=1)
+            paired[0] &= bool(
+                np.all(np.abs(total + c_over_m) <= REFLECTION_TOLERANCE * size)
+            )
             return lam.real.max(axis=1) < 0.0
 
-        computed, stable = _sparse_schedule(n_points, flips, verdict, ANCHOR_SPACING)
+        spacing = 0 if reflected else ANCHOR_SPACING
+        computed, stable = _sparse_schedule(n_points, flips, verdict, spacing)
+        if spacing == 0 and not paired[0]:
+            computed, stable = _sparse_schedule(
+                n_points, flips, verdict, ANCHOR_SPACING
+            )
     else:
         computed = np.ones(n_points, dtype=bool)
         if n_points:
@@ -953,22 +1118,53 @@ def _automatic_method(system, n_dof: int) -> str:
 NEUTRAL_TOLERANCE = 1e-6
 
 
+def monodromy_multipliers(
+    system, force, harmonic_numbers, coefficients, omega, subharmonic=1
+) -> np.ndarray:
+    """Floquet multipliers of one harmonic-balance solution by the
+    time-domain monodromy (:func:`hbmfric.validation.monodromy`, its
+    defaults), sorted by decreasing modulus.
+
+    Parameters
+    ----------
+    system : Oscillator or compatible
+    force : float
+        Forcing amplitude, N.
+    harmonic_numbers : ndarray of int, shape (n_harmonics,)
+    coefficients : ndarray, shape (n_dof, n_coef)
+        The solution, m.
+    omega : float
+        Ω of the solution (its fundamental), rad/s.
+    subharmonic : int
+        Order ``ν``: the map runs over ``ν`` forcing periods of ``ν Ω``.
+
+    Returns
+    -------
+    ndarray of complex, shape (n_state,)
+    """
+    from .signals import state_at_zero
+    from .validation.period_map import monodromy
+
+    nu = int(subharmonic or 1)
+    x0, v0 = state_at_zero(harmonic_numbers, coefficients, float(omega))
+    result = monodromy(
+        system, (x0, v0), force=force, omega=nu * float(omega), periods=nu
+    )
+    return result.multipliers
+
+
 def _monodromy_stability(
     system, force, omega, harmonic_numbers, coefficients, point_harmonics, subharmonic
 ) -> Stability:
     """:class:`Stability` from the time-domain monodromy of every point."""
-    from .signals import state_at_zero
-    from .validation.period_map import monodromy
-
     start = time.perf_counter()
-    nu = int(subharmonic or 1)
     rows = []
     for i, w in enumerate(omega):
-        x0, v0 = state_at_zero(harmonic_numbers, coefficients[i], float(w))
-        result = monodromy(
-            system, (x0, v0), force=force, omega=nu * float(w), periods=nu
+        rows.append(
+            monodromy_multipliers(
+                system, force, harmonic_numbers, coefficients[i], float(w), subharmonic
+            )
         )
-        rows.append(result.multipliers)
     mu = np.array(rows, dtype=complex).reshape(omega.size, -1)
     period = 2.0 * np.pi / omega  # the map's duration: ν forcing periods
     with np.errstate(divide="ignore"):

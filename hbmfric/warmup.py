@@ -67,7 +67,12 @@ def _steps() -> list[tuple[str, Callable[[], object]]]:
         ),
         (
             "Hill stability",
-            lambda: hf.frf(osc(jenkins), 0.5, band, 5).stability().exponents,
+            # a hysteretic branch (AFT Jacobians) and a memoryless one (the
+            # tangent stiffness's spectrum): both kernels
+            lambda: (
+                hf.frf(osc(jenkins), 0.5, band, 5).stability().exponents,
+                hf.frf(osc(hf.Cubic(0.2)), 0.3, band, 7).stability().exponents,
+            ),
         ),
         ("one frequency", lambda: hf.periodic_solution(osc(jenkins), 0.5, 1.2)),
         (

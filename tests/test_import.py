@@ -85,9 +85,9 @@ def test_kernel_folders_import_only_earlier_stages():
     import ast
 
     kernels = ROOT / "hbmfric" / "kernels"
-    assert {p.name for p in kernels.iterdir() if p.is_dir()} - {
-        "__pycache__"
-    } == set(KERNEL_STAGES)
+    assert {p.name for p in kernels.iterdir() if p.is_dir()} - {"__pycache__"} == set(
+        KERNEL_STAGES
+    )
     assert [p.name for p in kernels.glob("*.py")] == ["__init__.py"]
     for rank, stage in enumerate(KERNEL_STAGES):
         for path in (kernels / stage).glob("*.py"):

@@ -81,13 +81,10 @@ def test_first_harmonic_response_against_complex_solve():
     np.testing.assert_allclose(out2[1, 0], [1 / 0.75, 1 / 3.75], rtol=1e-14)
 
 
-@pytest.mark.parametrize("n", [31, 32, 33, 120])
-def test_lapack_and_loop_orders_solve_alike(n):
-    """Both sides of ``LAPACK_MIN_ORDER`` against NumPy, a strided view
-    included (the LAPACK path copies whatever the layout)."""
-    from hbmfric.kernels.linalg.lu import LAPACK_MIN_ORDER
-
-    assert 31 < LAPACK_MIN_ORDER <= 32
+@pytest.mark.parametrize("n", [31, 120])
+def test_lu_of_a_strided_view_against_numpy(n):
+    """A strided view of a larger buffer against NumPy; the buffer outside
+    the view untouched; the factors reproduce ``P A = L U``."""
     rng = np.random.default_rng(n)
     A = rng.standard_normal((n, n)) + 0.1 * np.eye(n)[::-1]
     b = rng.standard_normal(n)
@@ -110,8 +107,23 @@ def test_lapack_and_loop_orders_solve_alike(n):
     np.testing.assert_allclose(L @ U, PA, atol=1e-10 * np.abs(A).max())
 
 
-def test_lapack_order_singular_fails():
+def test_singular_matrix_of_larger_order_fails():
     n = 40
     A = np.ones((n, n))
     assert not lu_factor(A.copy(), np.empty(n, dtype=np.int64))
     assert not solve_inplace(A.copy(), np.ones(n))
+
+
+def test_complex_products_against_numpy():
+    """The loop products the condensed kernels use instead of BLAS."""
+    from hbmfric.kernels.linalg.products import matmul, matvec
+
+    rng = np.random.default_rng(7)
+    A = rng.normal(size=(5, 9)) + 1j * rng.normal(size=(5, 9))
+    B = rng.normal(size=(9, 4)) + 1j * rng.normal(size=(9, 4))
+    A[2, 3] = 0.0  # the zero-skip path
+    x = rng.normal(size=9) + 1j * rng.normal(size=9)
+    out = np.full((5, 4), np.nan + 0j)
+    matmul(A, B, out)
+    np.testing.assert_allclose(out, A @ B, rtol=1e-14, atol=1e-14)
+    np.testing.assert_allclose(matvec(A, x), A @ x, rtol=1e-14, atol=1e-14)

@@ -25,7 +25,8 @@ from hbmfric.condensation import CondensedHBMProblem, can_condense
 from hbmfric.hbm import HBMProblem
 
 N_DOF = 7
-#: non-classical damping: the direct receptance ("auto" picks it)
+#: non-classical damping: the receptance from complex modes ("auto" picks
+#: it) or the direct one
 C_DIRECT = 0.02 * np.eye(N_DOF) + 0.01 * np.diag(np.ones(N_DOF - 1), 1)
 C_DIRECT = C_DIRECT + C_DIRECT.T
 
@@ -82,7 +83,7 @@ def _structure(contacts, receptance="modal"):
     )
 
 
-@pytest.mark.parametrize("receptance", ["modal", "direct"])
+@pytest.mark.parametrize("receptance", ["modal", "state", "direct"])
 @pytest.mark.parametrize("name", list(CONTACT_SETS))
 def test_condensed_matches_the_full_solve_at_fixed_frequencies(name, receptance):
     """Each solve from its own linear starting guesses: the condensed
@@ -98,7 +99,7 @@ def test_condensed_matches_the_full_solve_at_fixed_frequencies(name, receptance)
         assert np.max(np.abs(a.coefficients - b.coefficients)) < 1e-8 * scale, omega
 
 
-@pytest.mark.parametrize("receptance", ["modal", "direct"])
+@pytest.mark.parametrize("receptance", ["modal", "state", "direct"])
 def test_static_load_on_the_mean_matches_the_full_solve(receptance):
     """A constant load on two DOFs (harmonic 0 solved, condensed through
     the static receptance ``B K⁻¹ Bᵀ``): condensed against full to 1e-8
@@ -123,7 +124,7 @@ def test_static_load_on_the_mean_matches_the_full_solve(receptance):
         assert np.max(np.abs(a.coefficients - b.coefficients)) < 1e-8 * scale, omega
 
 
-@pytest.mark.parametrize("receptance", ["modal", "direct"])
+@pytest.mark.parametrize("receptance", ["modal", "state", "direct"])
 def test_condensed_branch_is_the_full_branch_and_recovers_every_dof(receptance):
     """A branch through the resonances condensed onto three coordinates:
     at every point the recovered coefficients of all DOFs satisfy the full
@@ -154,14 +155,16 @@ def test_condensed_branch_is_the_full_branch_and_recovers_every_dof(receptance):
         assert np.max(np.abs(x[:n] - y[:n])) < 1e-8 * scale, (i, omega)
 
 
-@pytest.mark.parametrize("receptance", ["modal", "direct"])
+@pytest.mark.parametrize("receptance", ["modal", "state", "direct"])
 @pytest.mark.parametrize("symmetry", [True, False])
 def test_jacobian_against_central_differences(receptance, symmetry):
     """Stuck, slipping and mixed states (small, large and mixed amplitudes
     per coordinate), with and without the mean: the analytic Jacobian, Ω
     column included, against central differences."""
     s = _structure(CONTACT_SETS["three"], receptance)
-    p = CondensedHBMProblem(s, 0.1, harmonics=5, symmetry=symmetry)
+    p = CondensedHBMProblem(
+        s, 0.1, harmonics=5, symmetry=symmetry, receptance=receptance
+    )
     assert p.receptance_method == receptance
     rng = np.random.default_rng(3)
     n = p.n_unknowns
@@ -181,13 +184,14 @@ def test_jacobian_against_central_differences(receptance, symmetry):
         assert np.max(np.abs(fd - J)) < 1e-6 * np.max(np.abs(J)), amplitudes
 
 
-@pytest.mark.parametrize("receptance", ["modal", "direct"])
+@pytest.mark.parametrize("receptance", ["modal", "state", "direct"])
 def test_linear_part_is_the_plain_numpy_receptance(receptance):
     """At any state, the residual minus the contact forces is
     ``G⁻¹ (q - p)`` with ``G = B Z⁻¹ Bᵀ`` and ``p = B Z⁻¹ P`` built here by
     dense complex solves."""
     s = _structure(CONTACT_SETS["two"], receptance)
-    p = CondensedHBMProblem(s, 0.1, harmonics=3, symmetry=False)
+    p = CondensedHBMProblem(s, 0.1, harmonics=3, symmetry=False, receptance=receptance)
+    assert p.receptance_method == receptance
     M, C, K = (np.asarray(a) for a in s.matrices())
     B = np.zeros((2, N_DOF))
     B[0, 4] = 1.0
@@ -277,10 +281,10 @@ def test_condensed_frf_of_several_contacts_estimates_its_accuracy():
     chain with five contacts, covers the range and gives a finite
     truncation estimate at every point (the accuracy rules watch the first
     coordinate). Over 0.1-2.5 rad/s: 2434 points, 15 s condensed, 64 s
-    full; here a part of it. (Several contacts are not condensed by
-    default since stop 22: see ``condensed_by_default``.)"""
+    full; here a part of it. (Several contacts are condensed by default
+    again since stop 24: see ``condensed_by_default``.)"""
     s = _structure(CONTACT_SETS["five"])
-    assert not hf.frf(s, 0.1, (0.3, 0.35), 3).info["condensed"]
+    assert hf.frf(s, 0.1, (0.3, 0.35), 3).info["condensed"]
     branch = hf.frf(s, 0.1, (0.3, 0.6), harmonic_tolerance=1e-3, condense=True)
     assert branch.complete and branch.info["condensed"]
     assert np.all(np.isfinite(branch.truncation_error))

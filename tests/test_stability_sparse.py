@@ -32,6 +32,10 @@ def _p1():
     return hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0))
 
 
+def _p1_with(law):
+    return hf.Oscillator(1.0, 0.02, 1.0, law)
+
+
 BRANCHES = {
     # two folds, unstable middle stretch
     "duffing": lambda: hf.frf(_duffing(), 0.2, (0.5, 2.0), harmonics=9),
@@ -54,6 +58,26 @@ BRANCHES = {
     # friction and folds
     "friction-duffing": lambda: hf.frf(
         friction_duffing(), 0.2, (0.5, 2.5), harmonics=15
+    ),
+    # the other hysteretic laws on P1's oscillator (anchors: their Hill
+    # pencils are not reflection-symmetric)
+    "menq": lambda: hf.frf(
+        _p1_with(hf.Menq.from_stiffness(stiffness=3.0, slip_force=1.0)),
+        0.5,
+        (0.5, 3.0),
+        harmonics=15,
+    ),
+    "iwan": lambda: hf.frf(
+        _p1_with(hf.Iwan(stiffnesses=(1.5, 1.5), slip_forces=(0.5, 1.0))),
+        0.5,
+        (0.5, 3.0),
+        harmonics=15,
+    ),
+    "dahl": lambda: hf.frf(
+        _p1_with(hf.ModifiedDahl(beta=3.0, upper=(0.0, 1.0), lower=(0.0, -1.0))),
+        0.5,
+        (0.5, 3.0),
+        harmonics=15,
     ),
 }
 

@@ -1,4 +1,4 @@
-"""The contact-model choice criterion (Chatelet et al. 2008; SPEC §8): read a
+"""The contact-model choice criterion (Chatelet et al. 2008; docs/criterion.md): read a
 family of FRFs tagged with excitation force and normal load and say whether a
 macroslip or a microslip contact model fits, with or without roughness.
 

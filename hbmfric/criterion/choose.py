@@ -1,5 +1,5 @@
 """The contact-model choice criterion of Chatelet et al. (2008, Sec. 3.1
-conclusion; SPEC §8), read from a family of FRFs."""
+conclusion; docs/criterion.md), read from a family of FRFs."""
 
 from __future__ import annotations
 
@@ -286,7 +286,7 @@ def choose_contact_model(
     n_grid: int = 600,
 ) -> CriterionResult:
     """Choose between a macroslip and a microslip contact model, with or
-    without roughness, from a family of FRFs (SPEC §8).
+    without roughness, from a family of FRFs (docs/criterion.md).
 
     Every curve is divided by its force, interpolated (linearly in log
     amplitude) onto a common uniform frequency grid and, when the data are

@@ -1,4 +1,4 @@
-"""The modified Dahl restoring-force model as a contact law (SPEC §4)."""
+"""The modified Dahl restoring-force model as a contact law (docs/laws.md)."""
 
 from __future__ import annotations
 
@@ -139,7 +139,7 @@ class ModifiedDahl(ContactLaw):
     def energy_per_cycle(self, amplitude: float, n_time: int = 4096) -> float:
         """Energy dissipated per cycle under ``u = X cos θ``, J.
 
-        ``μ = 1``: the closed form (SPEC §4)
+        ``μ = 1``: the closed form (docs/laws.md)
         ``W = 2 (b − e − (a + d)/β)(X − tanh(βX)/β)``; otherwise the loop
         area ``∮ F du`` of :meth:`hysteresis` on ``n_time`` samples
         (trapezoidal rule).

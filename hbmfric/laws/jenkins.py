@@ -90,7 +90,7 @@ class Jenkins(ContactLaw):
     def first_harmonic(self, amplitude: float) -> tuple[float, float]:
         """Closed-form first harmonic of the steady force under ``u = a cos θ``.
 
-        Returns ``(C1, S1)`` with ``f ≈ C1 cos θ + S1 sin θ`` (SPEC §4).
+        Returns ``(C1, S1)`` with ``f ≈ C1 cos θ + S1 sin θ`` (docs/laws.md).
         """
         a = finite_float("amplitude", amplitude, low=0.0)
         kt, fs = self.stiffness, self.slip_force

@@ -1,4 +1,4 @@
-"""Menq microslip: an elastic bar on an elastic shear layer (SPEC §4)."""
+"""Menq microslip: an elastic bar on an elastic shear layer (docs/laws.md)."""
 
 from __future__ import annotations
 

@@ -2,7 +2,7 @@
 beam rubbing at its tip, FRFs against the normal load and the twelve
 ``Fex/Fn`` configurations.
 
-The scene (SPEC §2, §6): the paper's beam (0.50 × 0.04 × 0.008 m, 13
+The scene (docs/paper.md): the paper's beam (0.50 × 0.04 × 0.008 m, 13
 elements, 39 DOFs, E = 210 GPa, ρ = 7800 kg/m³), calibrated on the measured
 resonances (24 Hz slipping, 87 Hz stuck: tip mass ≈ 77 g, contact stiffness
 ≈ 1.586e5 N/m), a Jenkins (Masing macroslip) contact on the tip's transverse

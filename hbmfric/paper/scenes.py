@@ -1,4 +1,4 @@
-"""The built-in paper scenes (SPEC §6).
+"""The built-in paper scenes (docs/paper.md).
 
 The paper gives only the ratios ``Fex/Fn`` for its single-DOF study; the
 numbers below are the project's choice: the full-slip resonance sits at

@@ -2,7 +2,7 @@
 against ``Fex/Fn`` for Masing macroslip and Menq microslip contacts, without
 and with roughness, and the contact-model criterion's verdict on each.
 
-Choices the paper leaves open (SPEC §6): the scene of
+Choices the paper leaves open (docs/paper.md): the scene of
 :data:`~hbmfric.paper.PAPER_SDOF`; the Menq law has the same stuck stiffness
 and gross-slip force as the Jenkins element and microslip starts at half the
 gross-slip force (:data:`MENQ_ONSET`); roughness follows the default

@@ -15,7 +15,7 @@ from ..laws import ContactLaw
 from .calibration import BeamCalibration, calibrate_beam
 from .frame import AXIAL, DOFS_PER_NODE, ROTATION, TRANSVERSE, clamped_beam_matrices
 
-#: the paper's steel beam (SPEC §2, §6)
+#: the paper's steel beam (docs/paper.md)
 PAPER_BEAM = {
     "length": 0.50,  # m
     "width": 0.04,  # m

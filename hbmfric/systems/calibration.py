@@ -1,4 +1,4 @@
-"""Calibration of the rubbing beam on two measured resonances (SPEC §6).
+"""Calibration of the rubbing beam on two measured resonances (docs/paper.md).
 
 In full slip the contact adds no stiffness: the first resonance is that of
 the cantilever with its tip mass, a function of the tip mass alone. Stuck,

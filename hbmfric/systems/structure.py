@@ -118,7 +118,8 @@ class LinearStructure:
         Several contacts instead of ``contact``/``contact_dof``: each a law
         on one DOF or between two DOFs (:class:`~hbmfric.Contact`, DOFs by
         index or name). ``contact`` and ``contact_dof`` then name the first
-        one. Several contacts are solved without condensation.
+        one. Several contacts are condensed onto their contact coordinates
+        when that applies (:func:`hbmfric.condensation.condensed_by_default`).
     dof_names : mapping of str to int, optional
         Names of DOFs, accepted wherever a DOF is asked for. ``"contact"``
         is added for the contact DOF.

@@ -1,4 +1,4 @@
-"""The 2-DOF belt-tensioner rig of the paper (Sec. 2.2, eqs. 4–6; SPEC §6).
+"""The 2-DOF belt-tensioner rig of the paper (Sec. 2.2, eqs. 4–6; docs/paper.md).
 
 Shaker-side mass ``m1`` and idler pulley ``m2`` joined by the belt (spring
 ``K``, damper ``C``, pre-tension ``T0``); the tensioner (modified Dahl force

@@ -2,7 +2,7 @@
 periodic steady state by shooting on the equations of motion.
 
 The first-order system ``y = [u1, u2, u̇1, u̇2, F]`` (the Dahl force as a
-state, ``dF/dt = β σ(h − F sgn u̇2) u̇2``, SPEC §4) is integrated with
+state, ``dF/dt = β σ(h − F sgn u̇2) u̇2``, docs/laws.md) is integrated with
 scipy's ``DOP853`` at tight tolerances, one monotone stretch of ``u2`` at a
 time: every sign change of ``u̇2`` is located as an event, so the
 integrator only ever sees one smooth branch of the law. The right-hand

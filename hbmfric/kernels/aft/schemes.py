@@ -22,7 +22,7 @@ and the Jacobian ``dF/dX`` out, plus an integer contact-state code.
     for any ``n_time > 2 H``, and the Jacobian needs one ``n_coef²``
     assembly instead of ``O(n_time n_coef²)`` work.
 
-Steady-state rules (SPEC §3): a contact in gross slip is marched once, from
+Steady-state rules (docs/physics.md): a contact in gross slip is marched once, from
 the sample of maximum displacement in the saturated state ``f = +f_s``; a
 stuck contact is linear and is not marched (``f = kt (u - z)``, slider at the
 reference position ``z = 0`` unless the displacement forces it to shift).

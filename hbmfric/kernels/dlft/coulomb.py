@@ -30,7 +30,7 @@ does: ``ε`` of the order of the dynamic stiffness at the contact works.
 
 In terms of ``v = p / ε`` the correction is a Jenkins element of stiffness
 ``ε`` and slip force ``f_s`` driven by ``v``; its periodic steady state is
-found as for Jenkins (SPEC §3): in gross slip one march from the sample of
+found as for Jenkins (docs/physics.md): in gross slip one march from the sample of
 maximum ``v`` with ``λ = +f_s``; a contact stuck over the whole period keeps
 ``w`` at the reference position 0 (shifted just enough to keep
 ``|λ| <= f_s``).

@@ -1,6 +1,6 @@
 """Modified Dahl restoring-force model: the increment update.
 
-The law (SPEC §4; Al Majid & Dufour 2002, Bastien et al. 2007) is
+The law (docs/laws.md; Al Majid & Dufour 2002, Bastien et al. 2007) is
 
     dF/dt = β (h − F sgn u̇)^μ u̇,   h = ½[(h_u + h_l) sgn u̇ + (h_u − h_l)],
 

@@ -58,7 +58,7 @@ Law codes and their parameter arrays
     Predictor ``f = f_prev + kt (u - u_prev)``, then ``|f| <= f_s``.
 ``CUBIC`` (smooth, memoryless): ``params = [coefficient]``
     ``f = k3 u**3``.
-``MENQ`` (microslip of an elastic bar on an elastic shear layer, SPEC §4):
+``MENQ`` (microslip of an elastic bar on an elastic shear layer, docs/laws.md):
     ``params = [δ1, λ, F_q, K0, δ_gs, F*]`` with ``δ1 = q/k_s`` the end of
     the stuck (linear) range, ``λ = αL`` (``α = √(k_s/EA)``),
     ``F_q = q/α``, ``K0 = F_q tanh(λ)/δ1`` the stuck stiffness,

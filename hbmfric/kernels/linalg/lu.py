@@ -5,39 +5,19 @@ exception (``np.linalg.solve`` raises inside Numba on a singular matrix).
 right-hand sides (the continuation corrector reuses them for the tangent);
 :func:`solve_inplace` is the two in one call.
 
-Matrices of order ``LAPACK_MIN_ORDER`` and above are factored by LAPACK's
-blocked ``dgetrf`` (through the LAPACK entry point Numba ships in its
-helper library, the one behind its own ``np.linalg``; no exception, and the
-compiled caller stays cacheable). Below that order the call overhead loses
-to the plain loop (measured: at order 18 LAPACK 2.4 µs, the loop 1.7 µs; at
-order 32 5.3 against 6.1 µs; at order 780 13 against 68 ms; at order 1780
-88 against 1550 ms). Both give the same factors in the same layout
-(row-major ``L`` below the diagonal, ``U`` on and above, pivots 0-based).
+Why not LAPACK: ``dgetrf`` through Numba's LAPACK entry point (SciPy's
+OpenBLAS) was tried and removed. From order 100 OpenBLAS factors with
+several threads, and on a machine whose cores are busy (other processes,
+a parallel study) its threads wait for each other: on the 2-core project
+machine at load 9, order 261 took a median of 938 ms against 0.6 ms with
+one thread (min 0.9 ms), 0.8–0.9 s spikes from order 176. The plain loop
+below costs about 5 GFlop/s (order 780 in 68 ms on a quiet machine) and
+never waits.
 """
 
 import numpy as np
-from numba import types
 
 from ..._jit import jit
-
-LAPACK_MIN_ORDER = 32
-"""Order from which :func:`lu_factor` calls LAPACK's ``dgetrf``."""
-
-# Numba's helper-library entry point for LAPACK ?getrf (the signature of
-# numba.np.linalg._LAPACK.numba_xxgetrf, built here without importing SciPy's
-# LAPACK at import time: the helper loads it on the first call).
-_getrf = types.ExternalFunction(
-    "numba_xxgetrf",
-    types.intc(
-        types.char,  # kind: "d" for float64
-        types.intp,  # m
-        types.intp,  # n
-        types.CPointer(types.float64),  # a (column-major)
-        types.intp,  # lda
-        types.CPointer(types.int32),  # ipiv (1-based)
-    ),
-)
-_KIND_FLOAT64 = ord("d")
 
 
 @jit
@@ -66,8 +46,6 @@ def lu_factor(A, piv):
     if not np.isfinite(big_all):
         return False
     tiny = 1e-300 + big_all * 1e-15
-    if m >= LAPACK_MIN_ORDER:
-        return _lapack_lu_factor(A, piv, tiny)
     for k in range(m):
         p = k
         big = abs(A[k, k])
@@ -89,30 +67,6 @@ def lu_factor(A, piv):
             if f != 0.0:
                 for j in range(k + 1, m):
                     A[i, j] -= f * A[k, j]
-    return True
-
-
-@jit
-def _lapack_lu_factor(A, piv, tiny):
-    """:func:`lu_factor` by LAPACK ``dgetrf`` (``A`` square and finite, any
-    memory layout); a pivot of modulus ``<= tiny`` fails as in the loop."""
-    m = A.shape[0]
-    # LAPACK reads column-major: store the transpose row-major
-    work = np.empty((m, m))
-    for i in range(m):
-        for j in range(m):
-            work[j, i] = A[i, j]
-    ipiv = np.empty(m, dtype=np.int32)
-    info = _getrf(_KIND_FLOAT64, m, m, work.ctypes, m, ipiv.ctypes)
-    if info < 0:
-        return False
-    for i in range(m):
-        for j in range(m):
-            A[i, j] = work[j, i]
-    for k in range(m):
-        piv[k] = ipiv[k] - 1
-        if not abs(A[k, k]) > tiny:
-            return False
     return True
 
 

@@ -65,7 +65,9 @@ and the residual, in the dynamic-stiffness form of the single contact
 
     r̂_k = D_k (q̂_k - p_k) + f̂_k,     D_k = G_k⁻¹   (n_c x n_c, complex),
 
-with ``dD/dΩ = -D (dG/dΩ) D``. ``G`` is complex symmetric (``Z`` is) and
+with ``dD/dΩ = -D (dG/dΩ) D``, so ``d(D (q̂ - p))/dΩ = -D (dG/dΩ D (q̂ -
+p) + dp/dΩ)``: two matrix-vector products per harmonic, ``dD`` is not
+formed. ``G`` is complex symmetric (``Z`` is) and
 regular when ``B`` has full row rank (checked at the edge). Modal:
 ``G_ab = Σ_r ψ_ar ψ_br / d_r`` with ``ψ = B Φ`` (``coordinate_shapes``);
 direct: one LU of ``Z`` per harmonic, ``Z_c = Z⁻¹ Bᵀ`` (``n_c`` solves),
@@ -74,6 +76,19 @@ contact's force is the AFT of its law on its own coordinate (the dispatch
 of the full residual, :func:`hbmfric.kernels.residuals.hbm._aft`), so ``df/dq`` is
 block diagonal. The single contact to ground keeps the path above
 (``law_codes`` empty); any other set of contacts fills ``law_codes``.
+
+Complex modes (``method == STATE``, any damping): with the decomposition
+``Z(ω)⁻¹ = X diag(1/(iω - λ_r)) Y`` of
+:func:`hbmfric.condensation.state_space_modes` (``2 n_dof`` poles), ``G =
+L diag(c) R`` with ``L = B X``, ``R = Y Bᵀ``, ``c_r = 1/(ikΩ - λ_r)``: one
+complex matrix product per harmonic, ``O(n_states n_c²)``, and no
+factorisation (:func:`_state_coordinate_receptance`). ``dG/dΩ`` is never
+formed: the Ω column needs only ``dG r̂ + dp = L (dc ⊙ (R r̂ + ρ))``
+(:func:`_state_derivative`, ``O(n_states n_c)``). Its rounding scales with
+the sum of the absolute terms (:func:`_state_sum_norm`).
+
+The curve rule of the continuation draws the contact DOF recovered from the
+coordinates (:func:`coordinates_drawn`; modal sums and complex modes).
 
 The problem travels as a :class:`CondensedProblem` named tuple; the residual
 dispatcher :func:`hbmfric.kernels.residuals.dispatch.residual` recognises its type.
@@ -92,6 +107,7 @@ from ..dlft.coulomb import COULOMB, dlft_contact, dlft_located
 from ..dlft.tail import contact_receptance, dlft_tail
 from ..laws.updates import DAHL, JENKINS, is_masing
 from ..linalg.lu import lu_factor, lu_solve, solve_inplace
+from ..linalg.products import matmul, matvec
 from .hbm import (
     COULOMB_TYPES,
     JIT_OPTIONS,
@@ -107,6 +123,8 @@ AFT_EVENTS = 1
 #: receptance methods
 MODAL = 0
 DIRECT = 1
+#: complex modes of the first-order form (several contacts only)
+STATE = 2
 #: status returned when a direct solve meets a singular dynamic stiffness
 SINGULAR_RECEPTANCE = -100
 
@@ -136,6 +154,15 @@ CondensedProblem = namedtuple(
         "law_codes",  # int64 (n_c,)
         "law_rows",  # float64 (n_c, n_params): parameters per contact, padded
         "coordinate_shapes",  # float64 (n_c, n_modes): ψ = B Φ (MODAL)
+        # complex modes of the first-order form (STATE; empty otherwise)
+        "state_left",  # complex128 (n_c, n_states): L = B X
+        "state_right",  # complex128 (n_states, n_c): R = Y Bᵀ
+        "state_poles",  # complex128 (n_states,): λ_r, rad/s
+        "state_load",  # complex128 (n_states, n_coef): Y P per coefficient
+        "state_output",  # complex128 (n_states,): row of X at output_dof
+        # several contacts: the DOF whose first harmonic the curve rule
+        # draws (recovered, :func:`coordinates_drawn`); -1: coordinate 0
+        "output_dof",  # int64
         # output, shape (1,): rounding level (N) of the last residual on
         # several coordinates (:func:`_coordinates_linear`), 0 otherwise
         "rounding",
@@ -770,6 +797,60 @@ def _direct_coordinate_receptance(k, omega, col, problem, G, dG, p, dp, work):
 
 
 @jit
+def _state_coordinate_receptance(k, omega, col, problem, G, p, c, dc, rho):
+    """``G_k`` and ``p_k`` from the complex modes of the first-order form
+    (``method == STATE``): ``G = L diag(c) R``, ``p = L (c ⊙ ρ)`` with
+    ``c_r = 1/(ikΩ - λ_r)``, ``ρ`` the modal load of harmonic ``k``. Fills
+    ``c``, ``dc = dc/dΩ = -ik c²`` and ``ρ`` (shape (n_states,)) for
+    :func:`_state_derivative`; ``G`` (n_c, n_c), ``p`` (n_c,) complex.
+    Cost ``O(n_states n_c²)``: one complex matrix product, no
+    factorisation."""
+    left = problem.state_left
+    right = problem.state_right
+    poles = problem.state_poles
+    load = problem.state_load
+    n_c, n_s = left.shape
+    s = 1j * (k * omega)
+    for r in range(n_s):
+        cr = 1.0 / (s - poles[r])
+        c[r] = cr
+        dc[r] = -1j * k * cr * cr
+        if k == 0:
+            rho[r] = load[r, col]
+        else:
+            rho[r] = load[r, col] - 1j * load[r, col + 1]
+    scaled = np.empty((n_c, n_s), dtype=np.complex128)
+    for a in range(n_c):
+        pa = 0.0j
+        for r in range(n_s):
+            v = left[a, r] * c[r]
+            scaled[a, r] = v
+            pa += v * rho[r]
+        p[a] = pa
+    matmul(scaled, right, G)
+
+
+@jit
+def _state_derivative(problem, r_lin, c, dc, rho, out, tmp):
+    """``(dG/dΩ) r + dp/dΩ = L (dc ⊙ (R r + ρ))`` for the complex modes
+    (``O(n_states n_c)``, ``dG/dΩ`` never formed) into ``out`` (n_c,);
+    ``tmp``: work, (n_states,)."""
+    left = problem.state_left
+    right = problem.state_right
+    n_c, n_s = left.shape
+    for r in range(n_s):
+        v = rho[r]
+        for b in range(n_c):
+            v += right[r, b] * r_lin[b]
+        tmp[r] = dc[r] * v
+    for a in range(n_c):
+        v = 0.0j
+        for r in range(n_s):
+            v += left[a, r] * tmp[r]
+        out[a] = v
+
+
+@jit
 def _invert(G, D, A):
     """``D = G⁻¹`` (complex, shape (m, m)) by Gauss-Jordan elimination
     with partial pivoting; ``A`` is work of the same shape. False if a
@@ -820,6 +901,7 @@ def _coordinate_work(problem):
     """Work arrays of :func:`_coordinates_residual`."""
     n_c = problem.law_codes.size
     n_modes = problem.coordinate_shapes.shape[1]
+    n_s = problem.state_poles.size
     n = problem.mass.shape[0]
     complex_square = np.empty((n_c, n_c), dtype=np.complex128)
     direct = (
@@ -830,9 +912,14 @@ def _coordinate_work(problem):
         np.empty(n, dtype=np.complex128),
         np.empty((n, n_c + 1), dtype=np.complex128),
     )
+    state = (
+        np.empty(n_s, dtype=np.complex128),
+        np.empty(n_s, dtype=np.complex128),
+        np.empty(n_s, dtype=np.complex128),
+        np.empty(n_s, dtype=np.complex128),
+    )
     return (
         complex_square,
-        complex_square.copy(),
         complex_square.copy(),
         complex_square.copy(),
         complex_square.copy(),
@@ -841,22 +928,29 @@ def _coordinate_work(problem):
         np.empty(n_modes, dtype=np.complex128),
         np.empty(n_modes, dtype=np.complex128),
         direct,
+        state,
     )
 
 
 @jit
 def _coordinates_linear(y, problem, R, J):
-    """Linear part ``D_k (q̂_k - p_k)`` of the residual on the contact
+    """Linear part ``r̂_k = D_k (q̂_k - p_k)`` of the residual on the contact
     coordinates and its Jacobian (``J`` overwritten); 0, or
-    ``SINGULAR_RECEPTANCE``."""
+    ``SINGULAR_RECEPTANCE``.
+
+    ``dr̂/dΩ = dD e - D dp = -D (dG r̂ + dp)`` (from ``dD = -D dG D``), so
+    ``dD`` is never formed: two matrix-vector products per harmonic."""
     hn = problem.harmonic_numbers
     n_coef = problem.inverse.shape[1]
     n_c = problem.law_codes.size
     n = n_c * n_coef
     omega = y[n]
     J[:, :] = 0.0
-    G, dG, D, dD, work, p, dp, inv_d, dinv, direct = _coordinate_work(problem)
+    G, dG, D, work, p, dp, inv_d, dinv, direct, state = _coordinate_work(problem)
+    c, dc, rho, tmp = state
     e = np.empty(n_c, dtype=np.complex128)
+    r_lin = np.empty(n_c, dtype=np.complex128)
+    v = np.empty(n_c, dtype=np.complex128)
     level = 0.0
     col = 0
     for k in hn:
@@ -865,35 +959,40 @@ def _coordinates_linear(y, problem, R, J):
                 k, omega, col, problem, G, dG, p, dp, direct
             ):
                 return SINGULAR_RECEPTANCE
+        elif problem.method == STATE:
+            _state_coordinate_receptance(k, omega, col, problem, G, p, c, dc, rho)
         else:
             _modal_coordinate_receptance(
                 k, omega, col, problem, G, dG, p, dp, inv_d, dinv
             )
         if not _invert(G, D, work):
             return SINGULAR_RECEPTANCE
-        # dD = -D dG D
-        for a in range(n_c):
-            for b in range(n_c):
-                s = 0.0j
-                for c in range(n_c):
-                    s += dG[a, c] * D[c, b]
-                work[a, b] = s
-        for a in range(n_c):
-            for b in range(n_c):
-                s = 0.0j
-                for c in range(n_c):
-                    s += D[a, c] * work[c, b]
-                dD[a, b] = -s
         for a in range(n_c):
             i = a * n_coef + col
             e[a] = (y[i] + 0.0j if k == 0 else y[i] - 1j * y[i + 1]) - p[a]
-        level = max(level, _rounding_level(G, D, e))
+        g_scale = 0.0
+        if problem.method == STATE:
+            g_scale = _state_sum_norm(problem, c)
+        level = max(level, _rounding_level(G, D, e, g_scale))
         for a in range(n_c):
-            r = 0.0j
+            s = 0.0j
+            for b in range(n_c):
+                s += D[a, b] * e[b]
+            r_lin[a] = s
+        # v = dG r + dp
+        if problem.method == STATE:
+            _state_derivative(problem, r_lin, c, dc, rho, v, tmp)
+        else:
+            for a in range(n_c):
+                s = dp[a]
+                for b in range(n_c):
+                    s += dG[a, b] * r_lin[b]
+                v[a] = s
+        for a in range(n_c):
+            r = r_lin[a]
             dr = 0.0j
             for b in range(n_c):
-                r += D[a, b] * e[b]
-                dr += dD[a, b] * e[b] - D[a, b] * dp[b]
+                dr -= D[a, b] * v[b]
             ra = a * n_coef + col
             R[ra] = r.real
             J[ra, n] = dr.real
@@ -914,10 +1013,36 @@ def _coordinates_linear(y, problem, R, J):
 
 
 @jit
-def _rounding_level(G, D, e):
+def _state_sum_norm(problem, c):
+    """``‖ |L| diag|c| |R| ‖∞``: the ∞-norm of the sum of the absolute
+    terms of ``G = L diag(c) R`` (complex modes), the scale of its
+    rounding. On the lap joint 80 times ``‖G‖∞`` (its relative
+    coordinates are small differences of the modes' terms)."""
+    left = problem.state_left
+    right = problem.state_right
+    n_c, n_s = left.shape
+    weight = np.empty(n_s)
+    for r in range(n_s):
+        s = 0.0
+        for b in range(n_c):
+            s += abs(right[r, b])
+        weight[r] = abs(c[r]) * s
+    worst = 0.0
+    for a in range(n_c):
+        row = 0.0
+        for r in range(n_s):
+            row += abs(left[a, r]) * weight[r]
+        worst = max(worst, row)
+    return worst
+
+
+@jit
+def _rounding_level(G, D, e, g_scale=0.0):
     """Rounding level (N) of ``D e`` with ``D = G⁻¹`` computed from ``G``
     (complex, shapes (m, m), (m, m), (m,)): ``eps κ max_a Σ_b |D_ab| |e_b|``
-    with ``κ = ‖G‖∞ ‖D‖∞`` the condition number of ``G``.
+    with ``κ = ‖G‖∞ ‖D‖∞`` the condition number of ``G``; ``‖G‖∞`` is
+    replaced by ``g_scale`` when larger (the sum of the absolute terms of a
+    sum that computes ``G``, :func:`_state_sum_norm`).
 
     The rounding of ``G`` (a modal sum or a direct solve) reaches ``D`` as
     ``κ eps`` relative, so the linear part of the residual on several
@@ -938,7 +1063,7 @@ def _rounding_level(G, D, e):
             sg += abs(G[a, b])
             sd += abs(D[a, b])
             se += abs(D[a, b]) * abs(e[b])
-        g_norm = max(g_norm, sg)
+        g_norm = max(g_norm, sg, g_scale)
         d_norm = max(d_norm, sd)
         worst = max(worst, se)
     return 2.220446049250313e-16 * g_norm * d_norm * worst
@@ -1015,3 +1140,165 @@ def _coordinate_forces(points, problem, F):
             for j in range(n_coef):
                 F[i, base + j] = f[j]
     return worst
+
+
+# ----------------------------------------------------------------------
+# the drawn DOF of a problem condensed onto several contact coordinates
+
+
+@jit
+def coordinates_drawn(problem, y, t, scale, column, coefficients):
+    """Ω, the amplitude ``a`` of the forced harmonic of the output DOF
+    (``problem.output_dof``) recovered from the contact coordinates, and
+    their derivatives along the continuation's scaled arc length, at a
+    solution ``y`` with unit tangent ``t`` (scaled): what the curve rule
+    draws (:func:`hbmfric.kernels.steps.arclength.chord_error`); also the
+    output's coefficients of every harmonic and the squared norm of their
+    derivatives (the metric of ``Branch.curve_errors``).
+
+    At a solution the contact forces are ``f̂ = -r̂`` with ``r̂ = D (q̂ -
+    p)`` the linear part of the residual, so the output is linear in the
+    coordinates of the harmonic: ``x̂ = x_p + g_cᵀ r̂`` with ``x_p = e_cᵀ
+    Z⁻¹ P̂`` and ``g_c = B Z⁻¹ e_c``. Along the arc ``dr̂ = D (dq̂ - dΩ (dG
+    r̂ + dp))``. Modal sums (classical damping) or complex modes only.
+
+    Parameters
+    ----------
+    problem : CondensedProblem
+    y : ndarray, shape (n_c * n_coef + 1,)
+        ``[q, Ω]``, m and rad/s.
+    t : ndarray, shape (n_c * n_coef + 1,)
+        Unit tangent in the scaled variables.
+    scale : ndarray, shape (n_c * n_coef + 1,)
+        Scales of the variables.
+    column : int
+        Column of the forced harmonic's cosine coefficient (of coordinate
+        0, or within any coordinate's block).
+    coefficients : ndarray, shape (>= n_coef,)
+        Output: the output DOF's coefficients (m), first ``n_coef``.
+
+    Returns
+    -------
+    tuple of (bool, float, float, float, float, float, int)
+        False when not applicable (one contact to ground, the direct
+        receptance, no output DOF, a singular ``G``; then the coordinate at
+        ``column`` is drawn); Ω, dΩ/ds, ``a`` (m; NaN at rest), da/ds, the
+        sum of the squared derivatives of the coefficients (m²) and the
+        number of coefficients (``n_coef``).
+    """
+    n_c = problem.law_codes.size
+    if n_c == 0 or problem.output_dof < 0 or problem.method == DIRECT:
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0
+    hn = problem.harmonic_numbers
+    n_coef = problem.inverse.shape[1]
+    col_forced = column % n_coef
+    a = np.nan
+    da = np.nan
+    speed2 = 0.0
+    found = False
+    col = 0
+    for k in hn:
+        ok, x, dx = _drawn_harmonic(problem, y, t, scale, k, col)
+        if not ok:
+            return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0
+        coefficients[col] = x.real
+        speed2 += dx.real * dx.real
+        if k != 0:
+            coefficients[col + 1] = -x.imag
+            speed2 += dx.imag * dx.imag
+            if col == col_forced:
+                found = True
+                amp = abs(x)
+                if amp > 0.0:
+                    a = amp
+                    da = (x.real * dx.real + x.imag * dx.imag) / amp
+        col += 1 if k == 0 else 2
+    if not found:  # not the cosine of a harmonic above the mean
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0
+    n = n_c * n_coef
+    return True, y[n], t[n] * scale[n], a, da, speed2, n_coef
+
+
+@jit
+def _drawn_harmonic(problem, y, t, scale, k, col):
+    """Complex amplitude ``x̂`` of harmonic ``k`` (columns from ``col``) of
+    the output DOF at ``y`` and its derivative along ``t`` (see
+    :func:`coordinates_drawn`); False if ``G`` is singular."""
+    n_c = problem.law_codes.size
+    n_coef = problem.inverse.shape[1]
+    n = n_c * n_coef
+    omega = y[n]
+    d_omega = t[n] * scale[n]
+    state = problem.method == STATE
+    n_m = problem.state_poles.size if state else problem.omega_squared.size
+    c = np.empty(n_m, dtype=np.complex128)
+    dc = np.empty(n_m, dtype=np.complex128)
+    rho = np.empty(n_m, dtype=np.complex128)
+    h_out = np.empty(n_m, dtype=np.complex128)
+    left = np.empty((n_c, n_m), dtype=np.complex128)
+    w = k * omega
+    for r in range(n_m):
+        if state:
+            cr = 1.0 / (1j * w - problem.state_poles[r])
+            dc[r] = -1j * k * cr * cr
+            h_out[r] = problem.state_output[r]
+            q_c = problem.state_load[r, col]
+            q_s = problem.state_load[r, col + 1] if k != 0 else 0.0j
+        else:
+            damping = problem.modal_damping[r]
+            cr = 1.0 / (problem.omega_squared[r] - w * w + 1j * w * damping)
+            dc[r] = k * (2.0 * w - 1j * damping) * cr * cr
+            h_out[r] = problem.contact_shapes[r]
+            q_c = problem.modal_load[r, col] + 0.0j
+            q_s = problem.modal_load[r, col + 1] + 0.0j if k != 0 else 0.0j
+        c[r] = cr
+        rho[r] = q_c - 1j * q_s
+        for a in range(n_c):
+            if state:
+                left[a, r] = problem.state_left[a, r]
+            else:
+                left[a, r] = problem.coordinate_shapes[a, r]
+    # right factor: R = Y Bᵀ (complex modes) or Ψᵀ (modal)
+    right = np.empty((n_m, n_c), dtype=np.complex128)
+    for r in range(n_m):
+        for a in range(n_c):
+            right[r, a] = problem.state_right[r, a] if state else left[a, r]
+    scaled = np.empty((n_c, n_m), dtype=np.complex128)
+    p = np.empty(n_c, dtype=np.complex128)
+    for a in range(n_c):
+        s = 0.0j
+        for r in range(n_m):
+            scaled[a, r] = left[a, r] * c[r]
+            s += scaled[a, r] * rho[r]
+        p[a] = s
+    G = np.empty((n_c, n_c), dtype=np.complex128)
+    matmul(scaled, right, G)
+    D = np.empty((n_c, n_c), dtype=np.complex128)
+    work = np.empty((n_c, n_c), dtype=np.complex128)
+    if not _invert(G, D, work):
+        return False, 0.0j, 0.0j
+    e = np.empty(n_c, dtype=np.complex128)
+    dq = np.empty(n_c, dtype=np.complex128)
+    for a in range(n_c):
+        i = a * n_coef + col
+        if k == 0:
+            e[a] = y[i] - p[a]
+            dq[a] = t[i] * scale[i]
+        else:
+            e[a] = y[i] - 1j * y[i + 1] - p[a]
+            dq[a] = t[i] * scale[i] - 1j * t[i + 1] * scale[i + 1]
+    r_lin = matvec(D, e)
+    # v = dG r + dp = L (dc ⊙ (R r + ρ))
+    rr = matvec(right, r_lin)
+    tmp = np.empty(n_m, dtype=np.complex128)
+    for r in range(n_m):
+        tmp[r] = dc[r] * (rr[r] + rho[r])
+    v = matvec(left, tmp)
+    dr = matvec(D, dq - d_omega * v)
+    drr = matvec(right, dr)
+    x = 0.0j
+    dx = 0.0j
+    for r in range(n_m):
+        x += h_out[r] * c[r] * (rho[r] + rr[r])
+        dx += h_out[r] * (d_omega * dc[r] * (rho[r] + rr[r]) + c[r] * drr[r])
+    return True, x, dx

@@ -21,6 +21,7 @@ from .condensed import (
     CondensedCoulombProblem,
     CondensedProblem,
     condensed_residual_impl,
+    coordinates_drawn,
 )
 from .hbm import JIT_OPTIONS, hbm_residual_impl
 
@@ -70,5 +71,32 @@ def _rounding_level(problem):
 
     def full(problem):
         return 0.0
+
+    return full
+
+
+def drawn_output(problem, y, t, scale, column, coefficients):
+    """What the curve rule draws at a solution ``y`` with unit tangent
+    ``t`` when it is not the unknown at ``column``: ``(True, Ω, dΩ/ds, a,
+    da/ds, |dX/ds|², n_coef)`` of the output DOF recovered from the contact
+    coordinates of a condensed problem, its coefficients into
+    ``coefficients``
+    (:func:`hbmfric.kernels.residuals.condensed.coordinates_drawn`),
+    ``(False, 0, 0, 0, 0, 0, 0)`` for any other problem. Callable from jitted
+    code only."""
+    raise NotImplementedError("drawn_output is for jit code")
+
+
+@overload(drawn_output, jit_options=JIT_OPTIONS)
+def _drawn_output(problem, y, t, scale, column, coefficients):
+    if _is_condensed(problem):
+
+        def condensed(problem, y, t, scale, column, coefficients):
+            return coordinates_drawn(problem, y, t, scale, column, coefficients)
+
+        return condensed
+
+    def full(problem, y, t, scale, column, coefficients):
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0
 
     return full

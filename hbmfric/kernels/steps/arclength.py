@@ -19,6 +19,7 @@ Settings come as one flat array indexed by the constants below (built by
 import numpy as np
 
 from ..._jit import jit, jit_inline
+from ..residuals.dispatch import drawn_output
 from .newton import CONVERGED, _norm_inf, palc_step
 from .truncation import output_measure, truncation_change
 
@@ -243,12 +244,54 @@ def chord_error(y0, t0, y1, t1, scale, column):
     length = np.sqrt(length)
     w0, dw0, a0, da0 = _drawn(y0, t0, scale, column)
     w1, dw1, a1, da1 = _drawn(y1, t1, scale, column)
+    rest = CURVE_REST * scale[column]
+    return _chord(length, w0, dw0, a0, da0, w1, dw1, a1, da1, rest)
+
+
+@jit
+def problem_chord_error(problem, y0, t0, y1, t1, scale, column, base_scale):
+    """:func:`chord_error` of what ``problem`` draws: the unknown at
+    ``column``, or for a problem condensed onto several contact coordinates
+    the output DOF recovered from them
+    (:func:`hbmfric.kernels.residuals.dispatch.drawn_output`), with the
+    cubic parametrised as ``Branch.curve_errors`` does: by the arc length
+    on that DOF's coefficients (scale ``base_scale``) and Ω."""
+    m = y0.size
+    x0 = np.empty(m)
+    x1 = np.empty(m)
+    ok, w0, dw0, a0, da0, v0, n_coef = drawn_output(problem, y0, t0, scale, column, x0)
+    if not ok:
+        return chord_error(y0, t0, y1, t1, scale, column)
+    ok, w1, dw1, a1, da1, v1, _ = drawn_output(problem, y1, t1, scale, column, x1)
+    if not ok:
+        return chord_error(y0, t0, y1, t1, scale, column)
+    n = m - 1
+    width = scale[n]
+    length = ((w1 - w0) / width) ** 2
+    for i in range(n_coef):
+        d = (x1[i] - x0[i]) / base_scale
+        length += d * d
+    length = np.sqrt(length)
+    # speeds along the kernel's arc length in the branch's metric
+    s0 = np.sqrt(v0 / base_scale**2 + (dw0 / width) ** 2)
+    s1 = np.sqrt(v1 / base_scale**2 + (dw1 / width) ** 2)
+    if not (s0 > 0.0 and s1 > 0.0):
+        return 0.0
+    rest = CURVE_REST * base_scale
+    return _chord(length, w0, dw0 / s0, a0, da0 / s0, w1, dw1 / s1, a1, da1 / s1, rest)
+
+
+@jit
+def _chord(length, w0, dw0, a0, da0, w1, dw1, a1, da1, rest):
+    """The estimate of :func:`chord_error` from the drawn values at both
+    ends (Ω, ``a₁`` and their derivatives along the scaled arc length),
+    the chord length ``length`` and the amplitude floor ``rest``."""
     if not (np.isfinite(a0) and np.isfinite(a1)):
         return 0.0
     # relative units: Ω by the mean of the ends, a by the smaller one (at
     # least CURVE_REST of the displacement scale)
     rw = 0.5 * (w0 + w1)
-    ra = max(min(a0, a1), CURVE_REST * scale[column])
+    ra = max(min(a0, a1), rest)
     ex = (w1 - w0) / rw
     el = (a1 - a0) / ra
     ax = (length * dw0) / rw - ex
@@ -505,8 +548,15 @@ def advance(
     target = settings[CURVE_TOL]
     if target > 0.0:
         target = chord_target(settings)
-        curve = chord_error(
-            y, tangent, y_new, t_new, scale, int(settings[CURVE_COLUMN])
+        curve = problem_chord_error(
+            problem,
+            y,
+            tangent,
+            y_new,
+            t_new,
+            scale,
+            int(settings[CURVE_COLUMN]),
+            settings[BASE_SCALE],
         )
         length2 = 0.0
         for i in range(y.size):

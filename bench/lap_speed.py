@@ -1,0 +1,143 @@
+"""Issue 15, stop 24: the lap joint's speed at H = 15.
+
+``python -m bench.lap_speed costs [N ...]``: where one Newton iteration
+spends its time (condensed: receptance part of the residual, AFT of the
+contacts, LU of the bordered Jacobian by :func:`hbmfric.kernels.linalg.
+lu_factor`; full: residual, LU), at three times the free linear response
+at 162 Hz, Fex = 36 N. Minimum of repeated calls after a warm-up call.
+
+``python -m bench.lap_speed branch N [condense ...]``: one branch
+(``hf.frf``, H = 15, ``max_step = 0.05``) over the figure's 125-185 Hz at
+Fex/P = 1e-3 (36 N; the first bending resonance goes from stuck, 167 Hz,
+into microslip, peak at 162 Hz, and back), per setting of ``condense``
+(``state``, ``direct``, ``false``), interleaved, warm (N = 10: after one
+untimed run of each; larger N: the first run is timed after a short
+warm-up branch over 160-161 Hz).
+
+One BLAS thread (as the other bench scripts: threaded OpenBLAS on the
+shared 2 cores makes small products 100 times slower under load).
+"""
+
+from __future__ import annotations
+
+import os
+
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import sys  # noqa: E402
+import time  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+import hbmfric as hf  # noqa: E402
+from hbmfric.condensation import CondensedHBMProblem  # noqa: E402
+from hbmfric.hbm import HBMProblem  # noqa: E402
+from hbmfric.kernels.linalg.lu import lu_factor  # noqa: E402
+from hbmfric.kernels.residuals.condensed import condensed_contact_forces  # noqa: E402
+
+HZ = 2.0 * np.pi
+FORCE = 36.0  # N: Fex/P = 1e-3 of the 36 kN preload
+BAND = (125.0, 185.0)  # Hz
+
+
+def _best(fn, repeat=5):
+    fn()
+    out = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        out.append(time.perf_counter() - t)
+    return min(out)
+
+
+def _lu_time(J, repeat=5):
+    A0 = np.vstack([J, np.ones((1, J.shape[1]))])
+    piv = np.empty(A0.shape[0], dtype=np.int64)
+
+    def run():
+        A = A0.copy()
+        lu_factor(A, piv)
+
+    copy = _best(lambda: A0.copy(), repeat)
+    return _best(run, repeat) - copy
+
+
+def iteration_costs(n_pairs, harmonics=15, full=True):
+    s = hf.lap_joint(n_pairs)
+    omega = HZ * 162.0
+    row = {"n_pairs": n_pairs, "n_dof": s.n_dof}
+    problems = {}
+    for rec in ("state", "direct"):
+        t = time.perf_counter()
+        c = problems[rec] = CondensedHBMProblem(s, FORCE, harmonics, receptance=rec)
+        row[f"{rec}_setup_s"] = time.perf_counter() - t
+        y = np.append(3.0 * c.linear_response(omega, "free"), omega)
+        row["n_c"] = c.n_coordinates
+        row["cond_unknowns"] = c.n_unknowns
+        row[f"{rec}_residual_ms"] = 1e3 * _best(lambda c=c, y=y: c.residual(y))
+    F = np.empty((1, c.n_unknowns))
+    row["aft_ms"] = 1e3 * _best(
+        lambda: condensed_contact_forces(y[None], c.kernel_problem, F)
+    )
+    # every contact in gross slip: 30 times the amplitude
+    y30 = np.append(30.0 * y[:-1], y[-1])
+    row["aft_slip_ms"] = 1e3 * _best(
+        lambda: condensed_contact_forces(y30[None], c.kernel_problem, F)
+    )
+    row["direct_residual_slip_ms"] = 1e3 * _best(lambda: c.residual(y30))
+    st = problems["state"]
+    row["state_residual_slip_ms"] = 1e3 * _best(lambda: st.residual(y30))
+    _, J, _ = c.residual(y)
+    row["cond_lu_ms"] = 1e3 * _lu_time(J)
+    if full:
+        f = HBMProblem(s, FORCE, harmonics)
+        X = c.full_coefficients(y[None])[0]
+        yf = np.append(X.reshape(-1), omega)
+        row["full_unknowns"] = f.n_unknowns
+        row["full_residual_ms"] = 1e3 * _best(lambda: f.residual(yf))
+        _, Jf, _ = f.residual(yf)
+        row["full_lu_ms"] = 1e3 * _lu_time(Jf, repeat=3)
+    return row
+
+
+def branch(n_pairs, condense, harmonics=15, band=BAND):
+    s = hf.lap_joint(n_pairs)
+    kw = {"condense": False} if condense == "false" else {"condense": condense}
+    omega = (HZ * band[0], HZ * band[1])
+    t = time.perf_counter()
+    b = hf.frf(s, FORCE, omega, harmonics, max_step=0.05, **kw)
+    elapsed = time.perf_counter() - t
+    a = b.amplitude(harmonic=1, dof="drive")
+    i = int(np.argmax(a))
+    errors = b.curve_errors
+    return {
+        "n_pairs": n_pairs,
+        "condense": condense,
+        "seconds": round(elapsed, 2),
+        "points": len(b.omega),
+        "complete": b.complete,
+        "peak_m_per_N": a[i] / FORCE,
+        "peak_Hz": b.omega[i] / HZ,
+        "curve_error_max": float(np.max(errors)) if errors is not None else None,
+        "load": os.getloadavg()[0],
+    }
+
+
+if __name__ == "__main__":
+    import warnings
+
+    warnings.simplefilter("ignore")
+    print("load", os.getloadavg(), flush=True)
+    mode, *args = sys.argv[1:] or ["costs"]
+    if mode == "costs":
+        for n in [int(a) for a in args] or [10, 40, 100]:
+            print(iteration_costs(n, full=n <= 100), flush=True)
+    else:
+        n = int(args[0])
+        settings = args[1:] or ["state", "false"]
+        for setting in settings:  # warm-up (compilation, modes cache)
+            branch(n, setting, band=BAND if n <= 10 else (160.0, 161.0))
+        for _ in range(2 if n <= 10 else 1):
+            for setting in settings:
+                print(branch(n, setting), flush=True)
