@@ -298,6 +298,12 @@ class NonlinearMode:
             Pulsations of the resonances, rad/s.
         amplitude : ndarray, shape (n_found,)
             Their modal amplitudes, m √kg (increasing).
+
+        Warns
+        -----
+        CoverageWarning
+            When none is found: the resonance lies outside the mode's
+            amplitudes (the message gives the forces balanced there).
         """
         force = finite_float("force", force, low=0.0, low_open=True)
         if self.load_vector is None or not np.any(self.load_vector):
@@ -320,6 +326,21 @@ class NonlinearMode:
             u = g[i] / (g[i] - g[i + 1])
             amp.append(float(np.exp(s[i] + u * (s[i + 1] - s[i]))))
             omega.append(float(self.omega[i] + u * (self.omega[i + 1] - self.omega[i])))
+        if not omega:
+            finite = needed[np.isfinite(needed)]
+            span = (
+                f"{np.min(finite):.4g} to {np.max(finite):.4g} N"
+                if finite.size
+                else "not finite"
+            )
+            warnings.warn(
+                f"no resonance at force = {force:.6g} N within the mode's "
+                f"amplitudes {self.amplitude[0]:.4g} to {self.amplitude[-1]:.4g} "
+                f"(the forces balanced there: {span}); extend the amplitude "
+                "range of hf.nonlinear_mode",
+                CoverageWarning,
+                stacklevel=2,
+            )
         return np.array(omega), np.array(amp)
 
     def save(self, path: str | Path) -> Path:

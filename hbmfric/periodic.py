@@ -383,6 +383,37 @@ class _FixedOmega:
                         if y is not None:
                             return y
                     break
+                y = self.at_fold(points, j, side)
+                if y is not None:
+                    return y
+        return None
+
+    def at_fold(self, points: np.ndarray, j: int, side: str) -> np.ndarray | None:
+        """The solution at the target when the path turns back at point
+        ``j`` less than one step short of it (a fold just beyond the
+        target, between two points on the near side: the path crosses the
+        target twice between them, which no sign change shows), by Newton
+        from point ``j``; None otherwise."""
+        if j == 0:
+            return None
+        n = self.problem.n_unknowns
+        before, here, after = points[j - 1, n], points[j, n], points[j + 1, n]
+        toward = 1.0 if side == "below" else -1.0
+        if not (toward * (here - before) > 0.0 and toward * (after - here) < 0.0):
+            return None  # no turn at j, or one away from the target
+        short = toward * (self.omega - here)
+        if not 0.0 < short <= abs(here - before):
+            return None
+        reach = 2.0 * max(
+            float(np.max(np.abs(points[j, :n] - points[j - 1, :n]))),
+            float(np.max(np.abs(points[j + 1, :n] - points[j, :n]))),
+        )
+        # from the approach side first: the first crossing lies between
+        # point j - 1 and the fold
+        for seed in (points[j - 1, :n], points[j, :n]):
+            y = self.newton(seed)
+            if y is not None and float(np.max(np.abs(y[:n] - points[j, :n]))) <= reach:
+                return y
         return None
 
 

@@ -127,6 +127,21 @@ class PeriodicSolution:
         """
         if self._stability is None or system is not None or method != self._method:
             src = _stability_source(self._source, system)
+            if system is not None:
+                check_system_solves(
+                    system,
+                    self.force,
+                    np.array([self.omega]),
+                    self.harmonic_numbers,
+                    self.coefficients[None],
+                    np.array([int(self.harmonic_numbers[-1])]),
+                    {
+                        "n_time": src.get("n_time"),
+                        "aft": src.get("aft", "auto"),
+                        "subharmonic": src.get("subharmonic", 1),
+                        "odd_only": bool(self.harmonic_numbers[0] % 2 == 1),
+                    },
+                )
             from .stability import stability_of_points
 
             h = int(self.harmonic_numbers[-1])
@@ -484,8 +499,10 @@ class Branch:
         Raises
         ------
         ValueError
-            Without a system, for a rigid Coulomb contact, or for another
-            ``exponents``.
+            Without a system, for a rigid Coulomb contact, for another
+            ``exponents``, or for a ``system`` whose harmonic balance the
+            points do not solve (:func:`check_system_solves`: a loaded
+            branch given another system).
         """
         if exponents not in ("auto", "all"):
             raise ValueError(f'exponents must be "auto" or "all", got {exponents!r}')
@@ -501,6 +518,8 @@ class Branch:
             if key is not None:
                 key = positive_int("perturbation_harmonics", key, low=1)
             src = _stability_source(self._source, system)
+            if system is not None:
+                self._check_system(system)
             from .stability import stability_of_points
 
             h = (
@@ -533,6 +552,27 @@ class Branch:
         if exponents == "all":
             self._stability.exponents  # noqa: B018 - computes the missing ones
         return self._stability
+
+    def _check_system(self, system) -> None:
+        """ValueError unless ``system`` is the one this branch solves (its
+        residual at the first, middle and last points)."""
+        h = (
+            self.point_harmonics
+            if self.point_harmonics is not None
+            else np.full(self.n_points, int(self.harmonic_numbers[-1]))
+        )
+        info = dict(self.info)
+        if self.point_harmonics is not None:
+            info["n_time"] = None  # each level's default, as the run used
+        check_system_solves(
+            system,
+            self.force,
+            self.omega,
+            self.harmonic_numbers,
+            self.coefficients,
+            h,
+            info,
+        )
 
     def special_points(self, system=None, stability: bool = True) -> list:
         """Folds and stability changes, each located between the two branch
@@ -1065,6 +1105,87 @@ def _stability_source(source: dict | None, system) -> dict:
             "loaded branch?); pass it, e.g. branch.stability(system)"
         )
     return src
+
+
+#: largest residual, relative to the load, of a point checked against a
+#: system passed for it (a traced point's is about 1e-10)
+SYSTEM_CHECK_TOL = 1e-6
+
+
+def check_system_solves(
+    system, force, omega, harmonic_numbers, coefficients, harmonics, info
+) -> None:
+    """Check that points of a result solve ``system``'s harmonic balance.
+
+    A system passed for a loaded (or any) result must be the one it was
+    traced for; Hill's or the monodromy's verdicts on points that solve
+    another system mean nothing. The first, middle and last points are
+    checked (the full, uncondensed residual).
+
+    Parameters
+    ----------
+    system : Oscillator or compatible
+    force : float
+        Forcing amplitude, N.
+    omega : ndarray, shape (n_points,)
+        Pulsations, rad/s.
+    harmonic_numbers : ndarray of int, shape (n_harmonics,)
+    coefficients : ndarray, shape (n_points, n_dof, n_coef)
+        Fourier coefficients, m.
+    harmonics : ndarray of int, shape (n_points,)
+        Highest harmonic of every point.
+    info : mapping
+        ``n_time``, ``aft``, ``subharmonic`` and ``odd_only`` of the run.
+
+    Raises
+    ------
+    ValueError
+        Another number of DOFs, or a residual above
+        :data:`SYSTEM_CHECK_TOL` times the load.
+    """
+    from .api import _problem
+
+    n_points = int(np.size(omega))
+    n_dof = int(np.shape(coefficients)[1])
+    for i in sorted({0, n_points // 2, n_points - 1}) if n_points else []:
+        problem = _problem(
+            system,
+            force,
+            int(harmonics[i]),
+            info.get("n_time"),
+            bool(info.get("odd_only", False)),
+            info.get("aft", "auto"),
+            False,
+            int(info.get("subharmonic", 1) or 1),
+        )
+        if problem.n_dof != n_dof:
+            raise ValueError(
+                f"the system has {problem.n_dof} DOFs but the result {n_dof}: "
+                "pass the system the result was computed for"
+            )
+        source = {}
+        col = 0
+        for k in harmonic_numbers:
+            width = 1 if k == 0 else 2
+            source[int(k)] = slice(col, col + width)
+            col += width
+        X = np.zeros((n_dof, problem.n_coef))
+        col = 0
+        for k in problem.harmonic_numbers:
+            width = 1 if k == 0 else 2
+            if int(k) in source:
+                X[:, col : col + width] = coefficients[i][:, source[int(k)]]
+            col += width
+        y = np.append(problem.unknowns_from_full(X), float(omega[i]))
+        residual, _, status = problem.residual(y)
+        load = max(float(np.max(np.abs(problem.load))), 1e-300)
+        worst = float(np.max(np.abs(residual))) if status >= 0 else math.inf
+        if not worst <= SYSTEM_CHECK_TOL * load:
+            raise ValueError(
+                f"point {i} (omega = {float(omega[i]):.6g} rad/s) does not solve "
+                f"this system's harmonic balance (residual {worst:.3g}, load "
+                f"{load:.3g}): pass the system the result was computed for"
+            )
 
 
 def _check_branch_arrays(path, branch: Branch) -> None:

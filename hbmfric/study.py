@@ -398,7 +398,8 @@ def study(
         from concurrent.futures import ProcessPoolExecutor, as_completed
 
         n = workers or os.cpu_count() or 1
-        with ProcessPoolExecutor(max_workers=min(n, len(tasks))) as pool:
+        pool = ProcessPoolExecutor(max_workers=min(n, len(tasks)))
+        try:
             futures = [
                 pool.submit(_run_one, build, force_key, options, t) for t in tasks
             ]
@@ -406,6 +407,12 @@ def study(
                 run = fut.result()
                 runs.append(run)
                 bar.update(run)
+        except BaseException:
+            # Ctrl-C (or a broken pool): stop now. Leaving the pool by its
+            # context manager would wait for every queued set to be traced.
+            _stop_pool(pool)
+            raise
+        pool.shutdown(wait=True)
     else:
         from dask.distributed import as_completed as dask_completed
 
@@ -417,16 +424,36 @@ def study(
             tasks,
             pure=False,
         )
-        for fut in dask_completed(futures):
-            run = fut.result()
-            runs.append(run)
-            bar.update(run)
+        try:
+            for fut in dask_completed(futures):
+                run = fut.result()
+                runs.append(run)
+                bar.update(run)
+        except BaseException:
+            client.cancel(futures)
+            raise
     runs.sort(key=lambda r: r.index)
     result = StudyResult(
         runs, kind, time.perf_counter() - start, force_key, normal_load_key
     )
     _summarise(result)
     return result
+
+
+#: seconds to wait for a terminated worker process to exit
+STOP_TIMEOUT = 5.0
+
+
+def _stop_pool(pool) -> None:
+    """Cancel the queued sets of a process pool and end its workers (the
+    sets being traced are abandoned)."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        if process.is_alive():
+            process.terminate()
+    for process in processes:
+        process.join(STOP_TIMEOUT)
 
 
 def _summarise(result: StudyResult) -> None:

@@ -116,6 +116,8 @@ def period_doubled_branch(
         )
     options = options or ContinuationOptions()
     src = _stability_source(branch._source, system)
+    if system is not None:
+        branch._check_system(system)
     system = src["system"]
     if int(branch.info.get("subharmonic", 1)) != 1:
         raise ValueError("branch is already a subharmonic branch")

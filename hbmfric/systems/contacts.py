@@ -79,6 +79,15 @@ class Contact:
             )
 
 
+def shared_directions(a, b, a_n, b_n) -> list:
+    """DOFs that a 2D element would use both as a tangential DOF (``a``,
+    ``b``) and as a normal DOF (``a_n``, ``b_n``); ground (None or -1) is
+    not a DOF. One scalar DOF has one direction, so it cannot be both."""
+    ground = (None, -1)
+    tangential = {d for d in (a, b) if d not in ground}
+    return sorted(d for d in (a_n, b_n) if d not in ground and d in tangential)
+
+
 def check_contacts(system, n_dof: int) -> tuple[tuple[ContactLaw, int, int], ...]:
     """The contacts of ``system`` as ``(law, a, b, a_n, b_n)`` tuples
     (``-1``: ground, or no normal DOF for the 1D laws), checked.
@@ -133,6 +142,12 @@ def check_contacts(system, n_dof: int) -> tuple[tuple[ContactLaw, int, int], ...
         a, b, a_n, b_n = dofs
         if a == b or (a_n >= 0 and a_n == b_n):
             raise ValueError(f"system.contacts[{i}] acts between a DOF and itself")
+        shared = shared_directions(a, b, a_n, b_n)
+        if shared:
+            raise ValueError(
+                f"system.contacts[{i}] uses DOF {shared[0]} both tangentially and "
+                "normally: a 2D element needs distinct tangential and normal DOFs"
+            )
         if isinstance(law, Contact2D) and a_n < 0:
             raise ValueError(
                 f"system.contacts[{i}] is a Contact2D element without its normal DOF"

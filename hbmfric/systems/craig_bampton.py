@@ -43,7 +43,10 @@ class ReducedStructure(LinearStructure):
     transformation : ndarray, shape (n_full, n_boundary + n_modes)
         ``T``: full displacements ``x = T x_reduced``.
     cutoff_frequency : float
-        Highest kept fixed-interface frequency, Hz (inf without modes).
+        Highest kept fixed-interface frequency, Hz; the reduced model is
+        accurate well below it. ``inf`` when every DOF is a boundary DOF
+        (nothing reduced), 0 for an interior without modes (a Guyan
+        reduction: static accuracy only).
     """
 
     def expand(self, coefficients: np.ndarray) -> np.ndarray:
@@ -147,7 +150,9 @@ def craig_bampton(
     M, C, K = structure.matrices()
     T = np.zeros((n, b.size + n_modes))
     T[b, np.arange(b.size)] = 1.0
-    cutoff = math.inf
+    # no interior: the reduction is exact; an interior without modes (a
+    # Guyan reduction) keeps its statics only, exact at Ω = 0 alone
+    cutoff = math.inf if not interior.size else 0.0
     if interior.size:
         from scipy.linalg import cho_factor, cho_solve, eigh
 

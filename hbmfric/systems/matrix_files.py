@@ -5,7 +5,9 @@ Formats, chosen by the file suffix:
 ``.mtx`` (Matrix Market)
     One matrix per file (Abaqus, ANSYS, Nastran via DMAP, FreeFEM and
     most sparse tools write it), read by :func:`scipy.io.mmread`. A
-    "symmetric" file stores one triangle; it is expanded.
+    "symmetric" file stores one triangle; it is expanded (a symmetric file
+    that stores an entry in both triangles is refused, as is a "pattern"
+    file, which has no values).
 ``.mat`` (MATLAB, version 5 to 7.2)
     Several named variables per file, read by :func:`scipy.io.loadmat`.
 ``.npz`` / ``.npy`` (NumPy)
@@ -31,6 +33,12 @@ DEFAULT_NAMES = {
 }
 
 
+_V73 = (
+    "{path}: MATLAB v7.3 (HDF5) files are not read; save with "
+    "save(..., '-v7') or export the matrices as Matrix Market"
+)
+
+
 def _dense(value, label: str) -> np.ndarray:
     if hasattr(value, "toarray"):
         value = value.toarray()
@@ -38,6 +46,39 @@ def _dense(value, label: str) -> np.ndarray:
     if a.dtype.kind not in "iuf":
         raise ValueError(f"{label} must hold real numbers, got dtype {a.dtype}")
     return np.array(a, dtype=np.float64)
+
+
+def _read_matrix_market(path: Path) -> np.ndarray:
+    """A Matrix Market file as a dense float64 matrix. A "pattern" file
+    (positions without values) and a file with a symmetric header that
+    stores an entry twice (both triangles, which :func:`scipy.io.mmread`
+    would add up) are refused."""
+    from scipy.io import mminfo, mmread
+
+    _, n_cols, _, layout, field, symmetry = mminfo(str(path))
+    if field == "pattern":
+        raise ValueError(
+            f"{path} is a 'pattern' Matrix Market file: it stores the positions "
+            "of the entries but no values"
+        )
+    value = mmread(str(path))
+    if layout == "coordinate" and symmetry != "general":
+        # mmread mirrors every off-diagonal entry of a symmetric file; a
+        # file that already stores both triangles would be summed twice
+        coo = value.tocoo()
+        keys = np.asarray(coo.row, dtype=np.int64) * n_cols + coo.col
+        unique, counts = np.unique(keys, return_counts=True)
+        if np.any(counts > 1):
+            first = int(unique[np.argmax(counts > 1)])
+            i, j = divmod(first, n_cols)
+            raise ValueError(
+                f"{path} has the {symmetry!r} header, which stores one triangle, "
+                f"but entry ({i + 1}, {j + 1}) appears twice (both triangles "
+                "stored, or a repeated entry); reading it would double the "
+                "off-diagonal terms. Write the file with the 'general' header, "
+                "or with one triangle only"
+            )
+    return _dense(value, str(path))
 
 
 def read_matrix(path: str | Path, name: str | None = None) -> np.ndarray:
@@ -69,9 +110,7 @@ def read_matrix(path: str | Path, name: str | None = None) -> np.ndarray:
         raise FileNotFoundError(f"no such matrix file: {path}")
     suffix = path.suffix.lower()
     if suffix == ".mtx":
-        from scipy.io import mmread
-
-        return _dense(mmread(str(path)), str(path))
+        return _read_matrix_market(path)
     if suffix == ".npy":
         return _dense(np.load(path, allow_pickle=False), str(path))
     if suffix == ".mat":
@@ -80,10 +119,7 @@ def read_matrix(path: str | Path, name: str | None = None) -> np.ndarray:
         try:
             data = loadmat(str(path))
         except NotImplementedError:
-            raise ValueError(
-                f"{path}: MATLAB v7.3 (HDF5) files are not read; save with "
-                "save(..., '-v7') or export the matrices as Matrix Market"
-            ) from None
+            raise ValueError(_V73.format(path=path)) from None
         arrays = {k: v for k, v in data.items() if not k.startswith("__")}
     elif suffix == ".npz":
         with np.load(path, allow_pickle=False) as data:
@@ -147,7 +183,7 @@ def read_matrices(
         try:
             present = [entry[0] for entry in whosmat(str(path))]
         except NotImplementedError:
-            present = []
+            raise ValueError(_V73.format(path=path)) from None
     else:
         if not path.is_file():
             raise FileNotFoundError(f"no such matrix file: {path}")

@@ -24,7 +24,7 @@ import numpy as np
 
 from .._validate import finite_float
 from ..laws import ContactLaw
-from .contacts import Contact
+from .contacts import Contact, shared_directions
 
 #: relative tolerance of the symmetry checks of M, C and K
 SYMMETRY_TOL = 1e-10
@@ -37,11 +37,17 @@ def _square(label: str, value, n: int | None = None) -> np.ndarray:
     if hasattr(value, "toarray"):  # scipy.sparse
         value = value.toarray()
     try:
-        a = np.array(value, dtype=np.float64)
+        a = np.asarray(value)
     except (TypeError, ValueError):
+        a = None
+    # complex (a structural-damping K(1 + iη)) would lose its imaginary part
+    # in the cast without a word; strings and objects are no matrices either
+    if a is None or a.dtype.kind not in "biuf":
+        kind = "" if a is None else f" of dtype {a.dtype}"
         raise ValueError(
-            f"{label} must be a real square matrix, got {type(value).__name__}"
-        ) from None
+            f"{label} must be a real square matrix, got {type(value).__name__}{kind}"
+        )
+    a = np.array(a, dtype=np.float64)
     if a.ndim != 2 or a.shape[0] != a.shape[1] or a.shape[0] == 0:
         raise ValueError(f"{label} must be a non-empty square matrix, got {a.shape}")
     if n is not None and a.shape[0] != n:
@@ -337,6 +343,13 @@ class LinearStructure:
             ]
             if a == rest[0] or (rest[1] is not None and rest[1] == rest[2]):
                 raise ValueError(f"contacts[{i}] acts between a DOF and itself")
+            shared = shared_directions(a, *rest)
+            if shared:
+                raise ValueError(
+                    f"contacts[{i}] uses DOF {shared[0]} both tangentially and "
+                    "normally: a 2D element needs distinct tangential and normal "
+                    "DOFs"
+                )
             out.append(Contact(c.law, a, *rest))
         return tuple(out)
 

@@ -37,12 +37,13 @@ Accuracy: the scheme's multipliers differ from the exact flow's by
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .._validate import finite_float, positive_int
-from ..errors import ConvergenceError
+from ..errors import AccuracyWarning, ConvergenceError
 from ..kernels.laws.updates import CUBIC, DAHL, JENKINS
 from ..signals import state_at_zero
 from .integrator import MESSAGES, NO_CONTACT, OK
@@ -55,6 +56,15 @@ _MEMORYLESS_LAWS = (CUBIC,)
 #: periods integrated from a harmonic-balance start before the section, so
 #: that a law with memory forgets its initial (virgin) state
 SETTLE_PERIODS = 2
+#: largest :attr:`Monodromy.closure` of a start on a periodic orbit
+CLOSURE_TOL = 1e-2
+#: without ``settle_periods``, the start settles on past the default periods
+#: while its closure exceeds this and decreases, at most
+#: :data:`MAX_EXTRA_SETTLE` periods more
+SETTLE_TOL = 1e-6
+MAX_EXTRA_SETTLE = 50
+#: ... and stops after this many maps without a better closure
+SETTLE_PATIENCE = 8
 
 
 @dataclass
@@ -84,6 +94,15 @@ class Monodromy:
         Relative size of the finite-difference perturbations.
     elapsed : float
         Wall time, s.
+    closure : float
+        How far the map moves the start: ``max |P(z) - z|`` over the state
+        entries, each in units of its peak over the period (``x``, ``v``,
+        ``f``). Small on a periodic orbit (the harmonic balance's truncation
+        and the scheme's ``O(h²)``); above :data:`CLOSURE_TOL` the start is
+        not on an orbit of this system at this force and Ω, and an
+        :class:`~hbmfric.AccuracyWarning` says so.
+    settle_periods : int
+        Forcing periods integrated from the start before the section.
     """
 
     matrix: np.ndarray = field(repr=False)
@@ -95,6 +114,8 @@ class Monodromy:
     steps_per_period: int
     perturbation: float
     elapsed: float
+    closure: float = float("nan")
+    settle_periods: int = 0
 
     @property
     def max_modulus(self) -> float:
@@ -141,8 +162,13 @@ def monodromy(
         Periods integrated from the start before the section (the contact
         laws' memory settles along the orbit); default 0 for a
         :class:`~hbmfric.validation.SteadyState` or without a law with
-        memory, else 2. Along an unstable solution the state drifts from
-        the orbit by the largest multiplier per period: keep it short.
+        memory, else 2, and then (by default only) one period more at a
+        time while the start still approaches the orbit (the state of best
+        :attr:`Monodromy.closure` is kept; until it is below
+        :data:`SETTLE_TOL`, at most :data:`MAX_EXTRA_SETTLE` maps more, or
+        :data:`SETTLE_PATIENCE` maps without improvement). Along
+        an unstable solution the state drifts from the orbit by the largest
+        multiplier per period: keep it short.
     perturbation : float
         Relative size of the central-difference perturbations, in units of
         the peak of each kind of state entry over the period (``x``,
@@ -234,6 +260,7 @@ def monodromy(
         _run(periods_kernel, _partial(ops, section), x, v, law_state, work, 1)
     period_ops = _rolled(ops, section)
 
+    section_time = section * 2.0 * np.pi / (omega * steps)
     x_scale = peaks[0] if peaks[0] > 0.0 else 1e-6
     v_scale = peaks[1] if peaks[1] > 0.0 else omega * x_scale
     f_scale = peaks[2] if peaks[2] > 0.0 else 1.0
@@ -245,6 +272,55 @@ def monodromy(
         _run(periods_kernel, period_ops, xz, vz, lz, work, periods)
         return state.pack(xz, vz, lz)
 
+    state_k = period_map(z0.copy())  # the start after k = 1 map
+    closure = float(np.max(np.abs(state_k - z0) / scale))
+    extra = k = stall = 0
+    while (
+        settle_periods is None
+        and closure > SETTLE_TOL
+        and k < MAX_EXTRA_SETTLE
+        and stall < SETTLE_PATIENCE
+    ):
+        # settle on: a contact started virgin forgets it at the rate of the
+        # slowest multiplier (0.18 to 0.47 per period on stick-slip Jenkins
+        # orbits: after two periods the start was still 1e-2 off and the
+        # multipliers up to 4 % off); keep the state that closes best
+        following = period_map(state_k.copy())
+        k += 1
+        change = float(np.max(np.abs(following - state_k) / scale))
+        if change < closure:
+            z0, closure, extra, stall = state_k, change, k, 0
+        else:
+            stall += 1  # a rotating (complex) or growing (unstable) approach
+        state_k = following
+    drift = 0.0
+    if isinstance(start, PeriodicSolution):
+        # the settled start against the solution's own state at the section
+        xs, vs = _state_at(start, omega / subharmonic, problem.n_dof, section_time)
+        n_dof = problem.n_dof
+        drift = max(
+            float(np.max(np.abs(z0[:n_dof] - xs))) / x_scale,
+            float(np.max(np.abs(z0[n_dof : 2 * n_dof] - vs))) / v_scale,
+        )
+    if not drift <= CLOSURE_TOL:
+        warnings.warn(
+            f"monodromy: the start settled {drift:.2e} (of its peak) away from "
+            f"the solution it was given (force = {force:.6g} N, omega = "
+            f"{omega:.6g} rad/s): these are the multipliers of another orbit; "
+            "check force, omega and the system",
+            AccuracyWarning,
+            stacklevel=2,
+        )
+    if not closure <= CLOSURE_TOL:
+        warnings.warn(
+            f"monodromy: the start is not on a periodic orbit of this system at "
+            f"force = {force:.6g} N, omega = {omega:.6g} rad/s: {periods} "
+            f"period(s) move it by {closure:.2e} of its peak (the multipliers "
+            "are not those of a periodic solution; check force, omega and the "
+            "system, or start from a converged solution)",
+            AccuracyWarning,
+            stacklevel=2,
+        )
     n = z0.size
     matrix = np.empty((n, n))
     for j in range(n):
@@ -261,10 +337,12 @@ def monodromy(
         labels=state.labels,
         omega=omega,
         periods=periods,
-        section_time=section * 2.0 * np.pi / (omega * steps),
+        section_time=section_time,
         steps_per_period=steps,
         perturbation=perturbation,
         elapsed=time.perf_counter() - clock,
+        closure=closure,
+        settle_periods=settle + extra * periods,
     )
 
 
@@ -396,6 +474,26 @@ def _state_at_zero(solution, fundamental: float, n_dof: int):
         np.asarray(solution.coefficients, dtype=np.float64),
         fundamental,
     )
+
+
+def _state_at(solution, fundamental: float, n_dof: int, time: float):
+    """Displacement and velocity of a harmonic-balance solution at
+    ``time`` (s; its series shifted by ``time``)."""
+    if np.shape(solution.coefficients)[0] != n_dof:
+        raise ValueError("start is a solution of another system")
+    shifted = np.array(solution.coefficients, dtype=np.float64)
+    col = 0
+    for k in solution.harmonic_numbers:
+        k = int(k)
+        if k == 0:
+            col += 1
+            continue
+        c, s = np.cos(k * fundamental * time), np.sin(k * fundamental * time)
+        xc, xs = shifted[:, col].copy(), shifted[:, col + 1].copy()
+        shifted[:, col] = xc * c + xs * s
+        shifted[:, col + 1] = xs * c - xc * s
+        col += 2
+    return state_at_zero(solution.harmonic_numbers, shifted, fundamental)
 
 
 def _partial(ops: tuple, steps: int) -> tuple:

@@ -8,6 +8,7 @@ Full matrix: ``python -m pytest -m stress tests/stress``.
 """
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -173,3 +174,33 @@ def test_non_converged_reference_never_passes(monkeypatch):
         "spot": [(branch.omega[i], err, 5e-3, why, 2)],
     }
     assert failures(out)
+
+
+@pytest.mark.stress
+@pytest.mark.parametrize("distance", [1e-4, 1e-6, 1e-8])
+def test_branch_side_next_to_the_folds(distance):
+    """``periodic_solution(branch_side=...)`` a relative ``distance`` short
+    of each fold of a cubic case (the Duffing of docs/stability.md), from
+    either side: the first value that the sweep from that side
+    (``hf.frf``, up or down) meets there, to 1e-3. Within 1e-6 of a fold
+    the continuation from a side turned back between two points short of
+    the target and returned another branch (issue 14)."""
+    system, force, omega = build(
+        Case(law="cubic", ratio=0.2, stiffness_ratio=0.1, zeta=0.025)
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sweeps = {
+            "below": hf.frf(system, force, omega, 15, sweep="up"),
+            "above": hf.frf(system, force, omega, 15, sweep="down"),
+        }
+        folds = [p.omega for p in sweeps["below"].special_points() if p.kind == "fold"]
+    assert folds
+    for fold in folds:
+        for side, sign in (("below", -1.0), ("above", 1.0)):
+            w = fold * (1.0 + sign * distance)
+            values = sweeps[side].amplitude_at([w])[0]
+            sol = hf.periodic_solution(system, force, w, 15, branch_side=side)
+            assert sol.converged
+            rel = abs(sol.amplitude(harmonic=1) / values[0] - 1.0)
+            assert rel < 1e-3, (side, w, values, sol.amplitude(harmonic=1))
