@@ -141,18 +141,13 @@ def test_units_scaled_by_1e15_give_the_same_branch(length, force):
     # same points to the corrector's tolerance (since the curve rule budgets
     # the points' estimate, rounding-level differences of the estimate move
     # the step by ~1e-16, which a Newton stop at the tolerance turns into
-    # ~1e-10 on Ω; measured 6e-11 after that merge, 1e-12 before). The
-    # amplitudes agree to what the corrector guarantees: it stops at a
-    # residual of 1e-10 of the load, which the resonance amplifies by its
-    # quality factor (1 / 0.02 here) into up to 5e-9 of the amplitude;
-    # measured up to 2.4e-9 at stop 24 (1e-12 before; the adaptive final
-    # pass changed then). A unit bug moves it by O(1).
+    # ~1e-10 on Ω; measured 6e-11 after that merge, 1e-12 before)
     assert len(scaled) == len(base)
     np.testing.assert_allclose(scaled.omega, base.omega, rtol=1e-9)
     np.testing.assert_allclose(
         scaled.amplitude(harmonic=1) / length,
         base.amplitude(harmonic=1),
-        rtol=1e-8,
+        rtol=1e-9,
     )
 
 
