@@ -389,11 +389,18 @@ def _warn_truncation(branch: Branch, tolerance: float) -> None:
         return
     worst = int(np.argmax(errors))
     n_over = int(np.count_nonzero(errors > tolerance))
-    advice = (
-        "use harmonics='auto'"
-        if branch.point_harmonics is None
-        else "the top of the harmonic ladder cannot meet it (a rigid contact?)"
-    )
+    if branch.point_harmonics is None:
+        advice = "use harmonics='auto'"
+    elif branch.harmonics_at(worst) >= LADDER[-1]:
+        advice = (
+            f"the top of the harmonic ladder (H={LADDER[-1]}) cannot meet it "
+            "(a rigid contact?)"
+        )
+    else:
+        advice = (
+            "harmonics='auto' could not solve that point with more harmonics "
+            "(Newton failed there)"
+        )
     warnings.warn(
         f"estimated truncation error {errors[worst]:.2g} exceeds "
         f"harmonic_tolerance={tolerance:g} at {n_over} of {errors.size} points "

@@ -594,11 +594,18 @@ class AdaptiveContinuation:
         state.stop_reason = ""
         return h
 
-    def _resolve(self, state: ContinuationState, h: int, h_new: int) -> bool:
-        """Solve the current (last) point again at level ``h_new``."""
+    def _resolve(
+        self,
+        state: ContinuationState,
+        h: int,
+        h_new: int,
+        max_iter: int | None = None,
+    ) -> bool:
+        """Solve the current (last) point again at level ``h_new`` (Newton
+        with at most ``max_iter`` iterations, default ``max_newton``)."""
         dst = self._cont(h_new)
         guess = self.pad(state.y, h, h_new)
-        y, status, it = dst.solve_at(float(state.y[-1]), guess[:-1])
+        y, status, it = dst.solve_at(float(state.y[-1]), guess[:-1], max_iter)
         state.n_newton += it
         if status != _newton.CONVERGED or not np.all(np.isfinite(y)):
             return False
@@ -614,6 +621,19 @@ class AdaptiveContinuation:
         self.n_resolves += 1
         self._reset()
         return True
+
+    def _climb(self, state: ContinuationState, h: int, h_new: int) -> int | None:
+        """Solve the current point again at ``h_new``: Newton from the
+        padded level-``h`` solution with the usual budget, then (a point at
+        the onset of slip, where the AFT Jacobian changes between stick and
+        slip across the iterations, may need 40-60 iterations) with the
+        first point's budget. ``h_new``, or None if both fail."""
+        if self._resolve(state, h, h_new):
+            return h_new
+        budget = max(8 * self.options.max_newton, 100)
+        if self._resolve(state, h, h_new, budget):
+            return h_new
+        return None
 
     def _adapt(self, state: ContinuationState, h: int, levels: list) -> int:
         """Choose the level for the next step after the current (last)
@@ -671,7 +691,8 @@ class AdaptiveContinuation:
             if est <= tol or h == self.ladder[-1]:
                 break
             h_new = self._raise_to(est, h, len(levels))
-            if not self._resolve(state, h, h_new):
+            h_new = self._climb(state, h, h_new)
+            if h_new is None:
                 break
             levels[-1] = h = h_new
             level = self._levels[h]
