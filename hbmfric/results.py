@@ -257,6 +257,9 @@ class Branch:
     _stability: object = field(default=None, repr=False, compare=False)
     _hp: int | None = field(default=None, repr=False, compare=False)
     _method: str = field(default="auto", repr=False, compare=False)
+    #: the system the cached stability was computed for (a call passing
+    #: that same object again reuses it)
+    _stability_system: object = field(default=None, repr=False, compare=False)
 
     def __getstate__(self) -> dict:
         return _picklable_state(self)
@@ -507,6 +510,8 @@ class Branch:
         if exponents not in ("auto", "all"):
             raise ValueError(f'exponents must be "auto" or "all", got {exponents!r}')
         key = perturbation_harmonics
+        if system is not None and system is self._stability_system:
+            system = None  # the system the cached result was computed for
         if (
             self._stability is None
             or system is not None
@@ -549,6 +554,7 @@ class Branch:
                 _snap_to_folds(self._stability.stable, self.folds)
             self._method = method
             self._hp = key
+            self._stability_system = src["system"]
         if exponents == "all":
             self._stability.exponents  # noqa: B018 - computes the missing ones
         return self._stability
@@ -613,7 +619,7 @@ class Branch:
         src = _stability_source(self._source, system)
         changes, method = None, "hill"
         if stability:
-            stab = self.stability(src["system"])
+            stab = self.stability(system)  # the cached one unless given another
             changes = stab.changes()
             if stab.criterion == "monodromy":
                 method = "monodromy"
@@ -1043,6 +1049,8 @@ def _picklable_state(obj) -> dict:
     except Exception:  # noqa: BLE001 - any pickling failure drops it
         state["_source"] = None
         state["_stability"] = None
+        if "_stability_system" in state:
+            state["_stability_system"] = None
     return state
 
 

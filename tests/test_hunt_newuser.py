@@ -1,0 +1,35 @@
+"""Quiet failures and misleading behaviour found by trying the library as a
+new user would (each test failed before its fix)."""
+
+import numpy as np
+import pytest
+
+import hbmfric as hf
+import hbmfric.stability as stability_module
+
+
+def _duffing_branch():
+    duffing = hf.Oscillator(1.0, 0.05, 1.0, hf.Cubic(0.1))
+    return duffing, hf.frf(duffing, 0.5, (0.5, 2.5), harmonics=3)
+
+
+def test_special_points_reuse_the_cached_stability(monkeypatch):
+    """``special_points()`` recomputed every point's stability on each call
+    (minutes on a several-DOF friction branch, by the monodromy)."""
+    system, branch = _duffing_branch()
+    calls = []
+    original = stability_module.stability_of_points
+
+    def counted(*args, **kwargs):
+        calls.append(1)
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(stability_module, "stability_of_points", counted)
+    branch.stability()
+    assert len(calls) == 1
+    assert not np.all(branch.stable)  # the middle stretch: a real test case
+    kinds = [p.kind for p in branch.special_points()]
+    assert "fold" in kinds
+    branch.special_points()
+    branch.special_points(system)  # the same system object: still cached
+    assert len(calls) == 1
