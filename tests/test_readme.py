@@ -68,7 +68,9 @@ def test_readme_study_example_runs(tmp_path, monkeypatch):
         [sys.executable, str(script)], capture_output=True, text=True, timeout=600
     )
     assert proc.returncode == 0, proc.stderr[-2000:]
-    assert "macroslip" in proc.stdout or "undecided" in proc.stdout
+    # the grid has two loads per ratio and mostly stuck curves: a verdict,
+    # not "undecided" (whose explanation also mentions macroslip)
+    assert proc.stdout.startswith("macroslip without roughness"), proc.stdout
     assert (tmp_path / "family.csv").exists()
 
 
