@@ -26,11 +26,22 @@ in the file (``scene.toml: [contact] stiffness: ...``). Example::
     csv = "frf.csv"
     png = "frf.png"              # omit for no plot (no matplotlib import)
     npz = "frf.npz"
+    dof = 0                      # DOF of the CSV and plot (default: contact)
 
     [study]                      # optional: one FRF per combination
     "frf.force" = [0.1, 0.5, 2.0]
     "contact.normal_load" = [1.0, 10.0]   # (laws given by μ and N)
     executor = "processes"       # or "serial"
+
+For ``kind = "matrices"``, several contacts, or a contact between two
+DOFs, are an array of tables instead of ``[contact]``::
+
+    [[contacts]]
+    law = "jenkins"
+    stiffness = 2000.0
+    slip_force = 1.0
+    dof = 1                      # index or name
+    other = 2                    # omit for a contact to ground
 
 The paper's scenes ship as examples in ``examples/scenes/``.
 """
@@ -48,8 +59,10 @@ import numpy as np
 
 SYSTEM_KINDS = ("oscillator", "beam", "tensioner", "matrices")
 LAWS = ("jenkins", "menq", "iwan", "coulomb", "dahl", "cubic", "roughness", "none")
-TOP_LEVEL = ("system", "contact", "frf", "output", "study")
-OUTPUT_KEYS = ("directory", "csv", "png", "npz")
+TOP_LEVEL = ("system", "contact", "contacts", "frf", "output", "study")
+OUTPUT_KEYS = ("directory", "csv", "png", "npz", "dof")
+#: keys of a ``[[contacts]]`` entry besides the law and its arguments
+PLACEMENT_KEYS = ("dof", "other", "normal", "normal_other")
 STUDY_OPTIONS = ("executor", "workers", "normal_load", "sets")
 
 
@@ -60,6 +73,17 @@ class SceneError(ValueError):
 
 def _fail(where: str, msg: str) -> SceneError:
     return SceneError(f"{where}: {msg}")
+
+
+def _unknown(keys, accepted) -> str:
+    """``'omga' (did you mean 'omega'?), ...`` for unknown keys."""
+    import difflib
+
+    out = []
+    for key in keys:
+        close = difflib.get_close_matches(str(key), [str(a) for a in accepted], n=1)
+        out.append(f"{key!r} (did you mean {close[0]!r}?)" if close else repr(key))
+    return ", ".join(out)
 
 
 def _law_class(name: str):
@@ -87,7 +111,7 @@ def _call(where: str, cls, kwargs: dict, extra: dict | None = None):
     if unknown:
         raise _fail(
             where,
-            f"unknown key(s) {', '.join(repr(u) for u in unknown)} (accepted: "
+            f"unknown key(s) {_unknown(unknown, accepted)} (accepted: "
             f"{', '.join(accepted)})",
         )
     try:
@@ -135,6 +159,35 @@ def build_contact(table: dict | None, where: str):
     return _call(where, cls, t)
 
 
+def build_contacts(entries, where: str) -> list:
+    """The contacts of a ``[[contacts]]`` array of tables: each entry is a
+    law's table (as ``[contact]``) plus where it acts, ``dof`` (index or
+    name, required), ``other`` (the DOF on the other side of the joint;
+    omit for a contact to ground), ``normal`` and ``normal_other``."""
+    import hbmfric as hf
+
+    if not isinstance(entries, list) or not entries:
+        raise _fail(where, "must be a non-empty array of tables ([[contacts]])")
+    contacts = []
+    for i, entry in enumerate(entries):
+        here = f"{where}[{i}]"
+        if not isinstance(entry, dict):
+            raise _fail(here, "must be a table")
+        t = dict(entry)
+        place = {k: t.pop(k) for k in PLACEMENT_KEYS if k in t}
+        if "dof" not in place:
+            raise _fail(here, "missing key 'dof' (the DOF the law acts on)")
+        if t.get("law") == "none":
+            raise _fail(f"{here} law", "a [[contacts]] entry needs a contact law")
+        law = build_contact(t, here)
+        dof = place.pop("dof")
+        try:
+            contacts.append(hf.Contact(law, dof, **place))
+        except (TypeError, ValueError) as exc:
+            raise _fail(here, str(exc)) from None
+    return contacts
+
+
 def build_system(scene: dict, name: str):
     """The system of a parsed scene (see the module notes)."""
     import hbmfric as hf
@@ -151,6 +204,23 @@ def build_system(scene: dict, name: str):
             f"must be one of {', '.join(SYSTEM_KINDS)}, got {kind!r}",
         )
     contact = build_contact(scene.get("contact"), f"{name}: [contact]")
+    contacts = None
+    if "contacts" in scene:
+        if kind != "matrices":
+            raise _fail(
+                f"{name}: [[contacts]]",
+                f"only kind 'matrices' takes several contacts; kind {kind!r} has "
+                "its contact in [contact]",
+            )
+        if scene.get("contact") is not None:
+            raise _fail(name, "give [contact] or [[contacts]], not both")
+        for key in ("contact_dof", "contacts"):
+            if key in t:
+                raise _fail(
+                    f"{where} {key}",
+                    "with [[contacts]], each contact says where it acts (dof, other)",
+                )
+        contacts = build_contacts(scene["contacts"], f"{name}: [[contacts]]")
     if kind == "oscillator":
         if "damping_ratio" in t:
             if "damping" in t:
@@ -189,7 +259,13 @@ def build_system(scene: dict, name: str):
                 try:
                     files[key] = hf.read_matrix(base / path, var)
                 except (OSError, ValueError) as exc:
-                    raise _fail(f"{where} {key}", str(exc)) from None
+                    msg = str(exc)
+                    if "name=" in msg:
+                        msg = msg.replace(
+                            "say which with name=",
+                            f'say which in the scene: {key} = "{path}:<name>"',
+                        )
+                    raise _fail(f"{where} {key}", msg) from None
             else:
                 files[key] = value
     if "mass" not in files or "stiffness" not in files:
@@ -200,6 +276,8 @@ def build_system(scene: dict, name: str):
         }
     if "rayleigh" in t and isinstance(t["rayleigh"], list):
         t["rayleigh"] = tuple(t["rayleigh"])
+    if contacts is not None:
+        return _call(where, hf.LinearStructure, {**files, **t}, {"contacts": contacts})
     return _call(where, hf.LinearStructure, {**files, **t}, {"contact": contact})
 
 
@@ -215,9 +293,31 @@ def _frf_options(scene: dict, name: str) -> tuple[float, tuple[float, float], di
 
     where = f"{name}: [frf]"
     t = dict(scene.get("frf") or {})
+    accepted = set(inspect.signature(hf.frf).parameters) - {
+        "system",
+        "force",
+        "omega",
+        "option_overrides",
+        "options",
+    }
+    accepted |= {f.name for f in dataclasses.fields(hf.ContinuationOptions)}
+    unknown = sorted(set(t) - accepted - {"force", "omega", "frequency_hz"})
+    if unknown:
+        raise _fail(
+            where,
+            f"unknown key(s) "
+            f"{_unknown(unknown, ['force', 'omega', 'frequency_hz', *accepted])} "
+            f"(accepted: force, omega, frequency_hz, {', '.join(sorted(accepted))})",
+        )
     if "force" not in t:
         raise _fail(where, "missing key 'force' (N)")
     force = t.pop("force")
+    if isinstance(force, bool) or not isinstance(force, int | float):
+        raise _fail(
+            f"{where} force",
+            f"must be a number, the forcing amplitude in N (no units in the "
+            f"value), got {force!r}",
+        )
     if "omega" in t and "frequency_hz" in t:
         raise _fail(where, "give omega (rad/s) or frequency_hz, not both")
     if "frequency_hz" in t:
@@ -234,21 +334,6 @@ def _frf_options(scene: dict, name: str) -> tuple[float, tuple[float, float], di
         omega = (float(band[0]) * scale, float(band[1]) * scale)
     except (TypeError, ValueError):
         raise _fail(f"{where} omega", f"must be two numbers, got {band!r}") from None
-    accepted = set(inspect.signature(hf.frf).parameters) - {
-        "system",
-        "force",
-        "omega",
-        "option_overrides",
-        "options",
-    }
-    accepted |= {f.name for f in dataclasses.fields(hf.ContinuationOptions)}
-    unknown = sorted(set(t) - accepted)
-    if unknown:
-        raise _fail(
-            where,
-            f"unknown key(s) {', '.join(repr(u) for u in unknown)} (accepted: force, "
-            f"omega, frequency_hz, {', '.join(sorted(accepted))})",
-        )
     return force, omega, t
 
 
@@ -321,7 +406,19 @@ def load_scene(path: str | Path) -> Scene:
             f"{', '.join(OUTPUT_KEYS)})",
         )
     scene = Scene(name, data, path.resolve().parent)
-    scene.system()  # checks [system] and [contact]
+    system = scene.system()  # checks [system] and [contact]
+    if "dof" in out:
+        from .results import _resolve_dof
+
+        dof = out["dof"]
+        if isinstance(dof, bool) or not isinstance(dof, int | str):
+            raise _fail(
+                f"{name}: [output] dof", f"must be a DOF index or name, got {dof!r}"
+            )
+        try:
+            _resolve_dof(dof, getattr(system, "dof_names", None) or {}, system.n_dof)
+        except (TypeError, ValueError) as exc:
+            raise _fail(f"{name}: [output] dof", str(exc)) from None
     scene.frf_call()  # checks [frf]
     for p in study_sets(scene):
         for key in p:
@@ -426,7 +523,9 @@ def run_scene(path: str | Path, out: str | Path | None = None, progress=print) -
             f"{branch.elapsed:.3f} s"
         )
         if "csv" in output:
-            written.append(_branch_csv(branch, directory / output["csv"]))
+            written.append(
+                _branch_csv(branch, directory / output["csv"], output.get("dof"))
+            )
         if "npz" in output:
             written.append(Path(branch.save(directory / output["npz"])))
         if "png" in output:
@@ -436,7 +535,7 @@ def run_scene(path: str | Path, out: str | Path | None = None, progress=print) -
             import matplotlib.pyplot as plt
 
             fig, ax = plt.subplots(figsize=(6, 4))
-            branch.plot(ax=ax)
+            branch.plot(ax=ax, dof=output.get("dof"))
             fig.savefig(directory / output["png"], dpi=120)
             plt.close(fig)
             written.append(directory / output["png"])
@@ -493,10 +592,13 @@ def run_scene(path: str | Path, out: str | Path | None = None, progress=print) -
     return result
 
 
-def _branch_csv(branch, path: Path) -> Path:
+def _branch_csv(branch, path: Path, dof=None) -> Path:
+    """``omega`` (rad/s), ``amplitude`` (first-harmonic amplitude of
+    ``dof``, default the contact DOF, m) and ``truncation_error`` per
+    point."""
     import csv
 
-    amp = branch.amplitude(harmonic=1)
+    amp = branch.amplitude(harmonic=1, dof=dof)
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["omega", "amplitude", "truncation_error"])

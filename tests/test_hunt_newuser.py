@@ -33,3 +33,13 @@ def test_special_points_reuse_the_cached_stability(monkeypatch):
     branch.special_points()
     branch.special_points(system)  # the same system object: still cached
     assert len(calls) == 1
+
+
+@pytest.mark.parametrize("ratios", [2.0, [0.01, 5.0], 1.0])
+def test_modal_damping_given_in_percent_is_refused(ratios):
+    """``modal_damping=2.0`` (meant as 2 %) gave 200 % damping quietly."""
+    with pytest.raises(ValueError, match="critical"):
+        hf.LinearStructure(np.eye(2), np.diag([1.0, 4.0]), modal_damping=ratios)
+    # a ratio below 1 is accepted and gives 2 ζ ω on the diagonal here
+    s = hf.LinearStructure(np.eye(2), np.diag([1.0, 4.0]), modal_damping=0.02)
+    np.testing.assert_allclose(np.diag(s.matrices()[1]), [0.04, 0.08], rtol=1e-12)

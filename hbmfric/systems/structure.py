@@ -102,8 +102,10 @@ class LinearStructure:
         ``(α, β)`` of Rayleigh damping ``C = α M + β K``.
     modal_damping : float or array_like, optional
         Damping ratio of every mode (one value) or of the first modes (one
-        per mode, the rest undamped): ``C = M Φ diag(2 ζ_j ω_j) Φᵀ M`` with
-        the mass-normalised modes ``Φ``.
+        per mode, the rest undamped), a fraction of critical damping in
+        ``[0, 1)`` (0.02 for 2 %; 1 or more is refused as a likely
+        percentage): ``C = M Φ diag(2 ζ_j ω_j) Φᵀ M`` with the
+        mass-normalised modes ``Φ``.
     load : array_like or mapping, optional
         Load per unit forcing amplitude: a vector of shape (n,), real or
         complex (see the module notes for the phase), or a mapping
@@ -388,6 +390,13 @@ class LinearStructure:
             raise ValueError(
                 "modal_damping must be a ratio >= 0 or a 1-d array of ratios >= 0, "
                 f"got {ratios!r}"
+            )
+        if np.any(z >= 1.0):
+            raise ValueError(
+                "modal_damping takes ratios of critical damping (0.02 for 2 %), "
+                f"got {ratios!r}: a ratio >= 1 is critical or over-critical "
+                "damping, most often a percentage given by mistake; for "
+                "over-critical modes on purpose pass the matrix as damping="
             )
         if z.size > omega.size:
             raise ValueError(
