@@ -277,12 +277,14 @@ class CompileNotice(_event.Listener):
             )
         else:
             where = (
-                f"once per installed version: later runs load them from "
-                f"{self.cache_dir}"
+                "once per installed version for each kernel: later runs load "
+                f"them from {self.cache_dir}; a run that takes a path not used "
+                "before compiles its kernels then (`hbmfric warmup` compiles "
+                "every path ahead)"
             )
         return (
-            "hbmfric: compiling its Numba kernels on first use (a few minutes on "
-            f"two cores); this happens {where}."
+            "hbmfric: compiling the Numba kernels this run needs for the first "
+            f"time (up to a few minutes on two cores); this happens {where}."
         )
 
     def on_start(self, event) -> None:

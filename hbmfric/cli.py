@@ -279,6 +279,7 @@ def main(argv: list[str] | None = None) -> int:
         prog="hbmfric",
         description="Harmonic balance for structures with dry-friction contacts.",
     )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     sub = parser.add_subparsers(dest="command", required=True)
     paper = sub.add_parser(
         "paper",
@@ -286,7 +287,11 @@ def main(argv: list[str] | None = None) -> int:
         description="Compute the paper's FRF families; write a CSV and a PNG "
         "per figure.",
     )
-    paper.add_argument("--out", default="paper-results", help="output directory")
+    paper.add_argument(
+        "--out",
+        default="paper-results",
+        help="output directory (default: paper-results)",
+    )
     paper.add_argument(
         "--harmonics",
         type=_harmonics_arg,
@@ -325,7 +330,9 @@ def main(argv: list[str] | None = None) -> int:
         "run",
         help="run a scene file (TOML): a system, its contact, an FRF or a study",
         description="Trace the FRF (or the study grid) a scene file describes and "
-        "write its outputs; see hbmfric/scene.py or examples/scenes/.",
+        "write its outputs. The format (tables, keys, units) is in the "
+        "documentation page 'Scene files and studies' (docs/scenes-and-studies.md); "
+        "examples in examples/scenes/.",
     )
     run.add_argument("scene", help="the scene file (.toml)")
     run.add_argument(
@@ -342,6 +349,18 @@ def main(argv: list[str] | None = None) -> int:
     warm.set_defaults(func=_warmup)
     args = parser.parse_args(argv)
     return args.func(args)
+
+
+def _version() -> str:
+    """The installed version (the package metadata's, else the module's)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("hbmfric")
+    except PackageNotFoundError:
+        import hbmfric
+
+        return getattr(hbmfric, "__version__", "unknown")
 
 
 def _pairs_arg(text: str) -> int:

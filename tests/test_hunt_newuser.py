@@ -43,3 +43,33 @@ def test_modal_damping_given_in_percent_is_refused(ratios):
     # a ratio below 1 is accepted and gives 2 ζ ω on the diagonal here
     s = hf.LinearStructure(np.eye(2), np.diag([1.0, 4.0]), modal_damping=0.02)
     np.testing.assert_allclose(np.diag(s.matrices()[1]), [0.04, 0.08], rtol=1e-12)
+
+
+def test_cli_version_and_defaults_in_help(capsys):
+    from hbmfric.cli import main
+
+    with pytest.raises(SystemExit) as exit_info:
+        main(["--version"])
+    assert exit_info.value.code == 0
+    assert capsys.readouterr().out.startswith("hbmfric ")
+    with pytest.raises(SystemExit):
+        main(["paper", "--help"])
+    assert "default: paper-results" in capsys.readouterr().out
+    with pytest.raises(SystemExit):
+        main(["run", "--help"])
+    assert "scenes-and-studies" in capsys.readouterr().out
+
+
+def test_exact_reference_names_the_contact_it_refuses():
+    """ "got 1 contact(s)" for one contact between two DOFs."""
+    from hbmfric.validation import exact_periodic_solution
+
+    law = hf.Jenkins(stiffness=3.0, slip_force=1.0)
+    system = hf.LinearStructure(
+        np.eye(2),
+        np.array([[2.0, -1.0], [-1.0, 2.0]]),
+        modal_damping=0.01,
+        contacts=[hf.Contact(law, 0, other=1)],
+    )
+    with pytest.raises(ValueError, match="between DOFs 0 and 1.*steady_state"):
+        exact_periodic_solution(system, 0.5, 1.0)

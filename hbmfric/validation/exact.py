@@ -665,9 +665,15 @@ def _check_system(system):
     if contacts is not None and (
         len(contacts) != 1 or getattr(contacts[0], "other", None) is not None
     ):
+        got = (
+            f"{len(contacts)} contacts"
+            if len(contacts) != 1
+            else f"a contact between DOFs {contacts[0].dof} and {contacts[0].other}"
+        )
         raise ValueError(
             "the exact reference needs a system with one hf.Jenkins contact to "
-            f"ground, got {len(contacts)} contact(s)"
+            f"ground, got {got}; use hbmfric.validation.steady_state (time "
+            "integration) for this system"
         )
     M, _, K = system.matrices()
     if scipy.linalg.eigvalsh(K, M)[0] <= 0.0:
