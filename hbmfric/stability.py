@@ -1142,13 +1142,24 @@ def monodromy_multipliers(
     -------
     ndarray of complex, shape (n_state,)
     """
-    from .signals import state_at_zero
+    from .results import PeriodicSolution
     from .validation.period_map import monodromy
 
     nu = int(subharmonic or 1)
-    x0, v0 = state_at_zero(harmonic_numbers, coefficients, float(omega))
+    # the solution itself as the start: its state at t = 0 and, for a law
+    # with memory, the law's state on its hysteresis loop
+    solution = PeriodicSolution(
+        omega=float(omega),
+        force=float(force),
+        harmonic_numbers=np.asarray(harmonic_numbers),
+        coefficients=np.asarray(coefficients, dtype=np.float64),
+        converged=True,
+        newton_iterations=0,
+        residual_norm=0.0,
+        _source={"subharmonic": nu},
+    )
     result = monodromy(
-        system, (x0, v0), force=force, omega=nu * float(omega), periods=nu
+        system, solution, force=force, omega=nu * float(omega), periods=nu
     )
     return result.multipliers
 

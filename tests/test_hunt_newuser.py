@@ -73,3 +73,44 @@ def test_exact_reference_names_the_contact_it_refuses():
     )
     with pytest.raises(ValueError, match="between DOFs 0 and 1.*steady_state"):
         exact_periodic_solution(system, 0.5, 1.0)
+
+
+def test_monodromy_stability_of_a_chain_starts_on_the_orbit():
+    """Stability of a three-DOF chain with a Jenkins contact between two DOFs
+    (the time-domain monodromy): at converged branch points near the first
+    resonance it warned "the start is not on a periodic orbit ... 1.1e-2"
+    (a virgin slider, forgotten at 0.91 per period)."""
+    import warnings
+
+    from hbmfric.stability import stability_of_points
+
+    mass = np.eye(3)
+    stiffness = np.array(
+        [[2000.0, -1000.0, 0.0], [-1000.0, 2000.0, -1000.0], [0.0, -1000.0, 1000.0]]
+    )
+    law = hf.Jenkins(stiffness=2000.0, slip_force=1.0)
+    system = hf.LinearStructure(
+        mass,
+        stiffness,
+        modal_damping=0.01,
+        load={0: 1.0},
+        contacts=[hf.Contact(law, 1, other=2)],
+    )
+    branch = hf.frf(system, 5.0, (8.0, 25.0))  # the user's call
+    pick = np.array([np.argmin(abs(branch.omega - w)) for w in (12.50, 12.88, 12.91)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", hf.HbmfricWarning)
+        stab = stability_of_points(
+            system,
+            branch.force,
+            branch.omega[pick],
+            branch.harmonic_numbers,
+            branch.coefficients[pick],
+            branch.point_harmonics[pick],
+            symmetric=bool(branch.info.get("odd_only", False)),
+            method="monodromy",
+        )
+    assert np.all(stab.stable)
+    # a stable slipping orbit of a damped structure: all multipliers inside
+    # the unit circle but the slider's, which a slipping contact damps too
+    assert np.all(np.abs(stab.multipliers) < 1.0)

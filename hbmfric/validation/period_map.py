@@ -235,9 +235,16 @@ def monodromy(
     else:
         if isinstance(start, PeriodicSolution):
             x, v = _state_at_zero(start, omega / subharmonic, problem.n_dof)
+            # the laws' state on the orbit's hysteresis loop, sampled as the
+            # integrator steps (a virgin law there is off the loop, and the
+            # integration forgets it only at the slowest multiplier's rate:
+            # tens of periods on a lightly damped structure)
+            law_state = problem.loop_law_state(
+                _orbit_samples(start, problem.n_dof, steps * subharmonic)
+            )
         else:
             x, v = problem.initial_state(start, omega, steps)
-        law_state = problem.initial_law_state(x)
+            law_state = problem.initial_law_state(x)
         default_settle = SETTLE_PERIODS if state.memory.size else 0
     settle = default_settle if settle_periods is None else settle_periods
     settle = positive_int("settle_periods", settle, low=0)
@@ -474,6 +481,19 @@ def _state_at_zero(solution, fundamental: float, n_dof: int):
         np.asarray(solution.coefficients, dtype=np.float64),
         fundamental,
     )
+
+
+def _orbit_samples(solution, n_dof: int, n_samples: int) -> np.ndarray:
+    """Displacements of a harmonic-balance solution at ``n_samples``
+    instants evenly spaced over its period (the first at ``t = 0``), shape
+    (n_dof, n_samples), m."""
+    from ..signals import synthesis_matrix
+
+    if np.shape(solution.coefficients)[0] != n_dof:
+        raise ValueError("start is a solution of another system")
+    theta = 2.0 * np.pi * np.arange(n_samples) / n_samples
+    basis = synthesis_matrix(np.asarray(solution.harmonic_numbers), theta)
+    return np.asarray(solution.coefficients, dtype=np.float64) @ basis.T
 
 
 def _state_at(solution, fundamental: float, n_dof: int, time: float):

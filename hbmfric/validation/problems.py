@@ -29,6 +29,7 @@ from .multi_integrator import (
     newmark_periods_multi,
     record_period_multi,
 )
+from .orbit_state import loop_state
 
 #: periods per kernel call: first call, and bounds of the adaptive size
 _FIRST_CHUNK = 4
@@ -36,6 +37,9 @@ _MIN_CHUNK = 2
 _MAX_CHUNK = 32
 #: changes used to fit the decay rate
 _RATE_WINDOW = 16
+
+#: periods the laws are marched around an orbit (:meth:`SingleContact.loop_law_state`)
+LOOPS = 2
 
 
 @dataclass(frozen=True)
@@ -283,6 +287,18 @@ class SingleContact(_TimeProblem):
         law_init(code, self.law_params, float(x[self.contact_dof]), state)
         return state
 
+    def loop_law_state(self, samples: np.ndarray) -> np.ndarray:
+        """The contact-law state at the first of ``samples`` (shape
+        (n_dof, n_samples): one period of a periodic orbit) on the orbit's
+        hysteresis loop (:func:`hbmfric.validation.orbit_state.loop_state`)."""
+        if self.law_code == NO_CONTACT:
+            return np.zeros(1)
+        code = np.int64(self.law_code)
+        state = np.empty(int(state_size(code, self.law_params)))
+        coordinate = np.ascontiguousarray(samples[self.contact_dof], dtype=np.float64)
+        loop_state(code, self.law_params, coordinate, np.int64(LOOPS), state)
+        return state
+
     def operators(self, omega: float, steps: int):
         """Newmark operators ``(Aᵀ, Bᵀ, q, q₀, g, cos_sum, 2/h)`` for ``h = T/N``
         (see :mod:`hbmfric.validation.integrator`)."""
@@ -468,6 +484,31 @@ class SeveralContacts(_TimeProblem):
                     p[0], p[1], p[2], p[3], c[j], c[j], c[j + 1]
                 )
                 state[j], state[j + 1] = t, n
+        return state
+
+    def loop_law_state(self, samples: np.ndarray) -> np.ndarray:
+        """The laws' state at the first of ``samples`` (shape (n_dof,
+        n_samples): one period of a periodic orbit), each 1D law on the
+        orbit's hysteresis loop
+        (:func:`hbmfric.validation.orbit_state.loop_state`); a 2D element
+        as :meth:`initial_law_state` puts it."""
+        state = self.initial_law_state(samples[:, 0])
+        coordinates = self.reader() @ samples
+        for k, kind in enumerate(self.kinds):
+            if kind != LAW_1D:
+                continue
+            j, s = self.first[k], self.state_at[k]
+            p = self.params[self.param_at[k] : self.param_at[k + 1]]
+            block = np.empty(self.sizes[k])
+            loop_state(
+                np.int64(self.codes[k]),
+                p,
+                np.ascontiguousarray(coordinates[j], dtype=np.float64),
+                np.int64(LOOPS),
+                block,
+            )
+            state[s : s + self.sizes[k]] = block
+            state[j] = block[0]
         return state
 
     def kernel_system(self, omega: float, steps: int) -> tuple:
