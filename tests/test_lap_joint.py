@@ -222,7 +222,6 @@ def test_dof_names_point_at_the_pairs():
 # the extra figure set of `hbmfric paper`
 
 
-@pytest.mark.filterwarnings("ignore::hbmfric.AccuracyWarning")
 def test_extra_figure_set_is_labelled_and_depends_on_the_ratio_only(tmp_path):
     """A small version of the extra figure set: labelled as not the
     paper's; its stuck curve is the linear stuck FRF (NumPy solve of the
@@ -231,13 +230,20 @@ def test_extra_figure_set_is_labelled_and_depends_on_the_ratio_only(tmp_path):
     slip force scales with the preload, the stiffness does not)."""
     from hbmfric.paper import lap_joint_family
 
-    fam = lap_joint_family(
-        ratios=(2e-5, 1e-3),
-        check_ratios=(1e-3,),
-        harmonics=3,
-        frequency_range=(158.0, 172.0),
-        max_step=0.3,
-    )
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fam = lap_joint_family(
+            ratios=(2e-5, 1e-3),
+            check_ratios=(1e-3,),
+            harmonics=3,
+            frequency_range=(158.0, 172.0),
+            max_step=0.3,
+        )
+    # one warning for the set, naming the scene's fixed H (one per curve,
+    # advising harmonics='auto', before)
+    accuracy = [w for w in caught if issubclass(w.category, hf.AccuracyWarning)]
+    assert len(accuracy) == 1
+    assert "fixed H = 3" in str(accuracy[0].message)
     assert "not in the paper" in fam.title
     assert fam.name == "extra_lapjoint_n10"
     stuck = fam.branches[0]
