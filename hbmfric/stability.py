@@ -1060,7 +1060,11 @@ def stability_of_points(
         of a hysteretic law do not obey Liouville's formula; for them the
         anchors and the bisection are the safeguard, and what can be
         missed is an even number of complex crossings between two
-        computed points with no real crossing between them. A branch
+        computed points with no real crossing between them. Where every
+        contact (Jenkins elements to ground) provably sticks over the
+        whole period, the Jacobian is linear: its signs are +1 and the
+        point is stable without an AFT, an LU or eigenvalues
+        (:func:`_stuck_everywhere`). A branch
         without the symmetry can double its period (a complex crossing
         no determinant of the integer-harmonic pencil sees): every point.
     method : {"auto", "hill", "monodromy"}
