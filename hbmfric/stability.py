@@ -594,17 +594,26 @@ class _Level:
             return self._all[local]
         return self._evaluate(local)[0]
 
-    def _evaluate(self, local: np.ndarray, groups=None, coupling: bool = False):
+    def _evaluate(
+        self,
+        local: np.ndarray,
+        groups=None,
+        coupling: bool = False,
+        hold: bool = True,
+    ):
         """``∂R/∂X`` at the points ``local``, one compiled loop, and the
         signs (k, n_groups) of the determinants of the blocks ``groups``
-        (None: not computed). With ``coupling`` (and every row kept), the
+        (None: not computed); ``hold=False``: the Jacobians are not kept
+        (one slot, the returned array holds at most the last point's).
+        With ``coupling`` (and every row kept), the
         largest odd-even coupling and entry are measured in the same loop
         (``self._extremes``, for :meth:`_decide_groups`)."""
         from .kernels.stability.hill import hill_jacobians
 
         problem = self.problem
         n_full = problem.n_unknowns
-        J = np.empty((local.size, n_full, n_full))
+        # hold=False: one slot, the Jacobians are not kept (signs only)
+        J = np.empty((local.size if hold else min(local.size, 1), n_full, n_full))
         status = np.empty(local.size, dtype=np.int64)
         blocks, sizes = _block_table(groups or [], self.keep)
         signs = np.empty((local.size, sizes.size), dtype=np.int64)
@@ -672,7 +681,7 @@ class _Level:
         if self.reflect:
             self._asymmetry = 0.0
         if others.size:
-            _, signs[others] = self._evaluate(others, groups, coupling)
+            _, signs[others] = self._evaluate(others, groups, coupling, hold=False)
             if self._extremes is not None:
                 extremes = (
                     max(extremes[0], self._extremes[0]),

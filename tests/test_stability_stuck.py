@@ -125,10 +125,10 @@ def test_stuck_points_need_no_aft_and_no_eigenvalues(p1_branch, monkeypatch):
     evaluated = []
     original = stab_module._Level._evaluate
 
-    def counting(self, local, groups=None, coupling=False):
+    def counting(self, local, groups=None, coupling=False, **kw):
         if groups is not None:
             evaluated.append(local.size)
-        return original(self, local, groups, coupling)
+        return original(self, local, groups, coupling, **kw)
 
     monkeypatch.setattr(stab_module._Level, "_evaluate", counting)
     p1_branch._stability = None
