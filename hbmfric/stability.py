@@ -219,16 +219,14 @@ def derivative_operator(harmonic_numbers: np.ndarray, omega: float) -> np.ndarra
     """The time derivative in the real coefficient basis, shape (n_coef,
     n_coef): ``d/dt`` of ``a cos kΩt + b sin kΩt`` has the coefficients
     ``(kΩ b, -kΩ a)``."""
-    n_coef = int(np.sum(np.where(harmonic_numbers == 0, 1, 2)))
+    hn = np.asarray(harmonic_numbers)
+    width = np.where(hn == 0, 1, 2)
+    n_coef = int(width.sum())
     D = np.zeros((n_coef, n_coef))
-    col = 0
-    for k in harmonic_numbers:
-        if k == 0:
-            col += 1
-            continue
-        D[col, col + 1] = k * omega
-        D[col + 1, col] = -k * omega
-        col += 2
+    k = hn[hn != 0]
+    col = (np.cumsum(width) - width)[hn != 0]  # the cosine of each pair
+    D[col, col + 1] = k * omega
+    D[col + 1, col] = -k * omega
     return D
 
 
