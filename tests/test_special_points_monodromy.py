@@ -7,7 +7,9 @@ there and keep one sign over the interval: "not located". They are now
 located on the monodromy's largest multiplier. The period-doubling and
 Neimark–Sacker kinds of that location are checked on the preloaded Duffing
 and the two-DOF energy sink, with their stability forced to the monodromy,
-against Hill's located points (exact there up to the truncation).
+and on a two-DOF preloaded Duffing with a Jenkins contact (the monodromy
+under ``method="auto"``), against Hill's located points (exact there up to
+the truncation: memoryless laws, a stuck contact).
 """
 
 import warnings
@@ -170,3 +172,71 @@ def test_neimark_sacker_located_on_the_monodromy():
     assert abs(point.multiplier.imag) > 0.1
     assert abs(abs(point.multiplier) - (1.0 + NEUTRAL_TOLERANCE)) <= 1e-5
     assert abs(point.omega - ref.omega) <= 1e-5 * ref.omega
+
+
+def preloaded_friction_pair():
+    """Two DOFs: the preloaded Duffing of ``tests/test_period_doubling.py``
+    (cubic spring and static load on DOF 0) with a light second mass
+    (0.1, stiffness 2) and a Jenkins contact (kt = 0.1, f_s = 0.2) on
+    DOF 0: a contact with memory on several DOFs, so ``method="auto"``
+    takes the monodromy; near twice the linearised frequency the period
+    doubles."""
+    return hf.LinearStructure(
+        np.diag([1.0, 0.1]),
+        np.array([[3.0, -2.0], [-2.0, 2.0]]),
+        np.diag([0.02, 0.01]),
+        load={0: 1.0},
+        static_load={0: 1.0},
+        contacts=[
+            hf.Contact(hf.Cubic(1.0), 0),
+            hf.Contact(hf.Jenkins(stiffness=0.1, slip_force=0.2), 0),
+        ],
+    )
+
+
+@pytest.mark.slow
+def test_period_doublings_of_a_friction_pair_under_auto():
+    """A friction branch of two DOFs whose stability ``method="auto"``
+    takes from the monodromy: its two changes are located on it as period
+    doublings (real negative multiplier, ``|μ| = 1 + NEUTRAL_TOLERANCE``
+    to 1e-5), inside their intervals and at Hill's located period
+    doublings to 1e-5 relative (measured 5e-7 and 7e-7 rad/s: the
+    contact sticks there, where Hill's linearisation is exact)."""
+    from hbmfric.bifurcation import PERIOD_DOUBLING
+
+    system = preloaded_friction_pair()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.HbmfricWarning)
+        branch = hf.frf(system, 0.5, (2.0, 4.0), harmonics=9)
+        hill = branch.stability(method="hill")
+    h = np.full(len(branch), 9)
+    common = dict(n_time=branch.info["n_time"], aft=branch.info["aft"])
+    args = (system, 0.5, branch.omega, branch.harmonic_numbers, branch.coefficients, h)
+    no_fold = np.zeros(0, dtype=np.int64)
+    hill_points = locate_special_points(*args, no_fold, hill.changes(), **common)
+    assert [p.kind for p in hill_points] == [PERIOD_DOUBLING] * 2
+    found = []
+    for ref in hill_points:
+        idx = np.arange(ref.index - 3, ref.index + 3)
+        raw = stability_of_points(
+            system,
+            0.5,
+            branch.omega[idx],
+            branch.harmonic_numbers,
+            branch.coefficients[idx],
+            h[idx],
+            **common,
+        )
+        assert raw.criterion == "monodromy"
+        found.extend(int(j) for j in idx[raw.changes()])
+    assert len(found) == 2
+    points = locate_special_points(
+        *args, no_fold, np.array(found), stability_method="monodromy", **common
+    )
+    assert [p.kind for p in points] == [PERIOD_DOUBLING] * 2
+    for p, ref in zip(points, hill_points, strict=True):
+        lo, hi = sorted(branch.omega[p.index - 1 : p.index + 1])
+        assert lo <= p.omega <= hi
+        assert p.multiplier.real < 0.0 and p.multiplier.imag == 0.0
+        assert abs(abs(p.multiplier) - (1.0 + NEUTRAL_TOLERANCE)) <= 1e-5
+        assert abs(p.omega - ref.omega) <= 1e-5 * ref.omega
