@@ -136,7 +136,9 @@ class Stability:
         every ``|μ| <= 1 + 1e-6`` (a stuck slider's 1 is neutral).
     computed : ndarray of bool, shape (n_points,)
         Points whose Hill eigenvalues have been computed so far (all of
-        them once ``exponents`` has been read).
+        them once ``exponents`` has been read); a point whose contacts
+        provably stick (stable by proof, :func:`_stuck_everywhere`) is
+        not computed until then.
     """
 
     def __init__(
