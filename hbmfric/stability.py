@@ -136,7 +136,9 @@ class Stability:
         every ``|μ| <= 1 + 1e-6`` (a stuck slider's 1 is neutral).
     computed : ndarray of bool, shape (n_points,)
         Points whose Hill eigenvalues have been computed so far (all of
-        them once ``exponents`` has been read).
+        them once ``exponents`` has been read); a point whose contacts
+        provably stick (stable by proof, :func:`_stuck_everywhere`) is
+        not computed until then.
     """
 
     def __init__(
@@ -219,16 +221,14 @@ def derivative_operator(harmonic_numbers: np.ndarray, omega: float) -> np.ndarra
     """The time derivative in the real coefficient basis, shape (n_coef,
     n_coef): ``d/dt`` of ``a cos kΩt + b sin kΩt`` has the coefficients
     ``(kΩ b, -kΩ a)``."""
-    n_coef = int(np.sum(np.where(harmonic_numbers == 0, 1, 2)))
+    hn = np.asarray(harmonic_numbers)
+    width = np.where(hn == 0, 1, 2)
+    n_coef = int(width.sum())
     D = np.zeros((n_coef, n_coef))
-    col = 0
-    for k in harmonic_numbers:
-        if k == 0:
-            col += 1
-            continue
-        D[col, col + 1] = k * omega
-        D[col + 1, col] = -k * omega
-        col += 2
+    k = hn[hn != 0]
+    col = (np.cumsum(width) - width)[hn != 0]  # the cosine of each pair
+    D[col, col + 1] = k * omega
+    D[col + 1, col] = -k * omega
     return D
 
 
@@ -554,11 +554,21 @@ class _Level:
         self._all = None
         self._signs = None
         self._extremes = None  # (coupling, largest) measured with them
+        # points stable by proof (contacts stuck, :func:`_stuck_everywhere`)
+        self.proven = np.zeros(idx.size, dtype=bool)
         if signs and reflect and len(candidates) == 2 and _memoryless(problem, keep):
             # signs from the tangent stiffness's spectrum; the Jacobians
             # of the few computed points are evaluated when asked for
             self._signs, self._extremes = _memoryless_signs(problem, points, candidates)
             self._asymmetry = 0.0  # symmetric by construction (W-weighted)
+        elif signs and (stuck := _stuck_everywhere(problem, points, keep, self.chunk)):
+            # points whose contacts provably stick over the whole period:
+            # their Jacobians are linear, every block's sign is +1 and
+            # nothing couples; the AFT runs on the others only (their
+            # Jacobians, and the computed points', are evaluated when asked)
+            self._signs, self._extremes = self._signs_around(
+                stuck, candidates, len(candidates) == 2
+            )
         elif idx.size <= self.chunk:
             self._all, self._signs = self._evaluate(
                 np.arange(idx.size), candidates if signs else None, len(candidates) == 2
@@ -584,17 +594,26 @@ class _Level:
             return self._all[local]
         return self._evaluate(local)[0]
 
-    def _evaluate(self, local: np.ndarray, groups=None, coupling: bool = False):
+    def _evaluate(
+        self,
+        local: np.ndarray,
+        groups=None,
+        coupling: bool = False,
+        hold: bool = True,
+    ):
         """``∂R/∂X`` at the points ``local``, one compiled loop, and the
         signs (k, n_groups) of the determinants of the blocks ``groups``
-        (None: not computed). With ``coupling`` (and every row kept), the
+        (None: not computed); ``hold=False``: the Jacobians are not kept
+        (one slot, the returned array holds at most the last point's).
+        With ``coupling`` (and every row kept), the
         largest odd-even coupling and entry are measured in the same loop
         (``self._extremes``, for :meth:`_decide_groups`)."""
         from .kernels.stability.hill import hill_jacobians
 
         problem = self.problem
         n_full = problem.n_unknowns
-        J = np.empty((local.size, n_full, n_full))
+        # hold=False: one slot, the Jacobians are not kept (signs only)
+        J = np.empty((local.size if hold else min(local.size, 1), n_full, n_full))
         status = np.empty(local.size, dtype=np.int64)
         blocks, sizes = _block_table(groups or [], self.keep)
         signs = np.empty((local.size, sizes.size), dtype=np.int64)
@@ -646,6 +665,29 @@ class _Level:
         if self.keep is not None:
             J = J[:, self.keep][:, :, self.keep]
         return J, (signs if groups else None)
+
+    def _signs_around(self, stuck, groups: list, coupling: bool):
+        """Signs (k, n_groups) of the blocks ``groups`` at every point and
+        the (coupling, largest) pair of :meth:`_decide_groups`, with the
+        points of ``stuck`` (``(mask, largest entry)`` of
+        :func:`_stuck_everywhere`) taken as ``+1`` without an AFT (their
+        Jacobians are symmetric in the sense of
+        :meth:`reflection_symmetric` and couple nothing); one compiled
+        loop over the others."""
+        mask, stuck_largest, self.proven = stuck
+        signs = np.ones((self.idx.size, len(groups)), dtype=np.int64)
+        others = np.flatnonzero(~mask)
+        extremes = (0.0, float(stuck_largest.max(initial=0.0)))
+        if self.reflect:
+            self._asymmetry = 0.0
+        if others.size:
+            _, signs[others] = self._evaluate(others, groups, coupling, hold=False)
+            if self._extremes is not None:
+                extremes = (
+                    max(extremes[0], self._extremes[0]),
+                    max(extremes[1], self._extremes[1]),
+                )
+        return signs, extremes
 
     def _chunks(self):
         k = self.idx.size
@@ -777,6 +819,105 @@ def _memoryless_signs(problem, points: np.ndarray, groups: list):
         extremes,
     )
     return signs, (float(extremes[0]), float(extremes[1]))
+
+
+#: relative margin of the amplitude bound against the slip limit in
+#: :func:`_stuck_everywhere` (the AFT's extremes are rounded evaluations)
+STUCK_MARGIN = 1e-9
+#: factor by which :func:`_stuck_everywhere` asks the smallest pivot to
+#: clear the LU's zero-pivot test (1e-15 of the largest entry)
+PIVOT_SLACK = 1e3
+#: a stuck point's stability is taken without eigenvalues when ``c/2m``
+#: exceeds this share of ``1 + (largest entry)/m`` (the size of the
+#: companion matrix whose eigenvalues the other route computes)
+PROVEN_MARGIN = 1e-6
+
+
+def _stuck_everywhere(problem, points: np.ndarray, keep, chunk: int):
+    """Points at which every contact provably sticks over the whole
+    period, so that the HBM Jacobian is the linear one plus the contact
+    stiffnesses on the diagonal, and the sign of the determinant of every
+    diagonal block of harmonics is +1.
+
+    Applies to one DOF whose contacts are all Jenkins elements to ground
+    evaluated by the event AFT (every row kept, positive mass, damping
+    and slip forces); returns None otherwise.
+
+    Why: with ``|u(θ)| <= A = |a_0| + Σ_k hypot(a_k, b_k)`` and ``kt A <=
+    f_s`` for each contact, the AFT finds the contact stuck with its
+    slider at 0 (``kt (u_max - u_min) <= 2 f_s``, neither extreme beyond
+    ``f_s / kt``), whose ``dF/dX`` is ``kt I`` exactly. The Jacobian is
+    then block diagonal: ``k + Σ kt`` for harmonic 0 and ``[[a, cw],
+    [-cw, a]]`` (``a = k - m w² + Σ kt``, ``w = jΩ``) for harmonic ``j``.
+    The LU with partial pivoting of such a block (any union of
+    harmonics) eliminates within each pair only, with pivots ``a + (cw)²/a``
+    and ``a`` (or ``-cw`` and ``cw + a²/(cw)`` after the swap), of equal
+    signs, never cancelling, each at least ``cw`` in modulus: sign ``+1``
+    when ``k + Σ kt > 0`` and both it and ``cΩ`` clear the LU's zero-pivot
+    test (1e-15 of the largest entry) by ``PIVOT_SLACK``.
+
+    At such a point Hill's pencil is that of the linear oscillator with
+    the stiffness ``k + Σ kt``, harmonic by harmonic, and its eigenvalues
+    are the families ``r + ijΩ`` of the roots ``r`` of ``m r² + c r + k +
+    Σ kt``: every one has a negative real part (``-c/2m``, or both roots
+    real and negative), whatever the selection, so the point is stable.
+
+    Returns
+    -------
+    (mask, largest, proven) or None
+        ``mask`` (n_points,) bool: the stuck points; ``largest``
+        (n_stuck,): the largest entry of each one's Jacobian, N/m;
+        ``proven`` (n_points,) bool: the stuck points whose stability
+        needs no eigenvalues (``c/2m`` above ``PROVEN_MARGIN (1 +
+        largest/m)``, far above the error of the eigenvalues the other
+        route would compute). None also when no point is stuck or more
+        than ``chunk`` are not (the chunked route of :class:`_Level` then
+        runs as before).
+    """
+    from .kernels.laws.updates import JENKINS
+    from .kernels.residuals.hbm import AFT_EVENTS
+
+    kp = problem.kernel_problem
+    if keep is not None or type(kp).__name__ != "tuple" or kp[1].shape[0] != 1:
+        return None
+    pairs, codes, params = np.asarray(kp[5]), np.asarray(kp[6]), np.asarray(kp[7])
+    hn = np.asarray(kp[0])
+    m, c, k = float(kp[1][0, 0]), float(kp[2][0, 0]), float(kp[3][0, 0])
+    if (
+        int(kp[8]) != AFT_EVENTS
+        or codes.size == 0
+        or not np.all(codes == JENKINS)
+        or not (np.all(pairs[:, 0] == 0) and np.all(pairs[:, 1] < 0))
+        or not np.array_equal(hn, np.arange(hn.size))
+        or not (m > 0.0 and c > 0.0)
+    ):
+        return None
+    kt, fs = params[:, 0].astype(float), params[:, 1].astype(float)
+    if not (np.all(kt > 0.0) and np.all(fs > 0.0)):
+        return None
+    X = points[:, :-1]
+    omega = points[:, -1]
+    amplitude = np.abs(X[:, 0]) + np.hypot(X[:, 1::2], X[:, 2::2]).sum(axis=1)
+    stuck = np.all(
+        kt[None, :] * amplitude[:, None] * (1.0 + STUCK_MARGIN) <= fs[None, :], axis=1
+    )
+    k_total = k + float(kt.sum())
+    w = hn[None, 1:] * omega[:, None]
+    largest = np.maximum(
+        abs(k_total),
+        np.maximum(np.abs(k - m * w * w + kt.sum()), c * w).max(axis=1, initial=0.0),
+    )
+    # the smallest pivot (cΩ, or k + Σ kt) well clear of the LU's test
+    floor = PIVOT_SLACK * 1e-15 * largest
+    stuck &= (c * omega > floor) & (k_total > floor)
+    stuck &= np.all(np.isfinite(points), axis=1)
+    if not np.any(stuck) or np.count_nonzero(~stuck) > chunk:
+        return None
+    # every eigenvalue of Hill's pencil of a linear Jacobian has the real
+    # part -c/2m (or, overdamped, two negative real families): stable,
+    # with a margin far above an eigenvalue solver's error
+    proven = stuck & (c / (2.0 * m) > PROVEN_MARGIN * (1.0 + largest / m))
+    return stuck, largest[stuck], proven
 
 
 def _block_table(groups: list, keep) -> tuple[np.ndarray, np.ndarray]:
@@ -928,7 +1069,11 @@ def stability_of_points(
         of a hysteretic law do not obey Liouville's formula; for them the
         anchors and the bisection are the safeguard, and what can be
         missed is an even number of complex crossings between two
-        computed points with no real crossing between them. A branch
+        computed points with no real crossing between them. Where every
+        contact (Jenkins elements to ground) provably sticks over the
+        whole period, the Jacobian is linear: its signs are +1 and the
+        point is stable without an AFT, an LU or eigenvalues
+        (:func:`_stuck_everywhere`). A branch
         without the symmetry can double its period (a complex crossing
         no determinant of the integer-harmonic pencil sees): every point.
     method : {"auto", "hill", "monodromy"}
@@ -1043,23 +1188,35 @@ def stability_of_points(
         )
         reflected = subharmonic == 1 and all(lv.reflection_symmetric() for lv in levels)
         paired = [True]
+        # stable by proof (every contact stuck: a linear oscillator's
+        # pencil, _stuck_everywhere): a verdict without eigenvalues
+        proven = np.zeros(n_points, dtype=bool)
+        for lv in levels:
+            proven[lv.idx] = lv.proven
+        solved = np.zeros(n_points, dtype=bool)
 
         def verdict(where: np.ndarray) -> np.ndarray:
-            lam = exponents_at(where)
-            exps[where] = lam
+            out = np.ones(where.size, dtype=bool)
+            need = ~proven[where]
+            todo = where[need]
+            if todo.size == 0:
+                return out
+            lam = exponents_at(todo)
+            exps[todo] = lam
+            solved[todo] = True
             total = lam.real.sum(axis=1)
             size = c_over_m + np.abs(lam.real).max(axis=1)
             paired[0] &= bool(
                 np.all(np.abs(total + c_over_m) <= REFLECTION_TOLERANCE * size)
             )
-            return lam.real.max(axis=1) < 0.0
+            out[need] = lam.real.max(axis=1) < 0.0
+            return out
 
         spacing = 0 if reflected else ANCHOR_SPACING
-        computed, stable = _sparse_schedule(n_points, flips, verdict, spacing)
+        _, stable = _sparse_schedule(n_points, flips, verdict, spacing)
         if spacing == 0 and not paired[0]:
-            computed, stable = _sparse_schedule(
-                n_points, flips, verdict, ANCHOR_SPACING
-            )
+            _, stable = _sparse_schedule(n_points, flips, verdict, ANCHOR_SPACING)
+        computed = solved
     else:
         computed = np.ones(n_points, dtype=bool)
         if n_points:

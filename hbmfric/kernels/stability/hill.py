@@ -44,8 +44,10 @@ def hill_jacobians(
         coefficients in m, Ω in rad/s).
     problem : tuple
         Kernel problem of :func:`hbmfric.kernels.residuals.hbm.hbm_residual`.
-    jac : ndarray, shape (n_points, n, n)
-        Output: the Jacobians (the Ω column left out), N/m.
+    jac : ndarray, shape (n_points, n, n) or (1, n, n)
+        Output: the Jacobians (the Ω column left out), N/m; with one
+        slot for several points, the last point's (the signs and the
+        measures without holding every Jacobian).
     status : ndarray of int64, shape (n_points,)
         Output: contact-state code of each AFT (negative on failure).
     blocks : ndarray of int64, shape (n_blocks, m_max)
@@ -85,13 +87,15 @@ def hill_jacobians(
     asymmetry = 0.0
     check = parity.size == n
     symmetric = skew.shape[0] == n
+    keep_all = jac.shape[0] == points.shape[0]
     for i in range(points.shape[0]):
         status[i] = hbm_residual(points[i], problem, R, J)
+        slot = i if keep_all else 0
         here = 0.0
         for r in range(n):
             for c in range(n):
                 v = J[r, c]
-                jac[i, r, c] = v
+                jac[slot, r, c] = v
                 a = abs(v)
                 if not a <= here:
                     here = a if a == a else np.inf
