@@ -175,6 +175,17 @@ FLAP_WINDOW = 10
 COOLDOWN = 50
 #: the estimate ahead grows by at most this factor per step
 MAX_GROWTH = 4.0
+#: share of the requested tolerance the points aim at: every decision of
+#: the run and of :meth:`AdaptiveContinuation.settle` compares the
+#: estimate with ``AIM`` times the tolerance. The estimate is smooth since
+#: stop 24 (extremes located on the series, not on 64 samples whose
+#: sampling noise used to raise ``H`` by chance) and on its own left
+#: points at up to 1.1 times the tolerance against independent references
+#: (the belt tensioner at 5 N, 52 Hz, against shooting; bench/README.md
+#: "Issue 14, stop 25"): ``SAFETY`` covers the estimate's spread at one
+#: point, this the carried estimate between calibrations and the drawn
+#: line between points
+AIM = 0.7
 #: points between calibrations of the free measure on one level
 RECALIBRATE = 16
 #: between calibrations, stay only if the estimate ahead is this factor
@@ -444,7 +455,9 @@ class AdaptiveContinuation:
         self.omega_range = omega_range
         self.direction = direction
         self.options = options
-        self.tolerance = float(tolerance)
+        #: the requested tolerance; the run aims at ``AIM`` times it
+        self.requested = float(tolerance)
+        self.tolerance = AIM * self.requested
         self.ladder = tuple(ladder)
         self._levels: dict[int, _Level] = {}
         self._probes: dict[int, _Level] = {}
@@ -936,7 +949,7 @@ class AdaptiveContinuation:
             share = last if last >= 0.0 else TARGET * self.tolerance
             curve = self.options.curve_tolerance or 0.0
             cont._settings[_arclength.CURVE_POINT] = (
-                share if self.tolerance <= curve else -1.0
+                share if self.requested <= curve else -1.0
             )
             state = cont._trace(state, watch, self._capacity, self._calibration)
             new = len(state.points) - before
