@@ -283,3 +283,30 @@ def test_compiled_estimate_follows_the_rule(harmonics, force, tolerance):
     np.testing.assert_allclose(got, expected, rtol=1e-12, atol=0.0)
     with pytest.raises(ValueError, match="stretch"):
         truncation_errors(p, points, tolerance, stretch[::-1])
+
+
+@pytest.mark.parametrize("offset", [1e-10, 1e-9, 1e-8, 3e-8, 1e-3])
+def test_extreme_instant_is_scale_invariant(offset):
+    """The located extreme of ``cos(θ-θ*) + 0.1 cos(3(θ-θ*)) + 0.02 cos(5(θ-θ*))``
+    (its maximum is at ``θ*`` in closed form) started from the sample
+    ``offset`` rad before it, with the coefficients scaled by 1e-15 to
+    1e15: the instant is ``θ*`` to rounding at every scale. A test of the
+    values alone left it to rounding whether Newton's root or the sample
+    was kept where they are closer than about 1e-7 rad (instants up to
+    1.4e-8 rad apart between scaled copies of one series)."""
+    from hbmfric.kernels.steps.truncation import _extreme
+
+    rates = np.array([1.0, 1.0, 3.0, 3.0, 5.0, 5.0])
+    spacing = 2.0 * np.pi / 64
+    theta0 = 5 * spacing
+    peak = theta0 + offset
+    z = np.empty(6)
+    for col, amp in zip((0, 2, 4), (1.0, 0.1, 0.02), strict=True):
+        k = rates[col]
+        z[col] = amp * np.cos(k * peak)
+        z[col + 1] = amp * np.sin(k * peak)
+    for scale in (1e-15, 7e-9, 1.0 / 3.0, 1.0, 3.7, 1e15):
+        got = _extreme(z * scale, rates, 0, theta0, spacing, 1.0)
+        assert abs(got - peak) <= 1e-13, (scale, got - peak)
+        low = _extreme(-z * scale, rates, 0, theta0, spacing, -1.0)
+        assert abs(low - peak) <= 1e-13, (scale, low - peak)
