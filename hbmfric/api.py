@@ -574,6 +574,7 @@ def _frf_auto(
                 "harmonic_tolerance": tolerance,
                 "harmonic_switches": cont.n_switches,
                 "harmonic_resolves": cont.n_resolves,
+                "harmonic_settled": cont.n_settled,
                 "harmonic_calibrations": cont.n_calibrations,
                 "amplitude_scale": scale,
             },

@@ -1323,6 +1323,7 @@ def join_pieces(first: Branch, second: Branch, stop_reason: str) -> Branch:
         "bridges",
         "harmonic_switches",
         "harmonic_resolves",
+        "harmonic_settled",
         "harmonic_calibrations",
     ):
         if key in first.info and key in second.info:

@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..kernels.steps.truncation import branch_truncation
+from ..kernels.steps.truncation import MAX_CONFIRMED, branch_truncation
 from .adaptive import (
     CARRY_FLOOR,
     CHANGE_FACTOR,
@@ -57,6 +57,10 @@ def truncation_errors(
     points: np.ndarray,
     tolerance: float | None = None,
     stretch: np.ndarray | None = None,
+    max_confirmed: int = MAX_CONFIRMED,
+    known: np.ndarray | None = None,
+    every: int | None = None,
+    probe=None,
 ) -> np.ndarray:
     """Estimated relative truncation error of each point of a branch.
 
@@ -74,6 +78,24 @@ def truncation_errors(
         within a stretch, whose first and last points are calibrated: the
         points of one level of an adaptive run come from separate parts of
         the branch.
+    max_confirmed : int, default ``MAX_CONFIRMED``
+        Calibrations of carried estimates that exceed ``tolerance`` after
+        which the rest keep their carried value (a bound on the cost of a
+        branch far above it; the final pass of an adaptive run gives the
+        number of points: every point it would solve again is calibrated).
+    known : ndarray, shape (n_points,), optional
+        Estimates the adaptive run calibrated at these points (same level
+        and probe level), NaN elsewhere: used as they are (each counts as
+        a calibrated point; no second calibration).
+    every : int, optional
+        Calibrate every ``every``-th non-linear point of each stretch
+        (default ``EVERY``; the final pass of an adaptive run, whose own
+        calibrations are at most ``RECALIBRATE`` points apart, gives more).
+    probe : optional
+        The probe level to calibrate with, as the adaptive run built it
+        (:class:`~hbmfric.continuation.adaptive._Level`; its ``known``
+        estimates come from it); default: built once per problem at
+        :func:`~hbmfric.continuation.adaptive.probe_level`.
 
     Returns
     -------
@@ -91,9 +113,14 @@ def truncation_errors(
         return errors
     cached = getattr(problem, "_accuracy_levels", None)
     if cached is None:
-        cached = problem._accuracy_levels = _levels(problem)
-    level, probe, columns, weights = cached
+        cached = problem._accuracy_levels = _levels(problem, probe is None)
+    level, own, columns, weights = cached
     if probe is None:
+        if own is None and columns is not None:
+            own = _levels(problem, True)[1]
+            problem._accuracy_levels = (level, own, columns, weights)
+        probe = own
+    if probe is None or columns is None:
         errors[:] = np.inf
         return errors
     kp, synthesis, output, rates, y, R, J, A, dX = probe.work()
@@ -105,14 +132,22 @@ def truncation_errors(
             raise ValueError(
                 f"stretch must be a non-decreasing label per point, shape ({n_points},)"
             )
+    if known is None:
+        known = np.full(n_points, np.nan)
+    else:
+        known = np.ascontiguousarray(known, dtype=np.float64)
+        if known.shape != (n_points,):
+            raise ValueError(f"known must have shape ({n_points},)")
     branch_truncation(
         points,
+        known,
         stretch,
         columns,
         weights,
-        EVERY,
+        EVERY if every is None else max(1, int(every)),
         N_WORST,
         np.inf if tolerance is None else float(tolerance),
+        int(max_confirmed),
         kp,
         output,
         rates,
@@ -128,14 +163,17 @@ def truncation_errors(
     return errors
 
 
-def _levels(problem) -> tuple:
-    """The problem's own level, its probe level (None for ``H = 1``) and
-    the column and weight arguments of
-    :func:`~hbmfric.kernels.steps.truncation.branch_truncation`."""
+def _levels(problem, with_probe: bool = True) -> tuple:
+    """The problem's own level, its probe level (None for ``H = 1`` or
+    when not ``with_probe``) and the column and weight arguments of
+    :func:`~hbmfric.kernels.steps.truncation.branch_truncation` (None for
+    ``H = 1``)."""
     level = _Level(problem, None)
     if not level.top:
         return level, None, None, None
-    probe = _Level(problem.with_harmonics(probe_level(level.h)), None)
+    probe = None
+    if with_probe:
+        probe = _Level(problem.with_harmonics(probe_level(level.h)), None)
     columns = np.array(level.columns, dtype=np.int64)
     weights = np.array(
         [level.h, level.prev_weight, LINEAR * 1e-4, CHANGE_FACTOR, CARRY_FLOOR]

@@ -174,6 +174,7 @@ class Continuation:
         self._no_calibration = None  # built on first use
         #: how the last compiled trace ended (``kernels.steps.arclength`` codes)
         self.trace_outcome = 0
+        self.trace_estimates = np.zeros(0)
 
     def _settings_array(self) -> np.ndarray:
         """Options as the flat array of :mod:`hbmfric.kernels.steps.arclength`."""
@@ -604,6 +605,7 @@ class Continuation:
         points = np.empty((capacity, n + 1))
         tangents = np.empty((capacity, n + 1))
         flags = np.zeros(capacity, dtype=np.int64)
+        estimates = np.full(capacity, np.nan)
         y = state.y.copy()
         tangent = state.tangent.copy()
         outcome, accepted, rejected, evaluations, new_step = _arclength.trace(
@@ -618,10 +620,14 @@ class Continuation:
             points,
             tangents,
             flags,
+            estimates,
             *self._work,
             self._placeholder_calibration() if calibration is None else calibration,
         )
         self.trace_outcome = int(outcome)
+        #: calibrated truncation estimate of each point the compiled
+        #: stretch accepted (NaN where it did not calibrate)
+        self.trace_estimates = estimates[:accepted]
         state.n_newton += evaluations
         state.n_rejected += rejected
         state.step = new_step

@@ -615,6 +615,7 @@ def trace(
     points,
     tangents,
     flags,
+    estimates,
     R,
     J,
     A,
@@ -649,6 +650,11 @@ def trace(
         ``dΩ/ds`` in rad/s per unit of the scaled arc length ``s``).
     flags : ndarray of int64, shape (capacity,)
         Out: ``CORNER``/``FOLD`` bits of each accepted point.
+    estimates : ndarray, shape (capacity,)
+        Out: the calibrated truncation estimate of each accepted point
+        whose due calibration ran in :func:`stays` and kept the level
+        (untouched elsewhere: the caller fills it with NaN), so that the
+        final estimate of the branch need not compute it again.
 
     Returns
     -------
@@ -703,6 +709,8 @@ def trace(
         if watch[WATCH_ACTIVE] != 0.0:
             if not stays(y, watch, calibration):
                 return WATCH_STOP, n_accepted, n_rejected, evaluations, step
+            if watch[W_AGE] == 0.0:  # calibrated at this point
+                estimates[n_accepted - 1] = watch[W_LAST]
             # the point's estimate is the points' share of the next
             # chord's budget (what the decision in Python sets, so that
             # both paths step alike)
