@@ -432,7 +432,7 @@ def _jenkins_aft(
     dF,
 ):
     if law_code != JENKINS or aft_scheme != AFT_EVENTS:
-        return NOT_COMPILED_FOR_LAW
+        return np.int64(NOT_COMPILED_FOR_LAW)
     return aft_jenkins_events(
         law_params, harmonic_numbers, x_c, inverse, derivative, F, dF
     )
@@ -452,7 +452,7 @@ def _masing_aft(
     dF,
 ):
     if not is_masing(law_code) or aft_scheme != AFT_EVENTS:
-        return NOT_COMPILED_FOR_LAW
+        return np.int64(NOT_COMPILED_FOR_LAW)
     return aft_masing(
         law_code,
         law_params,
@@ -480,7 +480,7 @@ def _dahl_aft(
     dF,
 ):
     if law_code != DAHL:
-        return NOT_COMPILED_FOR_LAW
+        return np.int64(NOT_COMPILED_FOR_LAW)
     return aft_dahl(
         law_params, harmonic_numbers, x_c, inverse, forward, derivative, F, dF
     )
@@ -558,7 +558,10 @@ def _with_contact2d(problem, y, dofs, params, inverse, forward, n_coef, R, J):
 
 
 def _without_contact2d(problem, y, dofs, params, inverse, forward, n_coef, R, J):
-    return NOT_COMPILED_FOR_LAW
+    # not the bare constant: an inlined function would return it as a
+    # literal type, and the caller would compile _combined_state once more
+    # for that literal
+    return np.int64(NOT_COMPILED_FOR_LAW)
 
 
 @overload(contact2d, jit_options=JIT_OPTIONS, inline="always")
