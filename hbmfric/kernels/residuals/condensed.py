@@ -73,8 +73,8 @@ regular when ``B`` has full row rank (checked at the edge). Modal:
 direct: one LU of ``Z`` per harmonic, ``Z_c = Z⁻¹ Bᵀ`` (``n_c`` solves),
 ``G = B Z_c``, ``dG/dΩ = -Z_cᵀ Z' Z_c``, ``dp/dΩ = -Z_cᵀ Z' Z⁻¹ P̂``. Every
 contact's force is the AFT of its law on its own coordinate (the dispatch
-of the full residual, :func:`hbmfric.kernels.residuals.hbm._aft`), so ``df/dq`` is
-block diagonal. The single contact to ground keeps the path above
+of the full residual, :func:`hbmfric.kernels.residuals.hbm.contact_aft`), so
+``df/dq`` is block diagonal. The single contact to ground keeps the path above
 (``law_codes`` empty); any other set of contacts fills ``law_codes``.
 
 Complex modes (``method == STATE``, any damping): with the decomposition

@@ -201,7 +201,12 @@ def hbm_residual(y, problem, R, J):
         sampled scheme otherwise. Such a problem must come as a
         :class:`CoulombProblem` (the same fields), the only type for which
         the DLFT kernels are compiled; in a plain tuple the residual
-        returns ``NOT_A_COULOMB_PROBLEM``.
+        returns ``NOT_A_COULOMB_PROBLEM``. Contacts of one AFT family
+        (:func:`aft_family`) may come as that family's type
+        (:class:`JenkinsProblem`, :class:`MasingProblem`,
+        :class:`DahlProblem`, the same fields), which compiles that
+        family's AFT alone and returns ``NOT_COMPILED_FOR_LAW`` for any
+        other law.
     R : ndarray, shape (n_dof * n_coef,)
         Output: residual, N.
     J : ndarray, shape (n_dof * n_coef, n_dof * n_coef + 1)
