@@ -50,7 +50,9 @@ def measure(warm_runs: int = 3) -> dict:
 
 #: run in a fresh process with an empty cache: every compilation of a
 #: hbmfric kernel timed by Numba's ``numba:compile`` event, exclusive of the
-#: kernels it compiles in turn
+#: kernels it compiles in turn, in CPU seconds of the process
+#: (``time.process_time``: compiling is single-threaded, and on a shared
+#: machine the CPU time moves far less with the load than the wall time)
 PROFILE = """
 import json, sys, time
 from numba.core import event
@@ -59,10 +61,10 @@ records, stack = [], []
 
 class Timer(event.Listener):
     def on_start(self, ev):
-        stack.append([time.perf_counter(), 0.0])
+        stack.append([time.process_time(), 0.0])
     def on_end(self, ev):
         t0, children = stack.pop()
-        total = time.perf_counter() - t0
+        total = time.process_time() - t0
         if stack:
             stack[-1][1] += total
         f = ev.data["dispatcher"].py_func
@@ -70,7 +72,9 @@ class Timer(event.Listener):
 
 event.register("numba:compile", Timer())
 t = time.perf_counter()
+c = time.process_time()
 {body}
+records.append(("TOTAL cpu", time.process_time() - c))
 records.append(("TOTAL wall", time.perf_counter() - t))
 print("PROFILE" + json.dumps(records))
 """
@@ -78,7 +82,7 @@ print("PROFILE" + json.dumps(records))
 
 def compile_profile(
     argv: list[str] | None = None, code: str | None = None
-) -> tuple[float, list[tuple[str, float, int]]]:
+) -> tuple[float, float, list[tuple[str, float, int]]]:
     """Compile time of every kernel during ``hbmfric <argv>`` (or the
     Python ``code``) run cold.
 
@@ -86,9 +90,11 @@ def compile_profile(
     -------
     wall : float
         Wall time of the whole command, s.
-    kernels : list of (name, seconds, compilations)
-        Exclusive compile time per kernel (summed over its signatures),
-        largest first.
+    cpu : float
+        CPU time of the whole command (compiling and running), s.
+    kernels : list of (name, cpu_seconds, compilations)
+        Exclusive compile CPU time per kernel (summed over its
+        signatures), largest first.
     """
     import json
 
@@ -114,31 +120,35 @@ def compile_profile(
     line = [x for x in proc.stdout.splitlines() if x.startswith("PROFILE")][-1]
     records = json.loads(line[len("PROFILE") :])
     wall = records.pop()[1]
+    cpu = records.pop()[1]
     per: dict[str, list] = {}
     for name, sec in records:
         per.setdefault(name, [0.0, 0])
         per[name][0] += sec
         per[name][1] += 1
     kernels = sorted(((k, v[0], v[1]) for k, v in per.items()), key=lambda r: -r[1])
-    return wall, kernels
+    return wall, cpu, kernels
 
 
 def main() -> None:
     for k, v in measure().items():
         print(f"{k:>10}: {v:.2f}")
     if "--profile-frf" in sys.argv:
-        wall, kernels = compile_profile(code=FRF)
-        _table("cold first FRF", wall, kernels)
+        wall, cpu, kernels = compile_profile(code=FRF)
+        _table("cold first FRF", wall, cpu, kernels)
     if "--profile" in sys.argv:
         with tempfile.TemporaryDirectory() as out:
-            wall, kernels = compile_profile(["paper", "--out", out, "--no-plot"])
-        _table("cold 'hbmfric paper'", wall, kernels)
+            wall, cpu, kernels = compile_profile(["paper", "--out", out, "--no-plot"])
+        _table("cold 'hbmfric paper'", wall, cpu, kernels)
 
 
-def _table(what: str, wall: float, kernels: list) -> None:
+def _table(what: str, wall: float, cpu: float, kernels: list) -> None:
     total = sum(k[1] for k in kernels)
-    print(f"{what}: {wall:.1f} s, of which compiling {total:.1f} s")
-    print("| kernel | compile s (exclusive) | compilations |")
+    print(
+        f"{what}: {wall:.1f} s wall, {cpu:.1f} s CPU, of which compiling "
+        f"{total:.1f} s CPU (load {os.getloadavg()[0]:.1f})"
+    )
+    print("| kernel | compile CPU s (exclusive) | compilations |")
     print("|---|---|---|")
     for name, sec, n in kernels[:25]:
         print(f"| {name} | {sec:.2f} | {n} |")

@@ -17,6 +17,7 @@ from .kernels.dlft.coulomb import COULOMB
 from .kernels.residuals.condensed import (
     AFT_EVENTS,
     AFT_SAMPLES,
+    CONDENSED_FAMILY_TYPES,
     DIRECT,
     MODAL,
     STATE,
@@ -26,6 +27,7 @@ from .kernels.residuals.condensed import (
     condensed_modal_recover,
     condensed_residual,
 )
+from .kernels.residuals.hbm import aft_family
 from .laws import Contact2D
 from .signals import coefficient_columns
 from .systems.contacts import check_contacts, contact_arrays
@@ -464,8 +466,13 @@ class CondensedHBMProblem(HBMProblem):
             modal_parts = (np.zeros(0), np.zeros(0), np.zeros(0), empty)
             direct_parts = (mass, damping, stiffness, load)
         # a rigid Coulomb contact gets its own type (its residual alone
-        # compiles the DLFT kernels)
-        kind = CondensedCoulombProblem if law_code == COULOMB else CondensedProblem
+        # compiles the DLFT kernels), contacts of one AFT family that
+        # family's type (its residual compiles that AFT alone)
+        if law_code == COULOMB:
+            kind = CondensedCoulombProblem
+        else:
+            family = aft_family(codes, aft_code)
+            kind = CONDENSED_FAMILY_TYPES.get(family, CondensedProblem)
         self.kernel_problem = kind(
             hn,
             *modal_parts,

@@ -15,7 +15,14 @@ from .kernels.dlft.tail import tail_length
 from .kernels.fourier.dft import fourier_matrices
 from .kernels.laws.updates import JENKINS, MASING
 from .kernels.linalg.linear_response import first_harmonic_response
-from .kernels.residuals.hbm import AFT_EVENTS, AFT_SAMPLES, CoulombProblem, hbm_residual
+from .kernels.residuals.hbm import (
+    AFT_EVENTS,
+    AFT_SAMPLES,
+    FAMILY_TYPES,
+    CoulombProblem,
+    aft_family,
+    hbm_residual,
+)
 from .laws import Contact2D
 from .signals import coefficient_columns
 from .systems.contacts import contact_arrays
@@ -257,9 +264,15 @@ class HBMProblem:
             params = [np.append(self._dlft_params, [mu, n_tail])]
             self._coulomb_params = params[0]
         pairs, codes, law_params = contact_arrays(self._contacts, params)
+        aft_scheme = np.int64(AFT_EVENTS if aft == "events" else AFT_SAMPLES)
         # a rigid Coulomb contact gets its own problem type, whose residual
-        # alone compiles the DLFT kernels (a plain tuple otherwise)
-        kind = CoulombProblem if self._rigid else _plain_tuple
+        # alone compiles the DLFT kernels; contacts of one AFT family get
+        # that family's type, whose residual compiles that AFT alone (a
+        # plain tuple, every law's AFT, otherwise)
+        if self._rigid:
+            kind = CoulombProblem
+        else:
+            kind = FAMILY_TYPES.get(aft_family(codes, aft_scheme), _plain_tuple)
         self.kernel_problem = kind(
             self.harmonic_numbers,
             mass,
@@ -269,7 +282,7 @@ class HBMProblem:
             pairs,
             codes,
             law_params,
-            np.int64(AFT_EVENTS if aft == "events" else AFT_SAMPLES),
+            aft_scheme,
             inverse,
             forward,
             derivative,

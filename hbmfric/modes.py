@@ -560,7 +560,9 @@ class _EPMC:
         mass, damping = kp[1], kp[2]
         if not structural_damping:
             damping = np.zeros_like(damping)
-            kp = kp[:2] + (damping,) + kp[3:]
+            fields = (*kp[:2], damping, *kp[3:])
+            # keep the problem's type (an AFT family's compiles less)
+            kp = type(kp)(*fields) if hasattr(kp, "_fields") else fields
         self.kernel_problem = kp
         self.n_dof = problem.n_dof
         self.n_coef = problem.n_coef

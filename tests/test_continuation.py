@@ -351,7 +351,11 @@ def test_kernels_compile_once_and_no_eager_imports():
         runs((0.3, 1e9), (0.1, 2.0), 0.1)
         first = counts()
         runs((0.7, 2.0, 0.0), (0.5, 1.3), 0.2)
+        # the problem type of each signature of correct (one per AFT family)
+        kinds = [str(getattr(sig[0], "instance_class", type(sig[0])).__name__)
+                 for sig in newton.correct.signatures]
         print(json.dumps({"first": first, "second": counts(),
+                          "correct_problems": kinds,
                           "mpl": "matplotlib" in sys.modules,
                           "integrate": "scipy.integrate" in sys.modules}))
         """
@@ -365,7 +369,6 @@ def test_kernels_compile_once_and_no_eager_imports():
     # compiled from inside other kernels when the cache is cold (a literal
     # flag, other layouts), a fixed number checked by the line above
     for name in (
-        "newton.correct",
         "newton.tangent",
         "dft.fourier_matrices",
         "schemes.periodic_force",
@@ -376,5 +379,12 @@ def test_kernels_compile_once_and_no_eager_imports():
     ):
         (key,) = [k for k in report["first"] if k.endswith(name)]
         assert report["first"][key] == 1, (key, report["first"][key])
+    # the corrector: one signature per problem type, the types of the AFT
+    # families run here (Jenkins, Menq/Iwan/Roughness on the event AFT) and
+    # the plain tuple (Duffing, and Menq on the sampled AFT)
+    kinds = report["correct_problems"]
+    assert sorted(kinds) == ["JenkinsProblem", "MasingProblem", "Tuple"], kinds
+    (key,) = [k for k in report["first"] if k.endswith("newton.correct")]
+    assert report["first"][key] == 3
     assert not report["mpl"]
     assert not report["integrate"]

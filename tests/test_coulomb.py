@@ -775,18 +775,20 @@ def test_energy_and_first_harmonic_under_a_cosine():
 def test_coulomb_problem_type_carries_the_dlft():
     """A rigid Coulomb contact builds a ``CoulombProblem`` (full) or a
     ``CondensedCoulombProblem``, the only types whose residual compiles the
-    DLFT kernels; a Jenkins contact keeps the plain tuple and the plain
-    ``CondensedProblem``. The same Coulomb data in a plain tuple give the
-    refusal status (the DLFT is not compiled into it), in a CoulombProblem
-    the DLFT residual of the problem itself."""
+    DLFT kernels; a Jenkins contact builds the types of its AFT family
+    (``JenkinsProblem``, ``CondensedJenkinsProblem``, without the DLFT),
+    a memoryless one the plain tuple. The same Coulomb data in a plain tuple
+    give the refusal status (the DLFT is not compiled into it), in a
+    CoulombProblem the DLFT residual of the problem itself."""
     from hbmfric.condensation import CondensedHBMProblem
     from hbmfric.kernels.residuals.condensed import (
         CondensedCoulombProblem,
-        CondensedProblem,
+        CondensedJenkinsProblem,
     )
     from hbmfric.kernels.residuals.hbm import (
         NOT_A_COULOMB_PROBLEM,
         CoulombProblem,
+        JenkinsProblem,
         hbm_residual,
     )
 
@@ -794,11 +796,13 @@ def test_coulomb_problem_type_carries_the_dlft():
     problem = HBMProblem(osc, 1.0, 5)
     assert type(problem.kernel_problem) is CoulombProblem
     jenkins = hf.Oscillator(M, 0.02, K, hf.Jenkins(stiffness=3.0, slip_force=0.3))
-    assert type(HBMProblem(jenkins, 1.0, 5).kernel_problem) is tuple
+    assert type(HBMProblem(jenkins, 1.0, 5).kernel_problem) is JenkinsProblem
+    cubic = hf.Oscillator(M, 0.02, K, hf.Cubic(0.2))
+    assert type(HBMProblem(cubic, 1.0, 5).kernel_problem) is tuple
     cond = CondensedHBMProblem(osc, 1.0, 5)
     assert type(cond.kernel_problem) is CondensedCoulombProblem
     assert type(CondensedHBMProblem(jenkins, 1.0, 5).kernel_problem) is (
-        CondensedProblem
+        CondensedJenkinsProblem
     )
     y = np.zeros(problem.n_unknowns + 1)
     y[0] = 0.1

@@ -281,15 +281,24 @@ def test_real_package_without_cache_location(tmp_path):
 
 
 #: kernels a Jenkins FRF must not compile: the rigid-Coulomb DLFT (only a
-#: Coulomb problem type compiles it) and the kernels inlined into the
-#: continuation (``jit_inline``: compiled as kernels of their own they would
-#: each emit the whole residual once more)
+#: Coulomb problem type compiles it), the AFT of the other laws and the 2D
+#: element (only the general problem type compiles them: a Jenkins problem
+#: has its own type, :class:`hbmfric.kernels.residuals.hbm.JenkinsProblem`)
+#: and the kernels inlined into the continuation (``jit_inline``: compiled
+#: as kernels of their own they would each emit the whole residual once
+#: more)
 NOT_IN_A_JENKINS_FRF = (
     "hbmfric.kernels.dlft.tail.",
     "hbmfric.kernels.dlft.coulomb.",
     "hbmfric.kernels.residuals.hbm._coulomb",
     "hbmfric.kernels.residuals.condensed._coulomb",
     "hbmfric.kernels.residuals.hbm._aft",
+    "hbmfric.kernels.residuals.hbm._contact2d",
+    "hbmfric.kernels.aft.contact2d.",
+    "hbmfric.kernels.aft.masing.",
+    "hbmfric.kernels.aft.dahl.",
+    "hbmfric.kernels.aft.schemes.aft_samples",
+    "hbmfric.kernels.laws.dahl.",
     "hbmfric.kernels.steps.arclength.advance",
     "hbmfric.kernels.steps.arclength.stays",
     "hbmfric.kernels.steps.newton.palc_step",
@@ -299,9 +308,9 @@ NOT_IN_A_JENKINS_FRF = (
 @pytest.mark.slow
 def test_cold_jenkins_frf_compiles_only_what_it_uses(tmp_path):
     """A cold first FRF of the Jenkins oscillator (fresh process, empty
-    cache; a minute or more) compiles no DLFT kernel and none of the
-    inlined continuation kernels, each kernel once, and still says once
-    that it compiles."""
+    cache; a minute or more) compiles no DLFT kernel, no other law's AFT and
+    none of the inlined continuation kernels, each kernel once, and still
+    says once that it compiles."""
     code = textwrap.dedent(
         """
         import json

@@ -342,8 +342,9 @@ def test_what_is_not_condensed_is_refused_or_solved_in_full():
 def test_condensed_coordinate_kernels_compile_once():
     """A fresh process: problems with other numbers of contacts, DOFs,
     laws, harmonics and receptances add no kernel signature after the
-    first batch (one compilation of the condensed kernels serves every
-    contact set)."""
+    first batch (one compilation of the condensed kernels per problem type
+    serves every contact set: the general type of mixed laws, and the
+    Jenkins family's type of Jenkins contacts alone)."""
     code = textwrap.dedent(
         """
         import json, sys, warnings
@@ -372,9 +373,9 @@ def test_condensed_coordinate_kernels_compile_once():
                 warnings.simplefilter("ignore")
                 hf.frf(t._structure(t.CONTACT_SETS[names[0]]), 0.1, (0.5, 0.7), H)
 
-        runs(["two"], 5)
+        runs(["two", "one relative"], 5)
         first = counts()
-        runs(["one relative", "five"], 9)
+        runs(["five", "one relative"], 9)
         print(json.dumps({"first": first, "second": counts()}))
         """
     ).replace("TESTS_DIR", repr(str(Path(__file__).parent)))
@@ -383,8 +384,10 @@ def test_condensed_coordinate_kernels_compile_once():
     )
     report = json.loads(out.stdout.strip().splitlines()[-1])
     assert report["second"] == report["first"]
+    # one per problem type: CondensedProblem (Jenkins and Menq contacts) and
+    # CondensedJenkinsProblem (Jenkins contacts alone)
     assert (
-        report["first"]["hbmfric.kernels.residuals.condensed.condensed_residual"] == 1
+        report["first"]["hbmfric.kernels.residuals.condensed.condensed_residual"] == 2
     )
 
 

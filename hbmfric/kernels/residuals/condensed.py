@@ -73,8 +73,8 @@ regular when ``B`` has full row rank (checked at the edge). Modal:
 direct: one LU of ``Z`` per harmonic, ``Z_c = Z⁻¹ Bᵀ`` (``n_c`` solves),
 ``G = B Z_c``, ``dG/dΩ = -Z_cᵀ Z' Z_c``, ``dp/dΩ = -Z_cᵀ Z' Z⁻¹ P̂``. Every
 contact's force is the AFT of its law on its own coordinate (the dispatch
-of the full residual, :func:`hbmfric.kernels.residuals.hbm._aft`), so ``df/dq`` is
-block diagonal. The single contact to ground keeps the path above
+of the full residual, :func:`hbmfric.kernels.residuals.hbm.contact_aft`), so
+``df/dq`` is block diagonal. The single contact to ground keeps the path above
 (``law_codes`` empty); any other set of contacts fills ``law_codes``.
 
 Complex modes (``method == STATE``, any damping): with the decomposition
@@ -100,20 +100,19 @@ import numpy as np
 from numba.extending import overload
 
 from ..._jit import jit
-from ..aft.dahl import aft_dahl
-from ..aft.masing import aft_masing
-from ..aft.schemes import aft_jenkins_events, aft_samples
 from ..dlft.coulomb import COULOMB, dlft_contact, dlft_located
 from ..dlft.tail import contact_receptance, dlft_tail
-from ..laws.updates import DAHL, JENKINS, is_masing
 from ..linalg.lu import lu_factor, lu_solve, solve_inplace
 from ..linalg.products import matmul, matvec
 from .hbm import (
     COULOMB_TYPES,
+    DAHL_FAMILY,
+    JENKINS_FAMILY,
     JIT_OPTIONS,
+    MASING_FAMILY,
     NOT_A_COULOMB_PROBLEM,
-    _aft,
     _combined_state,
+    contact_aft,
     is_coulomb_problem,
 )
 
@@ -179,6 +178,35 @@ Coulomb contact (``law_code = COULOMB``): the same fields in their own type,
 so that the DLFT kernels are compiled only into the residual of this type
 (see :class:`hbmfric.kernels.residuals.hbm.CoulombProblem`)."""
 COULOMB_TYPES.append(CondensedCoulombProblem)
+
+
+def _family_type(name, family):
+    kind = namedtuple(name, CondensedProblem._fields)
+    kind.__doc__ = f"""A :class:`CondensedProblem` whose contacts are all of
+the {family!r} AFT family (:func:`hbmfric.kernels.residuals.hbm.aft_family`):
+the same fields in their own type, whose residual compiles that family's
+AFT only (see :class:`hbmfric.kernels.residuals.hbm.JenkinsProblem`)."""
+    kind.aft_family = family
+    return kind
+
+
+CondensedJenkinsProblem = _family_type("CondensedJenkinsProblem", JENKINS_FAMILY)
+CondensedMasingProblem = _family_type("CondensedMasingProblem", MASING_FAMILY)
+CondensedDahlProblem = _family_type("CondensedDahlProblem", DAHL_FAMILY)
+
+#: problem class of each AFT family for the condensed residual
+CONDENSED_FAMILY_TYPES = {
+    JENKINS_FAMILY: CondensedJenkinsProblem,
+    MASING_FAMILY: CondensedMasingProblem,
+    DAHL_FAMILY: CondensedDahlProblem,
+}
+
+#: every condensed problem class (the residual dispatch sends them here)
+CONDENSED_TYPES = (
+    CondensedProblem,
+    CondensedCoulombProblem,
+    *CONDENSED_FAMILY_TYPES.values(),
+)
 
 
 @jit
@@ -549,47 +577,16 @@ def _condensed_linear(y, problem, R, J):
 def _contact_force(x, problem, F, dF):
     """AFT of the contact law at the contact coefficients ``x`` (the same
     dispatch as :func:`hbmfric.kernels.residuals.hbm.hbm_residual`)."""
-    code = problem.law_code
-    events = problem.aft_scheme == AFT_EVENTS
-    if code == JENKINS and events:
-        return aft_jenkins_events(
-            problem.law_params,
-            problem.harmonic_numbers,
-            x,
-            problem.inverse,
-            problem.derivative,
-            F,
-            dF,
-        )
-    if is_masing(code) and events:
-        return aft_masing(
-            code,
-            problem.law_params,
-            problem.harmonic_numbers,
-            x,
-            problem.inverse,
-            problem.forward,
-            problem.derivative,
-            F,
-            dF,
-        )
-    if code == DAHL:
-        return aft_dahl(
-            problem.law_params,
-            problem.harmonic_numbers,
-            x,
-            problem.inverse,
-            problem.forward,
-            problem.derivative,
-            F,
-            dF,
-        )
-    return aft_samples(
-        code,
+    return contact_aft(
+        problem,
+        problem.law_code,
         problem.law_params,
+        problem.aft_scheme,
+        problem.harmonic_numbers,
         x,
         problem.inverse,
         problem.forward,
+        problem.derivative,
         F,
         dF,
     )
@@ -1086,7 +1083,8 @@ def _coordinates_residual(y, problem, R, J):
         base = a * n_coef
         for j in range(n_coef):
             x[j] = y[base + j]
-        s_a = _aft(
+        s_a = contact_aft(
+            problem,
             problem.law_codes[a],
             problem.law_rows[a],
             problem.aft_scheme,
@@ -1123,7 +1121,8 @@ def _coordinate_forces(points, problem, F):
             base = a * n_coef
             for j in range(n_coef):
                 x[j] = points[i, base + j]
-            status = _aft(
+            status = contact_aft(
+                problem,
                 problem.law_codes[a],
                 problem.law_rows[a],
                 problem.aft_scheme,

@@ -1,7 +1,7 @@
 """One residual entry point for the Newton kernels, dispatched at compile
 time on the type of the problem: a :class:`~hbmfric.kernels.residuals.condensed.
-CondensedProblem` (or :class:`~hbmfric.kernels.residuals.condensed.
-CondensedCoulombProblem`) goes to the condensed residual, any other problem
+CondensedProblem` (or another of :data:`~hbmfric.kernels.residuals.condensed.
+CONDENSED_TYPES`) goes to the condensed residual, any other problem
 tuple to the full HBM residual :func:`hbmfric.kernels.residuals.hbm.hbm_residual`.
 
 Numba compiles the caller once per problem type, so the dispatch costs
@@ -18,8 +18,7 @@ from numba import types
 from numba.extending import overload
 
 from .condensed import (
-    CondensedCoulombProblem,
-    CondensedProblem,
+    CONDENSED_TYPES,
     condensed_residual_impl,
     coordinates_drawn,
 )
@@ -36,9 +35,9 @@ def residual(y, problem, R, J):
 
 
 def _is_condensed(problem) -> bool:
-    return isinstance(problem, types.BaseNamedTuple) and problem.instance_class in (
-        CondensedProblem,
-        CondensedCoulombProblem,
+    return (
+        isinstance(problem, types.BaseNamedTuple)
+        and problem.instance_class in CONDENSED_TYPES
     )
 
 

@@ -17,7 +17,7 @@ import numpy as np
 from numba import types
 from numba.extending import overload
 
-from ..._jit import CACHE, jit, jit_inline
+from ..._jit import CACHE, jit
 from ..aft.contact2d import CONTACT2D, MAX_PASSES, aft_contact2d
 from ..aft.dahl import aft_dahl
 from ..aft.masing import aft_masing
@@ -31,7 +31,7 @@ from ..aft.schemes import (
 )
 from ..dlft.coulomb import COULOMB, dlft_contact, dlft_located
 from ..dlft.tail import SINGULAR_RECEPTANCE, contact_receptance, dlft_tail
-from ..laws.updates import DAHL, JENKINS, is_masing
+from ..laws.updates import DAHL, JENKINS, MASING, is_masing
 
 NO_CONTACT = -1
 #: AFT scheme codes
@@ -84,6 +84,91 @@ def is_coulomb_problem(problem) -> bool:
 #: (the condensed one registers itself)
 COULOMB_TYPES = [CoulombProblem]
 
+#: status of the residual of a one-law problem type (:class:`JenkinsProblem`,
+#: :class:`MasingProblem`, :class:`DahlProblem`) for a contact its family
+#: does not cover (its AFT is not compiled into that type)
+NOT_COMPILED_FOR_LAW = -103
+
+#: AFT families: a problem whose contacts all go through one AFT kernel
+#: gets a problem type of that family, whose residual compiles that kernel
+#: only (the plain tuple compiles every law's AFT and the 2D element)
+JENKINS_FAMILY = "jenkins"
+MASING_FAMILY = "masing"
+DAHL_FAMILY = "dahl"
+
+JenkinsProblem = namedtuple("JenkinsProblem", FIELDS)
+JenkinsProblem.__doc__ = """The kernel problem of :func:`hbm_residual` when
+every contact is ``JENKINS`` with ``aft_scheme = AFT_EVENTS``: the fields of
+the plain tuple, in a type whose residual compiles only the event-located
+Jenkins AFT (:func:`hbmfric.kernels.aft.schemes.aft_jenkins_events`), not the
+AFT of every law. Built by :class:`hbmfric.hbm.HBMProblem`
+(:func:`aft_family`)."""
+JenkinsProblem.aft_family = JENKINS_FAMILY
+
+MasingProblem = namedtuple("MasingProblem", FIELDS)
+MasingProblem.__doc__ = """As :class:`JenkinsProblem` for contacts that are
+all Masing laws (``MENQ``, ``IWAN``) with ``aft_scheme = AFT_EVENTS``: only
+:func:`hbmfric.kernels.aft.masing.aft_masing` is compiled."""
+MasingProblem.aft_family = MASING_FAMILY
+
+DahlProblem = namedtuple("DahlProblem", FIELDS)
+DahlProblem.__doc__ = """As :class:`JenkinsProblem` for contacts that are
+all ``DAHL`` (either scheme): only :func:`hbmfric.kernels.aft.dahl.aft_dahl`
+is compiled."""
+DahlProblem.aft_family = DAHL_FAMILY
+
+#: problem class of each family for the full residual (the condensed ones
+#: are in :data:`hbmfric.kernels.residuals.condensed.CONDENSED_FAMILY_TYPES`)
+FAMILY_TYPES = {
+    JENKINS_FAMILY: JenkinsProblem,
+    MASING_FAMILY: MasingProblem,
+    DAHL_FAMILY: DahlProblem,
+}
+
+
+def aft_family(law_codes, aft_scheme) -> str | None:
+    """The AFT family that serves every contact of a problem, or None.
+
+    Python side, when a problem is built: the family names the one AFT
+    kernel that :func:`contact_aft` calls for each of these contacts (the
+    same kernel the general dispatch picks), so that the problem's type can
+    compile that kernel alone.
+
+    Parameters
+    ----------
+    law_codes : array_like of int, shape (n_contacts,)
+        Law codes of the contacts.
+    aft_scheme : int
+        ``AFT_EVENTS`` or ``AFT_SAMPLES``.
+
+    Returns
+    -------
+    str or None
+        ``JENKINS_FAMILY``, ``MASING_FAMILY``, ``DAHL_FAMILY``, or None
+        (no contact, mixed families, another law, or a law on the sampled
+        scheme: the general type).
+    """
+    codes = {int(c) for c in law_codes}
+    if not codes:
+        return None
+    events = int(aft_scheme) == AFT_EVENTS
+    if codes == {JENKINS} and events:
+        return JENKINS_FAMILY
+    if codes <= set(MASING) and events:
+        return MASING_FAMILY
+    if codes == {DAHL}:
+        return DAHL_FAMILY
+    return None
+
+
+def problem_family(problem) -> str | None:
+    """The AFT family of the Numba type ``problem`` (its class's
+    ``aft_family``), None for the general types; for compile-time
+    dispatch."""
+    if not isinstance(problem, types.BaseNamedTuple):
+        return None
+    return getattr(problem.instance_class, "aft_family", None)
+
 
 @jit
 def hbm_residual(y, problem, R, J):
@@ -116,7 +201,12 @@ def hbm_residual(y, problem, R, J):
         sampled scheme otherwise. Such a problem must come as a
         :class:`CoulombProblem` (the same fields), the only type for which
         the DLFT kernels are compiled; in a plain tuple the residual
-        returns ``NOT_A_COULOMB_PROBLEM``.
+        returns ``NOT_A_COULOMB_PROBLEM``. Contacts of one AFT family
+        (:func:`aft_family`) may come as that family's type
+        (:class:`JenkinsProblem`, :class:`MasingProblem`,
+        :class:`DahlProblem`, the same fields), which compiles that
+        family's AFT alone and returns ``NOT_COMPILED_FOR_LAW`` for any
+        other law.
     R : ndarray, shape (n_dof * n_coef,)
         Output: residual, N.
     J : ndarray, shape (n_dof * n_coef, n_dof * n_coef + 1)
@@ -198,8 +288,16 @@ def hbm_residual_impl(y, problem, R, J):
     status = np.int64(0)  # not a literal 0: one signature of _combined_state
     for i in range(n_contacts):
         if law_codes[i] == CONTACT2D:
-            s_i = _contact2d(
-                y, contact_pairs[i], law_params[i], inverse, forward, n_coef, R, J
+            s_i = contact2d(
+                problem,
+                y,
+                contact_pairs[i],
+                law_params[i],
+                inverse,
+                forward,
+                n_coef,
+                R,
+                J,
             )
             if s_i < 0:
                 return s_i
@@ -212,7 +310,8 @@ def hbm_residual_impl(y, problem, R, J):
         # relative displacement of the contact (to ground when b < 0)
         for r in range(n_coef):
             x_c[r] = y[base_a + r] - (y[base_b + r] if b >= 0 else 0.0)
-        s_i = _aft(
+        s_i = contact_aft(
+            problem,
             law_codes[i],
             law_params[i],
             aft_scheme,
@@ -298,8 +397,8 @@ def _combined_state(a, b):
     return a
 
 
-@jit_inline
-def _aft(
+def contact_aft(
+    problem,
     law_code,
     law_params,
     aft_scheme,
@@ -312,7 +411,99 @@ def _aft(
     dF,
 ):
     """Force coefficients ``F`` and ``dF/dx_c`` of one contact law at the
-    displacement coefficients ``x_c``; the AFT's contact-state code."""
+    displacement coefficients ``x_c``; the AFT's contact-state code.
+
+    Dispatched at compile time on the type of ``problem``: a problem type
+    of an AFT family (:func:`aft_family`) compiles that family's AFT kernel
+    only and returns ``NOT_COMPILED_FOR_LAW`` for any other law or scheme;
+    the general types compile every law's AFT. Inlined into the caller (no
+    kernel of its own). Callable from jitted code only."""
+    raise NotImplementedError(
+        "hbmfric.kernels.residuals.hbm.contact_aft is for jit code"
+    )
+
+
+def _jenkins_aft(
+    problem,
+    law_code,
+    law_params,
+    aft_scheme,
+    harmonic_numbers,
+    x_c,
+    inverse,
+    forward,
+    derivative,
+    F,
+    dF,
+):
+    if law_code != JENKINS or aft_scheme != AFT_EVENTS:
+        return np.int64(NOT_COMPILED_FOR_LAW)
+    return aft_jenkins_events(
+        law_params, harmonic_numbers, x_c, inverse, derivative, F, dF
+    )
+
+
+def _masing_aft(
+    problem,
+    law_code,
+    law_params,
+    aft_scheme,
+    harmonic_numbers,
+    x_c,
+    inverse,
+    forward,
+    derivative,
+    F,
+    dF,
+):
+    if not is_masing(law_code) or aft_scheme != AFT_EVENTS:
+        return np.int64(NOT_COMPILED_FOR_LAW)
+    return aft_masing(
+        law_code,
+        law_params,
+        harmonic_numbers,
+        x_c,
+        inverse,
+        forward,
+        derivative,
+        F,
+        dF,
+    )
+
+
+def _dahl_aft(
+    problem,
+    law_code,
+    law_params,
+    aft_scheme,
+    harmonic_numbers,
+    x_c,
+    inverse,
+    forward,
+    derivative,
+    F,
+    dF,
+):
+    if law_code != DAHL:
+        return np.int64(NOT_COMPILED_FOR_LAW)
+    return aft_dahl(
+        law_params, harmonic_numbers, x_c, inverse, forward, derivative, F, dF
+    )
+
+
+def _any_aft(
+    problem,
+    law_code,
+    law_params,
+    aft_scheme,
+    harmonic_numbers,
+    x_c,
+    inverse,
+    forward,
+    derivative,
+    F,
+    dF,
+):
     if law_code == JENKINS and aft_scheme == AFT_EVENTS:
         return aft_jenkins_events(
             law_params, harmonic_numbers, x_c, inverse, derivative, F, dF
@@ -334,6 +525,55 @@ def _aft(
             law_params, harmonic_numbers, x_c, inverse, forward, derivative, F, dF
         )
     return aft_samples(law_code, law_params, x_c, inverse, forward, F, dF)
+
+
+_FAMILY_AFT = {
+    JENKINS_FAMILY: _jenkins_aft,
+    MASING_FAMILY: _masing_aft,
+    DAHL_FAMILY: _dahl_aft,
+}
+
+
+@overload(contact_aft, jit_options=JIT_OPTIONS, inline="always")
+def _contact_aft(
+    problem,
+    law_code,
+    law_params,
+    aft_scheme,
+    harmonic_numbers,
+    x_c,
+    inverse,
+    forward,
+    derivative,
+    F,
+    dF,
+):
+    return _FAMILY_AFT.get(problem_family(problem), _any_aft)
+
+
+def contact2d(problem, y, dofs, params, inverse, forward, n_coef, R, J):
+    """:func:`_contact2d` in a general problem type; ``NOT_COMPILED_FOR_LAW``
+    in a problem type of an AFT family (the 2D element is not compiled
+    into it). Inlined; callable from jitted code only."""
+    raise NotImplementedError("hbmfric.kernels.residuals.hbm.contact2d is for jit code")
+
+
+def _with_contact2d(problem, y, dofs, params, inverse, forward, n_coef, R, J):
+    return _contact2d(y, dofs, params, inverse, forward, n_coef, R, J)
+
+
+def _without_contact2d(problem, y, dofs, params, inverse, forward, n_coef, R, J):
+    # not the bare constant: an inlined function would return it as a
+    # literal type, and the caller would compile _combined_state once more
+    # for that literal
+    return np.int64(NOT_COMPILED_FOR_LAW)
+
+
+@overload(contact2d, jit_options=JIT_OPTIONS, inline="always")
+def _contact2d_overload(problem, y, dofs, params, inverse, forward, n_coef, R, J):
+    if problem_family(problem) is None:
+        return _with_contact2d
+    return _without_contact2d
 
 
 def rigid_coulomb(y, problem, R, J):
