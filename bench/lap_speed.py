@@ -10,9 +10,11 @@ at 162 Hz, Fex = 36 N. Minimum of repeated calls after a warm-up call.
 (``hf.frf``, H = 15, ``max_step = 0.05``) over the figure's 125-185 Hz at
 Fex/P = 1e-3 (36 N; the first bending resonance goes from stuck, 167 Hz,
 into microslip, peak at 162 Hz, and back), per setting of ``condense``
-(``state``, ``direct``, ``false``), interleaved, warm (N = 10: after one
-untimed run of each; larger N: the first run is timed after a short
-warm-up branch over 160-161 Hz).
+(``state``, ``direct``, ``false``; ``state-plain``: condensed, a fresh LU
+of the Jacobian at every Newton iteration, the solver before stop 25),
+interleaved, warm (N = 10: after one untimed run of each; larger N: the
+first run is timed after a short warm-up branch over 160-161 Hz). Wall
+and CPU seconds (the CPU time of the process depends less on the load).
 
 One BLAS thread (as the other bench scripts: threaded OpenBLAS on the
 shared 2 cores makes small products 100 times slower under load).
@@ -31,6 +33,7 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 
 import hbmfric as hf  # noqa: E402
+import hbmfric.condensation as hc  # noqa: E402
 from hbmfric.condensation import CondensedHBMProblem  # noqa: E402
 from hbmfric.hbm import HBMProblem  # noqa: E402
 from hbmfric.kernels.linalg.lu import lu_factor  # noqa: E402
@@ -102,12 +105,25 @@ def iteration_costs(n_pairs, harmonics=15, full=True):
 
 
 def branch(n_pairs, condense, harmonics=15, band=BAND):
+    """One branch; ``condense`` is a value of ``hf.frf``'s option, with the
+    suffix ``-plain`` a condensed problem that factors its Jacobian at every
+    Newton iteration (the kept factors of stop 25 off)."""
     s = hf.lap_joint(n_pairs)
-    kw = {"condense": False} if condense == "false" else {"condense": condense}
+    plain = condense.endswith("-plain")
+    setting = condense.removesuffix("-plain")
+    kw = {"condense": False} if setting == "false" else {"condense": setting}
     omega = (HZ * band[0], HZ * band[1])
+    threshold = hc.REUSE_MIN_UNKNOWNS
+    if plain:
+        hc.REUSE_MIN_UNKNOWNS = 2**62
     t = time.perf_counter()
-    b = hf.frf(s, FORCE, omega, harmonics, max_step=0.05, **kw)
+    cpu = time.process_time()
+    try:
+        b = hf.frf(s, FORCE, omega, harmonics, max_step=0.05, **kw)
+    finally:
+        hc.REUSE_MIN_UNKNOWNS = threshold
     elapsed = time.perf_counter() - t
+    cpu = time.process_time() - cpu
     a = b.amplitude(harmonic=1, dof="drive")
     i = int(np.argmax(a))
     errors = b.curve_errors
@@ -115,6 +131,7 @@ def branch(n_pairs, condense, harmonics=15, band=BAND):
         "n_pairs": n_pairs,
         "condense": condense,
         "seconds": round(elapsed, 2),
+        "cpu_seconds": round(cpu, 2),
         "points": len(b.omega),
         "complete": b.complete,
         "peak_m_per_N": a[i] / FORCE,
