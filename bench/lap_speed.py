@@ -3,7 +3,8 @@
 ``python -m bench.lap_speed costs [N ...]``: where one Newton iteration
 spends its time (condensed: receptance part of the residual, AFT of the
 contacts, LU of the bordered Jacobian by :func:`hbmfric.kernels.linalg.
-lu_factor`; full: residual, LU), at three times the free linear response
+lu_factor`, one GMRES product of the kept-factor solve and the nonzero
+share of the Jacobian; full: residual, LU), at three times the free linear response
 at 162 Hz, Fex = 36 N. Minimum of repeated calls after a warm-up call.
 
 ``python -m bench.lap_speed branch N [condense ...]``: one branch
@@ -36,7 +37,8 @@ import hbmfric as hf  # noqa: E402
 import hbmfric.condensation as hc  # noqa: E402
 from hbmfric.condensation import CondensedHBMProblem  # noqa: E402
 from hbmfric.hbm import HBMProblem  # noqa: E402
-from hbmfric.kernels.linalg.lu import lu_factor  # noqa: E402
+from hbmfric.kernels.linalg.krylov import sparse_matvec, sparse_rows  # noqa: E402
+from hbmfric.kernels.linalg.lu import lu_factor, lu_solve  # noqa: E402
 from hbmfric.kernels.residuals.condensed import condensed_contact_forces  # noqa: E402
 
 HZ = 2.0 * np.pi
@@ -66,6 +68,27 @@ def _lu_time(J, repeat=5):
     return _best(run, repeat) - copy
 
 
+def _product_times(J, repeat=5):
+    """One GMRES product of the kept-factor solve (stop 25): the bordered
+    matrix's nonzeros gathered once per solve (``sparse_rows``), then per
+    product a triangular solve with kept factors and a sparse product."""
+    A = np.vstack([J, np.ones((1, J.shape[1]))])
+    F = A.copy()
+    piv = np.empty(A.shape[0], dtype=np.int64)
+    lu_factor(F, piv)
+    x = np.ones(A.shape[0])
+    out = np.empty(A.shape[0])
+    rows = sparse_rows(A)
+    return {
+        "cond_sparse_rows_ms": 1e3 * _best(lambda: sparse_rows(A), repeat),
+        "cond_product_ms": 1e3
+        * _best(
+            lambda: (lu_solve(F, piv, x), sparse_matvec(*rows, x, out)),
+            repeat,
+        ),
+    }
+
+
 def iteration_costs(n_pairs, harmonics=15, full=True):
     s = hf.lap_joint(n_pairs)
     omega = HZ * 162.0
@@ -93,6 +116,8 @@ def iteration_costs(n_pairs, harmonics=15, full=True):
     row["state_residual_slip_ms"] = 1e3 * _best(lambda: st.residual(y30))
     _, J, _ = c.residual(y)
     row["cond_lu_ms"] = 1e3 * _lu_time(J)
+    row["cond_nonzero_share"] = float(np.count_nonzero(J)) / J.size
+    row.update(_product_times(J))
     if full:
         f = HBMProblem(s, FORCE, harmonics)
         X = c.full_coefficients(y[None])[0]
