@@ -56,6 +56,18 @@ def test_gmres_with_nearby_factors_matches_numpy(size):
     assert np.linalg.norm(B @ x - b) <= 1e-12 * np.linalg.norm(b)
 
 
+@pytest.mark.parametrize("m", [1, 2, 5, 33])
+def test_apply_factors_matches_numpy(m):
+    A = np.random.default_rng(m).standard_normal((m, m)) + 0.1 * np.eye(m)
+    F = A.copy()
+    piv = np.empty(m, dtype=np.int64)
+    assert lu_factor(F, piv)
+    b = np.arange(1.0, m + 1.0)
+    x = b.copy()
+    krylov.apply_factors(F, piv, x)
+    assert np.allclose(x, np.linalg.solve(A, b), rtol=1e-11, atol=1e-12)
+
+
 def test_gmres_reports_what_it_cannot_do():
     A, B = _near_pair(40, 0.0)
     F = np.eye(40)  # a useless preconditioner, too few iterations
