@@ -371,10 +371,10 @@ def tangent_from_lu(A, piv, out):
     return _normalise(out)
 
 
-@jit
+@jit_inline
 def _normalise(out):
     """Divide ``out`` by its 2-norm; False if that is not finite and
-    positive."""
+    positive (inlined: no kernel of its own on the plain path)."""
     m = out.size
     norm = 0.0
     for i in range(m):
