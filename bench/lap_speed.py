@@ -3,16 +3,19 @@
 ``python -m bench.lap_speed costs [N ...]``: where one Newton iteration
 spends its time (condensed: receptance part of the residual, AFT of the
 contacts, LU of the bordered Jacobian by :func:`hbmfric.kernels.linalg.
-lu_factor`; full: residual, LU), at three times the free linear response
+lu_factor`, one GMRES product of the kept-factor solve and the nonzero
+share of the Jacobian; full: residual, LU), at three times the free linear response
 at 162 Hz, Fex = 36 N. Minimum of repeated calls after a warm-up call.
 
 ``python -m bench.lap_speed branch N [condense ...]``: one branch
 (``hf.frf``, H = 15, ``max_step = 0.05``) over the figure's 125-185 Hz at
 Fex/P = 1e-3 (36 N; the first bending resonance goes from stuck, 167 Hz,
 into microslip, peak at 162 Hz, and back), per setting of ``condense``
-(``state``, ``direct``, ``false``), interleaved, warm (N = 10: after one
-untimed run of each; larger N: the first run is timed after a short
-warm-up branch over 160-161 Hz).
+(``state``, ``direct``, ``false``; ``state-plain``: condensed, a fresh LU
+of the Jacobian at every Newton iteration, the solver before stop 25),
+interleaved, warm (N = 10: after one untimed run of each; larger N: the
+first run is timed after a short warm-up branch over 160-161 Hz). Wall
+and CPU seconds (the CPU time of the process depends less on the load).
 
 One BLAS thread (as the other bench scripts: threaded OpenBLAS on the
 shared 2 cores makes small products 100 times slower under load).
@@ -31,9 +34,11 @@ import time  # noqa: E402
 import numpy as np  # noqa: E402
 
 import hbmfric as hf  # noqa: E402
+import hbmfric.condensation as hc  # noqa: E402
 from hbmfric.condensation import CondensedHBMProblem  # noqa: E402
 from hbmfric.hbm import HBMProblem  # noqa: E402
-from hbmfric.kernels.linalg.lu import lu_factor  # noqa: E402
+from hbmfric.kernels.linalg.krylov import sparse_matvec, sparse_rows  # noqa: E402
+from hbmfric.kernels.linalg.lu import lu_factor, lu_solve  # noqa: E402
 from hbmfric.kernels.residuals.condensed import condensed_contact_forces  # noqa: E402
 
 HZ = 2.0 * np.pi
@@ -63,6 +68,27 @@ def _lu_time(J, repeat=5):
     return _best(run, repeat) - copy
 
 
+def _product_times(J, repeat=5):
+    """One GMRES product of the kept-factor solve (stop 25): the bordered
+    matrix's nonzeros gathered once per solve (``sparse_rows``), then per
+    product a triangular solve with kept factors and a sparse product."""
+    A = np.vstack([J, np.ones((1, J.shape[1]))])
+    F = A.copy()
+    piv = np.empty(A.shape[0], dtype=np.int64)
+    lu_factor(F, piv)
+    x = np.ones(A.shape[0])
+    out = np.empty(A.shape[0])
+    rows = sparse_rows(A)
+    return {
+        "cond_sparse_rows_ms": 1e3 * _best(lambda: sparse_rows(A), repeat),
+        "cond_product_ms": 1e3
+        * _best(
+            lambda: (lu_solve(F, piv, x), sparse_matvec(*rows, x, out)),
+            repeat,
+        ),
+    }
+
+
 def iteration_costs(n_pairs, harmonics=15, full=True):
     s = hf.lap_joint(n_pairs)
     omega = HZ * 162.0
@@ -90,6 +116,8 @@ def iteration_costs(n_pairs, harmonics=15, full=True):
     row["state_residual_slip_ms"] = 1e3 * _best(lambda: st.residual(y30))
     _, J, _ = c.residual(y)
     row["cond_lu_ms"] = 1e3 * _lu_time(J)
+    row["cond_nonzero_share"] = float(np.count_nonzero(J)) / J.size
+    row.update(_product_times(J))
     if full:
         f = HBMProblem(s, FORCE, harmonics)
         X = c.full_coefficients(y[None])[0]
@@ -102,12 +130,25 @@ def iteration_costs(n_pairs, harmonics=15, full=True):
 
 
 def branch(n_pairs, condense, harmonics=15, band=BAND):
+    """One branch; ``condense`` is a value of ``hf.frf``'s option, with the
+    suffix ``-plain`` a condensed problem that factors its Jacobian at every
+    Newton iteration (the kept factors of stop 25 off)."""
     s = hf.lap_joint(n_pairs)
-    kw = {"condense": False} if condense == "false" else {"condense": condense}
+    plain = condense.endswith("-plain")
+    setting = condense.removesuffix("-plain")
+    kw = {"condense": False} if setting == "false" else {"condense": setting}
     omega = (HZ * band[0], HZ * band[1])
+    threshold = hc.REUSE_MIN_UNKNOWNS
+    if plain:
+        hc.REUSE_MIN_UNKNOWNS = 2**62
     t = time.perf_counter()
-    b = hf.frf(s, FORCE, omega, harmonics, max_step=0.05, **kw)
+    cpu = time.process_time()
+    try:
+        b = hf.frf(s, FORCE, omega, harmonics, max_step=0.05, **kw)
+    finally:
+        hc.REUSE_MIN_UNKNOWNS = threshold
     elapsed = time.perf_counter() - t
+    cpu = time.process_time() - cpu
     a = b.amplitude(harmonic=1, dof="drive")
     i = int(np.argmax(a))
     errors = b.curve_errors
@@ -115,6 +156,7 @@ def branch(n_pairs, condense, harmonics=15, band=BAND):
         "n_pairs": n_pairs,
         "condense": condense,
         "seconds": round(elapsed, 2),
+        "cpu_seconds": round(cpu, 2),
         "points": len(b.omega),
         "complete": b.complete,
         "peak_m_per_N": a[i] / FORCE,

@@ -14,6 +14,9 @@ import numpy as np
 
 from .hbm import HBMProblem
 from .kernels.dlft.coulomb import COULOMB
+from .kernels.linalg.krylov import N_REUSE
+from .kernels.linalg.krylov import REUSE_REFRESH as REUSE_REFRESH_INDEX
+from .kernels.linalg.krylov import REUSE_TOL as REUSE_TOL_INDEX
 from .kernels.residuals.condensed import (
     AFT_EVENTS,
     AFT_SAMPLES,
@@ -42,6 +45,39 @@ RECEPTANCE_METHODS = ("auto", "modal", "state", "direct")
 #: (relative to the largest receptance term, at the test pulsations of
 #: :func:`state_space_modes`) accepted; beyond it the direct solve is used
 STATE_TOL = 1e-10
+
+#: a condensed problem with at least this many unknowns keeps the factors
+#: of its bordered Jacobian between corrector iterations and points, and
+#: solves by GMRES preconditioned by them
+#: (:func:`hbmfric.kernels.steps.newton.bordered_solve`); smaller ones
+#: factor every iteration (their LU costs about as much as a few GMRES
+#: iterations)
+REUSE_MIN_UNKNOWNS = 200
+#: GMRES iterations at most per solve (the Krylov basis, order ``k + 1``)
+REUSE_KRYLOV = 30
+#: relative residual (2-norm) at which GMRES stops
+REUSE_TOL = 1e-10
+#: a solve that took more matrix products than this makes the next one
+#: factor afresh
+REUSE_REFRESH = 12
+
+
+def solver_arrays(n_unknowns: int, enabled: bool = True) -> tuple:
+    """Work arrays of :func:`hbmfric.kernels.linalg.krylov.reuse_solve` for
+    a bordered system of order ``n_unknowns + 1``: factors, pivots, Krylov
+    basis and state; of order 0 (plain LU every iteration) when not
+    ``enabled`` or below :data:`REUSE_MIN_UNKNOWNS`."""
+    m = n_unknowns + 1 if enabled and n_unknowns >= REUSE_MIN_UNKNOWNS else 0
+    state = np.zeros(N_REUSE)
+    state[REUSE_TOL_INDEX] = REUSE_TOL
+    state[REUSE_REFRESH_INDEX] = REUSE_REFRESH
+    return (
+        np.zeros((m, m)),
+        np.zeros(m, dtype=np.int64),
+        np.zeros((REUSE_KRYLOV + 1 if m else 0, m)),
+        state,
+    )
+
 
 #: complex modes per system matrices (:func:`state_space_modes`)
 _STATE_CACHE: dict = {}
@@ -495,6 +531,7 @@ class CondensedHBMProblem(HBMProblem):
             # direct receptance: it watches coordinate 0 there)
             np.int64(self.contact_dof if self.multi else -1),
             np.zeros(1),
+            solver_arrays(self.n_coordinates * self.n_coef, self.multi),
         )
         self.n_unknowns = self.n_coordinates * self.n_coef
 

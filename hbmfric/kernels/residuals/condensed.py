@@ -165,6 +165,12 @@ CondensedProblem = namedtuple(
         # output, shape (1,): rounding level (N) of the last residual on
         # several coordinates (:func:`_coordinates_linear`), 0 otherwise
         "rounding",
+        # work arrays kept between corrector solves (factors, pivots,
+        # Krylov basis, state) of hbmfric.kernels.linalg.krylov.reuse_solve,
+        # used by hbmfric.kernels.steps.newton.bordered_solve when the
+        # factors have the order of the bordered matrix (n_unknowns + 1);
+        # empty (order 0) for small problems
+        "solver",
     ],
 )
 CondensedProblem.__doc__ = """Flat data of the condensed HBM residual (see the

@@ -7,10 +7,13 @@ alike.
 """
 
 import numpy as np
+from numba.extending import overload
 
 from ..._jit import jit, jit_inline
+from ..linalg.krylov import reuse_solve
 from ..linalg.lu import lu_factor, lu_solve, solve_inplace
-from ..residuals.dispatch import residual, rounding_level
+from ..residuals.dispatch import _is_condensed, residual, rounding_level
+from ..residuals.hbm import JIT_OPTIONS
 
 CONVERGED = 0
 MAX_ITERATIONS = 1
@@ -66,6 +69,80 @@ def equilibrate_rows(J, scale, A, row_scale):
         for j in range(n + 1):
             A[i, j] *= inv
         row_scale[i] = inv
+
+
+def bordered_solve(problem, A, piv, b):
+    """Solve the corrector's bordered system ``A x = b`` (``b`` holds ``x``
+    on return); False if ``A`` is singular to the pivot test. Callable from
+    jitted code only.
+
+    Dispatched at compile time on the type of ``problem``: a condensed
+    problem that carries the work arrays of a reusable factorisation
+    (``solver``, :class:`~hbmfric.kernels.residuals.condensed.CondensedProblem`;
+    large problems only, see :data:`hbmfric.condensation.REUSE_MIN_UNKNOWNS`)
+    solves by :func:`~hbmfric.kernels.linalg.krylov.reuse_solve` (GMRES
+    preconditioned by the factors of an earlier iteration or point, a fresh
+    factorisation when they no longer serve) and leaves ``A`` unchanged;
+    any other problem factors ``A`` in place (its factors in ``A``, ``piv``).
+    """
+    raise NotImplementedError("bordered_solve is for jit code")
+
+
+@overload(bordered_solve, jit_options=JIT_OPTIONS)
+def _bordered_solve(problem, A, piv, b):
+    if _is_condensed(problem):
+
+        def condensed(problem, A, piv, b):
+            F, fpiv, V, state = problem.solver
+            if F.shape[0] == A.shape[0]:
+                return reuse_solve(A, b, F, fpiv, V, state)
+            if not lu_factor(A, piv):
+                return False
+            lu_solve(A, piv, b)
+            return True
+
+        return condensed
+
+    def full(problem, A, piv, b):
+        if not lu_factor(A, piv):
+            return False
+        lu_solve(A, piv, b)
+        return True
+
+    return full
+
+
+def bordered_tangent(problem, A, piv, out):
+    """Unit tangent ``A⁻¹ e_n / ‖A⁻¹ e_n‖`` into ``out`` after
+    :func:`correct` left ``A``, ``piv`` (:func:`tangent_from_lu` of its
+    factors, or for a problem solved by :func:`bordered_solve`'s reuse path
+    one more such solve with the matrix left in ``A``); False if not
+    finite. Callable from jitted code only."""
+    raise NotImplementedError("bordered_tangent is for jit code")
+
+
+@overload(bordered_tangent, jit_options=JIT_OPTIONS)
+def _bordered_tangent(problem, A, piv, out):
+    if _is_condensed(problem):
+
+        def condensed(problem, A, piv, out):
+            F, fpiv, V, state = problem.solver
+            if F.shape[0] != A.shape[0]:
+                return tangent_from_lu(A, piv, out)
+            m = out.size
+            for i in range(m):
+                out[i] = 0.0
+            out[m - 1] = 1.0
+            if not reuse_solve(A, out, F, fpiv, V, state):
+                return False
+            return _normalise(out)
+
+        return condensed
+
+    def full(problem, A, piv, out):
+        return tangent_from_lu(A, piv, out)
+
+    return full
 
 
 #: a residual within this many machine epsilons of the size of the terms it
@@ -148,7 +225,9 @@ def correct(
         int64. On success ``R`` and ``J`` hold the residual and Jacobian at
         the solution and ``A``, ``piv`` the LU factors of the bordered
         matrix in scaled variables, ``[D J diag(scale); constraint]`` with
-        ``D`` the row equilibration (reused for the tangent).
+        ``D`` the row equilibration (reused for the tangent by
+        :func:`bordered_tangent`); on the reuse path of
+        :func:`bordered_solve` ``A`` holds that matrix itself.
 
     Returns
     -------
@@ -190,9 +269,8 @@ def correct(
         for j in range(n + 1):
             A[n, j] = constraint[j]
         b[n] = -g
-        if not lu_factor(A, piv):
+        if not bordered_solve(problem, A, piv, b):
             return SINGULAR, evaluations, evaluations
-        lu_solve(A, piv, b)
         full = _norm_inf(b)
         if not np.isfinite(full):
             return SINGULAR, evaluations, evaluations
@@ -290,6 +368,14 @@ def tangent_from_lu(A, piv, out):
         out[i] = 0.0
     out[m - 1] = 1.0
     lu_solve(A, piv, out)
+    return _normalise(out)
+
+
+@jit_inline
+def _normalise(out):
+    """Divide ``out`` by its 2-norm; False if that is not finite and
+    positive (inlined: no kernel of its own on the plain path)."""
+    m = out.size
     norm = 0.0
     for i in range(m):
         norm += out[i] * out[i]
@@ -323,7 +409,7 @@ def palc_step(
 
     Predictor ``y_pred = y + ds t scale``, corrector :func:`correct` on the
     hyperplane through ``y_pred`` orthogonal to ``t``, then the new tangent
-    from the corrector's last factorisation (:func:`tangent_from_lu`), the
+    from the corrector's last factorisation (:func:`bordered_tangent`), the
     scaled distance between predictor and corrected point, and the angle
     between the tangents. Acceptance is decided by the caller.
 
@@ -376,7 +462,7 @@ def palc_step(
         d = abs(y_new[i] - y_pred[i]) / scale[i]
         if not d <= distance:
             distance = d
-    if not np.isfinite(distance) or not tangent_from_lu(A, piv, t_new):
+    if not np.isfinite(distance) or not bordered_tangent(problem, A, piv, t_new):
         return NOT_FINITE, evaluations, iterations, np.inf, np.inf
     c = 0.0
     for i in range(m):
