@@ -764,6 +764,17 @@ class _Level:
 SIGN_GUARD = 1e-11
 
 
+def _full_problem(kernel_problem) -> bool:
+    """Whether a kernel problem is the full harmonic balance's: the plain
+    tuple, or one of its per-law-family types (not condensed, not rigid
+    Coulomb)."""
+    from .kernels.residuals.hbm import FAMILY_TYPES
+
+    return type(kernel_problem) is tuple or type(kernel_problem) in tuple(
+        FAMILY_TYPES.values()
+    )
+
+
 def _memoryless(problem, keep) -> bool:
     """Whether the Jacobians of ``problem`` can come from the spectrum of
     the tangent stiffness (:func:`hbmfric.kernels.stability.hill.memoryless_jacobians`):
@@ -772,7 +783,7 @@ def _memoryless(problem, keep) -> bool:
     from .kernels.laws.updates import CUBIC
 
     kp = problem.kernel_problem
-    if keep is not None or kp[1].shape[0] != 1 or type(kp).__name__ != "tuple":
+    if keep is not None or kp[1].shape[0] != 1 or not _full_problem(kp):
         return False
     if getattr(problem, "subharmonic", 1) not in (None, 1):
         return False
@@ -878,7 +889,7 @@ def _stuck_everywhere(problem, points: np.ndarray, keep, chunk: int):
     from .kernels.residuals.hbm import AFT_EVENTS
 
     kp = problem.kernel_problem
-    if keep is not None or type(kp).__name__ != "tuple" or kp[1].shape[0] != 1:
+    if keep is not None or not _full_problem(kp) or kp[1].shape[0] != 1:
         return None
     pairs, codes, params = np.asarray(kp[5]), np.asarray(kp[6]), np.asarray(kp[7])
     hn = np.asarray(kp[0])
