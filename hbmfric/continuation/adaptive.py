@@ -650,6 +650,12 @@ class AdaptiveContinuation:
         t = dst._tangent(self.pad(state.tangent, h, h_new))
         if not np.all(np.isfinite(t)):
             return False
+        if len(state.points) == 1 and t[-1] * state.tangent[-1] < 0.0:
+            # the first point: its tangent keeps the sweep's direction (the
+            # orientation by the old tangent can reverse it where the point
+            # moved and Ω is a small part of the tangent: a stiff Menq at
+            # 0.3 rad/s, H 7 -> 63, turned back at once)
+            t = -t
         state.y = y
         state.tangent = t
         state.J = dst._J
