@@ -193,14 +193,16 @@ def test_default_branch_near_the_fifth_superharmonic_at_5n():
     stretches (0.014 from 5 Hz where it is 0.23-0.47 at 8.3-8.5 Hz), read
     1e-5-2e-5 and let the tension range stand 2.5e-4 off the reference.
     Now a ratio is carried only within a stretch: every point over
-    8.25-8.55 Hz within 1e-4 of the shooting reference."""
+    7.5-9.5 Hz within 1e-4 of the shooting reference. (Since the run aims
+    at 0.7 of the tolerance it traces this stretch at H = 21, with steps
+    of about 0.5 Hz: 7e-6 at worst.)"""
     with warnings.catch_warnings():
         warnings.simplefilter("error", hf.CoverageWarning)
         warnings.simplefilter("error", hf.AccuracyWarning)
         branch = hf.frf(RIG, 5.0, BAND)
     f = branch.omega / (2.0 * math.pi)
-    index = np.flatnonzero((f > 8.25) & (f < 8.55))
-    assert index.size >= 5
+    index = np.flatnonzero((f > 7.5) & (f < 9.5))
+    assert index.size >= 3
     for i in index:
         np.testing.assert_allclose(
             _hbm_values(branch, i), _reference_at(branch, i, 5.0), rtol=1e-4
