@@ -279,7 +279,12 @@ def test_level_problem_equals_a_fresh_build(law, condense, aft):
             fresh.aft,
         )
         for a, b in zip(derived.kernel_problem, fresh.kernel_problem, strict=True):
-            np.testing.assert_array_equal(a, b)
+            if isinstance(a, tuple):  # work arrays of the kept-factor solver
+                assert len(a) == len(b)
+                for x, z in zip(a, b, strict=True):
+                    np.testing.assert_array_equal(np.shape(x), np.shape(z))
+            else:
+                np.testing.assert_array_equal(a, b)
         y = np.append(0.3 * rng.standard_normal(fresh.n_unknowns), 1.1)
         R1, J1, s1 = derived.residual(y)
         R2, J2, s2 = fresh.residual(y)
