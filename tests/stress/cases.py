@@ -172,6 +172,28 @@ def _contact_chain(c: Case) -> hf.LinearStructure:
     )
 
 
+USER_CHAIN_RANGE = (8.0, 25.0)
+
+
+def _user_chain(c: Case) -> hf.LinearStructure:
+    """``law="chain3"``: a new user's chain (three 1 kg masses on 1000 N/m
+    springs, clamped at one end, 1 % modal damping, forced at the first
+    mass) with a Jenkins contact between the second and third masses,
+    stiffness ``stiffness_ratio`` × 1000 N/m, slip force 1 N. With
+    ``harmonics="auto"`` at 5 N the run kept the point at the onset of slip
+    at H = 5 with an estimated error of 0.031 (Newton needed 37 iterations
+    to solve it again higher, more than ``max_newton``)."""
+    K = 1000.0 * np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
+    law = hf.Jenkins(stiffness=1000.0 * c.stiffness_ratio, slip_force=1.0)
+    return hf.LinearStructure(
+        np.eye(3),
+        K,
+        modal_damping=0.01,
+        load={0: 1.0},
+        contacts=[hf.Contact(law, 1, other=2)],
+    )
+
+
 def _element_rig(c: Case) -> hf.LinearStructure:
     """``law="contact2d"``: the 2-DOF rig of ``tests/test_contact2d.py``
     (x tangential, y normal, each 1 kg on 1e4 N/m, 6 N s/m) with the 2D
@@ -202,6 +224,8 @@ def build(c: Case):
         return _contact_chain(c), c.ratio, CHAIN_RANGE
     if c.law == "contact2d":
         return _element_rig(c), c.ratio, ELEMENT_RANGE
+    if c.law == "chain3":
+        return _user_chain(c), c.ratio, USER_CHAIN_RANGE
     if c.law == "beam":
         cal = _beam_calibration()
         beam = cal.beam.with_contact(
@@ -361,6 +385,9 @@ def run_case(c: Case, spot: bool = True) -> dict:
             np.all(np.isfinite(b.coefficients)) and np.all(np.isfinite(b.omega))
         ),
         "zero_force": force == 0.0,
+        # harmonics="auto" left a point over its tolerance below the top of
+        # the ladder (it could have solved it with more harmonics)
+        "auto_gave_up": _auto_gave_up(b, c),
     }
     if force == 0.0:
         # the zero response, exactly, at once; a preloaded system (the
@@ -477,9 +504,31 @@ def tensioner_checks(system, force: float, branch: hf.Branch, c: Case) -> list:
     return records
 
 
+def _auto_gave_up(branch: hf.Branch, c: Case) -> str:
+    """For ``harmonics="auto"``: a description of the worst point whose
+    estimated truncation error exceeds the tolerance although its ``H`` is
+    below the top of the harmonic ladder, or ``""``."""
+    from hbmfric.continuation.adaptive import LADDER
+
+    errors = branch.truncation_error
+    if c.harmonics != "auto" or errors is None or branch.point_harmonics is None:
+        return ""
+    tol = float(branch.info.get("harmonic_tolerance", 1e-4))
+    bad = (errors > tol) & (branch.point_harmonics < LADDER[-1])
+    if not np.any(bad):
+        return ""
+    i = int(np.flatnonzero(bad)[np.argmax(errors[bad])])
+    return (
+        f"auto left the point at Ω = {branch.omega[i]:.6g} at H = "
+        f"{branch.point_harmonics[i]} with estimate {errors[i]:.2g}"
+    )
+
+
 def failures(out: dict) -> list[str]:
     """What is wrong with a case's findings (empty when it passed)."""
     bad = []
+    if out.get("auto_gave_up"):
+        bad.append(out["auto_gave_up"])
     if not out["finite"]:
         bad.append("non-finite values")
     if not out["covered"]:
@@ -626,6 +675,16 @@ def _several_contacts() -> list[Case]:
                 Case(law="contact2d", ratio=ratio, normal_load=preload, harmonics=8)
             )
     cases.append(Case(law="contact2d", ratio=1.0, harmonics=8, sweep="down"))
+    for sweep in ("up", "down"):
+        cases.append(
+            Case(
+                law="chain3",
+                ratio=5.0,
+                stiffness_ratio=2.0,
+                harmonics="auto",
+                sweep=sweep,
+            )
+        )
     return cases
 
 
