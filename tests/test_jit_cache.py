@@ -360,4 +360,4 @@ def test_cold_jenkins_frf_compiles_only_what_it_uses(tmp_path):
     # a kernel with several call signatures by design (e.g. one per
     # argument layout) would show here: none in this run
     assert not twice
-    assert proc.stderr.count("hbmfric: compiling its Numba kernels") == 1
+    assert proc.stderr.count("hbmfric: compiling the Numba kernels") == 1
