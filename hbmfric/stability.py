@@ -561,6 +561,18 @@ class _Level:
             # of the few computed points are evaluated when asked for
             self._signs, self._extremes = _memoryless_signs(problem, points, candidates)
             self._asymmetry = 0.0  # symmetric by construction (W-weighted)
+        elif signs and len(candidates) == 2 and _passive(problem, points):
+            # every contact a Jenkins element: every block's determinant is
+            # positive at every point by proof (:func:`_passive`), and an odd
+            # solution of the odd law couples no odd to even harmonic; no
+            # AFT until the computed points' Jacobians are asked for
+            self._signs = np.ones((idx.size, 2), dtype=np.int64)
+            self._extremes = (0.0, 1.0)
+            stuck = _stuck_everywhere(problem, points, keep, idx.size)
+            if stuck is not None:
+                self.proven = stuck[2]
+                if reflect and stuck[0].all():
+                    self._asymmetry = 0.0  # linear Jacobians, as below
         elif signs and (stuck := _stuck_everywhere(problem, points, keep, self.chunk)):
             # points whose contacts provably stick over the whole period:
             # their Jacobians are linear, every block's sign is +1 and
@@ -842,6 +854,58 @@ PIVOT_SLACK = 1e3
 #: exceeds this share of ``1 + (largest entry)/m`` (the size of the
 #: companion matrix whose eigenvalues the other route computes)
 PROVEN_MARGIN = 1e-6
+
+
+def _passive(problem, points: np.ndarray) -> bool:
+    """Whether every diagonal block of harmonics of the HBM Jacobian at
+    ``points`` has a positive determinant by proof: one DOF (mass ``m``,
+    damping ``c > 0``, stiffness ``k > 0``) whose contacts are all Jenkins
+    elements to ground evaluated by the event AFT, every point odd (no even
+    harmonic) with ``Ω > 0``.
+
+    Why (``docs/stability.md``, "Jenkins branches"): the event AFT's
+    Jacobian is the exact Galerkin projection of the Jenkins linearisation
+    ``δf = kt (δu(θ) - δu(θ_s))`` on each stick segment starting at
+    ``θ_s`` (0 in slip), so for any perturbation ``δu`` in a set of
+    harmonics ``∫ δu' δf dθ = Σ kt (δu(θ_e) - δu(θ_s))² / 2 >= 0`` (one
+    term per stick segment ``[θ_s, θ_e]``). If the block ``J_S`` of a set
+    ``S`` of harmonics maps ``δU`` to 0, testing the residual with ``δu'``
+    (in the span of ``S`` as well) leaves ``c Ω ∫ δu'² + Σ kt (…)² / 2 =
+    0``: ``δu`` is constant, and then ``k δu = 0``. So ``J_S`` is regular,
+    and so is ``J_lin + τ (J_S - J_lin)`` for every ``τ`` in [0, 1] (the
+    contact part scaled by ``τ >= 0`` keeps its sign); ``det`` of the
+    linear block ``J_lin`` is ``k Π ((k - m j²Ω²)² + (c jΩ)²)`` (up to the
+    rows' positive normalisation) ``> 0``, hence ``det J_S > 0``. An odd
+    ``u`` of an odd law gives a linearisation that repeats after half a
+    period: no coupling of odd and even harmonics.
+    """
+    from .kernels.laws.updates import JENKINS
+    from .kernels.residuals.hbm import AFT_EVENTS
+
+    kp = problem.kernel_problem
+    if not _full_problem(kp) or kp[1].shape[0] != 1:
+        return False
+    pairs, codes, params = np.asarray(kp[5]), np.asarray(kp[6]), np.asarray(kp[7])
+    hn = np.asarray(kp[0])
+    c, k = float(kp[2][0, 0]), float(kp[3][0, 0])
+    if (
+        int(kp[8]) != AFT_EVENTS
+        or codes.size == 0
+        or not np.all(codes == JENKINS)
+        or not (np.all(pairs[:, 0] == 0) and np.all(pairs[:, 1] < 0))
+        or not (c > 0.0 and k > 0.0 and np.isfinite(float(kp[1][0, 0])))
+        or not np.all(np.isfinite(params[:, :2]))
+        or not (np.all(params[:, 0] >= 0.0) and np.all(params[:, 1] >= 0.0))
+        or not np.array_equal(hn, np.arange(hn.size))
+    ):
+        return False
+    per = np.repeat(hn, np.where(hn == 0, 1, 2))
+    even = per % 2 == 0
+    return bool(
+        np.all(points[:, :-1][:, even] == 0.0)
+        and np.all(np.isfinite(points))
+        and np.all(points[:, -1] > 0.0)
+    )
 
 
 def _stuck_everywhere(problem, points: np.ndarray, keep, chunk: int):
