@@ -189,9 +189,12 @@ class Stability:
         if missing.size == 0 or self._fill is None:
             return
         lam = self._fill(missing)
+        if isinstance(lam, tuple):  # exponents and multipliers (monodromy)
+            lam, mu = lam
+        else:
+            mu = np.exp(lam * (2.0 * np.pi / self.omega[missing])[:, None])
         self._exponents[missing] = lam
-        period = 2.0 * np.pi / self.omega[missing]
-        self._multipliers[missing] = np.exp(lam * period[:, None])
+        self._multipliers[missing] = mu
         self._max_real[missing] = lam.real.max(axis=1)
         self.computed[missing] = True
         self._fill = None
@@ -1073,6 +1076,58 @@ def _sparse_schedule(
     return computed, stable[nearest]
 
 
+def _level_problems(system, force, point_harmonics, n_time, aft, subharmonic):
+    """``(H, problem)`` of each harmonic level of the points, ascending."""
+    out = []
+    for h in (int(v) for v in np.unique(np.asarray(point_harmonics))):
+        nt = n_time if n_time is not None and n_time > 2 * h else None
+        out.append((h, _stability_problem(system, force, h, nt, aft, subharmonic)))
+    return out
+
+
+def _build_levels(
+    problems,
+    omega,
+    harmonic_numbers,
+    coefficients,
+    point_harmonics,
+    perturbation_harmonics,
+    symmetric,
+    signs,
+):
+    """The :class:`_Level` of each harmonic level (``problems`` of
+    :func:`_level_problems`), with the level and the local index of each
+    point and the highest harmonic of each point's perturbation."""
+    n_points = omega.size
+    n_dof = coefficients.shape[1]
+    levels_of = np.asarray(point_harmonics, dtype=np.int64)
+    used = levels_of.copy()
+    levels: list[_Level] = []
+    level_of = np.zeros(n_points, dtype=np.int64)
+    local_of = np.zeros(n_points, dtype=np.int64)
+    for h, problem in problems:
+        idx = np.flatnonzero(levels_of == h)
+        points = np.empty((idx.size, problem.n_unknowns + 1))
+        points[:, :-1] = _to_full_basis(harmonic_numbers, coefficients[idx], h).reshape(
+            idx.size, -1
+        )
+        points[:, -1] = omega[idx]
+        hn = problem.harmonic_numbers
+        keep = None
+        if perturbation_harmonics is not None and perturbation_harmonics < h:
+            hn = hn[hn <= perturbation_harmonics]
+            keep = np.concatenate(
+                [d * problem.n_coef + np.arange(2 * hn[-1] + 1) for d in range(n_dof)]
+            )
+        used[idx] = hn[-1]
+        level_of[idx] = len(levels)
+        local_of[idx] = np.arange(idx.size)
+        levels.append(
+            _Level(problem, idx, points, hn, keep, symmetric, signs, reflect=signs)
+        )
+    return levels, level_of, local_of, used
+
+
 def stability_of_points(
     system,
     force: float,
@@ -1182,6 +1237,21 @@ def stability_of_points(
     if method == "auto":
         method = _automatic_method(system, coefficients.shape[1])
     if method == "monodromy":
+
+        def flips() -> np.ndarray:
+            return _hill_flips(
+                system,
+                force,
+                omega,
+                harmonic_numbers,
+                coefficients,
+                point_harmonics,
+                n_time,
+                aft,
+                subharmonic,
+                symmetric,
+            )
+
         return _monodromy_stability(
             system,
             force,
@@ -1190,21 +1260,13 @@ def stability_of_points(
             coefficients,
             point_harmonics,
             subharmonic,
+            exponents=exponents,
+            flips=flips,
         )
     start = time.perf_counter()
     n_points = omega.size
     n_dof = coefficients.shape[1]
-    levels_of = np.asarray(point_harmonics, dtype=np.int64)
-    used = levels_of.copy()
-    levels: list[_Level] = []
-    level_of = np.zeros(n_points, dtype=np.int64)
-    local_of = np.zeros(n_points, dtype=np.int64)
-    problems = []
-    for h in (int(v) for v in np.unique(levels_of)):
-        nt = n_time if n_time is not None and n_time > 2 * h else None
-        problems.append(
-            (int(h), _stability_problem(system, force, h, nt, aft, subharmonic))
-        )
+    problems = _level_problems(system, force, point_harmonics, n_time, aft, subharmonic)
     sparse = bool(
         exponents == "auto"
         and symmetric
@@ -1213,26 +1275,16 @@ def stability_of_points(
         and problems[0][1].kernel_problem[1][0, 0] > 0.0
         and problems[0][1].kernel_problem[2][0, 0] > 0.0
     )
-    for h, problem in problems:
-        idx = np.flatnonzero(levels_of == h)
-        points = np.empty((idx.size, problem.n_unknowns + 1))
-        points[:, :-1] = _to_full_basis(harmonic_numbers, coefficients[idx], h).reshape(
-            idx.size, -1
-        )
-        points[:, -1] = omega[idx]
-        hn = problem.harmonic_numbers
-        keep = None
-        if perturbation_harmonics is not None and perturbation_harmonics < h:
-            hn = hn[hn <= perturbation_harmonics]
-            keep = np.concatenate(
-                [d * problem.n_coef + np.arange(2 * hn[-1] + 1) for d in range(n_dof)]
-            )
-        used[idx] = hn[-1]
-        level_of[idx] = len(levels)
-        local_of[idx] = np.arange(idx.size)
-        levels.append(
-            _Level(problem, idx, points, hn, keep, symmetric, sparse, reflect=sparse)
-        )
+    levels, level_of, local_of, used = _build_levels(
+        problems,
+        omega,
+        harmonic_numbers,
+        coefficients,
+        point_harmonics,
+        perturbation_harmonics,
+        symmetric,
+        sparse,
+    )
 
     def exponents_at(where: np.ndarray) -> np.ndarray:
         return _exponents_at(levels, level_of, local_of, where)
@@ -1396,36 +1448,236 @@ def monodromy_multipliers(
     return result.multipliers
 
 
-def _monodromy_stability(
-    system, force, omega, harmonic_numbers, coefficients, point_harmonics, subharmonic
-) -> Stability:
-    """:class:`Stability` from the time-domain monodromy of every point."""
-    start = time.perf_counter()
-    rows = []
-    for i, w in enumerate(omega):
-        rows.append(
-            monodromy_multipliers(
-                system, force, harmonic_numbers, coefficients[i], float(w), subharmonic
-            )
-        )
-    mu = np.array(rows, dtype=complex).reshape(omega.size, -1)
-    period = 2.0 * np.pi / omega  # the map's duration: ν forcing periods
-    with np.errstate(divide="ignore"):
-        lam = np.log(mu) / period[:, None]
-    lam = lam.real + 1j * (
-        lam.imag - omega[:, None] * np.round(lam.imag / omega[:, None])
+#: ``exponents="auto"`` on a monodromy branch that no proof covers: the
+#: monodromy at every ``MONODROMY_SPACING``-th point at least
+#: (:func:`_monodromy_stability`)
+MONODROMY_SPACING = 16
+#: ``exponents="auto"`` on an incrementally passive branch (stable by
+#: proof, :func:`_incrementally_passive`): the monodromy at every
+#: ``PASSIVE_SPACING``-th point, a check of the proof against the numerics
+PASSIVE_SPACING = 64
+#: relative size (to the largest entry) of the asymmetry of ``M``, ``K``
+#: and of the negative eigenvalues of ``(C + Cᵀ)/2`` that
+#: :func:`_incrementally_passive` accepts as rounding
+PASSIVE_TOLERANCE = 1e-12
+
+
+def _incrementally_passive(system) -> bool:
+    """Whether every periodic solution of ``system`` is stable in the
+    monodromy's sense (every ``|μ| <= 1``) by proof: every contact a
+    Jenkins element (between two DOFs or to ground), ``M`` and ``K``
+    symmetric positive definite, ``(C + Cᵀ)/2`` positive semi-definite
+    (asymmetries and negative eigenvalues up to ``PASSIVE_TOLERANCE`` of
+    the largest entry, rounding).
+
+    Why (``docs/stability.md``, "Monodromy branches"): for two motions of
+    the system under the same forcing, with ``δ`` their difference, the
+    energy ``E = ½ δẋᵀ M δẋ + ½ δxᵀ K δx + Σ δf² / (2 kt)`` (``f = kt (w
+    - z)`` each contact's force on its relative displacement ``w``, ``z``
+    its slider) changes at the rate ``-δẋᵀ C δẋ - Σ δf δż``, and each
+    ``δf δż = (f₁ - f₂)(ż₁ - ż₂) >= 0`` since a slider moves only in the
+    direction of its force at ``|f| = f_s`` (``ż₁ (f₁ - f₂) >= 0``,
+    ``ż₂ (f₂ - f₁) >= 0``). So ``E`` never grows: the period map is
+    non-expansive in the norm ``√E`` of the state ``(x, ẋ, f)``, and
+    its derivative, the monodromy, has a spectral radius of at most 1.
+    """
+    from .kernels.laws.updates import JENKINS
+    from .systems.protocol import check_system
+
+    data = check_system(system)
+    contacts = data.contacts
+    if not contacts or any(
+        c[0].code != JENKINS or (len(c) > 3 and c[3] >= 0) for c in contacts
+    ):
+        return False
+    M, C, K = data.mass, data.damping, data.stiffness
+    if not all(np.all(np.isfinite(A)) for A in (M, C, K)):
+        return False
+
+    def symmetric_definite(A, semi: bool) -> bool:
+        size = float(np.abs(A).max(initial=0.0))
+        if size == 0.0:
+            return semi
+        if not semi and float(np.abs(A - A.T).max()) > PASSIVE_TOLERANCE * size:
+            return False
+        low = float(np.linalg.eigvalsh(0.5 * (A + A.T)).min())
+        return low >= -PASSIVE_TOLERANCE * size if semi else low > 0.0
+
+    return (
+        symmetric_definite(M, False)
+        and symmetric_definite(K, False)
+        and symmetric_definite(C, True)
     )
-    order = np.argsort(-lam.real, axis=1, kind="stable")
-    lam = np.take_along_axis(lam, order, axis=1)
-    mu = np.take_along_axis(mu, order, axis=1)
-    modulus = np.abs(mu).max(axis=1) if mu.size else np.zeros(0)
+
+
+def _hill_flips(
+    system,
+    force,
+    omega,
+    harmonic_numbers,
+    coefficients,
+    point_harmonics,
+    n_time,
+    aft,
+    subharmonic,
+    symmetric,
+) -> np.ndarray:
+    """Where a cheap indicator changes between points ``i - 1`` and ``i``
+    (shape (n_points,), bool, ``[0]`` False): the sign of ``det Δ0`` of a
+    Hill block (a real multiplier through +1: folds and branch points; a
+    sign of 0 flips both sides), or Hill's verdict (its exponents at every
+    point: a hint of the period doublings and Neimark–Sacker points, exact
+    for memoryless laws and stuck contacts). All True where they cannot
+    be formed."""
+    n_points = omega.size
+    flips = np.zeros(n_points, dtype=bool)
+    if n_points < 2:
+        return flips
+    try:
+        problems = _level_problems(
+            system, force, point_harmonics, n_time, aft, subharmonic
+        )
+        levels, level_of, local_of, _ = _build_levels(
+            problems,
+            omega,
+            harmonic_numbers,
+            coefficients,
+            point_harmonics,
+            None,
+            symmetric,
+            True,
+        )
+        signs = np.ones((n_points, 3), dtype=np.int64)
+        for lv_id, lv in enumerate(levels):
+            sg = lv.determinant_signs()
+            signs[lv.idx, : sg.shape[1]] = sg
+            signs[lv.idx, 2] = lv_id
+        lam = _exponents_at(levels, level_of, local_of, np.arange(n_points))
+        for lv in levels:
+            lv.release()
+    except (ValueError, np.linalg.LinAlgError):
+        flips[1:] = True
+        return flips
+    hill = lam.real.max(axis=1) < 0.0
+    zero = np.any(signs[:, :2] == 0, axis=1)
+    flips[1:] = (
+        np.any(signs[1:] != signs[:-1], axis=1)
+        | zero[1:]
+        | zero[:-1]
+        | (hill[1:] != hill[:-1])
+    )
+    return flips
+
+
+def _monodromy_stability(
+    system,
+    force,
+    omega,
+    harmonic_numbers,
+    coefficients,
+    point_harmonics,
+    subharmonic,
+    exponents: str = "all",
+    flips=None,
+) -> Stability:
+    """:class:`Stability` from the time-domain monodromy.
+
+    ``exponents="all"`` (or two points or fewer): the monodromy of every
+    point. ``"auto"``: of a few points, the others' exponents computed when
+    first read (``Stability.computed``):
+
+    * an incrementally passive system (:func:`_incrementally_passive`:
+      Jenkins contacts, symmetric definite matrices) is stable at every
+      point by proof; the monodromy is computed at the first and last
+      points and every ``PASSIVE_SPACING``-th, and if one of them reads
+      unstable (the numerics disagree with the proof), at every point;
+    * any other: the points of :func:`_sparse_schedule` with
+      ``MONODROMY_SPACING`` and the indicators ``flips()`` (a callable
+      returning the flips of :func:`_hill_flips`): both ends of each flip,
+      the anchors, and a bisection between computed points of different
+      verdicts. What it can miss is an even number of changes between two
+      computed points with no indicator flip between them.
+    """
+    start = time.perf_counter()
+    n = omega.size
+    rows: dict[int, np.ndarray] = {}
+
+    def solve(where) -> None:
+        for i in (int(j) for j in where):
+            if i not in rows:
+                rows[i] = np.asarray(
+                    monodromy_multipliers(
+                        system,
+                        force,
+                        harmonic_numbers,
+                        coefficients[i],
+                        float(omega[i]),
+                        subharmonic,
+                    ),
+                    dtype=complex,
+                )
+
+    def stable_at(where) -> np.ndarray:
+        solve(where)
+        return np.array(
+            [
+                np.abs(rows[int(i)]).max(initial=0.0) <= 1.0 + NEUTRAL_TOLERANCE
+                for i in where
+            ],
+            dtype=bool,
+        )
+
+    computed = np.ones(n, dtype=bool)
+    stable = None
+    if exponents == "auto" and n > 2:
+        if _incrementally_passive(system):
+            anchors = np.zeros(n, dtype=bool)
+            anchors[::PASSIVE_SPACING] = True
+            anchors[[0, n - 1]] = True
+            where = np.flatnonzero(anchors)
+            if stable_at(where).all():
+                computed, stable = anchors, np.ones(n, dtype=bool)
+        else:
+            computed, stable = _sparse_schedule(
+                n, flips(), stable_at, MONODROMY_SPACING
+            )
+    if stable is None:
+        computed = np.ones(n, dtype=bool)
+        stable = stable_at(np.arange(n))
+
+    def exponents_of(where: np.ndarray):
+        solve(where)
+        mu = np.array([rows[int(i)] for i in where], dtype=complex)
+        mu = mu.reshape(where.size, -1)
+        w = omega[where]
+        period = 2.0 * np.pi / w  # the map's duration: ν forcing periods
+        with np.errstate(divide="ignore"):
+            lam = np.log(mu) / period[:, None]
+        lam = lam.real + 1j * (lam.imag - w[:, None] * np.round(lam.imag / w[:, None]))
+        order = np.argsort(-lam.real, axis=1, kind="stable")
+        return (
+            np.take_along_axis(lam, order, axis=1),
+            np.take_along_axis(mu, order, axis=1),
+        )
+
+    done = np.flatnonzero(computed)
+    width = rows[int(done[0])].size if done.size else 0
+    lam = np.full((n, width), np.nan + 0j)
+    mu = np.full((n, width), np.nan + 0j)
+    if done.size:
+        lam[done], mu[done] = exponents_of(done)
+    fill = None
+    if not computed.all():
+        fill = exponents_of
     return Stability(
         exponents=lam,
         multipliers=mu,
-        stable=modulus <= 1.0 + NEUTRAL_TOLERANCE,
-        max_real=lam.real.max(axis=1) if mu.size else np.zeros(0),
+        stable=stable,
+        max_real=lam.real.max(axis=1) if width else np.zeros(n),
         omega=omega.copy(),
         harmonics=np.asarray(point_harmonics, dtype=np.int64).copy(),
         elapsed=time.perf_counter() - start,
         criterion="monodromy",
+        computed=computed.copy(),
+        fill=fill,
     )
