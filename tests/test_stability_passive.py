@@ -124,3 +124,78 @@ def test_softening_cubic_jacobian_can_have_a_negative_determinant():
     sign, _ = np.linalg.slogdet(J)
     assert np.any(sign < 0)
     assert not _passive(problem, np.column_stack([X, omega]))
+
+
+def _two_sliders():
+    return hf.LinearStructure(
+        np.eye(1),
+        np.eye(1),
+        0.02 * np.eye(1),
+        load={0: 1.0},
+        contacts=[
+            hf.Contact(hf.Jenkins(stiffness=3.0, slip_force=1.0), 0),
+            hf.Contact(hf.Jenkins(stiffness=6.0, slip_force=0.4), 0),
+        ],
+    )
+
+
+JENKINS_BRANCHES = {
+    "p1-weak": lambda: hf.frf(
+        hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0)),
+        0.05,
+        (0.5, 3.0),
+        harmonics=15,
+    ),
+    "p1-strong": lambda: hf.frf(
+        hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0)),
+        1.5,
+        (0.5, 3.0),
+        harmonics=9,
+    ),
+    "stiff": lambda: hf.frf(
+        hf.Oscillator(1.0, 0.05, 1.0, hf.Jenkins(stiffness=200.0, slip_force=0.2)),
+        0.5,
+        (0.3, 3.0),
+        harmonics=11,
+    ),
+    "two-sliders": lambda: hf.frf(_two_sliders(), 0.8, (0.5, 4.0), harmonics=9),
+}
+
+
+@pytest.mark.parametrize("name", sorted(JENKINS_BRANCHES))
+def test_jenkins_branches_proof_against_measured_signs_and_every_point(
+    name, monkeypatch
+):
+    """On Jenkins branches the route by proof gives the verdicts of Hill's
+    eigenvalues at every point (also with a smaller perturbation basis),
+    and the signs the measured route computes by LU at every point (the
+    AFT Jacobians of the solutions) are all +1, as the proof says."""
+    import hbmfric.stability as stab_module
+
+    branch = JENKINS_BRANCHES[name]()
+    assert branch.info["odd_only"]
+    for hp in (None, 5):
+        branch._stability = None
+        auto = branch.stability(perturbation_harmonics=hp)
+        stable, computed = auto.stable.copy(), auto.computed.copy()
+        branch._stability = None
+        full = branch.stability(perturbation_harmonics=hp, exponents="all")
+        np.testing.assert_array_equal(stable, full.stable)
+        assert computed.sum() <= max(8, len(branch) // 8)
+    # the measured signs: the same levels with the proof switched off
+    seen = []
+    original = stab_module._Level.determinant_signs
+
+    def record(self):
+        out = original(self)
+        seen.append(out.copy())
+        return out
+
+    monkeypatch.setattr(stab_module, "_passive", lambda problem, points: False)
+    monkeypatch.setattr(stab_module, "_stuck_everywhere", lambda *args: None)
+    monkeypatch.setattr(stab_module._Level, "determinant_signs", record)
+    branch._stability = None
+    measured = branch.stability()
+    np.testing.assert_array_equal(measured.stable, full.stable)
+    signs = np.concatenate(seen)
+    assert signs.shape[0] == len(branch) and np.all(signs == 1)
