@@ -1206,9 +1206,18 @@ def stability_of_points(
         (:func:`_stuck_everywhere`). A branch
         without the symmetry can double its period (a complex crossing
         no determinant of the integer-harmonic pencil sees): every point.
+        On a one-DOF branch whose contacts are all Jenkins elements to
+        ground (event AFT), every sign is +1 by proof (:func:`_passive`): no
+        AFT runs for the signs. With the monodromy, ``"auto"`` computes
+        it at a few points too (:func:`_monodromy_stability`): a system of
+        Jenkins contacts with symmetric definite matrices is stable by
+        proof (:func:`_incrementally_passive`, the monodromy at anchors as
+        a check), any other is scheduled on Hill's signs and verdicts
+        (:func:`_hill_flips`).
     method : {"auto", "hill", "monodromy"}
         ``"hill"``: Hill's method. ``"monodromy"``: the monodromy matrix
-        of the time-integration reference at every point
+        of the time-integration reference (at every point with
+        ``exponents="all"``, else at a few, see ``exponents``)
         (:func:`hbmfric.validation.monodromy`: central differences of its
         period map, 2048 steps per period), exponents ``log(μ)/T``;
         contacts with a finite state only (Jenkins, modified Dahl, Cubic).
