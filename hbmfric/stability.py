@@ -1510,7 +1510,12 @@ def _incrementally_passive(system) -> bool:
         if not semi and float(np.abs(A - A.T).max()) > PASSIVE_TOLERANCE * size:
             return False
         low = float(np.linalg.eigvalsh(0.5 * (A + A.T)).min())
-        return low >= -PASSIVE_TOLERANCE * size if semi else low > 0.0
+        # definite: clear of rounding (a singular K reads ±1e-13 here)
+        return (
+            low >= -PASSIVE_TOLERANCE * size
+            if semi
+            else low > 1e3 * (PASSIVE_TOLERANCE * size)
+        )
 
     return (
         symmetric_definite(M, False)
