@@ -10,7 +10,11 @@ oscillator with a Menq contact (H = 15); then the Duffing case: how close
 the stability changes lie to the folds; with ``--beam`` the paper beam
 (several DOFs: eigenvalues at every point), F_n = 5 N.
 
-    python -m bench.stability [--repeat 10] [--beam]
+    python -m bench.stability [--repeat 10] [--beam] [--chain auto|all]
+
+``--chain``: the three-DOF chain with a Jenkins contact between DOFs 1 and
+2 (the monodromy's branch), ``Branch.stability()`` alone (``auto``) or also
+at every point (``all``, minutes).
 """
 
 from __future__ import annotations
@@ -58,6 +62,39 @@ def beam_ratio(repeat: int) -> dict:
         return _ratio(lambda: hf.frf(system, 2.0, (15.0 * HZ, 110.0 * HZ)), repeat)
 
 
+def chain_monodromy(every_point: bool) -> dict:
+    """The user's three-DOF chain (Jenkins between DOFs 1 and 2, F = 5,
+    8-25 rad/s, adaptive H): ``Branch.stability()`` by the monodromy at a
+    few points, and with ``every_point`` at every point (minutes)."""
+    k = np.array(
+        [[2000.0, -1000.0, 0.0], [-1000.0, 2000.0, -1000.0], [0.0, -1000.0, 1000.0]]
+    )
+    system = hf.LinearStructure(
+        np.eye(3),
+        k,
+        modal_damping=0.01,
+        load={0: 1.0},
+        contacts=[hf.Contact(hf.Jenkins(stiffness=2000.0, slip_force=1.0), 1, other=2)],
+    )
+    branch = hf.frf(system, 5.0, (8.0, 25.0))
+    t = time.perf_counter()
+    stab = branch.stability()
+    out = {
+        "points": len(branch),
+        "trace_s": branch.elapsed,
+        "auto_s": time.perf_counter() - t,
+        "computed": int(stab.computed.sum()),
+        "unstable": int(np.count_nonzero(~stab.stable)),
+    }
+    if every_point:
+        branch._stability = None
+        t = time.perf_counter()
+        full = branch.stability(exponents="all")
+        out["all_s"] = time.perf_counter() - t
+        out["equal"] = bool(np.array_equal(full.stable, stab.stable))
+    return out
+
+
 def _ratio(trace_branch, repeat: int) -> dict:
     trace, hill, full = [], [], []
     for _ in range(repeat):
@@ -103,7 +140,25 @@ def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--repeat", type=int, default=10)
     parser.add_argument("--beam", action="store_true")
+    parser.add_argument(
+        "--chain",
+        choices=("auto", "all"),
+        help="the three-DOF Jenkins chain by the monodromy (all: also every point)",
+    )
     args = parser.parse_args()
+    if args.chain:
+        r = chain_monodromy(args.chain == "all")
+        print(
+            f"chain: {r['points']} points, trace {r['trace_s']:.2f} s, monodromy "
+            f"at {r['computed']} points {r['auto_s']:.2f} s, unstable "
+            f"{r['unstable']}"
+            + (
+                f"; every point {r['all_s']:.1f} s, verdicts equal: {r['equal']}"
+                if "all_s" in r
+                else ""
+            )
+        )
+        return
     cases = [
         ("P1 F=0.5 H=15", p1_ratio),
         ("Duffing F=0.2 H=9", duffing_ratio),
