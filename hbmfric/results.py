@@ -480,9 +480,10 @@ class Branch:
             default each point's ``H``. See
             :func:`hbmfric.stability.stability_of_points`.
         exponents : {"auto", "all"}
-            ``"auto"``: on a symmetric branch of one DOF, ``stable`` is
-            decided at every point while Hill's eigenvalues are computed
-            at a few points only (``Stability.computed``); the others' are
+            ``"auto"``: on a symmetric branch of one DOF, and on a branch
+            whose stability comes from the monodromy, ``stable`` is
+            decided at every point while the eigenvalues (multipliers) are
+            computed at a few points only (``Stability.computed``); the others' are
             computed when ``exponents``, ``multipliers`` or ``max_real`` is
             first read. ``"all"``: at every point now. Both give the same
             ``stable`` (:func:`hbmfric.stability.stability_of_points`).
@@ -490,8 +491,10 @@ class Branch:
             ``"auto"``: Hill's method, except for a contact with memory
             (Jenkins, Dahl) on several DOFs, where Hill's linearisation of
             the hysteretic law misreads slipping points (the paper beam)
-            and the time-domain monodromy of every point is used
-            (:func:`hbmfric.stability.stability_of_points`).
+            and the time-domain monodromy is used (with ``exponents="auto"``
+            at a few points: Jenkins structures are stable by proof, others
+            are scheduled on Hill's signs and verdicts;
+            :func:`hbmfric.stability.stability_of_points`).
 
         Returns
         -------
