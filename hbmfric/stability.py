@@ -1465,6 +1465,12 @@ MONODROMY_SPACING = 16
 #: proof, :func:`_incrementally_passive`): the monodromy at every
 #: ``PASSIVE_SPACING``-th point, a check of the proof against the numerics
 PASSIVE_SPACING = 64
+#: the indicators of :func:`_hill_flips` (Hill's eigenvalues at every
+#: point) are used up to this many unknowns per point (``n_dof (2H + 1)``),
+#: where they cost a small share of a monodromy (about 5 ms per point at
+#: 62 unknowns against 0.2-0.3 s, growing like the cube); a larger branch
+#: that no proof covers computes the monodromy at every point
+HILL_FLIPS_MAX_UNKNOWNS = 128
 #: relative size (to the largest entry) of the asymmetry of ``M``, ``K``
 #: and of the negative eigenvalues of ``(C + Cᵀ)/2`` that
 #: :func:`_incrementally_passive` accepts as rounding
@@ -1605,7 +1611,8 @@ def _monodromy_stability(
       point by proof; the monodromy is computed at the first and last
       points and every ``PASSIVE_SPACING``-th, and if one of them reads
       unstable (the numerics disagree with the proof), at every point;
-    * any other: the points of :func:`_sparse_schedule` with
+    * any other of at most ``HILL_FLIPS_MAX_UNKNOWNS`` unknowns per point
+      (else every point): the points of :func:`_sparse_schedule` with
       ``MONODROMY_SPACING`` and the indicators ``flips()`` (a callable
       returning the flips of :func:`_hill_flips`): both ends of each flip,
       the anchors, and a bisection between computed points of different
@@ -1651,7 +1658,11 @@ def _monodromy_stability(
             where = np.flatnonzero(anchors)
             if stable_at(where).all():
                 computed, stable = anchors, np.ones(n, dtype=bool)
-        else:
+        elif (
+            flips is not None
+            and coefficients.shape[1] * (2 * int(np.max(point_harmonics)) + 1)
+            <= HILL_FLIPS_MAX_UNKNOWNS
+        ):
             computed, stable = _sparse_schedule(
                 n, flips(), stable_at, MONODROMY_SPACING
             )
