@@ -162,6 +162,7 @@ JENKINS_BRANCHES = {
 }
 
 
+@pytest.mark.filterwarnings("ignore::hbmfric.errors.AccuracyWarning")
 @pytest.mark.parametrize("name", sorted(JENKINS_BRANCHES))
 def test_jenkins_branches_proof_against_measured_signs_and_every_point(
     name, monkeypatch
