@@ -102,7 +102,8 @@ class Stability:
 
     ``stable`` is known at every point as soon as the object exists. On a
     symmetric branch of one DOF, Hill's eigenvalues are computed at a few
-    points only (:func:`stability_of_points`, ``exponents="auto"``):
+    points only (:func:`stability_of_points`, ``exponents="auto"``), and so
+    is the monodromy on a branch whose stability comes from it:
     ``computed`` marks them, and the first access to ``exponents``, ``multipliers`` or
     ``max_real`` computes the others (each point's full Hill problem, as
     ``exponents="all"`` would have).
@@ -135,7 +136,7 @@ class Stability:
         locked by slip has ``μ = 0``, exponent ``-inf``), ``stable`` when
         every ``|μ| <= 1 + 1e-6`` (a stuck slider's 1 is neutral).
     computed : ndarray of bool, shape (n_points,)
-        Points whose Hill eigenvalues have been computed so far (all of
+        Points whose Hill eigenvalues (or monodromy) have been computed so far (all of
         them once ``exponents`` has been read); a point whose contacts
         provably stick (stable by proof, :func:`_stuck_everywhere`) is
         not computed until then.
