@@ -572,11 +572,7 @@ class _Level:
             # AFT until the computed points' Jacobians are asked for
             self._signs = np.ones((idx.size, 2), dtype=np.int64)
             self._extremes = (0.0, 1.0)
-            stuck = _stuck_everywhere(problem, points, keep, idx.size)
-            if stuck is not None:
-                self.proven = stuck[2]
-                if reflect and stuck[0].all():
-                    self._asymmetry = 0.0  # linear Jacobians, as below
+            self.proven = None  # the stuck test at the points asked (proven_at)
         elif signs and (stuck := _stuck_everywhere(problem, points, keep, self.chunk)):
             # points whose contacts provably stick over the whole period:
             # their Jacobians are linear, every block's sign is +1 and
@@ -595,6 +591,17 @@ class _Level:
         self.blocks = _pencil_blocks(
             self.mass, self.damping, harmonic_numbers, self.groups
         )
+
+    def proven_at(self, local: np.ndarray) -> np.ndarray:
+        """Whether the level's points ``local`` are stable by proof (every
+        contact stuck, :func:`_stuck_everywhere`), bool (k,); tested at
+        those points only when the level was built without the test."""
+        if self.proven is not None:
+            return self.proven[local]
+        stuck = _stuck_everywhere(
+            self.problem, self.points[local], self.keep, local.size
+        )
+        return np.zeros(local.size, dtype=bool) if stuck is None else stuck[2]
 
     def release(self) -> None:
         """Drop the Jacobians held (later calls evaluate them again)."""
@@ -1329,11 +1336,17 @@ def stability_of_points(
         # pencil, _stuck_everywhere): a verdict without eigenvalues
         proven = np.zeros(n_points, dtype=bool)
         for lv in levels:
-            proven[lv.idx] = lv.proven
+            if lv.proven is not None:  # else tested at the points asked only
+                proven[lv.idx] = lv.proven
         solved = np.zeros(n_points, dtype=bool)
+        lazy = [lv_id for lv_id, lv in enumerate(levels) if lv.proven is None]
 
         def verdict(where: np.ndarray) -> np.ndarray:
             out = np.ones(where.size, dtype=bool)
+            for lv_id in lazy:
+                sel = where[level_of[where] == lv_id]
+                if sel.size:
+                    proven[sel] = levels[lv_id].proven_at(local_of[sel])
             need = ~proven[where]
             todo = where[need]
             if todo.size == 0:
