@@ -1102,10 +1102,13 @@ def _build_levels(
     perturbation_harmonics,
     symmetric,
     signs,
+    reflect=None,
 ):
     """The :class:`_Level` of each harmonic level (``problems`` of
     :func:`_level_problems`), with the level and the local index of each
-    point and the highest harmonic of each point's perturbation."""
+    point and the highest harmonic of each point's perturbation
+    (``reflect``: measure the reflection symmetry; default ``signs``)."""
+    reflect = signs if reflect is None else reflect
     n_points = omega.size
     n_dof = coefficients.shape[1]
     levels_of = np.asarray(point_harmonics, dtype=np.int64)
@@ -1131,7 +1134,7 @@ def _build_levels(
         level_of[idx] = len(levels)
         local_of[idx] = np.arange(idx.size)
         levels.append(
-            _Level(problem, idx, points, hn, keep, symmetric, signs, reflect=signs)
+            _Level(problem, idx, points, hn, keep, symmetric, signs, reflect=reflect)
         )
     return levels, level_of, local_of, used
 
@@ -1580,6 +1583,7 @@ def _hill_flips(
             None,
             symmetric,
             True,
+            reflect=False,
         )
         signs = np.ones((n_points, 3), dtype=np.int64)
         for lv_id, lv in enumerate(levels):
