@@ -80,7 +80,15 @@ Hill's exponents of a hysteretic law do not obey Liouville's formula
 eigenvalues at every ``ANCHOR_SPACING``-th point and a bisection wherever
 two computed points disagree are the safeguard; an even number of complex
 crossings between two computed points with no real crossing between them
-is what it cannot see.
+is what it cannot see. On a branch of Jenkins contacts to ground (event
+AFT) no sign is computed: every block's determinant is positive by proof
+(:func:`_passive`).
+
+The time-domain monodromy (``method="monodromy"``) is computed at a few
+points as well (:func:`_monodromy_stability`): a Jenkins structure with
+symmetric definite matrices is stable by proof
+(:func:`_incrementally_passive`), any other is scheduled on Hill's signs
+and verdicts.
 """
 
 from __future__ import annotations
