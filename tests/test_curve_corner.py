@@ -16,9 +16,9 @@ N, K_SPRING, MASS = 30, 2.0e4, 0.05
 WINDOW = (45.79, 45.84)
 
 
-def reduced_chain():
+def reduced_chain(n_modes=8):
     """The gallery's chain (30 masses, free end, Jenkins at the tip, forced
-    at DOF 10) reduced by Craig-Bampton onto tip and drive, 8 modes."""
+    at DOF 10) reduced by Craig-Bampton onto tip and drive."""
     K = (
         np.diag(np.full(N, 2 * K_SPRING))
         - np.diag(np.full(N - 1, K_SPRING), 1)
@@ -35,7 +35,7 @@ def reduced_chain():
         contact_dof="tip",
     )
     w1 = 2 * np.pi * full.natural_frequencies(1)[0]
-    return hf.craig_bampton(full, ["tip", "drive"], n_modes=8), w1
+    return hf.craig_bampton(full, ["tip", "drive"], n_modes=n_modes), w1
 
 
 def test_a_corner_step_over_the_tolerance_is_not_taken_as_it_is():
@@ -68,3 +68,36 @@ def test_a_corner_step_over_the_tolerance_is_not_taken_as_it_is():
             line = a[j] + f * (a[j + 1] - a[j])
             worst = max(worst, abs(line - ref) / ref)
     assert worst <= 1e-4, worst
+
+
+def test_points_solved_again_by_the_final_pass_get_their_own_tangent():
+    """harmonics='auto' solves points over the tolerance again one rung
+    higher after the run (``AdaptiveContinuation.settle``); their stored
+    tangent was the old level's, zero-padded. On the chain reduced to 10
+    modes at F = 2 N, two such points near 32.64 rad/s (H 31 -> 45) carried
+    slopes da₁/dΩ 19 and 9 times off the new level's branch, and the curve
+    estimate read 1.1e-4 (an AccuracyWarning) where the chords are within
+    1.7e-5 of fixed-Ω solves. Every tangent slope there against central
+    differences of fixed-Ω solutions at the point's own H."""
+    system, w1 = reduced_chain(n_modes=10)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        branch = hf.frf(system, 2.0, (0.5 * w1, 1.6 * w1))
+    curve = [w for w in caught if "curve error" in str(w.message)]
+    assert not curve, curve[0].message
+    n = branch.n_points
+    n_dof, n_coef = branch.coefficients.shape[1:]
+    dc = branch.tangents[:, :-1].reshape(n, n_dof, n_coef)[:, 0, :2]
+    x = branch.coefficients[:, 0, :2]
+    slope = np.sum(x * dc, axis=1) / np.hypot(x[:, 0], x[:, 1]) / branch.tangents[:, -1]
+    h = 1e-5
+    for j in np.flatnonzero((branch.omega > 32.61) & (branch.omega < 32.66)):
+        harmonics = int(branch.point_harmonics[j])
+        up, down = (
+            hf.periodic_solution(
+                system, 2.0, branch.omega[j] + d, harmonics=harmonics
+            ).amplitude(harmonic=1)
+            for d in (h, -h)
+        )
+        fd = (up - down) / (2 * h)
+        assert abs(slope[j] - fd) <= 1e-3 * abs(fd) + 1e-8, (j, slope[j], fd)
