@@ -453,6 +453,7 @@ def load_scene(path: str | Path) -> Scene:
         )
     scene = Scene(name, data, path.resolve().parent)
     system = scene.system()  # checks [system] and [contact]
+    _check_system(scene, system)
     if "dof" in out:
         from .results import _resolve_dof
 
@@ -465,14 +466,65 @@ def load_scene(path: str | Path) -> Scene:
             _resolve_dof(dof, getattr(system, "dof_names", None) or {}, system.n_dof)
         except (TypeError, ValueError) as exc:
             raise _fail(f"{name}: [output] dof", str(exc)) from None
-    scene.frf_call()  # checks [frf]
+    _check_frf(name, scene.frf_call())  # checks [frf]
     sets = study_sets(scene)
     for key in {key: None for p in sets for key in p}:
         _check_axis(scene, key)
     for p in sets[:1]:
-        scene.system(p)
-        scene.frf_call(p)
+        _check_system(scene, scene.system(p))
+        _check_frf(name, scene.frf_call(p))
     return scene
+
+
+def _check_system(scene: Scene, system) -> None:
+    """The checks :func:`hbmfric.frf` makes on entry (contacts together,
+    DOF ranges, matrices), at load time with the table's path."""
+    from .systems.protocol import check_system
+
+    try:
+        check_system(system)
+    except (TypeError, ValueError) as exc:
+        table = "[[contacts]]" if "contacts" in scene.data else "[system]"
+        raise _fail(f"{scene.name}: {table}", str(exc)) from None
+
+
+def _check_frf(name: str, call) -> None:
+    """The values of ``[frf]`` that need no system: ``force``, ``omega``,
+    the continuation options, ``harmonics``, ``sweep``,
+    ``harmonic_tolerance``, ``retrace`` (the others are checked by the
+    run)."""
+    import hbmfric as hf
+
+    from ._validate import finite_float
+    from .api import _omega_range
+
+    force, omega, kwargs = call
+    where = f"{name}: [frf]"
+    fields = {f.name for f in dataclasses.fields(hf.ContinuationOptions)}
+    options = {k: v for k, v in kwargs.items() if k in fields}
+    try:
+        finite_float("force", force)
+        _omega_range(omega)
+        hf.ContinuationOptions(**options)
+        h = kwargs.get("harmonics", "auto")
+        if h != "auto" and (isinstance(h, bool) or not isinstance(h, int) or h < 1):
+            raise ValueError(
+                f"harmonics must be a positive integer or 'auto', got {h!r}"
+            )
+        if kwargs.get("sweep", "up") not in ("up", "down"):
+            raise ValueError(f"sweep must be 'up' or 'down', got {kwargs['sweep']!r}")
+        if "harmonic_tolerance" in kwargs:
+            finite_float(
+                "harmonic_tolerance",
+                kwargs["harmonic_tolerance"],
+                low=0.0,
+                low_open=True,
+                high=1.0,
+            )
+        if not isinstance(kwargs.get("retrace", True), bool):
+            raise TypeError(f"retrace must be true or false, got {kwargs['retrace']!r}")
+    except (TypeError, ValueError) as exc:
+        raise _fail(where, str(exc)) from None
 
 
 def split_path(path: str) -> list:
@@ -604,7 +656,12 @@ def run_scene(path: str | Path, out: str | Path | None = None, progress=print) -
     sets = study_sets(scene)
     if not sets:
         force, omega, kwargs = scene.frf_call()
-        branch = hf.frf(scene.system(), force, omega, **kwargs)
+        try:
+            branch = hf.frf(scene.system(), force, omega, **kwargs)
+        except (TypeError, ValueError) as exc:
+            # a value of [frf] the load-time checks leave to frf (n_time,
+            # aft, condense, ...): the message without a traceback
+            raise _fail(f"{scene.name}: [frf]", str(exc)) from None
         progress(
             f"{scene.name}: {len(branch)} points, Ω {branch.omega.min():.6g}–"
             f"{branch.omega.max():.6g} rad/s, complete={branch.complete}, "

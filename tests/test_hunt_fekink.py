@@ -36,3 +36,65 @@ def test_two_arrays_that_may_be_one_matrix_are_refused(tmp_path, suffix):
     scipy.io.savemat(nastran, {"MGG": np.eye(4), "KGG": np.eye(4), "Mff": M, "Kff": K})
     with pytest.raises(ValueError, match=r"MGG, Mff"):
         hf.read_matrices(nastran)
+
+
+SCENE = """[system]
+kind = "oscillator"
+mass = 1.0
+damping = 0.02
+stiffness = 1.0
+
+[contact]
+law = "jenkins"
+stiffness = 3.0
+slip_force = 1.0
+
+[frf]
+force = 0.5
+omega = [0.5, 3.0]
+"""
+
+
+@pytest.mark.parametrize(
+    "line, match",
+    [
+        ("harmonics = 0", "harmonics must be a positive integer"),
+        ('harmonics = "autoo"', "'autoo'"),
+        ("max_step = -1.0", "max_step must be > 0"),
+        ('sweep = "sideways"', "sweep must be 'up' or 'down'"),
+        ("harmonic_tolerance = 2.0", "harmonic_tolerance must be <= 1"),
+        ("retrace = 1", "retrace must be true or false"),
+        ("n_time = 3", "n_time cannot be given"),
+        ('aft = "x"', "aft must be one of"),
+    ],
+)
+def test_bad_frf_values_of_a_scene_are_refused_without_a_traceback(
+    tmp_path, capsys, line, match
+):
+    """``hbmfric run`` checked the keys of [frf] but not their values: a
+    bad value came out of hf.frf as a traceback."""
+    from hbmfric.cli import main
+
+    path = tmp_path / "s.toml"
+    path.write_text(SCENE + line + "\n")
+    assert main(["run", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert f"{path}: [frf]: " in err and match in err
+    assert "Traceback" not in err
+
+
+def test_contacts_that_cannot_go_together_are_refused_at_load(tmp_path):
+    """A rigid Coulomb law among several contacts passed the scene checks
+    and failed inside hf.frf with a traceback."""
+    from hbmfric.scene import SceneError, load_scene
+
+    np.savez(tmp_path / "model.npz", M=M, K=K)
+    (tmp_path / "s.toml").write_text(
+        '[system]\nkind = "matrices"\nmass = "model.npz:M"\n'
+        'stiffness = "model.npz:K"\nmodal_damping = 0.01\nload = { 0 = 1.0 }\n\n'
+        '[[contacts]]\nlaw = "jenkins"\nstiffness = 2000.0\nslip_force = 1.0\n'
+        'dof = 1\nother = 2\n\n[[contacts]]\nlaw = "coulomb"\nslip_force = 0.3\n'
+        "dof = 0\n\n[frf]\nforce = 0.5\nomega = [8.0, 60.0]\n"
+    )
+    with pytest.raises(SceneError, match=r"s.toml: \[\[contacts\]\]: .*Coulomb"):
+        load_scene(tmp_path / "s.toml")

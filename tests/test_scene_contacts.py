@@ -208,15 +208,13 @@ def test_study_over_contacts_runs(chain_dir):
     """A scene study over a [[contacts]] entry: every set's branch is the
     direct call's with that entry changed."""
     text = (
-        CHAIN + '\n[study]\nexecutor = "serial"\n"contacts.0.slip_force" = [0.5, 2.0]\n'
+        CHAIN
+        + '\n[study]\nexecutor = "serial"\n"contacts.0.slip_force" = [0.05, 2.0]\n'
     )
     (chain_dir / "s.toml").write_text(text.replace('csv = "out.csv"\n', ""))
     out = quiet(run_scene, chain_dir / "s.toml", progress=lambda s: None)
     runs = out["study"].runs
-    assert [r.parameters for r in runs] == [
-        {"contacts.0.slip_force": 0.5},
-        {"contacts.0.slip_force": 2.0},
-    ]
+    assert [r.parameters["contacts.0.slip_force"] for r in runs] == [0.05, 2.0]
     for run in runs:
         law = hf.Jenkins(
             stiffness=2000.0, slip_force=run.parameters["contacts.0.slip_force"]
