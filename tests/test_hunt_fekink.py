@@ -2,6 +2,8 @@
 ends): each used to give a wrong number without a word, or a traceback
 where a clear error belongs."""
 
+import warnings
+
 import numpy as np
 import pytest
 import scipy.io
@@ -98,3 +100,28 @@ def test_contacts_that_cannot_go_together_are_refused_at_load(tmp_path):
     )
     with pytest.raises(SceneError, match=r"s.toml: \[\[contacts\]\]: .*Coulomb"):
         load_scene(tmp_path / "s.toml")
+
+
+@pytest.mark.parametrize(
+    "force, omega", [(0.5, 1.6), (2.0, 1.2), (0.1, 1.5)], ids=["F0.5", "F2", "stuck"]
+)
+def test_periodic_solution_at_a_fixed_h_warns_when_truncation_exceeds(force, omega):
+    """hf.frf at a fixed H warns when a point's estimated truncation error
+    exceeds harmonic_tolerance; hf.periodic_solution at the same H returned
+    P1 6.6e-3 (H = 3) and 2.6e-4 (H = 7) off the exact solution without a
+    word. The warning now follows the exact error: issued where it
+    exceeds 1e-4, not where it does not (H = 15, 31; the stuck point)."""
+    from hbmfric.validation import exact_periodic_solution
+
+    law = hf.Jenkins(stiffness=3.0, slip_force=1.0)
+    system = hf.Oscillator(mass=1.0, damping=0.02, stiffness=1.0, contact=law)
+    exact = exact_periodic_solution(system, force, omega).amplitude(harmonic=1)
+    for harmonics in (3, 7, 15, 31):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            sol = hf.periodic_solution(system, force, omega, harmonics=harmonics)
+        warned = any(issubclass(w.category, hf.AccuracyWarning) for w in caught)
+        error = abs(sol.amplitude(harmonic=1) / exact - 1)
+        assert warned == (error > 1e-4), (harmonics, error, warned)
+    with pytest.raises(ValueError, match="harmonic_tolerance"):
+        hf.periodic_solution(system, force, omega, 7, harmonic_tolerance=0.0)
