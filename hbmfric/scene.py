@@ -705,10 +705,11 @@ def run_scene(path: str | Path, out: str | Path | None = None, progress=print) -
             f"{scene.name}: {len(res)} FRFs, {len(res.failures)} failed, "
             f"{res.elapsed:.2f} s ({res.executor})"
         )
+        dof = output.get("dof")  # the study's tables too (they ignored it)
         if "csv" in output:
-            written.append(res.to_csv(directory / output["csv"]))
+            written.append(res.to_csv(directory / output["csv"], dof=dof))
         if "npz" in output:
-            written.append(res.to_npz(directory / output["npz"]))
+            written.append(res.to_npz(directory / output["npz"], dof=dof))
         if "png" in output:
             import matplotlib
 
@@ -720,6 +721,7 @@ def run_scene(path: str | Path, out: str | Path | None = None, progress=print) -
                 if r.ok:
                     r.branch.plot(
                         ax=ax,
+                        dof=dof,
                         label=", ".join(
                             f"{k}={v:g}"
                             for k, v in r.parameters.items()

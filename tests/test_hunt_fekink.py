@@ -125,3 +125,32 @@ def test_periodic_solution_at_a_fixed_h_warns_when_truncation_exceeds(force, ome
         assert warned == (error > 1e-4), (harmonics, error, warned)
     with pytest.raises(ValueError, match="harmonic_tolerance"):
         hf.periodic_solution(system, force, omega, 7, harmonic_tolerance=0.0)
+
+
+def test_a_scene_study_writes_the_output_dof(tmp_path):
+    """[output] dof chose the DOF of a single FRF's CSV but a study's CSV
+    and NPZ held the contact DOF whatever it said."""
+    from hbmfric.scene import run_scene
+
+    np.savez(tmp_path / "model.npz", M=np.eye(3), K=K / 10.0)
+    (tmp_path / "s.toml").write_text(
+        '[system]\nkind = "matrices"\nmass = "model.npz:M"\n'
+        'stiffness = "model.npz:K"\nmodal_damping = 0.01\nload = { 0 = 1.0 }\n\n'
+        '[[contacts]]\nlaw = "jenkins"\nstiffness = 2000.0\nslip_force = 1.0\n'
+        "dof = 1\nother = 2\n\n[frf]\nforce = 0.5\nomega = [8.0, 12.0]\n"
+        'harmonics = 5\n\n[output]\ncsv = "out.csv"\nnpz = "out.npz"\ndof = 0\n\n'
+        '[study]\nexecutor = "serial"\n"frf.force" = [0.5, 1.0]\n'
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.HbmfricWarning)
+        out = run_scene(tmp_path / "s.toml", progress=lambda s: None)
+    runs = out["study"].runs
+    expected = np.concatenate([r.branch.amplitude(harmonic=1, dof=0) for r in runs])
+    contact = np.concatenate([r.branch.amplitude(harmonic=1) for r in runs])
+    assert not np.allclose(expected, contact, rtol=1e-3)
+    rows = (tmp_path / "out.csv").read_text().splitlines()
+    column = rows[0].split(",").index("amplitude")
+    written = np.array([float(r.split(",")[column]) for r in rows[1:]])
+    np.testing.assert_allclose(written, expected, rtol=1e-11)
+    with np.load(tmp_path / "out.npz") as data:
+        np.testing.assert_array_equal(data["amplitude"], expected)
