@@ -376,11 +376,12 @@ class Scene:
                 target = d.setdefault(parts[0], {})
                 parts = parts[1:]
             where = f"{self.name}: [study] {path!r}"
+            # keys of a table are text ("system.load.0": the load of DOF 0)
             for part in parts[:-1]:
-                target = target.setdefault(part, {})
+                target = target.setdefault(str(part), {})
                 if not isinstance(target, dict):
-                    raise _fail(where, f"{part!r} is not a table")
-            target[parts[-1]] = value
+                    raise _fail(where, f"{str(part)!r} is not a table")
+            target[str(parts[-1])] = value
         return d
 
     def _contact_entry(self, d: dict, path: str, parts: list) -> dict:

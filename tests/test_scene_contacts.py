@@ -248,3 +248,16 @@ def test_study_axis_into_a_roughness_base(tmp_path):
     scene = load_scene(tmp_path / "s.toml")
     laws = [scene.system(p).contact.law for p in study_sets(scene)]
     np.testing.assert_allclose([law.slip_force for law in laws], [1.0, 5.0])
+
+
+def test_study_axis_into_a_load_table(chain_dir):
+    """'system.load.0' reaches the load of DOF 0 (a table whose keys are
+    text in the file)."""
+    from hbmfric.scene import study_sets
+
+    (chain_dir / "s.toml").write_text(
+        CHAIN + '\n[study]\n"system.load.0" = [1.0, 2.0]\n"system.load.2" = [0.5]\n'
+    )
+    scene = load_scene(chain_dir / "s.toml")
+    loads = [scene.system(p).load_vector(1.0) for p in study_sets(scene)]
+    np.testing.assert_array_equal(np.real(loads), [[1.0, 0.0, 0.5], [2.0, 0.0, 0.5]])
