@@ -33,10 +33,10 @@ in the file (``scene.toml: [contact] stiffness: ...``). Example::
     "contact.normal_load" = [1.0, 10.0]   # (laws given by μ and N)
     executor = "processes"       # or "serial"
 
-A study axis is ``"frf.force"`` or a path into ``[system]`` (``"system.
-load.0"``: the load of DOF 0), ``[contact]`` (``"contact.base.
-friction_coefficient"`` reaches a roughness law's base) or
-``[[contacts]]``: ``"contacts.0.slip_force"`` or ``"contacts[1].stiffness"``
+A study axis is ``"frf.force"`` or a path into ``[system]``, ``[contact]``
+or ``[[contacts]]``: ``"contact.normal_load"``, ``"system.load.0"`` (the
+load of DOF 0), ``"contact.base.friction_coefficient"`` (a roughness
+law's base), ``"contacts.0.slip_force"`` or ``"contacts[1].stiffness"``
 (entries counted from 0 in the order of the file).
 
 For ``kind = "matrices"``, several contacts, or a contact between two
