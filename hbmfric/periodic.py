@@ -145,7 +145,10 @@ def periodic_solution(
     harmonic_tolerance : float, default 1e-4
         With ``harmonics="auto"``: target relative truncation error of the
         first-harmonic amplitude and of half the peak-to-peak value at the
-        contact DOF (in ``(0, 1]``).
+        contact DOF (in ``(0, 1]``). With a fixed ``H``: the threshold of
+        the :class:`~hbmfric.AccuracyWarning` on the solution's estimated
+        truncation error (the estimate of :func:`hbmfric.frf` at a fixed
+        ``H``, ``Branch.truncation_error``).
     on_failure : {"warn", "raise"}
         When no start converges: issue a
         :class:`~hbmfric.ConvergenceWarning` and return the iterate with the
@@ -178,6 +181,9 @@ def periodic_solution(
         )
     options = options or ContinuationOptions()
     auto = isinstance(harmonics, str)
+    harmonic_tolerance = finite_float(
+        "harmonic_tolerance", harmonic_tolerance, low=0.0, low_open=True, high=1.0
+    )
     if auto:
         if harmonics != "auto":
             raise ValueError(
@@ -185,9 +191,6 @@ def periodic_solution(
             )
         if n_time is not None:
             raise ValueError("n_time cannot be given with harmonics='auto'")
-        harmonic_tolerance = finite_float(
-            "harmonic_tolerance", harmonic_tolerance, low=0.0, low_open=True, high=1.0
-        )
         if initial_guess is not None and not isinstance(
             initial_guess, PeriodicSolution
         ):
@@ -214,6 +217,8 @@ def periodic_solution(
     converged = y is not None
     if not converged:
         y = solver.fallback()
+    elif not auto and problem.subharmonic == 1:
+        _warn_truncation(problem, y, harmonic_tolerance)
     R, _, state = problem.residual(y)
     residual = float(np.max(np.abs(R)))
     if not converged:
@@ -238,6 +243,24 @@ def periodic_solution(
         method,
         STATE_NAMES.get(state, str(state)),
     )
+
+
+def _warn_truncation(problem, y: np.ndarray, tolerance: float) -> None:
+    """An :class:`~hbmfric.AccuracyWarning` when the estimated truncation
+    error of the solution ``y`` at a fixed ``H`` exceeds ``tolerance`` (the
+    estimate and the threshold of :func:`hbmfric.frf` at a fixed ``H``)."""
+    from .continuation.accuracy import truncation_errors
+
+    estimate = float(truncation_errors(problem, y[None, :], tolerance)[0])
+    if estimate > tolerance:
+        warnings.warn(
+            f"estimated truncation error {estimate:.2g} of the solution at "
+            f"omega = {y[-1]:.6g} rad/s with H = {problem.harmonics} exceeds "
+            f"harmonic_tolerance={tolerance:g}; use harmonics='auto' or raise "
+            "harmonics",
+            AccuracyWarning,
+            stacklevel=3,
+        )
 
 
 def _solution(

@@ -33,6 +33,12 @@ in the file (``scene.toml: [contact] stiffness: ...``). Example::
     "contact.normal_load" = [1.0, 10.0]   # (laws given by μ and N)
     executor = "processes"       # or "serial"
 
+A study axis is ``"frf.force"`` or a path into ``[system]``, ``[contact]``
+or ``[[contacts]]``: ``"contact.normal_load"``, ``"system.load.0"`` (the
+load of DOF 0), ``"contact.base.friction_coefficient"`` (a roughness
+law's base), ``"contacts.0.slip_force"`` or ``"contacts[1].stiffness"``
+(entries counted from 0 in the order of the file).
+
 For ``kind = "matrices"``, several contacts, or a contact between two
 DOFs, are an array of tables instead of ``[contact]``::
 
@@ -363,9 +369,51 @@ class Scene:
         d = copy.deepcopy(self.data)
         d["_directory"] = str(self.directory)
         for path, value in (overrides or {}).items():
-            table, _, key = path.partition(".")
-            d.setdefault(table, {})[key] = value
+            parts = split_path(path)
+            if parts[0] == "contacts":
+                target = self._contact_entry(d, path, parts)
+                parts = parts[2:]
+            else:
+                target = d.setdefault(parts[0], {})
+                parts = parts[1:]
+            where = f"{self.name}: [study] {path!r}"
+            # keys of a table are text ("system.load.0": the load of DOF 0)
+            for part in parts[:-1]:
+                target = target.setdefault(str(part), {})
+                if not isinstance(target, dict):
+                    raise _fail(where, f"{str(part)!r} is not a table")
+            target[str(parts[-1])] = value
         return d
+
+    def _contact_entry(self, d: dict, path: str, parts: list) -> dict:
+        """The ``[[contacts]]`` entry a study path ``contacts.<i>.<key>``
+        names, or a :class:`SceneError` naming the path."""
+        where = f"{self.name}: [study] {path!r}"
+        entries = d.get("contacts")
+        if not isinstance(entries, list) or not entries:
+            hint = ""
+            if len(parts) >= 3:
+                hint = f" (did you mean 'contact.{'.'.join(map(str, parts[2:]))}'?)"
+            raise _fail(where, f"the scene has no [[contacts]]{hint}")
+        n = len(entries)
+        span = "index 0" if n == 1 else f"indices 0 to {n - 1}"
+        if len(parts) < 3 or not isinstance(parts[1], int):
+            raise _fail(
+                where,
+                "a path into [[contacts]] is 'contacts.<index>.<key>' or "
+                f"'contacts[<index>].<key>' (the scene has {n} [[contacts]], {span})",
+            )
+        index = parts[1]
+        if not 0 <= index < n:
+            raise _fail(
+                where,
+                f"no [[contacts]] entry {index}: the scene has {n} ({span}, in the "
+                "order of the file)",
+            )
+        entry = entries[index]
+        if not isinstance(entry, dict):
+            raise _fail(f"{self.name}: [[contacts]][{index}]", "must be a table")
+        return entry
 
     def frf_call(self, overrides: dict | None = None):
         """``(force, omega, keyword arguments)`` of :func:`hbmfric.frf`."""
@@ -407,6 +455,7 @@ def load_scene(path: str | Path) -> Scene:
         )
     scene = Scene(name, data, path.resolve().parent)
     system = scene.system()  # checks [system] and [contact]
+    _check_system(scene, system)
     if "dof" in out:
         from .results import _resolve_dof
 
@@ -419,20 +468,120 @@ def load_scene(path: str | Path) -> Scene:
             _resolve_dof(dof, getattr(system, "dof_names", None) or {}, system.n_dof)
         except (TypeError, ValueError) as exc:
             raise _fail(f"{name}: [output] dof", str(exc)) from None
-    scene.frf_call()  # checks [frf]
-    for p in study_sets(scene):
-        for key in p:
-            table = key.partition(".")[0]
-            if table not in ("system", "contact") and key != "frf.force":
-                raise _fail(
-                    f"{name}: [study] {key!r}",
-                    "study axes are 'frf.force' or paths into [system] or [contact], "
-                    "such as 'contact.normal_load'",
-                )
-        scene.system(p)
-        scene.frf_call(p)
-        break
+    _check_frf(name, scene.frf_call())  # checks [frf]
+    sets = study_sets(scene)
+    for key in {key: None for p in sets for key in p}:
+        _check_axis(scene, key)
+    for p in sets[:1]:
+        _check_system(scene, scene.system(p))
+        _check_frf(name, scene.frf_call(p))
     return scene
+
+
+def _check_system(scene: Scene, system) -> None:
+    """The checks :func:`hbmfric.frf` makes on entry (contacts together,
+    DOF ranges, matrices), at load time with the table's path."""
+    from .systems.protocol import check_system
+
+    try:
+        check_system(system)
+    except (TypeError, ValueError) as exc:
+        table = "[[contacts]]" if "contacts" in scene.data else "[system]"
+        raise _fail(f"{scene.name}: {table}", str(exc)) from None
+
+
+def _check_frf(name: str, call) -> None:
+    """The values of ``[frf]`` that need no system: ``force``, ``omega``,
+    the continuation options, ``harmonics``, ``sweep``,
+    ``harmonic_tolerance``, ``retrace`` (the others are checked by the
+    run)."""
+    import hbmfric as hf
+
+    from ._validate import finite_float
+    from .api import _omega_range
+
+    force, omega, kwargs = call
+    where = f"{name}: [frf]"
+    fields = {f.name for f in dataclasses.fields(hf.ContinuationOptions)}
+    options = {k: v for k, v in kwargs.items() if k in fields}
+    try:
+        finite_float("force", force)
+        _omega_range(omega)
+        hf.ContinuationOptions(**options)
+        h = kwargs.get("harmonics", "auto")
+        if h != "auto" and (isinstance(h, bool) or not isinstance(h, int) or h < 1):
+            raise ValueError(
+                f"harmonics must be a positive integer or 'auto', got {h!r}"
+            )
+        if kwargs.get("sweep", "up") not in ("up", "down"):
+            raise ValueError(f"sweep must be 'up' or 'down', got {kwargs['sweep']!r}")
+        if "harmonic_tolerance" in kwargs:
+            finite_float(
+                "harmonic_tolerance",
+                kwargs["harmonic_tolerance"],
+                low=0.0,
+                low_open=True,
+                high=1.0,
+            )
+        if not isinstance(kwargs.get("retrace", True), bool):
+            raise TypeError(f"retrace must be true or false, got {kwargs['retrace']!r}")
+    except (TypeError, ValueError) as exc:
+        raise _fail(where, str(exc)) from None
+
+
+def split_path(path: str) -> list:
+    """The parts of a study path: ``"contact.normal_load"`` ->
+    ``["contact", "normal_load"]``, ``"contacts.1.stiffness"`` and
+    ``"contacts[1].stiffness"`` -> ``["contacts", 1, "stiffness"]``
+    (an index an int, a malformed bracket left as text for the check to
+    refuse)."""
+    parts: list = []
+    for piece in str(path).split("."):
+        head, bracket, rest = piece.partition("[")
+        if bracket and rest.endswith("]") and rest[:-1].strip().isdigit():
+            if head:
+                parts.append(head)
+            parts.append(int(rest[:-1]))
+        elif piece.isdigit():
+            parts.append(int(piece))
+        else:
+            parts.append(piece)
+    return parts
+
+
+def _flatten(prefix: str, value, out: dict) -> None:
+    """Unquoted dotted keys arrive as nested tables; their leaves (a list or
+    a value) get the dotted path."""
+    if isinstance(value, dict):
+        for k, v in value.items():
+            _flatten(f"{prefix}.{k}" if prefix else str(k), v, out)
+    else:
+        out[prefix] = value
+
+
+def _check_axis(scene: Scene, key: str) -> None:
+    """A study axis names ``frf.force`` or a path into ``[system]``,
+    ``[contact]`` or ``[[contacts]]``."""
+    name = scene.name
+    parts = split_path(key)
+    table = parts[0]
+    if key == "frf.force" or (table in ("system", "contact") and len(parts) >= 2):
+        if table == "contact" and scene.data.get("contacts") is not None:
+            rest = ".".join(map(str, parts[1:]))
+            raise _fail(
+                f"{name}: [study] {key!r}",
+                f"the scene's contacts are in [[contacts]]: say which one, such as "
+                f"'contacts.0.{rest}'",
+            )
+        return
+    if table == "contacts":
+        scene._contact_entry(scene.data, key, parts)
+        return
+    raise _fail(
+        f"{name}: [study] {key!r}",
+        "study axes are 'frf.force' or paths into [system], [contact] or "
+        "[[contacts]], such as 'contact.normal_load' or 'contacts.0.slip_force'",
+    )
 
 
 def study_sets(scene: Scene) -> list[dict]:
@@ -448,10 +597,7 @@ def study_sets(scene: Scene) -> list[dict]:
         raw.pop(k, None)
     t = {}
     for k, v in raw.items():  # unquoted dotted keys arrive as nested tables
-        if isinstance(v, dict):
-            t.update({f"{k}.{kk}": vv for kk, vv in v.items()})
-        else:
-            t[k] = v
+        _flatten(k, v, t)
     where = f"{scene.name}: [study]"
     if sets is not None:
         if t:
@@ -460,12 +606,8 @@ def study_sets(scene: Scene) -> list[dict]:
             raise _fail(f"{where} sets", "must be an array of tables")
         flat = []
         for s in sets:
-            f = {}
-            for k, v in s.items():
-                if isinstance(v, dict):
-                    f.update({f"{k}.{kk}": vv for kk, vv in v.items()})
-                else:
-                    f[k] = v
+            f: dict = {}
+            _flatten("", s, f)
             flat.append(f)
         return flat
     for k, v in t.items():
@@ -516,7 +658,12 @@ def run_scene(path: str | Path, out: str | Path | None = None, progress=print) -
     sets = study_sets(scene)
     if not sets:
         force, omega, kwargs = scene.frf_call()
-        branch = hf.frf(scene.system(), force, omega, **kwargs)
+        try:
+            branch = hf.frf(scene.system(), force, omega, **kwargs)
+        except (TypeError, ValueError) as exc:
+            # a value of [frf] the load-time checks leave to frf (n_time,
+            # aft, condense, ...): the message without a traceback
+            raise _fail(f"{scene.name}: [frf]", str(exc)) from None
         progress(
             f"{scene.name}: {len(branch)} points, Ω {branch.omega.min():.6g}–"
             f"{branch.omega.max():.6g} rad/s, complete={branch.complete}, "
@@ -560,10 +707,11 @@ def run_scene(path: str | Path, out: str | Path | None = None, progress=print) -
             f"{scene.name}: {len(res)} FRFs, {len(res.failures)} failed, "
             f"{res.elapsed:.2f} s ({res.executor})"
         )
+        dof = output.get("dof")  # the study's tables too (they ignored it)
         if "csv" in output:
-            written.append(res.to_csv(directory / output["csv"]))
+            written.append(res.to_csv(directory / output["csv"], dof=dof))
         if "npz" in output:
-            written.append(res.to_npz(directory / output["npz"]))
+            written.append(res.to_npz(directory / output["npz"], dof=dof))
         if "png" in output:
             import matplotlib
 
@@ -575,6 +723,7 @@ def run_scene(path: str | Path, out: str | Path | None = None, progress=print) -
                 if r.ok:
                     r.branch.plot(
                         ax=ax,
+                        dof=dof,
                         label=", ".join(
                             f"{k}={v:g}"
                             for k, v in r.parameters.items()

@@ -125,3 +125,139 @@ def test_mat_file_with_several_arrays_names_the_scene_syntax(chain_dir):
         load_scene(chain_dir / "s.toml")
     (chain_dir / "s.toml").write_text(text.replace('"model.mat"', '"model.mat:Mff"'))
     assert load_scene(chain_dir / "s.toml").system().n_dof == 3
+
+
+TWO = CHAIN.replace(
+    "[frf]",
+    '[[contacts]]\nlaw = "jenkins"\nstiffness = 500.0\nslip_force = 2.0\n'
+    "dof = 0\n\n[frf]",
+)
+
+
+def _scene(chain_dir, study):
+    (chain_dir / "s.toml").write_text(TWO + "\n[study]\n" + study)
+    return load_scene(chain_dir / "s.toml")
+
+
+def test_study_axes_reach_into_contacts(chain_dir):
+    """Both spellings of a path into [[contacts]], quoted and unquoted: each
+    set's system carries its values on the entry it names, the other entry
+    untouched."""
+    from hbmfric.scene import study_sets
+
+    scene = _scene(
+        chain_dir,
+        'executor = "serial"\n"contacts.0.slip_force" = [0.5, 1.5]\n'
+        '"contacts[1].stiffness" = [300.0]\n',
+    )
+    sets = study_sets(scene)
+    assert [set(p) for p in sets] == [
+        {"contacts.0.slip_force", "contacts[1].stiffness"}
+    ] * 2
+    for p in sets:
+        system = scene.system(p)
+        assert system.contacts[0].law.slip_force == p["contacts.0.slip_force"]
+        assert system.contacts[0].law.stiffness == 2000.0
+        assert system.contacts[1].law.stiffness == 300.0
+        assert system.contacts[1].law.slip_force == 2.0
+        assert (system.contacts[0].dof, system.contacts[0].other) == (1, 2)
+    # unquoted dotted keys arrive as nested tables
+    scene = _scene(chain_dir, "contacts.1.slip_force = [1.0, 3.0]\n")
+    sets = study_sets(scene)
+    assert sets == [{"contacts.1.slip_force": 1.0}, {"contacts.1.slip_force": 3.0}]
+    assert scene.system(sets[1]).contacts[1].law.slip_force == 3.0
+    # explicit sets too
+    scene = _scene(chain_dir, 'sets = [{ "contacts[0].slip_force" = 0.7 }]\n')
+    assert scene.system(study_sets(scene)[0]).contacts[0].law.slip_force == 0.7
+
+
+@pytest.mark.parametrize(
+    "study, match",
+    [
+        ('"contacts.2.slip_force" = [1.0]\n', r"'contacts.2.slip_force': no \[\[co"),
+        ('"contacts[5].slip_force" = [1.0]\n', r"has 2 \(indices 0 to 1"),
+        ('"contacts.first.slip_force" = [1.0]\n', r"'contacts.<index>.<key>'"),
+        ('"contacts.0" = [1.0]\n', r"'contacts.0': a path into"),
+        ('"contacts.0.slip_forse" = [1.0]\n', r"did you mean 'slip_force'"),
+        ('"contact.slip_force" = [1.0]\n', r"such as 'contacts.0.slip_force'"),
+        ('"contacts.0.slip_force" = [-1.0]\n', r"contacts\]\]\[0\].*slip_force"),
+        (
+            'sets = [{ "frf.force" = 0.2 }, { "contacts.3.stiffness" = 1.0 }]\n',
+            r"'contacts.3.stiffness'",
+        ),
+    ],
+)
+def test_bad_contacts_axes_are_refused_with_the_path(chain_dir, study, match):
+    with pytest.raises(SceneError, match=match) as info:
+        _scene(chain_dir, study)
+    assert "s.toml" in str(info.value)
+
+
+def test_contacts_axis_without_contacts_suggests_contact(tmp_path):
+    (tmp_path / "s.toml").write_text(
+        '[system]\nkind = "oscillator"\nmass = 1.0\ndamping = 0.02\n'
+        'stiffness = 1.0\n\n[contact]\nlaw = "jenkins"\nstiffness = 3.0\n'
+        "slip_force = 1.0\n\n[frf]\nforce = 0.5\nomega = [0.5, 3.0]\n\n"
+        '[study]\n"contacts.0.slip_force" = [1.0, 2.0]\n'
+    )
+    with pytest.raises(SceneError, match=r"no \[\[contacts\]\].*'contact.slip_force'"):
+        load_scene(tmp_path / "s.toml")
+
+
+def test_study_over_contacts_runs(chain_dir):
+    """A scene study over a [[contacts]] entry: every set's branch is the
+    direct call's with that entry changed."""
+    text = (
+        CHAIN
+        + '\n[study]\nexecutor = "serial"\n"contacts.0.slip_force" = [0.05, 2.0]\n'
+    )
+    (chain_dir / "s.toml").write_text(text.replace('csv = "out.csv"\n', ""))
+    out = quiet(run_scene, chain_dir / "s.toml", progress=lambda s: None)
+    runs = out["study"].runs
+    assert [r.parameters["contacts.0.slip_force"] for r in runs] == [0.05, 2.0]
+    for run in runs:
+        law = hf.Jenkins(
+            stiffness=2000.0, slip_force=run.parameters["contacts.0.slip_force"]
+        )
+        system = hf.LinearStructure(
+            M,
+            K,
+            modal_damping=0.01,
+            load={0: 1.0},
+            contacts=[hf.Contact(law, 1, other=2)],
+        )
+        ref = quiet(hf.frf, system, 0.5, (8.0, 12.0), 5)
+        np.testing.assert_array_equal(run.branch.coefficients, ref.coefficients)
+    a0, a1 = (r.branch.amplitude(harmonic=1) for r in runs)
+    assert not np.allclose(a0.max(), a1.max(), rtol=1e-3)
+
+
+def test_study_axis_into_a_roughness_base(tmp_path):
+    """'contact.base.friction_coefficient' reaches the wrapped law of a
+    roughness contact (it used to become an unknown key
+    'base.friction_coefficient')."""
+    from hbmfric.scene import study_sets
+
+    (tmp_path / "s.toml").write_text(
+        '[system]\nkind = "oscillator"\nmass = 1.0\ndamping = 0.02\n'
+        'stiffness = 1.0\n\n[contact]\nlaw = "roughness"\n\n[contact.base]\n'
+        'law = "jenkins"\nstiffness = 3.0\nfriction_coefficient = 0.3\n'
+        "normal_load = 10.0\n\n[frf]\nforce = 0.5\nomega = [0.5, 3.0]\n\n"
+        '[study]\n"contact.base.friction_coefficient" = [0.1, 0.5]\n'
+    )
+    scene = load_scene(tmp_path / "s.toml")
+    laws = [scene.system(p).contact.law for p in study_sets(scene)]
+    np.testing.assert_allclose([law.slip_force for law in laws], [1.0, 5.0])
+
+
+def test_study_axis_into_a_load_table(chain_dir):
+    """'system.load.0' reaches the load of DOF 0 (a table whose keys are
+    text in the file)."""
+    from hbmfric.scene import study_sets
+
+    (chain_dir / "s.toml").write_text(
+        CHAIN + '\n[study]\n"system.load.0" = [1.0, 2.0]\n"system.load.2" = [0.5]\n'
+    )
+    scene = load_scene(chain_dir / "s.toml")
+    loads = [scene.system(p).load_vector(1.0) for p in study_sets(scene)]
+    np.testing.assert_array_equal(np.real(loads), [[1.0, 0.0, 0.5], [2.0, 0.0, 0.5]])

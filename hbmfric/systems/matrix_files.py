@@ -154,8 +154,9 @@ def read_matrices(
     path : str or Path
     names : dict, optional
         ``{"mass": ..., "stiffness": ..., "damping": ...}``: the variable
-        names in the file. Default: the first match, ignoring case, among
-        :data:`DEFAULT_NAMES`.
+        names in the file. Default: the one array whose name is among
+        :data:`DEFAULT_NAMES` of the role, ignoring case (several such
+        arrays are refused: say which).
 
     Returns
     -------
@@ -167,7 +168,7 @@ def read_matrices(
     ------
     ValueError
         If the mass or stiffness matrix is not found (the message lists the
-        names in the file).
+        names in the file), or several arrays may be one of the three.
     """
     path = Path(path)
     if path.suffix.lower() not in (".mat", ".npz"):
@@ -189,19 +190,24 @@ def read_matrices(
             raise FileNotFoundError(f"no such matrix file: {path}")
         with np.load(path, allow_pickle=False) as data:
             present = list(data.files)
-    lower = {p.lower(): p for p in present}
     out = {}
     for role in ("mass", "stiffness", "damping"):
         given = (names or {}).get(role)
         if given is not None:
             out[role] = read_matrix(path, given)
             continue
-        found = next(
-            (lower[c.lower()] for c in DEFAULT_NAMES[role] if c.lower() in lower),
-            None,
-        )
-        if found is not None:
-            out[role] = read_matrix(path, found)
+        # every array whose name is one of the role's, ignoring case: two of
+        # them ("M" and "m", "MGG" and "Mff": the unconstrained and the
+        # constrained set of a Nastran export) leave the choice to the user
+        wanted = {c.lower() for c in DEFAULT_NAMES[role]}
+        found = [p for p in present if p.lower() in wanted]
+        if len(found) > 1:
+            raise ValueError(
+                f"{path} holds several arrays that may be the {role} matrix "
+                f"({', '.join(found)}); say which with names={{'{role}': ...}}"
+            )
+        if found:
+            out[role] = read_matrix(path, found[0])
         elif role != "damping":
             raise ValueError(
                 f"{path}: no {role} matrix found (looked for "

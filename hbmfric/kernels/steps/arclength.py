@@ -567,19 +567,23 @@ def advance(
         if corner or (last > 0.0 and bend > KINK_JUMP * last):
             # a kink inside the step: up to twice the cubic's deviation
             curve *= 2.0
-        if curve > target:
+        floor = CORNER_FLOOR * settings[MIN_STEP]
+        if curve > target and (not corner or step > floor):
             # the chord would stray from the branch: shorter, as the
             # error goes with the square of the step (across a corner:
-            # linearly, and only down to CORNER_FLOOR min_step, below
-            # which a corner is taken as it is)
+            # linearly, and only down to CORNER_FLOOR min_step: a corner
+            # step at the floor is taken as it is, a longer one is tried
+            # again at the floor at least, never taken because the
+            # shortened step would fall below it)
             factor = max(np.sqrt(0.8 * target / curve), 0.1)
             if corner:
                 factor = max(0.8 * target / curve, 0.1)
             new_step = step * min(factor, settings[SHRINK])
-            if not corner or new_step >= CORNER_FLOOR * settings[MIN_STEP]:
-                if new_step < settings[MIN_STEP]:
-                    return STEP_TOO_SMALL, new_step, evaluations
-                return REJECTED, new_step, evaluations
+            if corner:
+                new_step = max(new_step, floor)
+            if new_step < settings[MIN_STEP]:
+                return STEP_TOO_SMALL, new_step, evaluations
+            return REJECTED, new_step, evaluations
         settings[CURVE_LAST] = 0.0 if corner else bend
         if corner:
             curve = 0.0
