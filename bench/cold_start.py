@@ -4,8 +4,8 @@ Run: ``python -m bench.cold_start [--phases] [--profile-frf] [--profile]``
 (from the repository root); ``--phases`` splits the warm first FRF of a
 fresh process into its parts (:data:`PHASES`); ``--profile-frf`` lists the
 compile time of every kernel (exclusive of the kernels it calls) of the cold
-first FRF, in one more fresh process with an empty cache; ``--profile`` does the same for a cold
-``hbmfric paper``.
+first FRF, in one more fresh process with an empty cache; ``--profile`` does
+the same for a cold ``hbmfric paper``.
 
 Each run is ``python -c "import hbmfric; hbmfric.frf(...)"`` (the SDOF
 Jenkins branch, H = 15) in a new interpreter with ``NUMBA_CACHE_DIR`` in a
