@@ -168,9 +168,12 @@ def source_key(package_dir: str = PACKAGE_DIR) -> str:
 
 
 def _stamp(package_dir: str) -> str:
-    """Hash of the relative path, size and modification time (ns) of every
-    ``.py`` file under ``package_dir``: a cheap fingerprint (a few stat calls,
-    no file read) that changes whenever :func:`source_key` can change."""
+    """Hash of the relative path, size, modification and status-change
+    times (ns) and inode of every ``.py`` file under ``package_dir``: a
+    cheap fingerprint (one stat call per file, no file read) that changes
+    whenever :func:`source_key` can change. The status-change time is set
+    by the system on every write and cannot be set back (unlike the
+    modification time, which ``cp -p`` or ``rsync -a`` preserve)."""
     h = hashlib.sha256()
     for root, dirs, files in os.walk(package_dir):
         dirs[:] = sorted(d for d in dirs if d != "__pycache__")
@@ -179,7 +182,10 @@ def _stamp(package_dir: str) -> str:
                 path = os.path.join(root, name)
                 st = os.stat(path)
                 rel = os.path.relpath(path, package_dir)
-                h.update(f"{rel}\0{st.st_size}\0{st.st_mtime_ns}\0".encode())
+                h.update(
+                    f"{rel}\0{st.st_size}\0{st.st_mtime_ns}\0{st.st_ctime_ns}\0"
+                    f"{st.st_ino}\0".encode()
+                )
     return h.hexdigest()[:16]
 
 
@@ -193,9 +199,11 @@ def remembered_source_key(
     key is therefore kept in ``<base>/source-key-<hash of package_dir>``
     with the :func:`_stamp` of the files it was computed from, and computed
     again only when the stamp differs (a file edited, added, removed or
-    replaced changes its size or modification time: the rule Python itself
-    uses for its ``.pyc`` files and Numba for its cache index). Without a
-    writable ``base`` the key is computed every time.
+    replaced changes its size or times: Python trusts the size and
+    modification time for its ``.pyc`` files, Numba for its cache index;
+    an edit that keeps the size within one tick of a coarse file-system
+    clock would go unseen by all three). Without a writable ``base`` the
+    key is computed every time.
 
     Parameters
     ----------
