@@ -7,6 +7,8 @@ dry-friction contacts, with Numba-compiled AFT kernels.
 >>> branch = hf.frf(osc, force=0.5, omega=(0.5, 3.0), harmonics=15)
 """
 
+from typing import TYPE_CHECKING
+
 from .api import frf
 from .continuation import ContinuationOptions
 from .errors import (
@@ -41,6 +43,18 @@ from .systems import (
     craig_bampton,
     lap_joint,
 )
+
+if TYPE_CHECKING:  # for type checkers and the API docs; at run time see _LAZY
+    from .modes import NonlinearMode, nonlinear_mode
+    from .periodic import periodic_solution
+    from .switching import period_doubled_branch
+    from .systems import (
+        BeamCalibration,
+        BeltTensioner,
+        CantileverBeam,
+        read_matrices,
+        read_matrix,
+    )
 
 __version__ = "0.1.0"
 

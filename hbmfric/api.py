@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import warnings
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -16,6 +17,9 @@ from .errors import AccuracyWarning, CoverageWarning
 from .hbm import HBMProblem
 from .results import Branch, join_pieces
 from .systems.protocol import check_system
+
+if TYPE_CHECKING:  # re-exported, imported on first use (``__getattr__`` below)
+    from .periodic import periodic_solution as periodic_solution
 
 
 def __getattr__(name: str):

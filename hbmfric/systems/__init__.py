@@ -1,5 +1,7 @@
 """Mechanical systems: linear structure plus contact laws."""
 
+from typing import TYPE_CHECKING
+
 from .contacts import Contact
 
 # ``craig_bampton`` and ``lap_joint`` name both a submodule and a function:
@@ -9,6 +11,12 @@ from .craig_bampton import ReducedStructure, craig_bampton
 from .lap_joint import BRAKE_REUSS, LapJoint, lap_joint
 from .oscillator import Oscillator
 from .structure import LinearStructure
+
+if TYPE_CHECKING:  # for type checkers and the API docs; at run time see _LAZY
+    from .beam import CantileverBeam
+    from .calibration import BeamCalibration
+    from .matrix_files import read_matrices, read_matrix
+    from .tensioner import BeltTensioner
 
 #: names loaded on first use (``import hbmfric`` need not compile or run the
 #: beam's and the tensioner's modules for an oscillator's FRF)
