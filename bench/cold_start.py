@@ -57,12 +57,14 @@ def _run(code: str, cache: str, pyc: str | None = None) -> float:
     return time.perf_counter() - t
 
 
-def measure(warm_runs: int = 5) -> dict:
+def measure(warm_runs: int = 5, cache: str | None = None) -> dict:
     """Seconds: cold first branch, warm first branch (min), import alone,
     the bare interpreter; the warm ones also with ``.pyc`` files (``*_pyc``,
     see the module's docstring). The warm runs alternate between the two
-    settings."""
-    with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as pyc:
+    settings. ``cache``: an empty directory for the Numba cache, left
+    filled (default: a temporary one)."""
+    with tempfile.TemporaryDirectory() as new, tempfile.TemporaryDirectory() as pyc:
+        cache = new if cache is None else cache
         cold = _run(FRF, cache)
         _run(FRF, cache, pyc)  # writes the .pyc files
         runs: dict[str, list[float]] = {}
@@ -120,7 +122,7 @@ PHASES = (
 )
 
 
-def phases(runs: int = 5, pyc: bool = False) -> dict:
+def phases(runs: int = 5, pyc: bool = False, cache: str | None = None) -> dict:
     """The warm first FRF of a fresh process split into :data:`PHASES`
     (seconds, each the min over ``runs`` processes; ``python`` is the bare
     interpreter's start and exit, ``total`` the whole process, min over
@@ -133,11 +135,14 @@ def phases(runs: int = 5, pyc: bool = False) -> dict:
     pyc : bool
         Let Python use ``.pyc`` files (an installed package; see the
         module's docstring).
+    cache : str, optional
+        Numba cache directory to use (default: a new one, compiled first).
     """
     code = PHASES_CODE.replace("{body}", FRF.replace(";", "\n"))
-    with tempfile.TemporaryDirectory() as cache, tempfile.TemporaryDirectory() as tmp:
+    with tempfile.TemporaryDirectory() as new, tempfile.TemporaryDirectory() as tmp:
+        cache = new if cache is None else cache
         where = tmp if pyc else None
-        _run(FRF, cache, where)  # compiles, writes the .pyc files
+        _run(FRF, cache, where)  # compiles if cold, writes the .pyc files
         out: dict[str, list] = {}
         for _ in range(runs):
             t = time.perf_counter()
@@ -240,19 +245,11 @@ def compile_profile(
 
 
 def main() -> None:
-    for k, v in measure().items():
-        print(f"{k:>12}: {v:.2f}")
-    if "--phases" in sys.argv:
-        for pyc in (False, True):
-            parts = phases(pyc=pyc)
-            print(
-                f"warm first FRF by part ({'with' if pyc else 'without'} .pyc "
-                f"files, min of 5, load {os.getloadavg()[0]:.1f}):"
-            )
-            for k in PHASES:
-                print(f"  {k:>24}: {parts[k]:.3f} s")
-            n_kernels, n_modules = parts["kernels loaded"], parts["modules"]
-            print(f"  kernels loaded {n_kernels}, modules {n_modules}")
+    with tempfile.TemporaryDirectory() as cache:
+        for k, v in measure(cache=cache).items():
+            print(f"{k:>12}: {v:.2f}")
+        if "--phases" in sys.argv:
+            _print_phases(cache)
     if "--profile-frf" in sys.argv:
         wall, cpu, kernels = compile_profile(code=FRF)
         _table("cold first FRF", wall, cpu, kernels)
@@ -260,6 +257,19 @@ def main() -> None:
         with tempfile.TemporaryDirectory() as out:
             wall, cpu, kernels = compile_profile(["paper", "--out", out, "--no-plot"])
         _table("cold 'hbmfric paper'", wall, cpu, kernels)
+
+
+def _print_phases(cache: str) -> None:
+    for pyc in (False, True):
+        parts = phases(pyc=pyc, cache=cache)
+        print(
+            f"warm first FRF by part ({'with' if pyc else 'without'} .pyc "
+            f"files, min of 5, load {os.getloadavg()[0]:.1f}):"
+        )
+        for k in PHASES:
+            print(f"  {k:>24}: {parts[k]:.3f} s")
+        n_kernels, n_modules = parts["kernels loaded"], parts["modules"]
+        print(f"  kernels loaded {n_kernels}, modules {n_modules}")
 
 
 def _table(what: str, wall: float, cpu: float, kernels: list) -> None:
