@@ -1,20 +1,30 @@
 """Time to the first FRF branch in a fresh process, cold and warm Numba cache.
 
-Run: ``python -m bench.cold_start [--profile-frf] [--profile]`` (from the
-repository root); ``--profile-frf`` lists the compile time of every kernel
-(exclusive of the kernels it calls) of the cold first FRF, in one more fresh
-process with an empty cache; ``--profile`` does the same for a cold
-``hbmfric paper``.
+Run: ``python -m bench.cold_start [--phases] [--profile-frf] [--profile]``
+(from the repository root); ``--phases`` splits the warm first FRF of a
+fresh process into its parts (:data:`PHASES`); ``--profile-frf`` lists the
+compile time of every kernel (exclusive of the kernels it calls) of the cold
+first FRF, in one more fresh process with an empty cache; ``--profile`` does
+the same for a cold ``hbmfric paper``.
 
 Each run is ``python -c "import hbmfric; hbmfric.frf(...)"`` (the SDOF
 Jenkins branch, H = 15) in a new interpreter with ``NUMBA_CACHE_DIR`` in a
 fresh temporary directory: the first run compiles every kernel and fills the
 cache (cold), the next ones load it (warm). ``import hbmfric`` alone is timed
 too.
+
+Python's bytecode: with ``PYTHONDONTWRITEBYTECODE=1`` in the environment (as
+on the project's machine) no ``.pyc`` file of hbmfric is ever written, and
+every process compiles all of hbmfric's imported modules from source (about
+0.1 s of a first FRF). An installed package has its ``.pyc`` files (pip
+writes them), so the warm figures are also given as an installed package
+sees them (``*_pyc``: ``PYTHONPYCACHEPREFIX`` in a temporary directory, the
+variable above removed, one run beforehand to write them).
 """
 
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
@@ -31,21 +41,127 @@ FRF = (
 )
 
 
-def _run(code: str, cache: str) -> float:
+def _env(cache: str, pyc: str | None = None) -> dict:
     env = dict(os.environ, NUMBA_CACHE_DIR=cache, HBMFRIC_CACHE_DIR=cache)
+    if pyc is not None:
+        env.pop("PYTHONDONTWRITEBYTECODE", None)
+        env["PYTHONPYCACHEPREFIX"] = pyc
+    return env
+
+
+def _run(code: str, cache: str, pyc: str | None = None) -> float:
     t = time.perf_counter()
-    subprocess.run([sys.executable, "-c", code], check=True, cwd=ROOT, env=env)
+    subprocess.run(
+        [sys.executable, "-c", code], check=True, cwd=ROOT, env=_env(cache, pyc)
+    )
     return time.perf_counter() - t
 
 
-def measure(warm_runs: int = 3) -> dict:
-    """Seconds: cold first branch, warm first branch (min), import alone."""
-    with tempfile.TemporaryDirectory() as cache:
+def measure(warm_runs: int = 5, cache: str | None = None) -> dict:
+    """Seconds: cold first branch, warm first branch (min), import alone,
+    the bare interpreter; the warm ones also with ``.pyc`` files (``*_pyc``,
+    see the module's docstring). The warm runs alternate between the two
+    settings. ``cache``: an empty directory for the Numba cache, left
+    filled (default: a temporary one)."""
+    with tempfile.TemporaryDirectory() as new, tempfile.TemporaryDirectory() as pyc:
+        cache = new if cache is None else cache
         cold = _run(FRF, cache)
-        warm = min(_run(FRF, cache) for _ in range(warm_runs))
-        imp = min(_run("import hbmfric", cache) for _ in range(warm_runs))
+        _run(FRF, cache, pyc)  # writes the .pyc files
+        runs: dict[str, list[float]] = {}
+        for _ in range(warm_runs):
+            for name, code in (("warm", FRF), ("import", "import hbmfric")):
+                runs.setdefault(f"{name}_s", []).append(_run(code, cache))
+                runs.setdefault(f"{name}_pyc_s", []).append(_run(code, cache, pyc))
         bare = min(_run("pass", cache) for _ in range(warm_runs))
-    return {"cold_s": cold, "warm_s": warm, "import_s": imp, "python_s": bare}
+    return {"cold_s": cold, **{k: min(v) for k, v in runs.items()}, "python_s": bare}
+
+
+#: run in a fresh process with a warm cache: the parts of the first FRF, in
+#: seconds (``time.perf_counter``); Numba's registry set-up (the first
+#: ``refresh`` of its CPU target, which every first compilation or cache
+#: load does and which imports ``scipy.linalg`` through
+#: ``numba.np.arraymath``) is timed on its own before the FRF, and the
+#: kernels' cache loads inside it
+PHASES_CODE = """
+import json, sys, time
+t0 = time.perf_counter()
+import numba
+t1 = time.perf_counter()
+import hbmfric as hf
+t2 = time.perf_counter()
+from numba.core import caching
+from numba.core.registry import cpu_target
+cpu_target.target_context.refresh()
+t3 = time.perf_counter()
+loads = []
+_load = caching.Cache.load_overload
+def load_overload(self, sig, ctx):
+    t = time.perf_counter()
+    out = _load(self, sig, ctx)
+    loads.append(time.perf_counter() - t)
+    return out
+caching.Cache.load_overload = load_overload
+{body}
+t4 = time.perf_counter()
+print("PHASES" + json.dumps({
+    "import numba": t1 - t0, "import hbmfric (rest)": t2 - t1,
+    "Numba registry set-up": t3 - t2, "kernel cache loads": sum(loads),
+    "first FRF (rest)": t4 - t3 - sum(loads), "kernels loaded": len(loads),
+    "modules": len(sys.modules)}))
+"""
+
+#: parts reported by :func:`phases`
+PHASES = (
+    "python",
+    "import numba",
+    "import hbmfric (rest)",
+    "Numba registry set-up",
+    "kernel cache loads",
+    "first FRF (rest)",
+    "total",
+)
+
+
+def phases(runs: int = 5, pyc: bool = False, cache: str | None = None) -> dict:
+    """The warm first FRF of a fresh process split into :data:`PHASES`
+    (seconds, each the min over ``runs`` processes; ``python`` is the bare
+    interpreter's start and exit, ``total`` the whole process, min over
+    the same runs) plus the number of kernels loaded and of modules.
+
+    Parameters
+    ----------
+    runs : int
+        Fresh processes.
+    pyc : bool
+        Let Python use ``.pyc`` files (an installed package; see the
+        module's docstring).
+    cache : str, optional
+        Numba cache directory to use (default: a new one, compiled first).
+    """
+    code = PHASES_CODE.replace("{body}", FRF.replace(";", "\n"))
+    with tempfile.TemporaryDirectory() as new, tempfile.TemporaryDirectory() as tmp:
+        cache = new if cache is None else cache
+        where = tmp if pyc else None
+        _run(FRF, cache, where)  # compiles if cold, writes the .pyc files
+        out: dict[str, list] = {}
+        for _ in range(runs):
+            t = time.perf_counter()
+            proc = subprocess.run(
+                [sys.executable, "-c", code],
+                check=True,
+                cwd=ROOT,
+                env=_env(cache, where),
+                capture_output=True,
+                text=True,
+            )
+            total = time.perf_counter() - t
+            line = [x for x in proc.stdout.splitlines() if x.startswith("PHASES")]
+            parts = json.loads(line[-1][len("PHASES") :])
+            parts["total"] = total
+            for k, v in parts.items():
+                out.setdefault(k, []).append(v)
+            out.setdefault("python", []).append(_run("pass", cache, where))
+    return {k: min(v) for k, v in out.items()}
 
 
 #: run in a fresh process with an empty cache: every compilation of a
@@ -96,8 +212,6 @@ def compile_profile(
         Exclusive compile CPU time per kernel (summed over its
         signatures), largest first.
     """
-    import json
-
     with tempfile.TemporaryDirectory() as cache:
         env = dict(
             os.environ,
@@ -131,8 +245,11 @@ def compile_profile(
 
 
 def main() -> None:
-    for k, v in measure().items():
-        print(f"{k:>10}: {v:.2f}")
+    with tempfile.TemporaryDirectory() as cache:
+        for k, v in measure(cache=cache).items():
+            print(f"{k:>12}: {v:.2f}")
+        if "--phases" in sys.argv:
+            _print_phases(cache)
     if "--profile-frf" in sys.argv:
         wall, cpu, kernels = compile_profile(code=FRF)
         _table("cold first FRF", wall, cpu, kernels)
@@ -140,6 +257,19 @@ def main() -> None:
         with tempfile.TemporaryDirectory() as out:
             wall, cpu, kernels = compile_profile(["paper", "--out", out, "--no-plot"])
         _table("cold 'hbmfric paper'", wall, cpu, kernels)
+
+
+def _print_phases(cache: str) -> None:
+    for pyc in (False, True):
+        parts = phases(pyc=pyc, cache=cache)
+        print(
+            f"warm first FRF by part ({'with' if pyc else 'without'} .pyc "
+            f"files, min of 5, load {os.getloadavg()[0]:.1f}):"
+        )
+        for k in PHASES:
+            print(f"  {k:>24}: {parts[k]:.3f} s")
+        n_kernels, n_modules = parts["kernels loaded"], parts["modules"]
+        print(f"  kernels loaded {n_kernels}, modules {n_modules}")
 
 
 def _table(what: str, wall: float, cpu: float, kernels: list) -> None:

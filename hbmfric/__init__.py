@@ -7,7 +7,9 @@ dry-friction contacts, with Numba-compiled AFT kernels.
 >>> branch = hf.frf(osc, force=0.5, omega=(0.5, 3.0), harmonics=15)
 """
 
-from .api import frf, periodic_solution
+from typing import TYPE_CHECKING
+
+from .api import frf
 from .continuation import ContinuationOptions
 from .errors import (
     AccuracyWarning,
@@ -30,14 +32,9 @@ from .laws import (
     Roughness,
     hertz_mindlin_stiffness,
 )
-from .modes import NonlinearMode, nonlinear_mode
 from .results import Branch, PeriodicSolution
 from .study import StudyResult, grid, study
-from .switching import period_doubled_branch
 from .systems import (
-    BeamCalibration,
-    BeltTensioner,
-    CantileverBeam,
     Contact,
     LapJoint,
     LinearStructure,
@@ -45,20 +42,40 @@ from .systems import (
     ReducedStructure,
     craig_bampton,
     lap_joint,
-    read_matrices,
-    read_matrix,
 )
+
+if TYPE_CHECKING:  # for type checkers and the API docs; at run time see _LAZY
+    from .modes import NonlinearMode, nonlinear_mode
+    from .periodic import periodic_solution
+    from .switching import period_doubled_branch
+    from .systems import (
+        BeamCalibration,
+        BeltTensioner,
+        CantileverBeam,
+        read_matrices,
+        read_matrix,
+    )
 
 __version__ = "0.1.0"
 
-#: subpackages loaded on first use (``hf.criterion``, ``hf.identify``,
-#: ``hf.validation``): ``import hbmfric`` need not pay for the scipy
-#: modules only they use. (``hf.study`` stays eager: the submodule of the
-#: same name would shadow the function once imported.)
+#: names loaded on first use: ``import hbmfric`` (and a first FRF after it)
+#: need not pay for the modules only they use (the subpackages ``criterion``,
+#: ``identify``, ``validation`` import scipy modules; the others are
+#: Python to compile or load). ``hf.study`` stays eager: the submodule of the
+#: same name would shadow the function once imported.
 _LAZY = {
     "criterion": (".criterion", None),
     "identify": (".identify", None),
     "validation": (".validation", None),
+    "periodic_solution": (".periodic", "periodic_solution"),
+    "NonlinearMode": (".modes", "NonlinearMode"),
+    "nonlinear_mode": (".modes", "nonlinear_mode"),
+    "period_doubled_branch": (".switching", "period_doubled_branch"),
+    "BeamCalibration": (".systems", "BeamCalibration"),
+    "BeltTensioner": (".systems", "BeltTensioner"),
+    "CantileverBeam": (".systems", "CantileverBeam"),
+    "read_matrices": (".systems", "read_matrices"),
+    "read_matrix": (".systems", "read_matrix"),
 }
 
 

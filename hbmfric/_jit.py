@@ -11,7 +11,9 @@ alone: after a callee in another file changes (a ``git pull`` on an
 editable install), a cached caller keeps running the old callee, bit for
 bit. hbmfric therefore places the cache of its own files in a directory
 named after a hash of all kernel sources (:func:`source_key`), so that any
-edit of any kernel starts a fresh cache and a stale one can never be read:
+edit of any kernel starts a fresh cache and a stale one can never be read
+(the key is remembered between processes with the size and modification
+time of every source file, :func:`remembered_source_key`):
 
 1. ``$HBMFRIC_CACHE_DIR/<key>`` if that variable is set,
 2. else ``$NUMBA_CACHE_DIR/hbmfric/<key>`` if Numba's variable is set,
@@ -41,6 +43,7 @@ import os
 import re
 import sys
 import tempfile
+import time
 import warnings
 
 from numba import njit
@@ -165,6 +168,93 @@ def source_key(package_dir: str = PACKAGE_DIR) -> str:
     return h.hexdigest()[:16]
 
 
+def _stamp(package_dir: str) -> tuple[str, int]:
+    """Hash of the relative path, size, modification and status-change
+    times (ns) and inode of every ``.py`` file under ``package_dir``: a
+    cheap fingerprint (one stat call per file, no file read) that changes
+    whenever :func:`source_key` can change. The status-change time is set
+    by the system on every write and cannot be set back (unlike the
+    modification time, which ``cp -p`` or ``rsync -a`` preserve).
+
+    Returns the fingerprint and the newest of those times (ns)."""
+    h = hashlib.sha256()
+    newest = 0
+    for root, dirs, files in os.walk(package_dir):
+        dirs[:] = sorted(d for d in dirs if d != "__pycache__")
+        for name in sorted(files):
+            if name.endswith(".py"):
+                path = os.path.join(root, name)
+                st = os.stat(path)
+                newest = max(newest, st.st_mtime_ns, st.st_ctime_ns)
+                rel = os.path.relpath(path, package_dir)
+                h.update(
+                    f"{rel}\0{st.st_size}\0{st.st_mtime_ns}\0{st.st_ctime_ns}\0"
+                    f"{st.st_ino}\0".encode()
+                )
+    return h.hexdigest()[:16], newest
+
+
+#: a fingerprint is remembered only when every file is older than this (ns):
+#: file times advance by a coarse clock tick (milliseconds on Linux), so an
+#: edit in the same tick as the fingerprint could keep its times and size
+#: (git's "racily clean" files); two seconds later no edit can
+RACY_NS = 2_000_000_000
+
+
+def remembered_source_key(
+    package_dir: str = PACKAGE_DIR, base: str | None = None
+) -> str:
+    """:func:`source_key`, remembered between processes.
+
+    Reading and scanning every source file at each import costs about 20 ms
+    on a small machine (a fiftieth of a first FRF in a fresh process); the
+    key is therefore kept in ``<base>/source-key-<hash of package_dir>``
+    with the :func:`_stamp` of the files it was computed from, and computed
+    again only when the stamp differs (a file edited, added, removed or
+    replaced changes its size or times: Python trusts the size and
+    modification time for its ``.pyc`` files, Numba for its cache index;
+    an edit that keeps the size within one tick of a coarse file-system
+    clock would go unseen by all three). Without a writable ``base`` the
+    key is computed every time.
+
+    Parameters
+    ----------
+    package_dir : str
+        Root directory of the package.
+    base : str, optional
+        Directory for the remembered key (default :func:`cache_base`).
+
+    Returns
+    -------
+    str
+        The same 16 hex digits as ``source_key(package_dir)``.
+    """
+    package_dir = os.path.abspath(package_dir)
+    base = cache_base() if base is None else base
+    stamp, newest = _stamp(package_dir)
+    where = hashlib.sha256(package_dir.encode()).hexdigest()[:16]
+    memo = os.path.join(base, f"source-key-{where}")
+    try:
+        with open(memo, encoding="ascii") as f:
+            seen, key = f.read().split()
+        if seen == stamp and re.fullmatch("[0-9a-f]{16}", key):
+            return key
+    except (OSError, ValueError, UnicodeDecodeError):
+        pass
+    key = source_key(package_dir)
+    if time.time_ns() - newest < RACY_NS:
+        return key  # a file edited just now: not remembered (``RACY_NS``)
+    try:
+        os.makedirs(base, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=base, prefix=".source-key-")
+        with os.fdopen(fd, "w", encoding="ascii") as f:
+            f.write(f"{stamp} {key}\n")
+        os.replace(tmp, memo)  # atomic: a reader sees the old or the new line
+    except OSError:
+        pass
+    return key
+
+
 def cache_base(environ=None) -> str:
     """Directory under which the ``<key>`` cache directories live.
 
@@ -193,6 +283,10 @@ def _writable_dir(path: str) -> str | None:
     return None
 
 
+#: cache directories already checked writable in this process
+_CHECKED_PATHS: set[str] = set()
+
+
 class _KeyedCacheLocator(caching._SourceFileBackedLocatorMixin, caching._CacheLocator):
     """Numba cache locator for the files of the hbmfric package only: puts
     their cache in ``CACHE_DIR/<subdirectory in the package>``."""
@@ -214,10 +308,15 @@ class _KeyedCacheLocator(caching._SourceFileBackedLocatorMixin, caching._CacheLo
         if not path.startswith(PACKAGE_DIR + os.sep) or not os.path.isfile(path):
             return None
         self = cls(py_func, py_file)
-        try:
-            self.ensure_cache_path()
-        except OSError:
-            return None
+        if self._cache_path not in _CHECKED_PATHS:
+            # Numba's check (create the directory, write a temporary file)
+            # once per directory and process, not once per kernel: an
+            # import makes some 150 kernels in 8 directories
+            try:
+                self.ensure_cache_path()
+            except OSError:
+                return None
+            _CHECKED_PATHS.add(self._cache_path)
         return self
 
 
@@ -228,7 +327,7 @@ def _register_locator() -> None:
     classes.insert(0, _KeyedCacheLocator)
 
 
-CACHE_DIR: str | None = os.path.join(cache_base(), source_key())
+CACHE_DIR: str | None = os.path.join(cache_base(), remembered_source_key())
 """Directory of the compiled-kernel cache, or None if there is none."""
 
 _reason = _writable_dir(CACHE_DIR)
@@ -323,5 +422,6 @@ __all__ = [
     "jit",
     "jit_inline",
     "kernel_sources",
+    "remembered_source_key",
     "source_key",
 ]

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import warnings
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -15,9 +16,22 @@ from .continuation.adaptive import LADDER, START
 from .errors import AccuracyWarning, CoverageWarning
 from .hbm import HBMProblem
 from .kernels.steps import newton as _newton
-from .periodic import periodic_solution as periodic_solution  # re-export
 from .results import Branch, join_pieces
 from .systems.protocol import check_system
+
+if TYPE_CHECKING:  # re-exported, imported on first use (``__getattr__`` below)
+    from .periodic import periodic_solution as periodic_solution
+
+
+def __getattr__(name: str):
+    # ``periodic_solution`` is re-exported from :mod:`hbmfric.periodic`,
+    # imported on first use (an FRF does not need that module)
+    if name == "periodic_solution":
+        from .periodic import periodic_solution
+
+        globals()[name] = periodic_solution
+        return periodic_solution
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def _omega_range(omega) -> tuple[float, float]:

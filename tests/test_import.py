@@ -64,6 +64,68 @@ def test_import_loads_no_matplotlib_and_compiles_nothing(tmp_path):
     assert sum(report["call"].values()) > 0  # ... and it sees a compilation
 
 
+#: modules an oscillator's FRF does not use, loaded on first use of a name
+#: they define (``hf.nonlinear_mode``, ``hf.CantileverBeam``, ...)
+NOT_IMPORTED_EAGERLY = (
+    "hbmfric.modes",
+    "hbmfric.stability",
+    "hbmfric.periodic",
+    "hbmfric.switching",
+    "hbmfric.bifurcation",
+    "hbmfric.systems.beam",
+    "hbmfric.systems.calibration",
+    "hbmfric.systems.tensioner",
+    "hbmfric.systems.matrix_files",
+    "hbmfric.validation",
+    "hbmfric.identify",
+    "hbmfric.criterion",
+)
+
+
+def test_import_leaves_unused_modules_unimported():
+    """``import hbmfric`` imports none of :data:`NOT_IMPORTED_EAGERLY`; each
+    public name resolves on first use to the object of its module, also
+    through ``from hbmfric import *`` and ``from hbmfric.systems import``."""
+    code = textwrap.dedent(
+        """
+        import json, sys
+        import hbmfric as hf
+        eager = sorted(m for m in sys.modules if m.startswith("hbmfric"))
+        from hbmfric.systems import CantileverBeam
+        import hbmfric.api, hbmfric.modes, hbmfric.periodic, hbmfric.switching
+        import hbmfric.systems.beam, hbmfric.systems.matrix_files
+        import hbmfric.systems.lap_joint, hbmfric.systems.craig_bampton
+        same = [
+            hf.periodic_solution is hbmfric.periodic.periodic_solution,
+            hbmfric.api.periodic_solution is hf.periodic_solution,
+            hf.nonlinear_mode is hbmfric.modes.nonlinear_mode,
+            hf.NonlinearMode is hbmfric.modes.NonlinearMode,
+            hf.period_doubled_branch is hbmfric.switching.period_doubled_branch,
+            hf.CantileverBeam is CantileverBeam is hbmfric.systems.beam.CantileverBeam,
+            hf.read_matrix is hbmfric.systems.matrix_files.read_matrix,
+            callable(hf.systems.lap_joint) and callable(hf.systems.craig_bampton),
+            hf.lap_joint is hf.systems.lap_joint,
+            hf.study.__module__ == "hbmfric.study",
+        ]
+        names = {}
+        exec("from hbmfric import *", names)
+        missing = sorted(set(hf.__all__) - set(names))
+        print(json.dumps({"eager": eager, "same": same, "missing": missing}))
+        """
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        check=True,
+        cwd=ROOT,
+    )
+    report = json.loads(out.stdout.strip().splitlines()[-1])
+    assert not set(report["eager"]) & set(NOT_IMPORTED_EAGERLY), report["eager"]
+    assert all(report["same"]), report["same"]
+    assert report["missing"] == []
+
+
 #: the kernels' folders in the order of ``hbmfric/kernels/__init__.py``
 KERNEL_STAGES = (
     "fourier",

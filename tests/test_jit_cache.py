@@ -117,7 +117,8 @@ def test_edited_callee_is_never_served_stale(tmp_path):
 
     # The cache lives in the user cache directory, never in the package.
     assert _nbi_files(pkg) == []
-    assert len(os.listdir(tmp_path / "cache")) == 2  # one directory per source key
+    # one directory per source key (and the remembered key's file)
+    assert len([p for p in (tmp_path / "cache").iterdir() if p.is_dir()]) == 2
 
 
 def _notices(stderr: str) -> list[str]:
@@ -221,6 +222,98 @@ def test_source_key_follows_kernel_sources(tmp_path):
     key3 = _jit.source_key(str(copy))
     (copy / "kernels" / "fourier" / "constants.py").write_text("LIMIT = 4\n")
     assert _jit.source_key(str(copy)) != key3
+
+
+def test_remembered_source_key(tmp_path, monkeypatch):
+    """The key is remembered between processes with the stamp (size,
+    modification time) of the sources: the same key as ``source_key``,
+    computed again when a source changes or the remembered line is
+    damaged, never read for another package directory."""
+    copy = tmp_path / "hbmfric"
+    shutil.copytree(
+        _jit.PACKAGE_DIR, copy, ignore=shutil.ignore_patterns("__pycache__")
+    )
+    base = tmp_path / "cache"
+    key = _jit.source_key(str(copy))
+
+    # Files written just now are not remembered: an edit in the same tick of
+    # the file-system clock could keep their times and size.
+    assert _jit.remembered_source_key(str(copy), str(base)) == key
+    assert not list(base.glob("source-key-*"))
+    monkeypatch.setattr(_jit, "RACY_NS", 0)  # the copy counts as old from here
+
+    assert _jit.remembered_source_key(str(copy), str(base)) == key
+    (memo,) = base.glob("source-key-*")
+
+    computed = []
+    real = _jit.source_key
+
+    def counting(package_dir):
+        computed.append(package_dir)
+        return real(package_dir)
+
+    monkeypatch.setattr(_jit, "source_key", counting)
+    assert _jit.remembered_source_key(str(copy), str(base)) == key
+    assert computed == []  # read, not computed
+
+    with open(copy / "kernels" / "fourier" / "dft.py", "a") as f:
+        f.write("\n# a comment\n")
+    key2 = real(str(copy))
+    assert key2 != key
+    assert _jit.remembered_source_key(str(copy), str(base)) == key2
+    assert len(computed) == 1
+
+    # A new file anywhere in the package changes the stamp (it may become a
+    # kernel source once imported).
+    (copy / "kernels" / "fourier" / "constants.py").write_text("LIMIT = 3\n")
+    assert _jit.remembered_source_key(str(copy), str(base)) == key2
+    assert len(computed) == 2
+
+    memo.write_text("garbage")
+    assert _jit.remembered_source_key(str(copy), str(base)) == key2
+    assert len(computed) == 3
+    assert _jit.remembered_source_key(str(copy), str(base)) == key2
+    assert len(computed) == 3
+
+    # Another package directory (a second checkout) has its own line.
+    other = tmp_path / "other" / "hbmfric"
+    shutil.copytree(copy, other)
+    assert _jit.remembered_source_key(str(other), str(base)) == key2
+    assert len(list(base.glob("source-key-*"))) == 2
+
+    # No writable base: computed, no error.
+    blocker = tmp_path / "blocker"
+    blocker.write_text("not a directory")
+    assert _jit.remembered_source_key(str(copy), str(blocker / "c")) == key2
+
+
+def test_cache_directory_checked_once_per_directory(tmp_path, monkeypatch):
+    """Numba's writability check of a cache directory (create it, write a
+    temporary file) runs once per directory, not once per kernel."""
+    monkeypatch.setattr(_jit, "CACHE_DIR", str(tmp_path / "cache"))
+    checked = []
+    real = _jit._KeyedCacheLocator.ensure_cache_path
+
+    def counting(self):
+        checked.append(self.get_cache_path())
+        real(self)
+
+    monkeypatch.setattr(_jit._KeyedCacheLocator, "ensure_cache_path", counting)
+    from hbmfric.kernels.fourier import dft, segments
+
+    locators = [
+        _jit._KeyedCacheLocator.from_function(f.py_func, mod.__file__)
+        for mod, f in (
+            (dft, dft.evaluate),
+            (dft, dft.fourier_matrices),
+            (dft, dft.n_coefficients),
+            (segments, segments.trig_series),
+        )
+    ]
+    assert all(loc is not None for loc in locators)
+    path = str(tmp_path / "cache" / "kernels" / "fourier")
+    assert checked == [path]
+    assert os.path.isdir(path)
 
 
 def test_cache_base_resolution(tmp_path):
