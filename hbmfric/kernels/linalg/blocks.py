@@ -36,6 +36,12 @@ from .krylov import (
     GMRES_CONVERGED,
     GMRES_NOT_CONVERGED,
     GMRES_NOT_FINITE,
+    REUSE_FACTORISATIONS,
+    REUSE_FALLBACKS,
+    REUSE_PREPARED,
+    REUSE_PRODUCTS,
+    REUSE_SOLVES,
+    REUSE_TOL,
     _norm2,
     sparse_matvec,
     sparse_rows,
@@ -213,6 +219,20 @@ def gmres_blocks(A, b, x, n_dof, n_coef, first, tol, arrays):
         Products with ``A`` spent (the check included).
     """
     blocks, pivots, border, V, work = arrays
+    if not np.isfinite(_norm2(b)):
+        return GMRES_NOT_FINITE, 0
+    if not prepare_blocks(A, n_dof, n_coef, first, blocks, pivots, border, work):
+        return GMRES_NOT_CONVERGED, 0
+    return gmres_prepared(
+        A, b, x, n_dof, n_coef, first, tol, blocks, pivots, border, V, work
+    )
+
+
+@jit
+def gmres_prepared(A, b, x, n_dof, n_coef, first, tol, blocks, pivots, border, V, work):
+    """:func:`gmres_blocks` with the preconditioner of ``A`` already built
+    by :func:`prepare_blocks` (same arguments and results; ``V`` and
+    ``work`` the Krylov basis, shape (k_max + 1, m), and shape (2 n_dof,))."""
     m = b.size
     k_max = V.shape[0] - 1
     beta = _norm2(b)
@@ -222,8 +242,6 @@ def gmres_blocks(A, b, x, n_dof, n_coef, first, tol, arrays):
         for i in range(m):
             x[i] = 0.0
         return GMRES_CONVERGED, 0
-    if not prepare_blocks(A, n_dof, n_coef, first, blocks, pivots, border, work):
-        return GMRES_NOT_CONVERGED, 0
     starts, columns, values = sparse_rows(A)
     H = np.zeros((k_max + 1, k_max))
     cs = np.empty(k_max)
@@ -302,3 +320,87 @@ def gmres_blocks(A, b, x, n_dof, n_coef, first, tol, arrays):
     if res > target:
         return GMRES_NOT_CONVERGED, k + 1
     return GMRES_CONVERGED, k + 1
+
+
+#: values of ``state[REUSE_PREPARED]`` (:func:`block_solve`)
+PREPARED_NONE = 0.0
+PREPARED_BLOCKS = 1.0
+PREPARED_DENSE = 2.0
+
+
+@jit
+def block_solve(A, b, solver, n_dof, n_coef, first, again):
+    """Solve the corrector's bordered system ``A x = b`` by GMRES
+    preconditioned by the harmonic blocks of ``A`` (:func:`gmres_prepared`),
+    with a dense LU when GMRES fails. ``b`` holds ``x`` on return; ``A``
+    is not modified.
+
+    Parameters
+    ----------
+    A : ndarray, shape (m, m)
+        The bordered matrix, ``m = n_dof n_coef + 1``.
+    b : ndarray, shape (m,)
+        In: right-hand side. Out: the solution.
+    solver : tuple
+        ``(F, piv, V, state, blocks, pivots, border, work)`` of
+        :func:`hbmfric.condensation.solver_arrays`: dense factors (the
+        fallback), Krylov basis, state (counters and settings of
+        :mod:`.krylov`; ``state[REUSE_PREPARED]`` says what the arrays
+        hold for the last matrix) and the preconditioner's arrays
+        (:func:`block_work`).
+    n_dof, n_coef, first : int
+        Layout of the unknowns (:func:`factor_blocks`).
+    again : bool
+        ``A`` is the matrix of the previous call (the tangent after the
+        corrector): its preconditioner, or its dense factors after a
+        fallback, serve as they are.
+
+    Returns
+    -------
+    bool
+        False if ``A`` is singular to the pivot test of the dense LU or
+        the solution is not finite (``b`` is then meaningless).
+    """
+    F, fpiv, V, state, blocks, pivots, border, work = solver
+    m = b.size
+    ready = state[REUSE_PREPARED] if again else PREPARED_NONE
+    if ready == PREPARED_DENSE:
+        lu_solve(F, fpiv, b)
+        return np.isfinite(b).all()
+    if ready != PREPARED_BLOCKS:
+        state[REUSE_PREPARED] = PREPARED_NONE
+        if prepare_blocks(A, n_dof, n_coef, first, blocks, pivots, border, work):
+            state[REUSE_PREPARED] = PREPARED_BLOCKS
+    if state[REUSE_PREPARED] == PREPARED_BLOCKS:
+        x = np.empty(m)
+        status, products = gmres_prepared(
+            A,
+            b,
+            x,
+            n_dof,
+            n_coef,
+            first,
+            state[REUSE_TOL],
+            blocks,
+            pivots,
+            border,
+            V,
+            work,
+        )
+        state[REUSE_PRODUCTS] += products
+        if status == GMRES_CONVERGED:
+            for i in range(m):
+                b[i] = x[i]
+            state[REUSE_SOLVES] += 1.0
+            return True
+        state[REUSE_FALLBACKS] += 1.0
+    state[REUSE_PREPARED] = PREPARED_NONE
+    for i in range(m):
+        for j in range(m):
+            F[i, j] = A[i, j]
+    if not lu_factor(F, fpiv):
+        return False
+    state[REUSE_FACTORISATIONS] += 1.0
+    state[REUSE_PREPARED] = PREPARED_DENSE
+    lu_solve(F, fpiv, b)
+    return np.isfinite(b).all()

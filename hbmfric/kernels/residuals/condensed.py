@@ -103,7 +103,7 @@ from ..._jit import jit
 from ..dlft.coulomb import COULOMB, dlft_contact, dlft_located
 from ..dlft.tail import contact_receptance, dlft_tail
 from ..linalg.lu import lu_factor, lu_solve, solve_inplace
-from ..linalg.products import matmul, matvec
+from ..linalg.products import matvec, symmetric_matmul
 from .hbm import (
     COULOMB_TYPES,
     DAHL_FAMILY,
@@ -830,7 +830,7 @@ def _state_coordinate_receptance(k, omega, col, problem, G, p, c, dc, rho):
             scaled[a, r] = v
             pa += v * rho[r]
         p[a] = pa
-    matmul(scaled, right, G)
+    symmetric_matmul(scaled, right, G)
 
 
 @jit
@@ -857,7 +857,13 @@ def _state_derivative(problem, r_lin, c, dc, rho, out, tmp):
 def _invert(G, D, A):
     """``D = G⁻¹`` (complex, shape (m, m)) by Gauss-Jordan elimination
     with partial pivoting; ``A`` is work of the same shape. False if a
-    pivot is zero or not finite."""
+    pivot is zero or not finite.
+
+    Only what can be nonzero is updated: the columns of ``A`` right of the
+    pivot (those left of it are eliminated and never read again), and the
+    columns of ``D`` where the rows pivoted so far had their unit entry
+    (the rest of each row of ``D`` is still zero): half the work of the
+    full updates, the same ``D`` (the skipped terms are exact zeros)."""
     m = G.shape[0]
     big_all = 0.0
     for i in range(m):
@@ -870,6 +876,8 @@ def _invert(G, D, A):
     if not np.isfinite(big_all):
         return False
     tiny = 1e-300 + big_all * 1e-15
+    # origin[i]: the column of the unit entry row i of D started with
+    origin = np.arange(m)
     for k in range(m):
         p = k
         big = abs(A[k, k])
@@ -884,17 +892,22 @@ def _invert(G, D, A):
             for j in range(m):
                 A[k, j], A[p, j] = A[p, j], A[k, j]
                 D[k, j], D[p, j] = D[p, j], D[k, j]
+            origin[k], origin[p] = origin[p], origin[k]
         inv = 1.0 / A[k, k]
-        for j in range(m):
+        for j in range(k + 1, m):
             A[k, j] *= inv
-            D[k, j] *= inv
+        # row k of D is nonzero in the columns origin[0..k] only
+        for t in range(k + 1):
+            D[k, origin[t]] *= inv
         for i in range(m):
             if i == k:
                 continue
             f = A[i, k]
             if f != 0.0:
-                for j in range(m):
+                for j in range(k + 1, m):
                     A[i, j] -= f * A[k, j]
+                for t in range(k + 1):
+                    j = origin[t]
                     D[i, j] -= f * D[k, j]
     return True
 
@@ -1277,7 +1290,7 @@ def _drawn_harmonic(problem, y, t, scale, k, col):
             s += scaled[a, r] * rho[r]
         p[a] = s
     G = np.empty((n_c, n_c), dtype=np.complex128)
-    matmul(scaled, right, G)
+    symmetric_matmul(scaled, right, G)
     D = np.empty((n_c, n_c), dtype=np.complex128)
     work = np.empty((n_c, n_c), dtype=np.complex128)
     if not _invert(G, D, work):
