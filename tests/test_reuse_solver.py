@@ -131,7 +131,8 @@ def test_a_stale_preconditioner_past_the_refresh_limit_is_replaced():
 
 def test_small_problems_keep_the_plain_lu():
     joint = hf.lap_joint(10)
-    p = CondensedHBMProblem(joint, 36.0, 15)  # 128 unknowns
+    p = CondensedHBMProblem(joint, 36.0, 7)  # 64 unknowns
+    assert p.n_unknowns < hc.REUSE_MIN_UNKNOWNS
     assert p.kernel_problem.solver[0].shape == (0, 0)
     F, piv, V, state, *_ = solver_arrays(300)
     assert F.shape == (301, 301) and V.shape == (hc.REUSE_KRYLOV + 1, 301)

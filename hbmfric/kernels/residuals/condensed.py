@@ -968,6 +968,7 @@ def _coordinates_linear(y, problem, R, J):
     r_lin = np.empty(n_c, dtype=np.complex128)
     v = np.empty(n_c, dtype=np.complex128)
     level = 0.0
+    left_abs, right_sums = _state_magnitudes(problem)
     col = 0
     for k in hn:
         if problem.method == DIRECT:
@@ -988,7 +989,7 @@ def _coordinates_linear(y, problem, R, J):
             e[a] = (y[i] + 0.0j if k == 0 else y[i] - 1j * y[i + 1]) - p[a]
         g_scale = 0.0
         if problem.method == STATE:
-            g_scale = _state_sum_norm(problem, c)
+            g_scale = _state_sum_norm(left_abs, right_sums, c)
         level = max(level, _rounding_level(G, D, e, g_scale))
         for a in range(n_c):
             s = 0.0j
@@ -1029,25 +1030,43 @@ def _coordinates_linear(y, problem, R, J):
 
 
 @jit
-def _state_sum_norm(problem, c):
-    """``‖ |L| diag|c| |R| ‖∞``: the ∞-norm of the sum of the absolute
-    terms of ``G = L diag(c) R`` (complex modes), the scale of its
-    rounding. On the lap joint 80 times ``‖G‖∞`` (its relative
-    coordinates are small differences of the modes' terms)."""
+def _state_magnitudes(problem):
+    """``|L|`` (shape (n_c, n_states)) and the row sums of ``|R|`` (shape
+    (n_states,)) of the complex modes, the constant parts of
+    :func:`_state_sum_norm`, once per residual (not per harmonic: each
+    complex magnitude is a square root)."""
     left = problem.state_left
     right = problem.state_right
     n_c, n_s = left.shape
-    weight = np.empty(n_s)
+    left_abs = np.empty((n_c, n_s))
+    right_sums = np.empty(n_s)
     for r in range(n_s):
         s = 0.0
         for b in range(n_c):
             s += abs(right[r, b])
-        weight[r] = abs(c[r]) * s
+        right_sums[r] = s
+    for a in range(n_c):
+        for r in range(n_s):
+            left_abs[a, r] = abs(left[a, r])
+    return left_abs, right_sums
+
+
+@jit
+def _state_sum_norm(left_abs, right_sums, c):
+    """``‖ |L| diag|c| |R| ‖∞``: the ∞-norm of the sum of the absolute
+    terms of ``G = L diag(c) R`` (complex modes), the scale of its
+    rounding, from :func:`_state_magnitudes`. On the lap joint 80 times
+    ``‖G‖∞`` (its relative coordinates are small differences of the modes'
+    terms)."""
+    n_c, n_s = left_abs.shape
+    weight = np.empty(n_s)
+    for r in range(n_s):
+        weight[r] = abs(c[r]) * right_sums[r]
     worst = 0.0
     for a in range(n_c):
         row = 0.0
         for r in range(n_s):
-            row += abs(left[a, r]) * weight[r]
+            row += left_abs[a, r] * weight[r]
         worst = max(worst, row)
     return worst
 
@@ -1071,14 +1090,18 @@ def _rounding_level(G, D, e, g_scale=0.0):
     g_norm = 0.0
     d_norm = 0.0
     worst = 0.0
+    e_abs = np.empty(m)
+    for b in range(m):
+        e_abs[b] = abs(e[b])
     for a in range(m):
         sg = 0.0
         sd = 0.0
         se = 0.0
         for b in range(m):
             sg += abs(G[a, b])
-            sd += abs(D[a, b])
-            se += abs(D[a, b]) * abs(e[b])
+            d = abs(D[a, b])
+            sd += d
+            se += d * e_abs[b]
         g_norm = max(g_norm, sg, g_scale)
         d_norm = max(d_norm, sd)
         worst = max(worst, se)

@@ -18,15 +18,14 @@ from ..linalg.krylov import (
     REUSE_FALLBACKS,
     REUSE_PRODUCTS,
     REUSE_SOLVES,
+    REUSE_TOL,
 )
 from ..linalg.lu import solve_inplace
 from ..residuals.dispatch import _is_condensed, residual
 from ..residuals.hbm import JIT_OPTIONS
 
-#: GMRES of the probe solve (:func:`probe_solve`): iterations at most and
-#: relative residual (2-norm) at which it stops
+#: GMRES iterations at most of the probe solve (:func:`probe_solve`)
 PROBE_KRYLOV = 60
-PROBE_TOL = 1e-10
 
 
 def probe_solve(problem, A, b, n_dof, n_coef, first):
@@ -43,7 +42,8 @@ def probe_solve(problem, A, b, n_dof, n_coef, first):
     iteration instead of the ``O(m³)`` LU, 9-20 iterations on the lap
     joint), falling back to the dense LU if GMRES does not converge; its
     counters (``problem.solver[3]``, :mod:`hbmfric.kernels.linalg.krylov`)
-    record GMRES solves, products, fallbacks and dense factorisations. Any
+    record GMRES solves, products, fallbacks and dense factorisations, and
+    its relative residual (2-norm) is ``state[REUSE_TOL]``. Any
     other problem factors ``A`` (:func:`~hbmfric.kernels.linalg.lu.solve_inplace`).
     """
     raise NotImplementedError("probe_solve is for jit code")
@@ -60,7 +60,7 @@ def _probe_solve(problem, A, b, n_dof, n_coef, first):
                 arrays = block_work(n_dof, n_coef, first, m, PROBE_KRYLOV)
                 x = np.empty(m)
                 status, products = gmres_blocks(
-                    A, b, x, n_dof, n_coef, first, PROBE_TOL, arrays
+                    A, b, x, n_dof, n_coef, first, state[REUSE_TOL], arrays
                 )
                 state[REUSE_PRODUCTS] += products
                 if status == GMRES_CONVERGED:
