@@ -12,7 +12,9 @@ at 162 Hz, Fex = 36 N. Minimum of repeated calls after a warm-up call.
 Fex/P = 1e-3 (36 N; the first bending resonance goes from stuck, 167 Hz,
 into microslip, peak at 162 Hz, and back), per setting of ``condense``
 (``state``, ``direct``, ``false``; ``state-plain``: condensed, a fresh LU
-of the Jacobian at every Newton iteration, the solver before stop 25),
+of the Jacobian at every Newton iteration and a dense LU in the truncation
+estimate, the solvers before stop 25; ``state-factors``: the corrector
+preconditioned by kept LU factors, stop 25),
 interleaved, warm (N = 10: after one untimed run of each; larger N: the
 first run is timed after a short warm-up branch over 160-161 Hz). Wall
 and CPU seconds (the CPU time of the process depends less on the load).
@@ -132,21 +134,29 @@ def iteration_costs(n_pairs, harmonics=15, full=True):
 def branch(n_pairs, condense, harmonics=15, band=BAND):
     """One branch; ``condense`` is a value of ``hf.frf``'s option, with the
     suffix ``-plain`` a condensed problem that factors its Jacobian at every
-    Newton iteration (the kept factors of stop 25 off)."""
+    Newton iteration and its truncation probe by a dense LU (the iterative
+    solves of stops 25 and 26 off), with ``-factors`` one whose corrector
+    is preconditioned by kept LU factors (stop 25) instead of the harmonic
+    blocks (stop 26)."""
     s = hf.lap_joint(n_pairs)
     plain = condense.endswith("-plain")
-    setting = condense.removesuffix("-plain")
+    factors = condense.endswith("-factors")
+    setting = condense.removesuffix("-plain").removesuffix("-factors")
     kw = {"condense": False} if setting == "false" else {"condense": setting}
     omega = (HZ * band[0], HZ * band[1])
     threshold = hc.REUSE_MIN_UNKNOWNS
+    preconditioner = hc.REUSE_PRECONDITIONER
     if plain:
         hc.REUSE_MIN_UNKNOWNS = 2**62
+    if factors:
+        hc.REUSE_PRECONDITIONER = "factors"
     t = time.perf_counter()
     cpu = time.process_time()
     try:
         b = hf.frf(s, FORCE, omega, harmonics, max_step=0.05, **kw)
     finally:
         hc.REUSE_MIN_UNKNOWNS = threshold
+        hc.REUSE_PRECONDITIONER = preconditioner
     elapsed = time.perf_counter() - t
     cpu = time.process_time() - cpu
     a = b.amplitude(harmonic=1, dof="drive")
