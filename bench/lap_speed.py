@@ -3,8 +3,10 @@
 ``python -m bench.lap_speed costs [N ...]``: where one Newton iteration
 spends its time (condensed: receptance part of the residual, AFT of the
 contacts, LU of the bordered Jacobian by :func:`hbmfric.kernels.linalg.
-lu_factor`, one GMRES product of the kept-factor solve and the nonzero
-share of the Jacobian; full: residual, LU), at three times the free linear response
+lu_factor`, one GMRES product of the kept-factor solve, the nonzero
+share of the Jacobian, and one solve by GMRES on the harmonic blocks with
+its preconditioner's cost and iterations, stop 26; full: residual, LU), at
+three times the free linear response
 at 162 Hz, Fex = 36 N. Minimum of repeated calls after a warm-up call.
 
 ``python -m bench.lap_speed branch N [condense ...]``: one branch
@@ -39,6 +41,11 @@ import hbmfric as hf  # noqa: E402
 import hbmfric.condensation as hc  # noqa: E402
 from hbmfric.condensation import CondensedHBMProblem  # noqa: E402
 from hbmfric.hbm import HBMProblem  # noqa: E402
+from hbmfric.kernels.linalg.blocks import (  # noqa: E402
+    block_work,
+    gmres_blocks,
+    prepare_blocks,
+)
 from hbmfric.kernels.linalg.krylov import sparse_matvec, sparse_rows  # noqa: E402
 from hbmfric.kernels.linalg.lu import lu_factor, lu_solve  # noqa: E402
 from hbmfric.kernels.residuals.condensed import condensed_contact_forces  # noqa: E402
@@ -91,6 +98,29 @@ def _product_times(J, repeat=5):
     }
 
 
+def _block_times(J, n_c, n_coef, repeat=5):
+    """One corrector solve by GMRES on the harmonic blocks (stop 26): the
+    preconditioner built (one LU of order ``2 n_c`` per harmonic), then
+    the whole solve of the bordered system, and its iteration count."""
+    A = np.vstack([J, np.ones((1, J.shape[1]))])
+    m = A.shape[0]
+    arrays = block_work(n_c, n_coef, 0, m, 60)
+    blocks, pivots, border, _, work = arrays
+    b = np.ones(m)
+    x = np.empty(m)
+    status, iterations = gmres_blocks(A, b, x, n_c, n_coef, 0, 1e-10, arrays)
+    return {
+        "blocks_prepare_ms": 1e3
+        * _best(
+            lambda: prepare_blocks(A, n_c, n_coef, 0, blocks, pivots, border, work),
+            repeat,
+        ),
+        "blocks_solve_ms": 1e3
+        * _best(lambda: gmres_blocks(A, b, x, n_c, n_coef, 0, 1e-10, arrays), repeat),
+        "blocks_iterations": iterations if status == 0 else -1,
+    }
+
+
 def iteration_costs(n_pairs, harmonics=15, full=True):
     s = hf.lap_joint(n_pairs)
     omega = HZ * 162.0
@@ -120,6 +150,7 @@ def iteration_costs(n_pairs, harmonics=15, full=True):
     row["cond_lu_ms"] = 1e3 * _lu_time(J)
     row["cond_nonzero_share"] = float(np.count_nonzero(J)) / J.size
     row.update(_product_times(J))
+    row.update(_block_times(J, c.n_coordinates, c.n_coef))
     if full:
         f = HBMProblem(s, FORCE, harmonics)
         X = c.full_coefficients(y[None])[0]
