@@ -42,8 +42,9 @@ def probe_solve(problem, A, b, n_dof, n_coef, first):
     iteration instead of the ``O(m³)`` LU, 9-20 iterations on the lap
     joint), falling back to the dense LU if GMRES does not converge; its
     counters (``problem.solver[3]``, :mod:`hbmfric.kernels.linalg.krylov`)
-    record GMRES solves, products, fallbacks and dense factorisations, and
-    its relative residual (2-norm) is ``state[REUSE_TOL]``. Any
+    record GMRES solves, products, fallbacks and the dense factorisations
+    of the fallbacks, and its relative residual (2-norm) is
+    ``state[REUSE_TOL]``. Any
     other problem factors ``A`` (:func:`~hbmfric.kernels.linalg.lu.solve_inplace`).
     """
     raise NotImplementedError("probe_solve is for jit code")
@@ -69,7 +70,7 @@ def _probe_solve(problem, A, b, n_dof, n_coef, first):
                         b[i] = x[i]
                     return True
                 state[REUSE_FALLBACKS] += 1.0
-            state[REUSE_FACTORISATIONS] += 1.0
+                state[REUSE_FACTORISATIONS] += 1.0
             return solve_inplace(A, b)
 
         return condensed
