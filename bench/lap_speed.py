@@ -3,8 +3,10 @@
 ``python -m bench.lap_speed costs [N ...]``: where one Newton iteration
 spends its time (condensed: receptance part of the residual, AFT of the
 contacts, LU of the bordered Jacobian by :func:`hbmfric.kernels.linalg.
-lu_factor`, one GMRES product of the kept-factor solve and the nonzero
-share of the Jacobian; full: residual, LU), at three times the free linear response
+lu_factor`, one GMRES product of the kept-factor solve, the nonzero
+share of the Jacobian, and one solve by GMRES on the harmonic blocks with
+its preconditioner's cost and iterations, stop 26; full: residual, LU), at
+three times the free linear response
 at 162 Hz, Fex = 36 N. Minimum of repeated calls after a warm-up call.
 
 ``python -m bench.lap_speed branch N [condense ...]``: one branch
@@ -12,7 +14,9 @@ at 162 Hz, Fex = 36 N. Minimum of repeated calls after a warm-up call.
 Fex/P = 1e-3 (36 N; the first bending resonance goes from stuck, 167 Hz,
 into microslip, peak at 162 Hz, and back), per setting of ``condense``
 (``state``, ``direct``, ``false``; ``state-plain``: condensed, a fresh LU
-of the Jacobian at every Newton iteration, the solver before stop 25),
+of the Jacobian at every Newton iteration and a dense LU in the truncation
+estimate, the solvers before stop 25; ``state-factors``: the corrector
+preconditioned by kept LU factors, stop 25),
 interleaved, warm (N = 10: after one untimed run of each; larger N: the
 first run is timed after a short warm-up branch over 160-161 Hz). Wall
 and CPU seconds (the CPU time of the process depends less on the load).
@@ -37,6 +41,11 @@ import hbmfric as hf  # noqa: E402
 import hbmfric.condensation as hc  # noqa: E402
 from hbmfric.condensation import CondensedHBMProblem  # noqa: E402
 from hbmfric.hbm import HBMProblem  # noqa: E402
+from hbmfric.kernels.linalg.blocks import (  # noqa: E402
+    block_work,
+    gmres_blocks,
+    prepare_blocks,
+)
 from hbmfric.kernels.linalg.krylov import sparse_matvec, sparse_rows  # noqa: E402
 from hbmfric.kernels.linalg.lu import lu_factor, lu_solve  # noqa: E402
 from hbmfric.kernels.residuals.condensed import condensed_contact_forces  # noqa: E402
@@ -89,6 +98,29 @@ def _product_times(J, repeat=5):
     }
 
 
+def _block_times(J, n_c, n_coef, repeat=5):
+    """One corrector solve by GMRES on the harmonic blocks (stop 26): the
+    preconditioner built (one LU of order ``2 n_c`` per harmonic), then
+    the whole solve of the bordered system, and its iteration count."""
+    A = np.vstack([J, np.ones((1, J.shape[1]))])
+    m = A.shape[0]
+    arrays = block_work(n_c, n_coef, 0, m, 60)
+    blocks, pivots, border, _, work = arrays
+    b = np.ones(m)
+    x = np.empty(m)
+    status, iterations = gmres_blocks(A, b, x, n_c, n_coef, 0, 1e-10, arrays)
+    return {
+        "blocks_prepare_ms": 1e3
+        * _best(
+            lambda: prepare_blocks(A, n_c, n_coef, 0, blocks, pivots, border, work),
+            repeat,
+        ),
+        "blocks_solve_ms": 1e3
+        * _best(lambda: gmres_blocks(A, b, x, n_c, n_coef, 0, 1e-10, arrays), repeat),
+        "blocks_iterations": iterations if status == 0 else -1,
+    }
+
+
 def iteration_costs(n_pairs, harmonics=15, full=True):
     s = hf.lap_joint(n_pairs)
     omega = HZ * 162.0
@@ -118,6 +150,7 @@ def iteration_costs(n_pairs, harmonics=15, full=True):
     row["cond_lu_ms"] = 1e3 * _lu_time(J)
     row["cond_nonzero_share"] = float(np.count_nonzero(J)) / J.size
     row.update(_product_times(J))
+    row.update(_block_times(J, c.n_coordinates, c.n_coef))
     if full:
         f = HBMProblem(s, FORCE, harmonics)
         X = c.full_coefficients(y[None])[0]
@@ -132,21 +165,29 @@ def iteration_costs(n_pairs, harmonics=15, full=True):
 def branch(n_pairs, condense, harmonics=15, band=BAND):
     """One branch; ``condense`` is a value of ``hf.frf``'s option, with the
     suffix ``-plain`` a condensed problem that factors its Jacobian at every
-    Newton iteration (the kept factors of stop 25 off)."""
+    Newton iteration and its truncation probe by a dense LU (the iterative
+    solves of stops 25 and 26 off), with ``-factors`` one whose corrector
+    is preconditioned by kept LU factors (stop 25) instead of the harmonic
+    blocks (stop 26)."""
     s = hf.lap_joint(n_pairs)
     plain = condense.endswith("-plain")
-    setting = condense.removesuffix("-plain")
+    factors = condense.endswith("-factors")
+    setting = condense.removesuffix("-plain").removesuffix("-factors")
     kw = {"condense": False} if setting == "false" else {"condense": setting}
     omega = (HZ * band[0], HZ * band[1])
     threshold = hc.REUSE_MIN_UNKNOWNS
+    preconditioner = hc.REUSE_PRECONDITIONER
     if plain:
         hc.REUSE_MIN_UNKNOWNS = 2**62
+    if factors:
+        hc.REUSE_PRECONDITIONER = "factors"
     t = time.perf_counter()
     cpu = time.process_time()
     try:
         b = hf.frf(s, FORCE, omega, harmonics, max_step=0.05, **kw)
     finally:
         hc.REUSE_MIN_UNKNOWNS = threshold
+        hc.REUSE_PRECONDITIONER = preconditioner
     elapsed = time.perf_counter() - t
     cpu = time.process_time() - cpu
     a = b.amplitude(harmonic=1, dof="drive")

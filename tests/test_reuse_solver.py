@@ -131,17 +131,22 @@ def test_a_stale_preconditioner_past_the_refresh_limit_is_replaced():
 
 def test_small_problems_keep_the_plain_lu():
     joint = hf.lap_joint(10)
-    p = CondensedHBMProblem(joint, 36.0, 15)  # 128 unknowns
+    p = CondensedHBMProblem(joint, 36.0, 7)  # 64 unknowns
+    assert p.n_unknowns < hc.REUSE_MIN_UNKNOWNS
     assert p.kernel_problem.solver[0].shape == (0, 0)
-    F, piv, V, state = solver_arrays(300)
+    F, piv, V, state, *_ = solver_arrays(300)
     assert F.shape == (301, 301) and V.shape == (hc.REUSE_KRYLOV + 1, 301)
     assert state[krylov.REUSE_TOL] == hc.REUSE_TOL
     assert solver_arrays(300, enabled=False)[0].shape == (0, 0)
 
 
-@pytest.fixture
-def reuse_everywhere(monkeypatch):
+@pytest.fixture(params=["blocks", "factors"])
+def reuse_everywhere(monkeypatch, request):
+    """The iterative corrector solve on every condensed problem, with each
+    preconditioner (harmonic blocks, the default; kept factors)."""
     monkeypatch.setattr(hc, "REUSE_MIN_UNKNOWNS", 0)
+    monkeypatch.setattr(hc, "REUSE_PRECONDITIONER", request.param)
+    return request.param
 
 
 def _corrector_run(problem, y0, constraint, y_pred):
@@ -202,7 +207,12 @@ def test_lap_joint_corrector_with_kept_factors_matches_the_plain_path(
         assert np.max(np.abs(y1 - y2)) <= 1e-14 + 1e-8 * 1e-6
         start = y1[:n]
     state = reuse.kernel_problem.solver[3]
-    assert state[krylov.REUSE_SOLVES] > state[krylov.REUSE_FACTORISATIONS] >= 1
+    if reuse_everywhere == "factors":
+        assert state[krylov.REUSE_SOLVES] > state[krylov.REUSE_FACTORISATIONS] >= 1
+    else:  # no dense factorisation at all
+        assert state[krylov.REUSE_MODE] == krylov.REUSE_MODE_BLOCKS
+        assert state[krylov.REUSE_SOLVES] >= ev1 - 1
+        assert state[krylov.REUSE_FACTORISATIONS] == 0
 
 
 def test_reuse_path_reports_a_singular_bordered_matrix(reuse_everywhere):
@@ -223,7 +233,10 @@ def test_reuse_path_reports_a_singular_bordered_matrix(reuse_everywhere):
     assert status in (newton.SINGULAR, newton.NOT_FINITE)
 
 
-def test_lap_joint_branch_with_kept_factors_matches_the_plain_path(monkeypatch):
+@pytest.mark.parametrize("preconditioner", ["blocks", "factors"])
+def test_lap_joint_branch_with_kept_factors_matches_the_plain_path(
+    monkeypatch, preconditioner
+):
     """A stretch of the condensed lap joint's branch through the onset of
     microslip (Fex/P = 1e-3, 161–163 Hz, H = 15): with kept factors the
     same points (count, Ω, amplitude within the corrector's tolerance) as
@@ -231,6 +244,7 @@ def test_lap_joint_branch_with_kept_factors_matches_the_plain_path(monkeypatch):
     joint = hf.lap_joint(10)
     band = (HZ * 161.0, HZ * 163.0)
     branches = []
+    monkeypatch.setattr(hc, "REUSE_PRECONDITIONER", preconditioner)
     for threshold in (10**9, 0):
         monkeypatch.setattr(hc, "REUSE_MIN_UNKNOWNS", threshold)
         with warnings.catch_warnings():

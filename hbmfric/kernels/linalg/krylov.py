@@ -249,7 +249,16 @@ REUSE_FALLBACKS = 4
 #: products after which the factors count as stale (the next solve factors)
 REUSE_TOL = 5
 REUSE_REFRESH = 6
-N_REUSE = 8
+#: setting (in): the corrector's preconditioner, ``REUSE_MODE_FACTORS``
+#: (kept LU factors of an earlier matrix, :func:`reuse_solve`) or
+#: ``REUSE_MODE_BLOCKS`` (the harmonic blocks of the current matrix,
+#: :func:`hbmfric.kernels.linalg.blocks.block_solve`)
+REUSE_MODE = 7
+REUSE_MODE_FACTORS = 0.0
+REUSE_MODE_BLOCKS = 1.0
+#: what the work arrays hold for the last matrix (blocks path)
+REUSE_PREPARED = 8
+N_REUSE = 10
 
 
 @jit

@@ -38,6 +38,33 @@ def matmul(A, B, out):
 
 
 @jit
+def symmetric_matmul(A, B, out):
+    """``out = A @ B`` for a product known to be symmetric (``A diag(c)
+    Aᵀ``-like, complex symmetric: ``L diag(c) R`` of a receptance): the
+    upper triangle as :func:`matmul` computes it (the same sums in the same
+    order), mirrored into the lower one; half the work.
+
+    Parameters
+    ----------
+    A : ndarray of complex128, shape (m, k)
+    B : ndarray of complex128, shape (k, m)
+    out : ndarray of complex128, shape (m, m)
+        Overwritten; must not share memory with ``A`` or ``B``.
+    """
+    m, k = A.shape
+    for i in range(m):
+        for j in range(i, m):
+            out[i, j] = 0.0j
+        for r in range(k):
+            f = A[i, r]
+            if f != 0.0:
+                for j in range(i, m):
+                    out[i, j] += f * B[r, j]
+        for j in range(i):
+            out[i, j] = out[j, i]
+
+
+@jit
 def matvec(A, x):
     """``A @ x`` as a new array.
 

@@ -103,7 +103,7 @@ from ..._jit import jit
 from ..dlft.coulomb import COULOMB, dlft_contact, dlft_located
 from ..dlft.tail import contact_receptance, dlft_tail
 from ..linalg.lu import lu_factor, lu_solve, solve_inplace
-from ..linalg.products import matmul, matvec
+from ..linalg.products import matvec, symmetric_matmul
 from .hbm import (
     COULOMB_TYPES,
     DAHL_FAMILY,
@@ -830,7 +830,7 @@ def _state_coordinate_receptance(k, omega, col, problem, G, p, c, dc, rho):
             scaled[a, r] = v
             pa += v * rho[r]
         p[a] = pa
-    matmul(scaled, right, G)
+    symmetric_matmul(scaled, right, G)
 
 
 @jit
@@ -857,7 +857,13 @@ def _state_derivative(problem, r_lin, c, dc, rho, out, tmp):
 def _invert(G, D, A):
     """``D = G⁻¹`` (complex, shape (m, m)) by Gauss-Jordan elimination
     with partial pivoting; ``A`` is work of the same shape. False if a
-    pivot is zero or not finite."""
+    pivot is zero or not finite.
+
+    Only what can be nonzero is updated: the columns of ``A`` right of the
+    pivot (those left of it are eliminated and never read again), and the
+    columns of ``D`` where the rows pivoted so far had their unit entry
+    (the rest of each row of ``D`` is still zero): half the work of the
+    full updates, the same ``D`` (the skipped terms are exact zeros)."""
     m = G.shape[0]
     big_all = 0.0
     for i in range(m):
@@ -870,6 +876,8 @@ def _invert(G, D, A):
     if not np.isfinite(big_all):
         return False
     tiny = 1e-300 + big_all * 1e-15
+    # origin[i]: the column of the unit entry row i of D started with
+    origin = np.arange(m)
     for k in range(m):
         p = k
         big = abs(A[k, k])
@@ -884,17 +892,22 @@ def _invert(G, D, A):
             for j in range(m):
                 A[k, j], A[p, j] = A[p, j], A[k, j]
                 D[k, j], D[p, j] = D[p, j], D[k, j]
+            origin[k], origin[p] = origin[p], origin[k]
         inv = 1.0 / A[k, k]
-        for j in range(m):
+        for j in range(k + 1, m):
             A[k, j] *= inv
-            D[k, j] *= inv
+        # row k of D is nonzero in the columns origin[0..k] only
+        for t in range(k + 1):
+            D[k, origin[t]] *= inv
         for i in range(m):
             if i == k:
                 continue
             f = A[i, k]
             if f != 0.0:
-                for j in range(m):
+                for j in range(k + 1, m):
                     A[i, j] -= f * A[k, j]
+                for t in range(k + 1):
+                    j = origin[t]
                     D[i, j] -= f * D[k, j]
     return True
 
@@ -955,6 +968,7 @@ def _coordinates_linear(y, problem, R, J):
     r_lin = np.empty(n_c, dtype=np.complex128)
     v = np.empty(n_c, dtype=np.complex128)
     level = 0.0
+    left_abs, right_sums = _state_magnitudes(problem)
     col = 0
     for k in hn:
         if problem.method == DIRECT:
@@ -975,7 +989,7 @@ def _coordinates_linear(y, problem, R, J):
             e[a] = (y[i] + 0.0j if k == 0 else y[i] - 1j * y[i + 1]) - p[a]
         g_scale = 0.0
         if problem.method == STATE:
-            g_scale = _state_sum_norm(problem, c)
+            g_scale = _state_sum_norm(left_abs, right_sums, c)
         level = max(level, _rounding_level(G, D, e, g_scale))
         for a in range(n_c):
             s = 0.0j
@@ -1016,25 +1030,43 @@ def _coordinates_linear(y, problem, R, J):
 
 
 @jit
-def _state_sum_norm(problem, c):
-    """``‖ |L| diag|c| |R| ‖∞``: the ∞-norm of the sum of the absolute
-    terms of ``G = L diag(c) R`` (complex modes), the scale of its
-    rounding. On the lap joint 80 times ``‖G‖∞`` (its relative
-    coordinates are small differences of the modes' terms)."""
+def _state_magnitudes(problem):
+    """``|L|`` (shape (n_c, n_states)) and the row sums of ``|R|`` (shape
+    (n_states,)) of the complex modes, the constant parts of
+    :func:`_state_sum_norm`, once per residual (not per harmonic: each
+    complex magnitude is a square root)."""
     left = problem.state_left
     right = problem.state_right
     n_c, n_s = left.shape
-    weight = np.empty(n_s)
+    left_abs = np.empty((n_c, n_s))
+    right_sums = np.empty(n_s)
     for r in range(n_s):
         s = 0.0
         for b in range(n_c):
             s += abs(right[r, b])
-        weight[r] = abs(c[r]) * s
+        right_sums[r] = s
+    for a in range(n_c):
+        for r in range(n_s):
+            left_abs[a, r] = abs(left[a, r])
+    return left_abs, right_sums
+
+
+@jit
+def _state_sum_norm(left_abs, right_sums, c):
+    """``‖ |L| diag|c| |R| ‖∞``: the ∞-norm of the sum of the absolute
+    terms of ``G = L diag(c) R`` (complex modes), the scale of its
+    rounding, from :func:`_state_magnitudes`. On the lap joint 80 times
+    ``‖G‖∞`` (its relative coordinates are small differences of the modes'
+    terms)."""
+    n_c, n_s = left_abs.shape
+    weight = np.empty(n_s)
+    for r in range(n_s):
+        weight[r] = abs(c[r]) * right_sums[r]
     worst = 0.0
     for a in range(n_c):
         row = 0.0
         for r in range(n_s):
-            row += abs(left[a, r]) * weight[r]
+            row += left_abs[a, r] * weight[r]
         worst = max(worst, row)
     return worst
 
@@ -1058,14 +1090,18 @@ def _rounding_level(G, D, e, g_scale=0.0):
     g_norm = 0.0
     d_norm = 0.0
     worst = 0.0
+    e_abs = np.empty(m)
+    for b in range(m):
+        e_abs[b] = abs(e[b])
     for a in range(m):
         sg = 0.0
         sd = 0.0
         se = 0.0
         for b in range(m):
             sg += abs(G[a, b])
-            sd += abs(D[a, b])
-            se += abs(D[a, b]) * abs(e[b])
+            d = abs(D[a, b])
+            sd += d
+            se += d * e_abs[b]
         g_norm = max(g_norm, sg, g_scale)
         d_norm = max(d_norm, sd)
         worst = max(worst, se)
@@ -1277,7 +1313,7 @@ def _drawn_harmonic(problem, y, t, scale, k, col):
             s += scaled[a, r] * rho[r]
         p[a] = s
     G = np.empty((n_c, n_c), dtype=np.complex128)
-    matmul(scaled, right, G)
+    symmetric_matmul(scaled, right, G)
     D = np.empty((n_c, n_c), dtype=np.complex128)
     work = np.empty((n_c, n_c), dtype=np.complex128)
     if not _invert(G, D, work):

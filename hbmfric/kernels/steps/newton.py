@@ -10,7 +10,8 @@ import numpy as np
 from numba.extending import overload
 
 from ..._jit import jit, jit_inline
-from ..linalg.krylov import reuse_solve
+from ..linalg.blocks import block_solve
+from ..linalg.krylov import REUSE_MODE, REUSE_MODE_BLOCKS, reuse_solve
 from ..linalg.lu import lu_factor, lu_solve, solve_inplace
 from ..residuals.dispatch import _is_condensed, residual, rounding_level
 from ..residuals.hbm import JIT_OPTIONS
@@ -77,12 +78,14 @@ def bordered_solve(problem, A, piv, b):
     jitted code only.
 
     Dispatched at compile time on the type of ``problem``: a condensed
-    problem that carries the work arrays of a reusable factorisation
+    problem that carries the work arrays of an iterative solve
     (``solver``, :class:`~hbmfric.kernels.residuals.condensed.CondensedProblem`;
     large problems only, see :data:`hbmfric.condensation.REUSE_MIN_UNKNOWNS`)
-    solves by :func:`~hbmfric.kernels.linalg.krylov.reuse_solve` (GMRES
-    preconditioned by the factors of an earlier iteration or point, a fresh
-    factorisation when they no longer serve) and leaves ``A`` unchanged;
+    solves by GMRES and leaves ``A`` unchanged: preconditioned by the
+    harmonic blocks of ``A`` (:func:`~hbmfric.kernels.linalg.blocks.block_solve`,
+    the default) or by the factors of an earlier iteration or point
+    (:func:`~hbmfric.kernels.linalg.krylov.reuse_solve`), as
+    ``state[REUSE_MODE]`` says, a dense factorisation when that fails;
     any other problem factors ``A`` in place (its factors in ``A``, ``piv``).
     """
     raise NotImplementedError("bordered_solve is for jit code")
@@ -93,8 +96,12 @@ def _bordered_solve(problem, A, piv, b):
     if _is_condensed(problem):
 
         def condensed(problem, A, piv, b):
-            F, fpiv, V, state = problem.solver
+            solver = problem.solver
+            F, fpiv, V, state = solver[0], solver[1], solver[2], solver[3]
             if F.shape[0] == A.shape[0]:
+                if state[REUSE_MODE] == REUSE_MODE_BLOCKS:
+                    n_c, n_coef, first = _layout(problem)
+                    return block_solve(A, b, solver, n_c, n_coef, first, False)
                 return reuse_solve(A, b, F, fpiv, V, state)
             if not lu_factor(A, piv):
                 return False
@@ -112,6 +119,15 @@ def _bordered_solve(problem, A, piv, b):
     return full
 
 
+@jit_inline
+def _layout(problem):
+    """Coordinates, coefficients per coordinate and the column of the first
+    cosine (1 with a constant) of a condensed problem's unknowns."""
+    hn = problem.harmonic_numbers
+    first = 1 if hn.size > 0 and hn[0] == 0 else 0
+    return problem.law_codes.size, problem.inverse.shape[1], first
+
+
 def bordered_tangent(problem, A, piv, out):
     """Unit tangent ``A⁻¹ e_n / ‖A⁻¹ e_n‖`` into ``out`` after
     :func:`correct` left ``A``, ``piv`` (:func:`tangent_from_lu` of its
@@ -126,14 +142,19 @@ def _bordered_tangent(problem, A, piv, out):
     if _is_condensed(problem):
 
         def condensed(problem, A, piv, out):
-            F, fpiv, V, state = problem.solver
+            solver = problem.solver
+            F, fpiv, V, state = solver[0], solver[1], solver[2], solver[3]
             if F.shape[0] != A.shape[0]:
                 return tangent_from_lu(A, piv, out)
             m = out.size
             for i in range(m):
                 out[i] = 0.0
             out[m - 1] = 1.0
-            if not reuse_solve(A, out, F, fpiv, V, state):
+            if state[REUSE_MODE] == REUSE_MODE_BLOCKS:
+                n_c, n_coef, first = _layout(problem)
+                if not block_solve(A, out, solver, n_c, n_coef, first, True):
+                    return False
+            elif not reuse_solve(A, out, F, fpiv, V, state):
                 return False
             return _normalise(out)
 

@@ -1,0 +1,406 @@
+"""GMRES preconditioned by the harmonic blocks of a harmonic-balance
+Jacobian.
+
+The Jacobian of a harmonic-balance residual is the sum of a linear part,
+block diagonal over harmonics (the dynamic stiffness of harmonic ``k``
+couples the DOFs or coordinates within that harmonic only), and a contact
+part, block diagonal over contacts (each contact's force depends on its
+own coordinate's coefficients only; a stuck contact's part is diagonal in
+the harmonics as well). Its *harmonic blocks*, the entries that couple the
+unknowns of one harmonic among themselves (the linear part and the
+harmonic-diagonal part of every contact's Jacobian), make a preconditioner
+that costs one small LU per harmonic (order ``2 n_dof``) to build and
+``O(n_harmonics (2 n_dof)²)`` to apply, against ``O(m³)`` and ``O(m²)`` for
+the LU of the whole matrix (``m = n_dof n_coef``). What the blocks leave
+out, the coupling of harmonics by the slipping contacts, is a small part of
+the matrix where the structure between the contacts is stiff against them
+(the lap joint: its condensed dynamic stiffness against the tangential
+contact stiffness), so GMRES needs few iterations (9-20 on the lap joint's
+truncation estimate at ``N = 40``, ``H = 31``, order 1088).
+
+A bordered matrix ``[[A, a], [cᵀ, d]]`` (the continuation corrector's) is
+preconditioned by ``[[P, a], [cᵀ, d]]`` with ``P`` the harmonic blocks of
+``A``: exact block elimination with ``z = P⁻¹ a``.
+
+Unknowns are stored DOF by DOF (``x[d * n_coef + j]``); within a DOF the
+columns are the constant (column 0, when ``first = 1``) and then the
+cosine and sine coefficient of each harmonic. Plain loops (no BLAS
+threads, :mod:`.lu`); the result of GMRES is checked against the residual
+recomputed from it, so the preconditioner costs iterations, never accuracy.
+"""
+
+import numpy as np
+
+from ..._jit import jit
+from .krylov import (
+    GMRES_CONVERGED,
+    GMRES_NOT_CONVERGED,
+    GMRES_NOT_FINITE,
+    REUSE_FACTORISATIONS,
+    REUSE_FALLBACKS,
+    REUSE_PREPARED,
+    REUSE_PRODUCTS,
+    REUSE_SOLVES,
+    REUSE_TOL,
+    _norm2,
+    sparse_matvec,
+    sparse_rows,
+)
+from .lu import lu_factor, lu_solve
+
+
+@jit
+def n_harmonic_groups(n_coef, first):
+    """Number of harmonic blocks: the constant (if ``first = 1``) and one
+    per cosine/sine pair."""
+    return first + (n_coef - first) // 2
+
+
+@jit
+def _group(g, first):
+    """Column within a DOF and width (1 or 2) of harmonic block ``g``."""
+    if first == 1:
+        if g == 0:
+            return 0, 1
+        return 1 + 2 * (g - 1), 2
+    return 2 * g, 2
+
+
+@jit
+def factor_blocks(A, n_dof, n_coef, first, blocks, pivots):
+    """LU factors of the harmonic blocks of the leading ``n = n_dof n_coef``
+    rows and columns of ``A``.
+
+    Parameters
+    ----------
+    A : ndarray, shape (>= n, >= n)
+        The matrix (not modified).
+    n_dof : int
+        DOFs (or contact coordinates) among the unknowns.
+    n_coef : int
+        Coefficients per DOF.
+    first : int
+        1 if column 0 of each DOF is the constant, else 0.
+    blocks : ndarray, shape (n_groups, 2 n_dof, 2 n_dof)
+        Out: the factors, block ``g`` in ``blocks[g]`` (a block of the
+        constant, order ``n_dof``, is padded with the identity).
+    pivots : ndarray of int64, shape (n_groups, 2 n_dof)
+        Out: their pivots.
+
+    Returns
+    -------
+    bool
+        False if a block is singular to the pivot test of
+        :func:`~.lu.lu_factor`.
+    """
+    size = 2 * n_dof
+    for g in range(n_harmonic_groups(n_coef, first)):
+        col, width = _group(g, first)
+        B = blocks[g]
+        for i in range(size):
+            for j in range(size):
+                B[i, j] = 0.0
+        for i in range(width * n_dof, size):
+            B[i, i] = 1.0
+        for d in range(n_dof):
+            for u in range(width):
+                row = d * n_coef + col + u
+                for e in range(n_dof):
+                    for v in range(width):
+                        B[d * width + u, e * width + v] = A[row, e * n_coef + col + v]
+        if not lu_factor(B, pivots[g]):
+            return False
+    return True
+
+
+@jit
+def apply_blocks(blocks, pivots, n_dof, n_coef, first, v, work):
+    """``v[:n] ← P⁻¹ v[:n]`` for the harmonic blocks ``P`` factored by
+    :func:`factor_blocks`; ``work``: shape (2 n_dof,)."""
+    size = 2 * n_dof
+    for g in range(n_harmonic_groups(n_coef, first)):
+        col, width = _group(g, first)
+        for i in range(size):
+            work[i] = 0.0
+        for d in range(n_dof):
+            for u in range(width):
+                work[d * width + u] = v[d * n_coef + col + u]
+        lu_solve(blocks[g], pivots[g], work)
+        for d in range(n_dof):
+            for u in range(width):
+                v[d * n_coef + col + u] = work[d * width + u]
+
+
+@jit
+def block_work(n_dof, n_coef, first, m, k_max):
+    """Work arrays of :func:`gmres_blocks` for a matrix of order ``m``
+    (``n_dof n_coef`` or one more, bordered) and at most ``k_max``
+    iterations: ``(blocks, pivots, border, V, work)``."""
+    n_groups = n_harmonic_groups(n_coef, first)
+    size = 2 * n_dof
+    return (
+        np.empty((n_groups, size, size)),
+        np.empty((n_groups, size), dtype=np.int64),
+        np.empty(m),
+        np.empty((k_max + 1, m)),
+        np.empty(size),
+    )
+
+
+@jit
+def prepare_blocks(A, n_dof, n_coef, first, blocks, pivots, border, work):
+    """Build the preconditioner of ``A`` (order ``m = n`` or ``n + 1``
+    bordered, ``n = n_dof n_coef``): factor its harmonic blocks and, when
+    bordered, ``border[:n] = z = P⁻¹ a`` (``a`` the last column) and
+    ``border[n] = d - cᵀ z`` (``cᵀ`` the last row). False if a block or
+    the bordered preconditioner is singular."""
+    n = n_dof * n_coef
+    m = A.shape[0]
+    if not factor_blocks(A, n_dof, n_coef, first, blocks, pivots):
+        return False
+    if m == n:
+        return True
+    for i in range(n):
+        border[i] = A[i, n]
+    apply_blocks(blocks, pivots, n_dof, n_coef, first, border, work)
+    delta = A[n, n]
+    for i in range(n):
+        delta -= A[n, i] * border[i]
+    border[n] = delta
+    return np.isfinite(delta) and delta != 0.0
+
+
+@jit
+def apply_preconditioner(A, blocks, pivots, n_dof, n_coef, first, border, v, work):
+    """``v ← M⁻¹ v`` for the preconditioner of :func:`prepare_blocks`:
+    the harmonic blocks, bordered by the last row and column of ``A`` when
+    ``v`` has one more entry than ``n_dof n_coef``."""
+    n = n_dof * n_coef
+    apply_blocks(blocks, pivots, n_dof, n_coef, first, v, work)
+    if v.size == n:
+        return
+    s = v[n]
+    for i in range(n):
+        s -= A[n, i] * v[i]
+    s /= border[n]
+    for i in range(n):
+        v[i] -= s * border[i]
+    v[n] = s
+
+
+@jit
+def gmres_blocks(A, b, x, n_dof, n_coef, first, tol, arrays):
+    """Solve ``A x = b`` by GMRES right-preconditioned by the harmonic
+    blocks of ``A`` (bordered when ``A`` has order ``n_dof n_coef + 1``).
+
+    Parameters
+    ----------
+    A : ndarray, shape (m, m)
+        The matrix (not modified), ``m = n_dof n_coef`` or one more.
+    b : ndarray, shape (m,)
+        Right-hand side (not modified).
+    x : ndarray, shape (m,)
+        Out: the solution (meaningless unless converged).
+    n_dof, n_coef, first : int
+        Layout of the unknowns (:func:`factor_blocks`).
+    tol : float
+        Converged when ``‖b - A x‖₂ <= tol ‖b‖₂``, checked on the residual
+        recomputed from ``x``.
+    arrays : tuple
+        :func:`block_work` (its Krylov basis bounds the iterations).
+
+    Returns
+    -------
+    status : int
+        :data:`~.krylov.GMRES_CONVERGED`, ``GMRES_NOT_CONVERGED`` (the
+        iteration bound, the recomputed residual above ``tol`` or a
+        singular preconditioner) or ``GMRES_NOT_FINITE``.
+    iterations : int
+        Products with ``A`` spent (the check included).
+    """
+    blocks, pivots, border, V, work = arrays
+    if not np.isfinite(_norm2(b)):
+        return GMRES_NOT_FINITE, 0
+    if not prepare_blocks(A, n_dof, n_coef, first, blocks, pivots, border, work):
+        return GMRES_NOT_CONVERGED, 0
+    return gmres_prepared(
+        A, b, x, n_dof, n_coef, first, tol, blocks, pivots, border, V, work
+    )
+
+
+@jit
+def gmres_prepared(A, b, x, n_dof, n_coef, first, tol, blocks, pivots, border, V, work):
+    """:func:`gmres_blocks` with the preconditioner of ``A`` already built
+    by :func:`prepare_blocks` (same arguments and results; ``V`` and
+    ``work`` the Krylov basis, shape (k_max + 1, m), and shape (2 n_dof,))."""
+    m = b.size
+    k_max = V.shape[0] - 1
+    beta = _norm2(b)
+    if not np.isfinite(beta):
+        return GMRES_NOT_FINITE, 0
+    if beta == 0.0:
+        for i in range(m):
+            x[i] = 0.0
+        return GMRES_CONVERGED, 0
+    starts, columns, values = sparse_rows(A)
+    H = np.zeros((k_max + 1, k_max))
+    cs = np.empty(k_max)
+    sn = np.empty(k_max)
+    g = np.zeros(k_max + 1)
+    u = np.empty(m)
+    inv = 1.0 / beta
+    for i in range(m):
+        V[0, i] = b[i] * inv
+    g[0] = beta
+    target = tol * beta
+    k = 0
+    converged = False
+    while k < k_max:
+        for i in range(m):
+            u[i] = V[k, i]
+        apply_preconditioner(A, blocks, pivots, n_dof, n_coef, first, border, u, work)
+        sparse_matvec(starts, columns, values, u, V[k + 1])
+        # modified Gram-Schmidt, twice
+        for _pass in range(2):
+            for j in range(k + 1):
+                h = 0.0
+                for i in range(m):
+                    h += V[j, i] * V[k + 1, i]
+                H[j, k] += h
+                for i in range(m):
+                    V[k + 1, i] -= h * V[j, i]
+        h_next = _norm2(V[k + 1])
+        H[k + 1, k] = h_next
+        if not np.isfinite(h_next):
+            return GMRES_NOT_FINITE, k + 1
+        if h_next > 0.0:
+            inv = 1.0 / h_next
+            for i in range(m):
+                V[k + 1, i] *= inv
+        for j in range(k):
+            t = cs[j] * H[j, k] + sn[j] * H[j + 1, k]
+            H[j + 1, k] = -sn[j] * H[j, k] + cs[j] * H[j + 1, k]
+            H[j, k] = t
+        r = np.hypot(H[k, k], H[k + 1, k])
+        if r == 0.0:
+            return GMRES_NOT_CONVERGED, k + 1
+        cs[k] = H[k, k] / r
+        sn[k] = H[k + 1, k] / r
+        H[k, k] = r
+        H[k + 1, k] = 0.0
+        g[k + 1] = -sn[k] * g[k]
+        g[k] = cs[k] * g[k]
+        k += 1
+        if abs(g[k]) <= 0.5 * target or h_next == 0.0:
+            converged = True
+            break
+    if not converged:
+        return GMRES_NOT_CONVERGED, k
+    y = np.empty(k)
+    for j in range(k - 1, -1, -1):
+        s = g[j]
+        for i in range(j + 1, k):
+            s -= H[j, i] * y[i]
+        y[j] = s / H[j, j]
+    for i in range(m):
+        u[i] = 0.0
+    for j in range(k):
+        yj = y[j]
+        for i in range(m):
+            u[i] += yj * V[j, i]
+    apply_preconditioner(A, blocks, pivots, n_dof, n_coef, first, border, u, work)
+    for i in range(m):
+        x[i] = u[i]
+    sparse_matvec(starts, columns, values, x, u)
+    for i in range(m):
+        u[i] = b[i] - u[i]
+    res = _norm2(u)
+    if not np.isfinite(res):
+        return GMRES_NOT_FINITE, k + 1
+    if res > target:
+        return GMRES_NOT_CONVERGED, k + 1
+    return GMRES_CONVERGED, k + 1
+
+
+#: values of ``state[REUSE_PREPARED]`` (:func:`block_solve`)
+PREPARED_NONE = 0.0
+PREPARED_BLOCKS = 1.0
+PREPARED_DENSE = 2.0
+
+
+@jit
+def block_solve(A, b, solver, n_dof, n_coef, first, again):
+    """Solve the corrector's bordered system ``A x = b`` by GMRES
+    preconditioned by the harmonic blocks of ``A`` (:func:`gmres_prepared`),
+    with a dense LU when GMRES fails. ``b`` holds ``x`` on return; ``A``
+    is not modified.
+
+    Parameters
+    ----------
+    A : ndarray, shape (m, m)
+        The bordered matrix, ``m = n_dof n_coef + 1``.
+    b : ndarray, shape (m,)
+        In: right-hand side. Out: the solution.
+    solver : tuple
+        ``(F, piv, V, state, blocks, pivots, border, work)`` of
+        :func:`hbmfric.condensation.solver_arrays`: dense factors (the
+        fallback), Krylov basis, state (counters and settings of
+        :mod:`.krylov`; ``state[REUSE_PREPARED]`` says what the arrays
+        hold for the last matrix) and the preconditioner's arrays
+        (:func:`block_work`).
+    n_dof, n_coef, first : int
+        Layout of the unknowns (:func:`factor_blocks`).
+    again : bool
+        ``A`` is the matrix of the previous call (the tangent after the
+        corrector): its preconditioner, or its dense factors after a
+        fallback, serve as they are.
+
+    Returns
+    -------
+    bool
+        False if ``A`` is singular to the pivot test of the dense LU or
+        the solution is not finite (``b`` is then meaningless).
+    """
+    F, fpiv, V, state, blocks, pivots, border, work = solver
+    m = b.size
+    ready = state[REUSE_PREPARED] if again else PREPARED_NONE
+    if ready == PREPARED_DENSE:
+        lu_solve(F, fpiv, b)
+        return np.isfinite(b).all()
+    if ready != PREPARED_BLOCKS:
+        state[REUSE_PREPARED] = PREPARED_NONE
+        if prepare_blocks(A, n_dof, n_coef, first, blocks, pivots, border, work):
+            state[REUSE_PREPARED] = PREPARED_BLOCKS
+    if state[REUSE_PREPARED] == PREPARED_BLOCKS:
+        x = np.empty(m)
+        status, products = gmres_prepared(
+            A,
+            b,
+            x,
+            n_dof,
+            n_coef,
+            first,
+            state[REUSE_TOL],
+            blocks,
+            pivots,
+            border,
+            V,
+            work,
+        )
+        state[REUSE_PRODUCTS] += products
+        if status == GMRES_CONVERGED:
+            for i in range(m):
+                b[i] = x[i]
+            state[REUSE_SOLVES] += 1.0
+            return True
+        state[REUSE_FALLBACKS] += 1.0
+    state[REUSE_PREPARED] = PREPARED_NONE
+    for i in range(m):
+        for j in range(m):
+            F[i, j] = A[i, j]
+    if not lu_factor(F, fpiv):
+        return False
+    state[REUSE_FACTORISATIONS] += 1.0
+    state[REUSE_PREPARED] = PREPARED_DENSE
+    lu_solve(F, fpiv, b)
+    return np.isfinite(b).all()

@@ -1,0 +1,299 @@
+"""GMRES preconditioned by the harmonic blocks of a harmonic-balance
+Jacobian (issue 15, stop 26: ``kernels/linalg/blocks.py``), used by the
+corrector of large condensed problems (``kernels/steps/newton.py:
+bordered_solve``) and by the probe solve of their truncation estimate
+(``kernels/steps/truncation.py: probe_solve``). Checked against NumPy's
+dense solve, against the dense path on the lap joint, and for loud
+failure; the residual's symmetric product and Gauss-Jordan inverse against
+NumPy."""
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+import hbmfric as hf
+import hbmfric.condensation as hc
+from hbmfric.condensation import CondensedHBMProblem, solver_arrays
+from hbmfric.continuation.accuracy import truncation_errors
+from hbmfric.kernels.linalg import blocks, krylov
+from hbmfric.kernels.linalg.products import symmetric_matmul
+from hbmfric.kernels.residuals.condensed import _invert
+
+HZ = 2.0 * math.pi
+
+
+def _harmonic_matrix(n_dof, n_coef, first, coupling, seed=0):
+    """A matrix with the structure of a harmonic-balance Jacobian: dense
+    blocks within each harmonic (a stiff, well-conditioned linear part),
+    plus per DOF a dense coupling of its coefficients of relative size
+    ``coupling`` (the contacts)."""
+    rng = np.random.default_rng(seed)
+    n = n_dof * n_coef
+    A = np.zeros((n, n))
+    groups = [[0]] if first else []
+    groups += [[c, c + 1] for c in range(first, n_coef - 1, 2)]
+    for cols in groups:
+        idx = np.array([d * n_coef + c for d in range(n_dof) for c in cols])
+        m = idx.size
+        A[np.ix_(idx, idx)] = rng.standard_normal((m, m)) + 2.0 * m * np.eye(m)
+    for d in range(n_dof):
+        s = slice(d * n_coef, (d + 1) * n_coef)
+        A[s, s] += coupling * n_dof * rng.standard_normal((n_coef, n_coef))
+    return A
+
+
+def _block_part(A, n_dof, n_coef, first):
+    P = np.zeros_like(A)
+    groups = [[0]] if first else []
+    groups += [[c, c + 1] for c in range(first, n_coef - 1, 2)]
+    for cols in groups:
+        idx = np.array([d * n_coef + c for d in range(n_dof) for c in cols])
+        P[np.ix_(idx, idx)] = A[np.ix_(idx, idx)]
+    return P
+
+
+@pytest.mark.parametrize("first", [0, 1])
+@pytest.mark.parametrize("bordered", [False, True])
+def test_gmres_with_harmonic_blocks_matches_numpy(first, bordered):
+    n_dof, n_coef = 6, 8 + first
+    A = _harmonic_matrix(n_dof, n_coef, first, 0.3)
+    n = A.shape[0]
+    rng = np.random.default_rng(1)
+    if bordered:
+        B = np.zeros((n + 1, n + 1))
+        B[:n, :n] = A
+        B[:n, n] = rng.standard_normal(n)
+        B[n, :] = rng.standard_normal(n + 1)
+        A = B
+    m = A.shape[0]
+    b = rng.standard_normal(m)
+    x = np.empty(m)
+    arrays = blocks.block_work(n_dof, n_coef, first, m, 60)
+    status, iterations = blocks.gmres_blocks(
+        A, b, x, n_dof, n_coef, first, 1e-12, arrays
+    )
+    assert status == krylov.GMRES_CONVERGED
+    assert 1 <= iterations < 60
+    ref = np.linalg.solve(A, b)
+    assert np.max(np.abs(x - ref)) <= 1e-10 * np.max(np.abs(ref))
+
+
+@pytest.mark.parametrize("first", [0, 1])
+def test_harmonic_blocks_invert_the_block_part(first):
+    """The preconditioner is the exact inverse of the harmonic blocks (and,
+    bordered, of the blocks with the last row and column)."""
+    n_dof, n_coef = 5, 6 + first
+    A = _harmonic_matrix(n_dof, n_coef, first, 0.5, seed=3)
+    n = A.shape[0]
+    P = _block_part(A, n_dof, n_coef, first)
+    bl, pv, border, _, work = blocks.block_work(n_dof, n_coef, first, n, 4)
+    assert blocks.prepare_blocks(A, n_dof, n_coef, first, bl, pv, border, work)
+    v = np.random.default_rng(2).standard_normal(n)
+    out = v.copy()
+    blocks.apply_preconditioner(A, bl, pv, n_dof, n_coef, first, border, out, work)
+    assert np.allclose(out, np.linalg.solve(P, v), rtol=0, atol=1e-12)
+    rng = np.random.default_rng(4)
+    B = np.zeros((n + 1, n + 1))
+    B[:n, :n] = A
+    B[:n, n] = rng.standard_normal(n)
+    B[n, :] = rng.standard_normal(n + 1)
+    M = B.copy()
+    M[:n, :n] = P
+    bl, pv, border, _, work = blocks.block_work(n_dof, n_coef, first, n + 1, 4)
+    assert blocks.prepare_blocks(B, n_dof, n_coef, first, bl, pv, border, work)
+    v = rng.standard_normal(n + 1)
+    out = v.copy()
+    blocks.apply_preconditioner(B, bl, pv, n_dof, n_coef, first, border, out, work)
+    assert np.allclose(out, np.linalg.solve(M, v), rtol=0, atol=1e-12)
+
+
+def test_gmres_with_harmonic_blocks_reports_what_it_cannot_do():
+    n_dof, n_coef = 4, 6
+    A = _harmonic_matrix(n_dof, n_coef, 0, 0.3)
+    n = A.shape[0]
+    x = np.empty(n)
+    b = np.ones(n)
+    # a non-finite right-hand side
+    bad = b.copy()
+    bad[3] = np.nan
+    arrays = blocks.block_work(n_dof, n_coef, 0, n, 30)
+    status, _ = blocks.gmres_blocks(A, bad, x, n_dof, n_coef, 0, 1e-10, arrays)
+    assert status == krylov.GMRES_NOT_FINITE
+    # a singular harmonic block: no preconditioner, no iteration
+    S = A.copy()
+    S[:, 0] = 0.0
+    S[0, :] = 0.0
+    status, k = blocks.gmres_blocks(S, b, x, n_dof, n_coef, 0, 1e-10, arrays)
+    assert status == krylov.GMRES_NOT_CONVERGED and k == 0
+    # too few iterations for a strong coupling of the harmonics
+    C = _harmonic_matrix(n_dof, n_coef, 0, 3.0)
+    short = blocks.block_work(n_dof, n_coef, 0, n, 2)
+    status, k = blocks.gmres_blocks(C, b, x, n_dof, n_coef, 0, 1e-12, short)
+    assert status == krylov.GMRES_NOT_CONVERGED and k <= 2
+    # a NaN inside the matrix
+    N = A.copy()
+    N[2, 7] = np.nan
+    status, _ = blocks.gmres_blocks(N, b, x, n_dof, n_coef, 0, 1e-10, arrays)
+    assert status != krylov.GMRES_CONVERGED
+
+
+def _solver(n_dof, n_coef, k_max=None):
+    """Work arrays of the corrector's block solve for a bordered system."""
+    n = n_dof * n_coef
+    arrays = solver_arrays(n, True, n_dof, n_coef, 0)
+    if k_max is not None:
+        arrays = (*arrays[:2], np.zeros((k_max + 1, n + 1)), *arrays[3:])
+    return arrays
+
+
+def _bordered(n_dof, n_coef, coupling, seed=0):
+    A = _harmonic_matrix(n_dof, n_coef, 0, coupling, seed)
+    n = A.shape[0]
+    rng = np.random.default_rng(seed + 10)
+    B = np.zeros((n + 1, n + 1))
+    B[:n, :n] = A
+    B[:n, n] = rng.standard_normal(n)
+    B[n, :] = rng.standard_normal(n + 1)
+    return B
+
+
+def test_block_solve_falls_back_to_a_dense_lu_and_keeps_it_for_the_tangent(
+    monkeypatch,
+):
+    monkeypatch.setattr(hc, "REUSE_MIN_UNKNOWNS", 0)
+    n_dof, n_coef = 6, 10
+    solver = _solver(n_dof, n_coef)
+    state = solver[3]
+    assert state[krylov.REUSE_MODE] == krylov.REUSE_MODE_BLOCKS
+    A = _bordered(n_dof, n_coef, 0.3)
+    m = A.shape[0]
+    b = np.random.default_rng(5).standard_normal(m)
+    x = b.copy()
+    assert blocks.block_solve(A, x, solver, n_dof, n_coef, 0, False)
+    assert np.allclose(A @ x, b, rtol=0, atol=1e-9 * np.abs(b).max())
+    assert state[krylov.REUSE_SOLVES] == 1 and state[krylov.REUSE_FACTORISATIONS] == 0
+    assert state[krylov.REUSE_PREPARED] == blocks.PREPARED_BLOCKS
+    # again with the same matrix (the tangent): the prepared blocks serve
+    e = np.zeros(m)
+    e[-1] = 1.0
+    t = e.copy()
+    assert blocks.block_solve(A, t, solver, n_dof, n_coef, 0, True)
+    assert np.allclose(t, np.linalg.solve(A, e), rtol=0, atol=1e-9)
+    # a strong coupling and a two-vector basis: GMRES fails, a dense LU
+    # solves, counted, and serves the tangent after it
+    short = _solver(n_dof, n_coef, k_max=2)
+    C = _bordered(n_dof, n_coef, 4.0, seed=1)
+    x = b.copy()
+    assert blocks.block_solve(C, x, short, n_dof, n_coef, 0, False)
+    assert np.allclose(x, np.linalg.solve(C, b), rtol=0, atol=1e-9)
+    st = short[3]
+    assert st[krylov.REUSE_FALLBACKS] == 1 and st[krylov.REUSE_FACTORISATIONS] == 1
+    assert st[krylov.REUSE_PREPARED] == blocks.PREPARED_DENSE
+    t = e.copy()
+    assert blocks.block_solve(C, t, short, n_dof, n_coef, 0, True)
+    assert st[krylov.REUSE_FACTORISATIONS] == 1  # no new factorisation
+    assert np.allclose(t, np.linalg.solve(C, e), rtol=0, atol=1e-9)
+    # a singular matrix is reported
+    S = A.copy()
+    S[:, 3] = 0.0
+    S[3, :] = 0.0
+    x = b.copy()
+    assert not blocks.block_solve(S, x, solver, n_dof, n_coef, 0, False)
+
+
+def test_symmetric_product_and_inverse_match_numpy():
+    rng = np.random.default_rng(7)
+    n_c, n_s = 9, 23
+    L = rng.standard_normal((n_c, n_s)) + 1j * rng.standard_normal((n_c, n_s))
+    c = rng.standard_normal(n_s) + 1j * rng.standard_normal(n_s)
+    scaled = np.ascontiguousarray(L * c)
+    G = np.empty((n_c, n_c), dtype=complex)
+    symmetric_matmul(scaled, np.ascontiguousarray(L.T), G)
+    ref = (L * c) @ L.T
+    assert np.allclose(G, ref, rtol=0, atol=1e-12 * np.abs(ref).max())
+    assert np.array_equal(G, G.T)
+    # Gauss-Jordan with pivoting (a zero leading entry forces a swap)
+    G[0, 0] = 0.0
+    D = np.empty_like(G)
+    work = np.empty_like(G)
+    assert _invert(G, D, work)
+    assert np.allclose(D @ G, np.eye(n_c), rtol=0, atol=1e-10)
+    assert np.allclose(D, np.linalg.inv(G), rtol=0, atol=1e-10 * np.abs(D).max())
+    singular = G.copy()
+    singular[:, 2] = 0.0
+    assert not _invert(singular, D, work)
+
+
+@pytest.fixture(scope="module")
+def microslip_points():
+    """Condensed points of the lap joint (N = 10, H = 15) through the onset
+    of microslip, from a short branch."""
+    joint = hf.lap_joint(10)
+    captured = {}
+    import hbmfric.api as api
+
+    original = api.truncation_errors
+
+    def keep(problem, points, *args, **kwargs):
+        captured["points"] = points.copy()
+        return original(problem, points, *args, **kwargs)
+
+    api.truncation_errors = keep
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", hf.AccuracyWarning)
+            hf.frf(joint, 36.0, (HZ * 160.0, HZ * 164.0), 15, max_step=0.05)
+    finally:
+        api.truncation_errors = original
+    return joint, captured["points"]
+
+
+def test_truncation_estimate_by_harmonic_blocks_matches_the_dense_solve(
+    microslip_points, monkeypatch
+):
+    """The probe solve of the truncation estimate by GMRES on the harmonic
+    blocks gives the estimates of the dense LU (to 1e-7 relative), and it
+    is the path taken (its counters), at every calibrated point."""
+    joint, points = microslip_points
+    out = {}
+    for label, threshold in (("dense", 10**9), ("blocks", 0)):
+        monkeypatch.setattr(hc, "REUSE_MIN_UNKNOWNS", threshold)
+        p = CondensedHBMProblem(joint, 36.0, 15)
+        out[label] = truncation_errors(p, points, 1e-4)
+        probe = p._accuracy_levels[1].problem.kernel_problem
+        out[label + "_state"] = probe.solver[3].copy()
+    dense, fast = out["dense"], out["blocks"]
+    assert np.count_nonzero(dense) >= 3
+    assert np.all(np.isfinite(fast))
+    assert np.allclose(fast, dense, rtol=1e-7, atol=0)
+    state = out["blocks_state"]
+    assert state[krylov.REUSE_SOLVES] >= 3
+    assert state[krylov.REUSE_FALLBACKS] == 0
+    assert state[krylov.REUSE_FACTORISATIONS] == 0
+    assert out["dense_state"][krylov.REUSE_SOLVES] == 0
+
+
+def test_truncation_probe_failure_falls_back_to_the_dense_solve(
+    microslip_points, monkeypatch
+):
+    """A probe GMRES that cannot converge (tolerance 0) falls back to the
+    dense LU at every calibrated point (counted): the same estimates."""
+    joint, points = microslip_points
+    monkeypatch.setattr(hc, "REUSE_MIN_UNKNOWNS", 10**9)
+    dense = truncation_errors(CondensedHBMProblem(joint, 36.0, 15), points, 1e-4)
+    monkeypatch.setattr(hc, "REUSE_MIN_UNKNOWNS", 0)
+    p = CondensedHBMProblem(joint, 36.0, 15)
+    truncation_errors(p, points[:1], 1e-4)  # builds the probe level
+    state = p._accuracy_levels[1].problem.kernel_problem.solver[3]
+    state[krylov.REUSE_TOL] = 0.0
+    before = state.copy()
+    errors = truncation_errors(p, points, 1e-4)
+    calibrated = (
+        state[krylov.REUSE_FACTORISATIONS] - before[krylov.REUSE_FACTORISATIONS]
+    )
+    assert calibrated >= 3
+    assert state[krylov.REUSE_FALLBACKS] - before[krylov.REUSE_FALLBACKS] == calibrated
+    assert state[krylov.REUSE_SOLVES] == before[krylov.REUSE_SOLVES]
+    assert np.allclose(errors, dense, rtol=1e-12, atol=0)
