@@ -6,6 +6,10 @@ Run: ``python -m bench.p1_defaults [--repeats 10] [--forces 0.1,0.5,2]
 timed ``repeats`` times after a warm-up, least wall and CPU time (CPU:
 ``time.process_time``, less disturbed by other jobs on a busy machine).
 
+``--beam``: the paper beam with a Jenkins tip at Fn = 1 N instead
+(15-110 Hz, excitation 2 N, ``bench.auto_cost``'s scene; ``--forces`` is
+then ignored).
+
 ``--compare A B [--rounds 5]``: interleaved before/after of two source
 trees (``PYTHONPATH`` set to each in turn, A, B, A, B, ...; each round a
 fresh process timing every force ``repeats`` times), least over all rounds,
@@ -37,26 +41,39 @@ def _harmonics(text: str):
     return text if text == "auto" else int(text)
 
 
-def measure(forces, repeats: int, harmonics="auto") -> list[dict]:
-    """Least wall and CPU time of ``repeats`` warm P1 branches per force,
-    with the branch's points, evaluations, rejections and curve error."""
+def _cases(forces, beam: bool) -> list[tuple]:
+    """``(label, system, force, omega range)`` of each timed branch."""
     import hbmfric as hf
 
+    if beam:
+        from hbmfric.paper.beam import HZ, paper_beam, paper_calibration
+
+        system = paper_beam(1.0, paper_calibration())
+        return [(-1.0, system, 2.0, (15.0 * HZ, 110.0 * HZ))]
     osc = hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0))
+    return [(force, osc, force, P1_RANGE) for force in forces]
+
+
+def measure(forces, repeats: int, harmonics="auto", beam=False) -> list[dict]:
+    """Least wall and CPU time of ``repeats`` warm P1 branches per force
+    (or of the beam, labelled force -1), with the branch's points,
+    evaluations, rejections and curve error."""
+    import hbmfric as hf
+
     rows = []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", hf.HbmfricWarning)
-        for force in forces:
-            b = hf.frf(osc, force, P1_RANGE, harmonics)  # warm-up
+        for label, system, force, omega in _cases(forces, beam):
+            b = hf.frf(system, force, omega, harmonics)  # warm-up
             wall = cpu = float("inf")
             for _ in range(repeats):
                 t, c = time.perf_counter(), time.process_time()
-                b = hf.frf(osc, force, P1_RANGE, harmonics)
+                b = hf.frf(system, force, omega, harmonics)
                 cpu = min(cpu, time.process_time() - c)
                 wall = min(wall, time.perf_counter() - t)
             rows.append(
                 {
-                    "force": force,
+                    "force": label,
                     "wall_ms": 1e3 * wall,
                     "cpu_ms": 1e3 * cpu,
                     "points": len(b),
@@ -69,17 +86,20 @@ def measure(forces, repeats: int, harmonics="auto") -> list[dict]:
     return rows
 
 
-def compare(a: str, b: str, forces, repeats: int, rounds: int, harmonics) -> dict:
+def compare(
+    a: str, b: str, forces, repeats: int, rounds: int, harmonics, beam=False
+) -> dict:
     """Interleaved rounds of fresh processes on the source trees ``a`` and
     ``b``; least times per tree and force."""
     best: dict = {a: {}, b: {}}
     for _ in range(rounds):
         for tree in (a, b):
             env = dict(os.environ, PYTHONPATH=tree)
+            # run as a script: the tree on PYTHONPATH, not the working
+            # directory, provides hbmfric
             args = [
                 sys.executable,
-                "-m",
-                "bench.p1_defaults",
+                os.path.abspath(__file__),
                 "--json",
                 "--repeats",
                 str(repeats),
@@ -87,9 +107,9 @@ def compare(a: str, b: str, forces, repeats: int, rounds: int, harmonics) -> dic
                 ",".join(str(f) for f in forces),
                 "--harmonics",
                 str(harmonics),
-            ]
+            ] + (["--beam"] if beam else [])
             out = subprocess.run(
-                args, env=env, cwd=tree, capture_output=True, text=True, check=True
+                args, env=env, cwd="/", capture_output=True, text=True, check=True
             )
             for row in json.loads(out.stdout.strip().splitlines()[-1]):
                 old = best[tree].get(row["force"])
@@ -108,17 +128,18 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--harmonics", default="auto")
     p.add_argument("--compare", nargs=2, metavar=("A", "B"))
     p.add_argument("--rounds", type=int, default=5)
+    p.add_argument("--beam", action="store_true")
     p.add_argument("--json", action="store_true", help=argparse.SUPPRESS)
     a = p.parse_args(argv)
-    forces = [float(f) for f in a.forces.split(",")]
+    forces = [-1.0] if a.beam else [float(f) for f in a.forces.split(",")]
     harmonics = _harmonics(a.harmonics)
     if a.json:
-        print(json.dumps(measure(forces, a.repeats, harmonics)))
+        print(json.dumps(measure(forces, a.repeats, harmonics, a.beam)))
         return 0
     print(f"load: {os.getloadavg()}", flush=True)
     if a.compare:
         A, B = a.compare
-        best = compare(A, B, forces, a.repeats, a.rounds, harmonics)
+        best = compare(A, B, forces, a.repeats, a.rounds, harmonics, a.beam)
         for f in forces:
             ra, rb = best[A][f], best[B][f]
             print(
@@ -133,7 +154,7 @@ def main(argv: list[str] | None = None) -> int:
                 flush=True,
             )
     else:
-        for r in measure(forces, a.repeats, harmonics):
+        for r in measure(forces, a.repeats, harmonics, a.beam):
             print(
                 f"F = {r['force']:g}: {r['wall_ms']:.2f} ms wall, {r['cpu_ms']:.2f} "
                 f"ms CPU, {r['points']} points, {r['evaluations']} evaluations "
