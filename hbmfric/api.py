@@ -536,11 +536,8 @@ def _frf_auto(
             make_problem, omega_range, direction, options, amplitude_scale, tolerance
         )
         state, points, levels, elapsed = cont.run()
-        before = list(levels)
-        errors = cont.settle(points, levels, truncation_errors)
-        for i, (h_old, h_new) in enumerate(zip(before, levels, strict=True)):
-            if h_new != h_old:  # solved again one rung higher: pad its tangent
-                state.tangents[i] = cont.pad(state.tangents[i], h_old, h_new)
+        # a point solved again one rung higher takes that level's tangent
+        errors = cont.settle(points, levels, truncation_errors, state.tangents)
         top = make_problem(max(levels) if levels else LADDER[0])
         # the harmonics of a level are a prefix of the top level's, in the
         # same column layout: each level fills the leading columns of its

@@ -124,3 +124,40 @@ def test_p1_corrector_needs_fewer_evaluations(force):
     assert b.complete
     assert b.newton_iterations / len(b) < 2.5
     assert b.curve_error <= 1e-4
+
+
+def test_points_solved_again_take_their_levels_tangent(monkeypatch):
+    """The final pass of harmonics="auto" solves points over the tolerance
+    again one rung higher; their stored tangents are the new level's
+    (dX/dΩ against central differences of periodic solutions at Ω ± δ at
+    that level, as in tests/test_curve.py), not the old level's padded
+    ones (on P1 at F = 0.1 those were off by 5e-4 of the largest dX/dΩ,
+    a new harmonic's whole slope missing)."""
+    from hbmfric.continuation import adaptive
+
+    settled = []
+    original = adaptive.AdaptiveContinuation.settle
+
+    def settle(self, points, levels, *args, **kwargs):
+        before = list(levels)
+        out = original(self, points, levels, *args, **kwargs)
+        settled.extend(
+            i for i, (a, b) in enumerate(zip(before, levels, strict=True)) if a != b
+        )
+        return out
+
+    monkeypatch.setattr(adaptive.AdaptiveContinuation, "settle", settle)
+    osc = p1()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.HbmfricWarning)
+        b = hf.frf(osc, 0.1, P1_RANGE)
+    assert settled
+    t = b.tangents
+    for i in settled:
+        h = b.harmonics_at(i)
+        d = 1e-6
+        sol = [hf.periodic_solution(osc, 0.1, b.omega[i] + s * d, h) for s in (1, -1)]
+        fd = (sol[0].coefficients - sol[1].coefficients) / (2 * d)
+        m = fd.shape[1]
+        tg = t[i, :-1].reshape(b.coefficients.shape[1:])[:, :m] / t[i, -1]
+        assert np.max(np.abs(fd - tg)) <= 1e-4 * np.max(np.abs(fd)), i
