@@ -95,6 +95,12 @@ def test_history_follows_the_accepted_points():
     assert cont._settings[arclength.PREDICTOR] == 1.0
     off = Continuation(problem, P1_RANGE, 1, ContinuationOptions(curve_tolerance=None))
     assert off._settings[arclength.PREDICTOR] == 0.0
+    # condensed problems keep the tangent (no gain on the paper beam)
+    from hbmfric.condensation import CondensedHBMProblem
+
+    condensed = CondensedHBMProblem(p1(), 2.0, 7)
+    kept = Continuation(condensed, P1_RANGE, 1, ContinuationOptions())
+    assert kept._settings[arclength.PREDICTOR] == 0.0
     state = cont.init()
     y0 = state.y.copy()
     while len(state.points) < 2:
