@@ -64,6 +64,9 @@ N_SETTINGS = 19
 #: many times may hold a kink (a contact transition), where the cubic
 #: estimate falls short by up to 2x: it counts twice
 KINK_JUMP = 4.0
+#: with the second-order predictor, the next step is sized for the chord
+#: error per squared step grown by its last growth, at most this factor
+BEND_GROWTH = 2.0
 
 #: fractions of a chord where :func:`chord_error` compares the cubic
 #: with the chord: the extremes of the two shapes of a cubic's deviation
@@ -674,6 +677,11 @@ def advance(
         settings[CURVE_LAST] = 0.0 if corner else bend
         if corner:
             curve = 0.0
+        elif settings[PREDICTOR] != 0.0 and last > 0.0 and bend > last:
+            # the bend grows (towards a resonance): the next step is sized
+            # for the bend ahead, as the steps that reach the rule's aim
+            # with the second-order predictor were rejected there
+            curve *= min(bend / last, BEND_GROWTH)
     outcome = ACCEPTED
     if corner:
         outcome |= CORNER
