@@ -15,7 +15,6 @@ from .continuation.accuracy import truncation_errors
 from .continuation.adaptive import LADDER, START
 from .errors import AccuracyWarning, CoverageWarning
 from .hbm import HBMProblem
-from .kernels.steps import newton as _newton
 from .results import Branch, join_pieces
 from .systems.protocol import check_system
 
@@ -515,22 +514,6 @@ def _branch(system, problem, state, elapsed, omega, coefficients, info, **extra)
     )
 
 
-def _settled_tangent(cont, y, tangent, h_old, h_new):
-    """The tangent (physical units) at a point the final pass solved again
-    at level ``h_new``: of that level's branch, oriented as the old one
-    (``tangent`` at ``h_old``, zero-padded); the padded one if the new
-    level's tangent system is singular there."""
-    padded = cont.pad(tangent, h_old, h_new)
-    dst = cont._cont(h_new)
-    _, status, _ = dst.solve_at(float(y[-1]), np.asarray(y[:-1], dtype=float))
-    if status != _newton.CONVERGED:
-        return padded
-    t = dst._tangent(padded / dst.scale)
-    if not np.all(np.isfinite(t)):
-        return padded
-    return t * dst.scale
-
-
 def _frf_auto(
     system,
     force,
@@ -567,13 +550,8 @@ def _frf_auto(
             make_problem, omega_range, direction, options, amplitude_scale, tolerance
         )
         state, points, levels, elapsed = cont.run()
-        before = list(levels)
-        errors = cont.settle(points, levels, truncation_errors)
-        for i, (h_old, h_new) in enumerate(zip(before, levels, strict=True)):
-            if h_new != h_old:  # solved again one rung higher: its tangent
-                state.tangents[i] = _settled_tangent(
-                    cont, points[i], state.tangents[i], h_old, h_new
-                )
+        # a point solved again one rung higher takes that level's tangent
+        errors = cont.settle(points, levels, truncation_errors, state.tangents)
         top = make_problem(max(levels) if levels else LADDER[0])
         # the harmonics of a level are a prefix of the top level's, in the
         # same column layout: each level fills the leading columns of its

@@ -395,6 +395,7 @@ NOT_IN_A_JENKINS_FRF = (
     "hbmfric.kernels.steps.arclength.advance",
     "hbmfric.kernels.steps.arclength.stays",
     "hbmfric.kernels.steps.newton.palc_step",
+    "hbmfric.kernels.steps.newton.palc_correct",
 )
 
 

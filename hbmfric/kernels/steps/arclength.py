@@ -20,7 +20,7 @@ import numpy as np
 
 from ..._jit import jit, jit_inline
 from ..residuals.dispatch import drawn_output
-from .newton import CONVERGED, _norm_inf, palc_step
+from .newton import CONVERGED, _norm_inf, palc_correct
 from .truncation import output_measure, truncation_change
 
 # indices into the settings array
@@ -56,11 +56,17 @@ CURVE_LAST = 16
 #: exact (a fixed ``H``); negative: not charged (a harmonic tolerance
 #: above the curve tolerance)
 CURVE_POINT = 17
-N_SETTINGS = 18
+#: != 0: the predictor bends with the branch (:func:`predict`, a second
+#: order term from the previous point); 0: the tangent's straight line
+PREDICTOR = 18
+N_SETTINGS = 19
 #: a step whose chord error per squared step exceeds the last one's this
 #: many times may hold a kink (a contact transition), where the cubic
 #: estimate falls short by up to 2x: it counts twice
 KINK_JUMP = 4.0
+#: with the second-order predictor, the next step is sized for the chord
+#: error per squared step grown by its last growth, at most this factor
+BEND_GROWTH = 2.0
 
 #: fractions of a chord where :func:`chord_error` compares the cubic
 #: with the chord: the extremes of the two shapes of a cubic's deviation
@@ -181,6 +187,75 @@ def chord_target(settings):
     if not point > 0.0:  # also NaN: unknown, taken as exact
         return tol
     return max(tol - point, CURVE_FLOOR * tol)
+
+
+@jit
+def predict(y, tangent, step, scale, settings, history, y_pred):
+    """Predictor of a step: the tangent's straight line, or with
+    ``settings[PREDICTOR] != 0`` the parabola that also passes through the
+    previous point.
+
+    Along the branch ``y(s) = y + s t + s² c / 2 + O(s³)`` (scaled
+    variables, ``s`` the arc length); the curvature ``c`` follows from the
+    previous point ``y(-h)`` (``h`` its scaled distance, the chord for the
+    arc): ``c = 2 ((y(-h) - y) / h + t) / h``. The straight predictor is
+    off the branch by ``|c| ds² / 2``, which at the short steps the curve
+    rule takes (chord error ``|c| ds² / 8`` relative, at ``0.8`` of the
+    tolerance) costs a third corrector evaluation per point; the parabola's
+    error is of order ``ds³``, and the corrector converges in two (P1 at
+    F = 2, H = 21: 2.1 against 3.0 evaluations per point, bench/README.md
+    "Issue 18, stop 26"). The parabola is used only when ``history`` holds
+    the previous point of ``y`` (its second row equal to ``y``; a corner
+    step, a failed corrector and any change of the point outside the
+    kernels leave it unused) and its predicted turn over the step,
+    ``ds |c|``, is below ``max_angle``.
+
+    Parameters
+    ----------
+    y, tangent : ndarray, shape (n + 1,)
+        Current point (physical units) and unit tangent (scaled).
+    step : float
+        Arc-length step, scaled.
+    scale : ndarray, shape (n + 1,)
+        Variable scales.
+    settings : ndarray, shape (N_SETTINGS,)
+        Options (``PREDICTOR``, ``MAX_ANGLE``).
+    history : ndarray, shape (2, n + 1)
+        The previous point and the point it preceded (physical units),
+        written by :func:`advance` on acceptance.
+    y_pred : ndarray, shape (n + 1,)
+        Output: the predictor (physical units).
+
+    Returns
+    -------
+    bool
+        Whether the second-order term was used.
+    """
+    m = y.size
+    for i in range(m):
+        y_pred[i] = y[i] + step * tangent[i] * scale[i]
+    if settings[PREDICTOR] == 0.0:
+        return False
+    h2 = 0.0
+    for i in range(m):
+        if history[1, i] != y[i]:  # also NaN: no previous point
+            return False
+        d = (history[0, i] - y[i]) / scale[i]
+        h2 += d * d
+    if not h2 > 0.0:
+        return False
+    h = np.sqrt(h2)
+    bend = 0.0
+    for i in range(m):
+        c = 2.0 * ((history[0, i] - y[i]) / scale[i] / h + tangent[i]) / h
+        bend += c * c
+    if not step * np.sqrt(bend) <= settings[MAX_ANGLE]:
+        return False
+    half = 0.5 * step * step
+    for i in range(m):
+        c = 2.0 * ((history[0, i] - y[i]) / scale[i] / h + tangent[i]) / h
+        y_pred[i] += half * c * scale[i]
+    return True
 
 
 @jit
@@ -470,7 +545,20 @@ def stays(y, watch, calibration):
 
 @jit_inline
 def advance(
-    problem, y, tangent, step, scale, settings, R, J, A, piv, y_pred, y_new, t_new
+    problem,
+    y,
+    tangent,
+    step,
+    scale,
+    settings,
+    R,
+    J,
+    A,
+    piv,
+    y_pred,
+    y_new,
+    t_new,
+    history,
 ):
     """One continuation step, accepted or rejected.
 
@@ -489,9 +577,13 @@ def advance(
     settings : ndarray, shape (N_SETTINGS,)
         Options, see the index constants of this module.
     R, J, A, piv, y_pred, y_new, t_new : ndarray
-        Work arrays of :func:`~hbmfric.kernels.steps.newton.palc_step`. On
-        ``LEFT_RANGE``, ``y_new`` holds the corrected point outside the
+        Work arrays of :func:`~hbmfric.kernels.steps.newton.palc_correct`.
+        On ``LEFT_RANGE``, ``y_new`` holds the corrected point outside the
         range.
+    history : ndarray, shape (2, n + 1)
+        The previous point and the point it preceded, for the second-order
+        predictor (:func:`predict`); updated on acceptance (NaN after a
+        corner), its second row set to NaN after a failed corrector.
 
     Returns
     -------
@@ -503,11 +595,10 @@ def advance(
     evaluations : int
         Residual evaluations spent.
     """
-    status, evaluations, effort, distance, angle = palc_step(
+    predict(y, tangent, step, scale, settings, history, y_pred)
+    status, evaluations, effort, distance, angle = palc_correct(
         problem,
-        y,
         tangent,
-        step,
         scale,
         settings[TOL_RESIDUAL],
         settings[TOL_STEP],
@@ -536,6 +627,9 @@ def advance(
         )
         ok = smooth or corner
     if not ok:
+        # the shorter retry predicts along the tangent (as before the
+        # second-order predictor: a failure never depends on it twice)
+        history[1, y.size - 1] = np.nan
         new_step = step * settings[SHRINK]
         if new_step < settings[MIN_STEP]:
             return STEP_TOO_SMALL, new_step, evaluations
@@ -587,6 +681,11 @@ def advance(
         settings[CURVE_LAST] = 0.0 if corner else bend
         if corner:
             curve = 0.0
+        elif settings[PREDICTOR] != 0.0 and last > 0.0 and bend > last:
+            # the bend grows (towards a resonance): the next step is sized
+            # for the bend ahead, as the steps that reach the rule's aim
+            # with the second-order predictor were rejected there
+            curve *= min(bend / last, BEND_GROWTH)
     outcome = ACCEPTED
     if corner:
         outcome |= CORNER
@@ -596,8 +695,12 @@ def advance(
     if t_now != 0.0 and (t_old == 0.0 or (t_now > 0.0) != (t_old > 0.0)):
         outcome |= FOLD
     for i in range(n + 1):
+        history[0, i] = y[i]
+        history[1, i] = y_new[i]
         y[i] = y_new[i]
         tangent[i] = t_new[i]
+    if corner:  # no parabola through a corner
+        history[1, n] = np.nan
     if curve > 0.0:
         # next_step sizes for 0.8 CURVE_TOL: the chord's share instead
         curve *= settings[CURVE_TOL] / target
@@ -627,6 +730,7 @@ def trace(
     y_pred,
     y_new,
     t_new,
+    history,
     calibration,
 ):
     """Repeat :func:`advance` until the branch leaves the range, the step
@@ -635,7 +739,8 @@ def trace(
 
     Parameters
     ----------
-    problem, y, tangent, step, scale, settings, R, J, A, piv, y_pred, y_new, t_new
+    problem, y, tangent, step, scale, settings, R, J, A, piv, y_pred, y_new, t_new,
+    history
         As in :func:`advance` (``y``, ``tangent``, ``scale`` updated in
         place).
     calibration : tuple
@@ -696,6 +801,7 @@ def trace(
             y_pred,
             y_new,
             t_new,
+            history,
         )
         evaluations += spent
         if outcome == LEFT_RANGE:

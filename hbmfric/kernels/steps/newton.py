@@ -428,11 +428,8 @@ def palc_step(
 ):
     """One pseudo-arclength predictor–corrector step, compiled whole.
 
-    Predictor ``y_pred = y + ds t scale``, corrector :func:`correct` on the
-    hyperplane through ``y_pred`` orthogonal to ``t``, then the new tangent
-    from the corrector's last factorisation (:func:`bordered_tangent`), the
-    scaled distance between predictor and corrected point, and the angle
-    between the tangents. Acceptance is decided by the caller.
+    Predictor ``y_pred = y + ds t scale``, then :func:`palc_correct`.
+    Acceptance is decided by the caller.
 
     Parameters
     ----------
@@ -449,6 +446,70 @@ def palc_step(
 
     Returns
     -------
+    status, evaluations, iterations, distance, angle
+        As in :func:`palc_correct`.
+    """
+    m = y.size
+    for i in range(m):
+        y_pred[i] = y[i] + ds * tangent_prev[i] * scale[i]
+    return palc_correct(
+        problem,
+        tangent_prev,
+        scale,
+        tol_residual,
+        tol_step,
+        max_iter,
+        R,
+        J,
+        A,
+        piv,
+        y_pred,
+        y_new,
+        t_new,
+    )
+
+
+@jit_inline
+def palc_correct(
+    problem,
+    tangent_prev,
+    scale,
+    tol_residual,
+    tol_step,
+    max_iter,
+    R,
+    J,
+    A,
+    piv,
+    y_pred,
+    y_new,
+    t_new,
+):
+    """The corrector of a pseudo-arclength step from a given predictor.
+
+    Corrector :func:`correct` from ``y_pred`` on the hyperplane through it
+    orthogonal to ``tangent_prev``, then the new tangent from the
+    corrector's last factorisation (:func:`bordered_tangent`), the scaled
+    distance between predictor and corrected point, and the angle between
+    the tangents.
+
+    Parameters
+    ----------
+    problem : tuple
+        HBM problem (:func:`hbmfric.kernels.residuals.hbm.hbm_residual`).
+    tangent_prev : ndarray, shape (n + 1,)
+        Unit tangent at the current point (scaled).
+    scale, tol_residual, tol_step, max_iter, R, J, A, piv
+        As in :func:`correct`.
+    y_pred : ndarray, shape (n + 1,)
+        The predictor (physical units): the tangent's (:func:`palc_step`)
+        or a second-order one
+        (:func:`hbmfric.kernels.steps.arclength.predict`).
+    y_new, t_new : ndarray, shape (n + 1,)
+        Outputs: corrected point, new unit tangent.
+
+    Returns
+    -------
     status : int
         ``CONVERGED`` or a failure code.
     evaluations, iterations : int
@@ -458,9 +519,8 @@ def palc_step(
     angle : float
         Angle between ``tangent_prev`` and ``t_new``, rad (inf on failure).
     """
-    m = y.size
+    m = y_pred.size
     for i in range(m):
-        y_pred[i] = y[i] + ds * tangent_prev[i] * scale[i]
         y_new[i] = y_pred[i]
     status, evaluations, iterations = correct(
         problem,
