@@ -568,6 +568,9 @@ class _Level:
         self._extremes = None  # (coupling, largest) measured with them
         # points stable by proof (contacts stuck, :func:`_stuck_everywhere`)
         self.proven = np.zeros(idx.size, dtype=bool)
+        # every point stable by the energy proof (one DOF, Jenkins contacts
+        # to ground, c > 0: :func:`_passive`, docs/stability.md)
+        self.passive = False
         if signs and reflect and len(candidates) == 2 and _memoryless(problem, keep):
             # signs from the tangent stiffness's spectrum; the Jacobians
             # of the few computed points are evaluated when asked for
@@ -581,6 +584,7 @@ class _Level:
             self._signs = np.ones((idx.size, 2), dtype=np.int64)
             self._extremes = (0.0, 1.0)
             self.proven = None  # the stuck test at the points asked (proven_at)
+            self.passive = True
         elif signs and (stuck := _stuck_everywhere(problem, points, keep, self.chunk)):
             # points whose contacts provably stick over the whole period:
             # their Jacobians are linear, every block's sign is +1 and
@@ -1373,9 +1377,19 @@ def stability_of_points(
             out[need] = lam.real.max(axis=1) < 0.0
             return out
 
-        spacing = 0 if reflected else ANCHOR_SPACING
+        # one DOF whose contacts are all Jenkins elements to ground (c > 0):
+        # the energy of the difference of two motions never grows
+        # (_incrementally_passive), so no exponent can cross into the right
+        # half-plane between points; the verdict cannot change and needs no
+        # anchors (the computed point's exponents still give it)
+        passive = all(lv.passive for lv in levels)
+        spacing = 0 if reflected or passive else ANCHOR_SPACING
         _, stable = _sparse_schedule(n_points, flips, verdict, spacing)
-        if spacing == 0 and not paired[0]:
+        if passive and not stable.all():
+            # a computed verdict against the proof (the truncated pencil):
+            # the numerics decide, at the anchors as on any other branch
+            _, stable = _sparse_schedule(n_points, flips, verdict, ANCHOR_SPACING)
+        elif spacing == 0 and not paired[0] and not passive:
             _, stable = _sparse_schedule(n_points, flips, verdict, ANCHOR_SPACING)
         computed = solved
     else:

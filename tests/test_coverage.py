@@ -313,7 +313,9 @@ def test_barely_slipping_jenkins_branch_reaches_the_end(no_coverage_warning):
     osc = hf.Oscillator(1.0, 2e-3, 1.0, hf.Jenkins(stiffness=1e5, slip_force=1.0))
     omega = (0.3, 1.5 * math.sqrt(1.0 + 1e5))
     b = hf.frf(osc, 1.0, omega, 15, retrace=False)
-    assert b.complete and b.stop_reason == RANGE_END and b.info["bridges"] > 0
+    # in one piece; with the second-order predictor of the curve rule the
+    # corrector no longer needs a bridge here (the bridges are tested above)
+    assert b.complete and b.stop_reason == RANGE_END
     hn = b.harmonic_numbers
     theta = sample_angles(2**14)
     for i in range(0, len(b), 5):
