@@ -597,6 +597,9 @@ class _EPMC:
         self.phi = phi
         self.m_phi = mass @ phi
         self.linear_omega = float(np.sqrt(w2_j))
+        #: pulsations of all linear modes of the stuck structure, rad/s
+        self.stuck_omegas = np.sqrt(np.clip(w2, 0.0, None))
+        self.harmonic_columns = coefficient_columns(hn)
         self.linear_damping = float(phi @ damping @ phi) / (2.0 * self.linear_omega)
         self.K_stuck = K
         self.force_scale = float(np.max(np.abs(K)))
@@ -720,6 +723,36 @@ class _EPMC:
             previous = size
         return None, MAX_ITERATIONS
 
+    def dominant_harmonic(self, z: np.ndarray) -> tuple[int, float]:
+        """The higher harmonic (``k >= 2``) of largest mass-norm amplitude
+        at the point ``z`` and that amplitude relative to the fundamental's
+        (``√(Yc_kᵀ M Yc_k + Ys_kᵀ M Ys_k)``; the fundamental's is 1):
+        ``(k, ratio)``, ``(0, 0.0)`` for a single-harmonic basis."""
+        Y = z[: self.n].reshape(self.n_dof, self.n_coef)
+        best, ratio = 0, 0.0
+        for k, c in self.harmonic_columns.items():
+            if k < 2:
+                continue
+            yc, ys = Y[:, c], Y[:, c + 1]
+            r = float(np.sqrt(yc @ self.mass @ yc + ys @ self.mass @ ys))
+            if r > ratio:
+                best, ratio = int(k), r
+        return best, ratio
+
+    def resonance_reason(self, z: np.ndarray, a: float, k: int) -> str:
+        """Why a path whose harmonic ``k`` outgrew the fundamental at
+        ``(z, a)`` stops: a ``k:1`` internal resonance, naming the linear
+        mode of the stuck structure nearest to ``k ω``."""
+        omega = float(z[self.n])
+        j = int(np.argmin(np.abs(self.stuck_omegas - k * omega)))
+        return (
+            f"{k}:1 internal resonance: past the turning point the path "
+            f"follows harmonic {k}, which outgrows the fundamental at "
+            f"a = {a:.4g} ({k} ω = {k * omega:.5g} rad/s; linear mode "
+            f"{j + 1} of the stuck structure: {self.stuck_omegas[j]:.5g} rad/s), "
+            "towards another mode rather than to larger amplitudes"
+        )
+
     def correlation(self, z1: np.ndarray, z2: np.ndarray) -> float:
         """Modal assurance criterion of the fundamental shapes of two
         points, ``|ψ1ᴴ M ψ2|²`` (each of unit mass norm): 1 for the same
@@ -793,9 +826,12 @@ def _pass_folds(epmc: _EPMC, history, s_fail: float, width: float):
     points of ``history`` until the path has turned back to increasing
     amplitudes beyond ``s_fail`` (where the natural continuation failed).
 
-    Returns ``(path, folds, steps, rejected)``: the points ``(s, z)`` of
-    the path (None if it could not pass), the amplitudes of its turning
-    points, and the work.
+    Returns ``(path, folds, steps, rejected, reason)``: the points
+    ``(s, z)`` of the path (None if it could not pass), the amplitudes of
+    its turning points, the work, and why it stopped short (None when it
+    passed or simply failed): a path on which a higher harmonic outgrows
+    the fundamental has left the mode for an internal resonance (a higher
+    mode whose frequency is a multiple of ω) and is not followed further.
     """
     n = epmc.n
     scale = np.ones(n + 3)
@@ -821,7 +857,7 @@ def _pass_folds(epmc: _EPMC, history, s_fail: float, width: float):
             rejected += 1
             h *= 0.5
             if h < MIN_STEP_FRACTION * h_max:
-                return None, folds, steps, rejected
+                return None, folds, steps, rejected, None
             continue
         chord = (u_new - u_last) * scale
         new_tangent = chord / np.linalg.norm(chord)
@@ -830,10 +866,16 @@ def _pass_folds(epmc: _EPMC, history, s_fail: float, width: float):
         tangent, u_last = new_tangent, u_new
         path.append((float(u_new[n + 2]), u_new[: n + 2].copy()))
         if u_new[n + 2] > s_fail and tangent[n + 2] > 0.0:
-            return path, folds, steps, rejected
+            return path, folds, steps, rejected, None
+        k, ratio = epmc.dominant_harmonic(u_new)
+        if ratio > 1.0:
+            reason = epmc.resonance_reason(u_new, float(np.exp(u_new[n + 2])), k)
+            if folds:
+                reason = f"the backbone turns back at a = {folds[0]:.4g}; {reason}"
+            return None, folds, steps, rejected, reason
         if its <= 4:
             h = min(2.0 * h, h_max)
-    return None, folds, steps, rejected
+    return None, folds, steps, rejected, None
 
 
 def _amplitude_range(amplitude) -> tuple[float, float]:
@@ -1051,9 +1093,14 @@ def nonlinear_mode(
                         and len(folds) < MAX_FOLDS
                     ):
                         # a turning point in a: follow the path around it
-                        path, found, k, r = _pass_folds(epmc, history, s_new, width)
+                        path, found, k, r, why = _pass_folds(
+                            epmc, history, s_new, width
+                        )
                         n_steps += k
                         n_rejected += r
+                        if why is not None:
+                            stop_reason = why
+                            break
                         if path is not None and found:
                             folds.extend(found)
                             fold_path.extend(path)
