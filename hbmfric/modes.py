@@ -119,6 +119,15 @@ MAC_TOLERANCE = 0.5
 MAX_CORRECTION = 0.02
 #: most pseudo-arclength steps around the folds of one failed step
 ARCLENGTH_MAX_STEPS = 400
+#: pseudo-arclength: smallest cosine between the chords of successive
+#: steps; a sharper bend halves the step
+ARCLENGTH_MIN_COSINE = 0.8
+#: a fold-passing path on which a higher harmonic grows to this multiple of
+#: the fundamental (mass norm) has turned into a k:1 internal resonance
+#: (a higher mode at k ω; the fundamental tends to 0 along it) and is not
+#: followed further; loops of the path about a near-resonance reach about
+#: 1.3 (the spring chain of issue 16 with kt = 500)
+RESONANCE_RATIO = 4.0
 #: most fold passages along one mode
 MAX_FOLDS = 8
 #: how far below the first amplitude the start may back off (factor 10 per
@@ -691,6 +700,8 @@ class _EPMC:
         rhs = np.empty(n + 3)
         previous = np.inf
         for it in range(1, MAX_ITERATIONS + 1):
+            if not -700.0 < u[n + 2] < 700.0:  # Newton ran off in log a
+                return None, it
             a = float(np.exp(u[n + 2]))
             F, J, state = self.equations(u[: n + 2], a)
             if state < 0 or not np.all(np.isfinite(F)):
@@ -841,9 +852,12 @@ def _pass_folds(epmc: _EPMC, history, s_fail: float, width: float):
     u_prev = np.append(z0, s0)
     u_last = np.append(z1, s1)
     chord = (u_last - u_prev) * scale
-    h_max = float(np.linalg.norm(chord))
-    h = h_max
-    tangent = chord / h_max
+    # the last natural steps have shrunk before the turn: start from their
+    # size, but let the steps grow to a grid spacing (1 in the scaled log a)
+    h = float(np.linalg.norm(chord))
+    h_min = MIN_STEP_FRACTION * h
+    h_max = max(h, 1.0)
+    tangent = chord / h
     path, folds = [], []
     steps = rejected = 0
     while steps < ARCLENGTH_MAX_STEPS:
@@ -856,11 +870,16 @@ def _pass_folds(epmc: _EPMC, history, s_fail: float, width: float):
         if not ok:
             rejected += 1
             h *= 0.5
-            if h < MIN_STEP_FRACTION * h_max:
+            if h < h_min:
                 return None, folds, steps, rejected, None
             continue
         chord = (u_new - u_last) * scale
         new_tangent = chord / np.linalg.norm(chord)
+        if new_tangent @ tangent < ARCLENGTH_MIN_COSINE and h > 2.0 * h_min:
+            # a sharp bend: resolve it with shorter steps
+            rejected += 1
+            h *= 0.5
+            continue
         if np.sign(new_tangent[n + 2]) != np.sign(tangent[n + 2]):
             folds.append(float(np.exp(u_last[n + 2])))
         tangent, u_last = new_tangent, u_new
@@ -868,7 +887,7 @@ def _pass_folds(epmc: _EPMC, history, s_fail: float, width: float):
         if u_new[n + 2] > s_fail and tangent[n + 2] > 0.0:
             return path, folds, steps, rejected, None
         k, ratio = epmc.dominant_harmonic(u_new)
-        if ratio > 1.0:
+        if ratio > RESONANCE_RATIO:
             reason = epmc.resonance_reason(u_new, float(np.exp(u_new[n + 2])), k)
             if folds:
                 reason = f"the backbone turns back at a = {folds[0]:.4g}; {reason}"
