@@ -122,6 +122,10 @@ ARCLENGTH_MAX_STEPS = 400
 #: pseudo-arclength: smallest cosine between the chords of successive
 #: steps; a sharper bend halves the step
 ARCLENGTH_MIN_COSINE = 0.8
+#: pseudo-arclength: largest step (scaled: log a in grid spacings, ω
+#: relative to the linear ω, the unknowns Y and D as they are), unless the
+#: last natural step was larger
+ARCLENGTH_MAX_STEP = 0.25
 #: a fold-passing path on which a higher harmonic grows to this multiple of
 #: the fundamental (mass norm) has turned into a k:1 internal resonance
 #: (a higher mode at k ω; the fundamental tends to 0 along it) and is not
@@ -853,10 +857,10 @@ def _pass_folds(epmc: _EPMC, history, s_fail: float, width: float):
     u_last = np.append(z1, s1)
     chord = (u_last - u_prev) * scale
     # the last natural steps have shrunk before the turn: start from their
-    # size, but let the steps grow to a grid spacing (1 in the scaled log a)
+    # size, but let the steps grow to ARCLENGTH_MAX_STEP
     h = float(np.linalg.norm(chord))
     h_min = MIN_STEP_FRACTION * h
-    h_max = max(h, 1.0)
+    h_max = max(h, ARCLENGTH_MAX_STEP)
     tangent = chord / h
     path, folds = [], []
     steps = rejected = 0
