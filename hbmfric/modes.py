@@ -49,7 +49,10 @@ the natural step fails for good, a pseudo-arclength continuation in
 ``(z, log a)`` (:func:`_pass_folds`) follows the path around the turns
 until it climbs past the failure, and the grid resumes from there; the
 turning points are reported (``NonlinearMode.folds``, a
-:class:`~hbmfric.HbmfricWarning`). A run that stops short is reported by
+:class:`~hbmfric.HbmfricWarning`). A path on which a higher harmonic
+``k`` grows to ``RESONANCE_RATIO`` times the fundamental has left the mode
+for a ``k:1`` internal resonance and stops with that reason (the spring
+chain of issue 16). A run that stops short is reported by
 a :class:`~hbmfric.CoverageWarning`, never a quietly short result.
 
 Reference: M. Krack, *Nonlinear modal analysis of nonconservative systems:
@@ -118,7 +121,7 @@ MAC_TOLERANCE = 0.5
 #: another solution
 MAX_CORRECTION = 0.02
 #: most pseudo-arclength steps around the folds of one failed step
-ARCLENGTH_MAX_STEPS = 400
+ARCLENGTH_MAX_STEPS = 1000
 #: pseudo-arclength: smallest cosine between the chords of successive
 #: steps; a sharper bend halves the step
 ARCLENGTH_MIN_COSINE = 0.8
