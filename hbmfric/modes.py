@@ -758,16 +758,16 @@ class _EPMC:
         return best, ratio
 
     def resonance_reason(self, z: np.ndarray, a: float, k: int) -> str:
-        """Why a path whose harmonic ``k`` outgrew the fundamental at
-        ``(z, a)`` stops: a ``k:1`` internal resonance, naming the linear
-        mode of the stuck structure nearest to ``k ω``."""
+        """Why a path whose harmonic ``k`` grew to ``RESONANCE_RATIO`` times
+        the fundamental at ``(z, a)`` stops: a ``k:1`` internal resonance,
+        naming the linear mode of the stuck structure nearest to ``k ω``."""
         omega = float(z[self.n])
         j = int(np.argmin(np.abs(self.stuck_omegas - k * omega)))
         return (
             f"{k}:1 internal resonance: past the turning point the path "
-            f"follows harmonic {k}, which outgrows the fundamental at "
-            f"a = {a:.4g} ({k} ω = {k * omega:.5g} rad/s; linear mode "
-            f"{j + 1} of the stuck structure: {self.stuck_omegas[j]:.5g} rad/s), "
+            f"follows harmonic {k}, which grows to {RESONANCE_RATIO:g} times "
+            f"the fundamental at a = {a:.4g} ({k} ω = {k * omega:.5g} rad/s; "
+            f"linear mode {j + 1} of the stuck structure: {self.stuck_omegas[j]:.5g} rad/s), "
             "towards another mode rather than to larger amplitudes"
         )
 
