@@ -767,7 +767,8 @@ class _EPMC:
             f"{k}:1 internal resonance: past the turning point the path "
             f"follows harmonic {k}, which grows to {RESONANCE_RATIO:g} times "
             f"the fundamental at a = {a:.4g} ({k} ω = {k * omega:.5g} rad/s; "
-            f"linear mode {j + 1} of the stuck structure: {self.stuck_omegas[j]:.5g} rad/s), "
+            f"linear mode {j + 1} of the stuck structure: "
+            f"{self.stuck_omegas[j]:.5g} rad/s), "
             "towards another mode rather than to larger amplitudes"
         )
 
