@@ -49,7 +49,10 @@ the natural step fails for good, a pseudo-arclength continuation in
 ``(z, log a)`` (:func:`_pass_folds`) follows the path around the turns
 until it climbs past the failure, and the grid resumes from there; the
 turning points are reported (``NonlinearMode.folds``, a
-:class:`~hbmfric.HbmfricWarning`). A run that stops short is reported by
+:class:`~hbmfric.HbmfricWarning`). A path on which a higher harmonic
+``k`` grows to ``RESONANCE_RATIO`` times the fundamental has left the mode
+for a ``k:1`` internal resonance and stops with that reason (the spring
+chain of issue 16). A run that stops short is reported by
 a :class:`~hbmfric.CoverageWarning`, never a quietly short result.
 
 Reference: M. Krack, *Nonlinear modal analysis of nonconservative systems:
@@ -118,7 +121,20 @@ MAC_TOLERANCE = 0.5
 #: another solution
 MAX_CORRECTION = 0.02
 #: most pseudo-arclength steps around the folds of one failed step
-ARCLENGTH_MAX_STEPS = 400
+ARCLENGTH_MAX_STEPS = 1000
+#: pseudo-arclength: smallest cosine between the chords of successive
+#: steps; a sharper bend halves the step
+ARCLENGTH_MIN_COSINE = 0.8
+#: pseudo-arclength: largest step (scaled: log a in grid spacings, ω
+#: relative to the linear ω, the unknowns Y and D as they are), unless the
+#: last natural step was larger
+ARCLENGTH_MAX_STEP = 0.25
+#: a fold-passing path on which a higher harmonic grows to this multiple of
+#: the fundamental (mass norm) has turned into a k:1 internal resonance
+#: (a higher mode at k ω; the fundamental tends to 0 along it) and is not
+#: followed further; loops of the path about a near-resonance reach about
+#: 1.3 (the spring chain of issue 16 with kt = 500)
+RESONANCE_RATIO = 4.0
 #: most fold passages along one mode
 MAX_FOLDS = 8
 #: how far below the first amplitude the start may back off (factor 10 per
@@ -597,6 +613,9 @@ class _EPMC:
         self.phi = phi
         self.m_phi = mass @ phi
         self.linear_omega = float(np.sqrt(w2_j))
+        #: pulsations of all linear modes of the stuck structure, rad/s
+        self.stuck_omegas = np.sqrt(np.clip(w2, 0.0, None))
+        self.harmonic_columns = coefficient_columns(hn)
         self.linear_damping = float(phi @ damping @ phi) / (2.0 * self.linear_omega)
         self.K_stuck = K
         self.force_scale = float(np.max(np.abs(K)))
@@ -688,6 +707,8 @@ class _EPMC:
         rhs = np.empty(n + 3)
         previous = np.inf
         for it in range(1, MAX_ITERATIONS + 1):
+            if not -700.0 < u[n + 2] < 700.0:  # Newton ran off in log a
+                return None, it
             a = float(np.exp(u[n + 2]))
             F, J, state = self.equations(u[: n + 2], a)
             if state < 0 or not np.all(np.isfinite(F)):
@@ -719,6 +740,37 @@ class _EPMC:
                 return (u if ok else None), it
             previous = size
         return None, MAX_ITERATIONS
+
+    def dominant_harmonic(self, z: np.ndarray) -> tuple[int, float]:
+        """The higher harmonic (``k >= 2``) of largest mass-norm amplitude
+        at the point ``z`` and that amplitude relative to the fundamental's
+        (``√(Yc_kᵀ M Yc_k + Ys_kᵀ M Ys_k)``; the fundamental's is 1):
+        ``(k, ratio)``, ``(0, 0.0)`` for a single-harmonic basis."""
+        Y = z[: self.n].reshape(self.n_dof, self.n_coef)
+        best, ratio = 0, 0.0
+        for k, c in self.harmonic_columns.items():
+            if k < 2:
+                continue
+            yc, ys = Y[:, c], Y[:, c + 1]
+            r = float(np.sqrt(yc @ self.mass @ yc + ys @ self.mass @ ys))
+            if r > ratio:
+                best, ratio = int(k), r
+        return best, ratio
+
+    def resonance_reason(self, z: np.ndarray, a: float, k: int) -> str:
+        """Why a path whose harmonic ``k`` grew to ``RESONANCE_RATIO`` times
+        the fundamental at ``(z, a)`` stops: a ``k:1`` internal resonance,
+        naming the linear mode of the stuck structure nearest to ``k ω``."""
+        omega = float(z[self.n])
+        j = int(np.argmin(np.abs(self.stuck_omegas - k * omega)))
+        return (
+            f"{k}:1 internal resonance: past the turning point the path "
+            f"follows harmonic {k}, which grows to {RESONANCE_RATIO:g} times "
+            f"the fundamental at a = {a:.4g} ({k} ω = {k * omega:.5g} rad/s; "
+            f"linear mode {j + 1} of the stuck structure: "
+            f"{self.stuck_omegas[j]:.5g} rad/s), "
+            "towards another mode rather than to larger amplitudes"
+        )
 
     def correlation(self, z1: np.ndarray, z2: np.ndarray) -> float:
         """Modal assurance criterion of the fundamental shapes of two
@@ -793,9 +845,12 @@ def _pass_folds(epmc: _EPMC, history, s_fail: float, width: float):
     points of ``history`` until the path has turned back to increasing
     amplitudes beyond ``s_fail`` (where the natural continuation failed).
 
-    Returns ``(path, folds, steps, rejected)``: the points ``(s, z)`` of
-    the path (None if it could not pass), the amplitudes of its turning
-    points, and the work.
+    Returns ``(path, folds, steps, rejected, reason)``: the points
+    ``(s, z)`` of the path (None if it could not pass), the amplitudes of
+    its turning points, the work, and why it stopped short (None when it
+    passed or simply failed): a path on which a higher harmonic outgrows
+    the fundamental has left the mode for an internal resonance (a higher
+    mode whose frequency is a multiple of ω) and is not followed further.
     """
     n = epmc.n
     scale = np.ones(n + 3)
@@ -805,9 +860,12 @@ def _pass_folds(epmc: _EPMC, history, s_fail: float, width: float):
     u_prev = np.append(z0, s0)
     u_last = np.append(z1, s1)
     chord = (u_last - u_prev) * scale
-    h_max = float(np.linalg.norm(chord))
-    h = h_max
-    tangent = chord / h_max
+    # the last natural steps have shrunk before the turn: start from their
+    # size, but let the steps grow to ARCLENGTH_MAX_STEP
+    h = float(np.linalg.norm(chord))
+    h_min = MIN_STEP_FRACTION * h
+    h_max = max(h, ARCLENGTH_MAX_STEP)
+    tangent = chord / h
     path, folds = [], []
     steps = rejected = 0
     while steps < ARCLENGTH_MAX_STEPS:
@@ -820,20 +878,31 @@ def _pass_folds(epmc: _EPMC, history, s_fail: float, width: float):
         if not ok:
             rejected += 1
             h *= 0.5
-            if h < MIN_STEP_FRACTION * h_max:
-                return None, folds, steps, rejected
+            if h < h_min:
+                return None, folds, steps, rejected, None
             continue
         chord = (u_new - u_last) * scale
         new_tangent = chord / np.linalg.norm(chord)
+        if new_tangent @ tangent < ARCLENGTH_MIN_COSINE and h > 2.0 * h_min:
+            # a sharp bend: resolve it with shorter steps
+            rejected += 1
+            h *= 0.5
+            continue
         if np.sign(new_tangent[n + 2]) != np.sign(tangent[n + 2]):
             folds.append(float(np.exp(u_last[n + 2])))
         tangent, u_last = new_tangent, u_new
         path.append((float(u_new[n + 2]), u_new[: n + 2].copy()))
         if u_new[n + 2] > s_fail and tangent[n + 2] > 0.0:
-            return path, folds, steps, rejected
+            return path, folds, steps, rejected, None
+        k, ratio = epmc.dominant_harmonic(u_new)
+        if ratio > RESONANCE_RATIO:
+            reason = epmc.resonance_reason(u_new, float(np.exp(u_new[n + 2])), k)
+            if folds:
+                reason = f"the backbone turns back at a = {folds[0]:.4g}; {reason}"
+            return None, folds, steps, rejected, reason
         if its <= 4:
             h = min(2.0 * h, h_max)
-    return None, folds, steps, rejected
+    return None, folds, steps, rejected, None
 
 
 def _amplitude_range(amplitude) -> tuple[float, float]:
@@ -1051,9 +1120,14 @@ def nonlinear_mode(
                         and len(folds) < MAX_FOLDS
                     ):
                         # a turning point in a: follow the path around it
-                        path, found, k, r = _pass_folds(epmc, history, s_new, width)
+                        path, found, k, r, why = _pass_folds(
+                            epmc, history, s_new, width
+                        )
                         n_steps += k
                         n_rejected += r
+                        if why is not None:
+                            stop_reason = why
+                            break
                         if path is not None and found:
                             folds.extend(found)
                             fold_path.extend(path)

@@ -754,3 +754,163 @@ def test_beam_backbone_turns_in_amplitude(calibrated_beam):
     assert crossings.size == 2
     omegas = [nm.omega[i]] + [nm.fold_path[j, 1] for j in crossings]
     assert np.min(np.abs(np.diff(np.sort(omegas)))) > 1.0  # rad/s apart
+
+
+def _spring_chain(kt, zeta=0.01):
+    """The 30-DOF spring-mass chain of issue 16 (fixed at DOF 0's outer
+    spring, free at the tip), Jenkins at the tip, modal damping ``zeta`` of
+    the chain without contact built here in plain SciPy; returns the
+    structure and its (M, C, K)."""
+    n, k, m = 30, 2.0e4, 0.05
+    Kc = 2.0 * k * np.eye(n) - k * np.eye(n, k=1) - k * np.eye(n, k=-1)
+    Kc[n - 1, n - 1] = k
+    Mc = m * np.eye(n)
+    w2, phi = scipy.linalg.eigh(Kc, Mc)
+    Cc = Mc @ phi @ np.diag(2.0 * zeta * np.sqrt(w2)) @ phi.T @ Mc
+    structure = hf.LinearStructure(
+        Mc,
+        Kc,
+        damping=Cc,
+        dof_names={"drive": 10, "tip": n - 1},
+        load={"drive": 1.0},
+        contact=hf.Jenkins(stiffness=kt, slip_force=1.0),
+        contact_dof="tip",
+    )
+    return structure, (Mc, Cc, Kc)
+
+
+def _chain_residual(nm, i, matrices, kt, n_time=4096):
+    """Largest harmonic-balance residual of the EPMC equation at point
+    ``i``, relative to the largest elastic force ``|K X|``: plain NumPy
+    synthesis, the tip force by the naive Jenkins march, np.fft analysis."""
+    Mc, Cc, Kc = matrices
+    omega, ratio = nm.omega[i], nm.damping_ratio[i]
+    X = np.array([_displacement(nm, i, d, n_time) for d in range(Mc.shape[0])])
+    f = np.zeros_like(X)
+    f[-1] = jenkins_march(X[-1], kt, 1.0)[0]
+    spec_x = np.fft.rfft(X, axis=1)
+    spec_f = np.fft.rfft(f, axis=1)
+    worst, scale = 0.0, 0.0
+    for k in nm.harmonic_numbers:
+        w = k * omega
+        dyn = Kc - w * w * Mc + 1j * w * (Cc - 2.0 * ratio * omega * Mc)
+        r = dyn @ spec_x[:, k] + spec_f[:, k]
+        worst = max(worst, float(np.max(np.abs(r))))
+        scale = max(scale, float(np.max(np.abs(Kc @ spec_x[:, k]))))
+    return worst / scale
+
+
+def test_spring_chain_backbone_passes_the_internal_resonance_loop():
+    """Issue 16: the chain with kt = 500 slips towards the free chain,
+    whose modes are nearly 1:3:5 (97.62 / 32.57 = 2.997): the backbone
+    loops about the 3:1 internal resonance, turning four times in
+    amplitude (2.36e-2, 2.79e-3, 1.53e-2, 4.97e-3). The fold passage
+    follows the loop and the mode covers 1e-6 to 1e-1 (on merge26: stopped
+    at 2.3e-2, 'Newton failed'); its points satisfy the EPMC equations,
+    checked by plain NumPy harmonic balance with the naive Jenkins march
+    (the residual left is the AFT-versus-march and truncation part)."""
+    kt = 500.0
+    chain, matrices = _spring_chain(kt)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.AccuracyWarning)
+        with pytest.warns(hf.HbmfricWarning, match="turns in amplitude"):
+            nm = hf.nonlinear_mode(chain, amplitude=(1e-6, 1e-1), points=40)
+    assert nm.complete, nm.stop_reason
+    assert nm.amplitude[-1] == 1e-1 and len(nm) == 40
+    assert len(nm.folds) >= 2
+    # stuck: the linear mode with the tip spring; far slipping: towards the
+    # free chain's 32.57 rad/s
+    w_free = np.sqrt(scipy.linalg.eigh(matrices[2], matrices[0], eigvals_only=True))
+    assert nm.omega[0] == pytest.approx(nm.linear_omega, rel=1e-5)
+    assert abs(nm.omega[-1] / w_free[0] - 1.0) < 2e-3
+    worst = max(_chain_residual(nm, i, matrices, kt) for i in range(0, 40, 3))
+    print(f"worst relative EPMC residual {worst:.2e}")
+    assert worst < 1e-4
+
+
+def test_spring_chain_stops_at_the_internal_resonance_with_that_reason():
+    """Issue 16: with kt = 5e3 the stuck chain's mode 3 is at 3.05 ω1;
+    just past the slip onset (a = 5.2e-4) the path turns back at
+    a = 6.0e-4 and runs down along harmonic 3 (3 ω -> ω3 = 178.57 rad/s,
+    the fundamental -> 0): mode 3 seen at a third of its frequency. The
+    stop names the 3:1 internal resonance (on merge26: 'Newton failed')."""
+    chain, _ = _spring_chain(5e3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.AccuracyWarning)
+        with pytest.warns(hf.CoverageWarning, match="3:1 internal resonance"):
+            nm = hf.nonlinear_mode(chain, amplitude=(1e-6, 1e-1), points=40)
+    assert "turns back at a = 0.0006" in nm.stop_reason
+    assert "linear mode 3 of the stuck structure" in nm.stop_reason
+    assert 5.2e-4 > nm.amplitude[-1] > 4.5e-4
+
+
+def _chain_modal_amplitude(solution_coefficients, mass, harmonic_numbers):
+    """Mass-norm amplitude of the fundamental, shape (...,)."""
+    c = coefficient_columns_of(harmonic_numbers)[1]
+    xc, xs = solution_coefficients[..., c], solution_coefficients[..., c + 1]
+    return np.sqrt(
+        np.einsum("...i,ij,...j->...", xc, mass, xc)
+        + np.einsum("...i,ij,...j->...", xs, mass, xs)
+    )
+
+
+def coefficient_columns_of(harmonic_numbers):
+    """Column of each harmonic's cosine (the mean: its only column)."""
+    out, col = {}, 0
+    for k in harmonic_numbers:
+        out[int(k)] = col
+        col += 1 if k == 0 else 2
+    return out
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("force", [0.003, 0.05])
+def test_spring_chain_backbone_through_frf_peaks(force):
+    """Issue 16 chain, kt = 500, ζ = 0.1 %: the FRF peak of the forced
+    chain (driven at DOF 10; stuck, and at the slip onset, D = 5e-3),
+    refined by a bounded search of ``hf.periodic_solution``, lies on the
+    backbone at its modal amplitude within 1e-3 in frequency (measured
+    6.7e-7 and 5.7e-4); the backbone point is continued from the stuck
+    1e-4 up to that amplitude. Not asserted: the heavily damped peaks at
+    F = 0.5 N (D = 0.041) and 2 N (D = 0.059) lie 2.5e-3 below and 4.9e-3
+    above the backbone (about 1.4 D²: one forced mode is no longer the
+    free one)."""
+    chain, (Mc, _, _) = _spring_chain(500.0, 1e-3)
+    h = 7
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.AccuracyWarning)
+        branch = hf.frf(chain, force, (28.0, 44.0), harmonics=h)
+    a = _chain_modal_amplitude(branch.coefficients, Mc, branch.harmonic_numbers)
+    i = int(np.argmax(a))
+
+    def minus_amplitude(omega):
+        sol = hf.periodic_solution(chain, force, omega, harmonics=h)
+        X = sol.coefficients.reshape(Mc.shape[0], -1)
+        return -float(_chain_modal_amplitude(X, Mc, sol.harmonic_numbers))
+
+    lo, hi = branch.omega[max(i - 1, 0)], branch.omega[min(i + 1, len(branch) - 1)]
+    res = minimize_scalar(
+        minus_amplitude,
+        bounds=(min(lo, hi), max(lo, hi)),
+        method="bounded",
+        options={"xatol": 1e-9 * branch.omega[i]},
+    )
+    omega_peak, a_peak = float(res.x), float(-res.fun)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.AccuracyWarning)
+        warnings.simplefilter("ignore", hf.HbmfricWarning)
+        nm = hf.nonlinear_mode(
+            chain,
+            amplitude=(min(1e-4, 0.5 * a_peak), a_peak),
+            points=2,
+            harmonics=h,
+            harmonic_tolerance=None,
+        )
+    assert nm.complete, nm.stop_reason
+    error = omega_peak / nm.omega[-1] - 1.0
+    ratio = float(nm.damping_ratio[-1])
+    print(
+        f"F = {force}: a_peak {a_peak:.4g}, Ω_peak {omega_peak:.6f}, "
+        f"D {ratio:.3g}, error {error:.2e}, error / D² {error / ratio**2:.3f}"
+    )
+    assert abs(error) < 1e-3
