@@ -43,6 +43,8 @@ from .krylov import (
     REUSE_SOLVES,
     REUSE_TOL,
     _norm2,
+    arnoldi_step,
+    krylov_combination,
     sparse_matvec,
     sparse_rows,
 )
@@ -260,54 +262,16 @@ def gmres_prepared(A, b, x, n_dof, n_coef, first, tol, blocks, pivots, border, V
             u[i] = V[k, i]
         apply_preconditioner(A, blocks, pivots, n_dof, n_coef, first, border, u, work)
         sparse_matvec(starts, columns, values, u, V[k + 1])
-        # modified Gram-Schmidt, twice
-        for _pass in range(2):
-            for j in range(k + 1):
-                h = 0.0
-                for i in range(m):
-                    h += V[j, i] * V[k + 1, i]
-                H[j, k] += h
-                for i in range(m):
-                    V[k + 1, i] -= h * V[j, i]
-        h_next = _norm2(V[k + 1])
-        H[k + 1, k] = h_next
-        if not np.isfinite(h_next):
-            return GMRES_NOT_FINITE, k + 1
-        if h_next > 0.0:
-            inv = 1.0 / h_next
-            for i in range(m):
-                V[k + 1, i] *= inv
-        for j in range(k):
-            t = cs[j] * H[j, k] + sn[j] * H[j + 1, k]
-            H[j + 1, k] = -sn[j] * H[j, k] + cs[j] * H[j + 1, k]
-            H[j, k] = t
-        r = np.hypot(H[k, k], H[k + 1, k])
-        if r == 0.0:
-            return GMRES_NOT_CONVERGED, k + 1
-        cs[k] = H[k, k] / r
-        sn[k] = H[k + 1, k] / r
-        H[k, k] = r
-        H[k + 1, k] = 0.0
-        g[k + 1] = -sn[k] * g[k]
-        g[k] = cs[k] * g[k]
+        status, h_next = arnoldi_step(V, H, cs, sn, g, k)
+        if status != GMRES_CONVERGED:
+            return status, k + 1
         k += 1
         if abs(g[k]) <= 0.5 * target or h_next == 0.0:
             converged = True
             break
     if not converged:
         return GMRES_NOT_CONVERGED, k
-    y = np.empty(k)
-    for j in range(k - 1, -1, -1):
-        s = g[j]
-        for i in range(j + 1, k):
-            s -= H[j, i] * y[i]
-        y[j] = s / H[j, j]
-    for i in range(m):
-        u[i] = 0.0
-    for j in range(k):
-        yj = y[j]
-        for i in range(m):
-            u[i] += yj * V[j, i]
+    krylov_combination(V, H, g, k, u)
     apply_preconditioner(A, blocks, pivots, n_dof, n_coef, first, border, u, work)
     for i in range(m):
         x[i] = u[i]

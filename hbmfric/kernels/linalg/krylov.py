@@ -114,6 +114,76 @@ def _norm2(a):
 
 
 @jit
+def arnoldi_step(V, H, cs, sn, g, k):
+    """One GMRES step after the caller has put the preconditioned product
+    into ``V[k + 1]``: orthogonalise it against the basis (modified
+    Gram-Schmidt, twice: the basis stays orthogonal to rounding), normalise
+    it, and rotate column ``k`` of the Hessenberg matrix ``H`` (shape
+    (k_max + 1, k_max)) by the Givens rotations ``cs``, ``sn`` (shape
+    (k_max,)) into ``g`` (shape (k_max + 1,), the rotated right-hand side).
+
+    Returns
+    -------
+    status : int
+        ``GMRES_CONVERGED`` to go on, ``GMRES_NOT_FINITE`` or
+        ``GMRES_NOT_CONVERGED`` (a breakdown of the rotation).
+    h_next : float
+        The norm of the new vector before normalisation (0: the space is
+        invariant, the solution exact).
+    """
+    m = V.shape[1]
+    for _pass in range(2):
+        for j in range(k + 1):
+            h = 0.0
+            for i in range(m):
+                h += V[j, i] * V[k + 1, i]
+            H[j, k] += h
+            for i in range(m):
+                V[k + 1, i] -= h * V[j, i]
+    h_next = _norm2(V[k + 1])
+    H[k + 1, k] = h_next
+    if not np.isfinite(h_next):
+        return GMRES_NOT_FINITE, h_next
+    if h_next > 0.0:
+        inv = 1.0 / h_next
+        for i in range(m):
+            V[k + 1, i] *= inv
+    for j in range(k):
+        t = cs[j] * H[j, k] + sn[j] * H[j + 1, k]
+        H[j + 1, k] = -sn[j] * H[j, k] + cs[j] * H[j + 1, k]
+        H[j, k] = t
+    r = np.hypot(H[k, k], H[k + 1, k])
+    if r == 0.0:
+        return GMRES_NOT_CONVERGED, h_next
+    cs[k] = H[k, k] / r
+    sn[k] = H[k + 1, k] / r
+    H[k, k] = r
+    H[k + 1, k] = 0.0
+    g[k + 1] = -sn[k] * g[k]
+    g[k] = cs[k] * g[k]
+    return GMRES_CONVERGED, h_next
+
+
+@jit
+def krylov_combination(V, H, g, k, u):
+    """``u`` (shape (m,)) = the combination of the first ``k`` basis
+    vectors of ``V`` that minimises the residual: the triangular ``H``
+    solved against ``g`` by back substitution."""
+    y = np.empty(k)
+    for j in range(k - 1, -1, -1):
+        s = g[j]
+        for i in range(j + 1, k):
+            s -= H[j, i] * y[i]
+        y[j] = s / H[j, j]
+    for i in range(u.size):
+        u[i] = 0.0
+    for j in range(k):
+        yj = y[j]
+        for i in range(u.size):
+            u[i] += yj * V[j, i]
+
+
+@jit
 def gmres_lu(A, F, piv, b, x, V, tol):
     """Solve ``A x = b`` by GMRES, right-preconditioned by LU factors.
 
@@ -172,36 +242,9 @@ def gmres_lu(A, F, piv, b, x, V, tol):
             u[i] = V[k, i]
         apply_factors(F, piv, u)
         sparse_matvec(starts, columns, values, u, V[k + 1])
-        for _pass in range(2):
-            for j in range(k + 1):
-                h = 0.0
-                for i in range(m):
-                    h += V[j, i] * V[k + 1, i]
-                H[j, k] += h
-                for i in range(m):
-                    V[k + 1, i] -= h * V[j, i]
-        h_next = _norm2(V[k + 1])
-        H[k + 1, k] = h_next
-        if not np.isfinite(h_next):
-            return GMRES_NOT_FINITE, k + 1
-        if h_next > 0.0:
-            inv = 1.0 / h_next
-            for i in range(m):
-                V[k + 1, i] *= inv
-        # apply the earlier rotations to the new column, then a new one
-        for j in range(k):
-            t = cs[j] * H[j, k] + sn[j] * H[j + 1, k]
-            H[j + 1, k] = -sn[j] * H[j, k] + cs[j] * H[j + 1, k]
-            H[j, k] = t
-        r = np.hypot(H[k, k], H[k + 1, k])
-        if r == 0.0:
-            return GMRES_NOT_CONVERGED, k + 1
-        cs[k] = H[k, k] / r
-        sn[k] = H[k + 1, k] / r
-        H[k, k] = r
-        H[k + 1, k] = 0.0
-        g[k + 1] = -sn[k] * g[k]
-        g[k] = cs[k] * g[k]
+        status, h_next = arnoldi_step(V, H, cs, sn, g, k)
+        if status != GMRES_CONVERGED:
+            return status, k + 1
         k += 1
         if abs(g[k]) <= 0.5 * target or h_next == 0.0:
             converged = True
@@ -209,18 +252,7 @@ def gmres_lu(A, F, piv, b, x, V, tol):
     if not converged:
         return GMRES_NOT_CONVERGED, k
     # y = H⁻¹ g (upper triangular k × k), u = V y, x = M⁻¹ u
-    y = np.empty(k)
-    for j in range(k - 1, -1, -1):
-        s = g[j]
-        for i in range(j + 1, k):
-            s -= H[j, i] * y[i]
-        y[j] = s / H[j, j]
-    for i in range(m):
-        u[i] = 0.0
-    for j in range(k):
-        yj = y[j]
-        for i in range(m):
-            u[i] += yj * V[j, i]
+    krylov_combination(V, H, g, k, u)
     apply_factors(F, piv, u)
     for i in range(m):
         x[i] = u[i]
