@@ -135,6 +135,12 @@ ARCLENGTH_MAX_STEP = 0.25
 #: followed further; loops of the path about a near-resonance reach about
 #: 1.3 (the spring chain of issue 16 with kt = 500)
 RESONANCE_RATIO = 4.0
+#: a fold-passing path that fails (Newton, at a kink of the path) after a
+#: higher harmonic has outgrown the fundamental by this factor (mass norm)
+#: has entered a k:1 internal resonance: the run stops with that reason
+#: (the spring chain of issue 16 with kt = 5e4: harmonic 5 up to 2.6 times
+#: the fundamental, then a kink at a = 1.95e-4 that the path cannot pass)
+RESONANCE_FAILED_RATIO = 1.0
 #: most fold passages along one mode
 MAX_FOLDS = 8
 #: how far below the first amplitude the start may back off (factor 10 per
@@ -702,17 +708,17 @@ class _EPMC:
         ``tangentᵀ ((u − u_pred) · scale) = 0`` in ``u = [z, log a]``:
         ``(u, iterations)``, ``u`` None when it does not converge."""
         n = self.n
-        u = u_pred.copy()
         big = np.zeros((n + 3, n + 3))
         rhs = np.empty(n + 3)
-        previous = np.inf
-        for it in range(1, MAX_ITERATIONS + 1):
-            if not -700.0 < u[n + 2] < 700.0:  # Newton ran off in log a
-                return None, it
-            a = float(np.exp(u[n + 2]))
-            F, J, state = self.equations(u[: n + 2], a)
+
+        def system(u):
+            """The bordered residual ``rhs = -[F, arclength]`` and matrix
+            at ``u``; None where the AFT fails or ``log a`` ran off."""
+            if not -700.0 < u[n + 2] < 700.0:
+                return None
+            F, J, state = self.equations(u[: n + 2], float(np.exp(u[n + 2])))
             if state < 0 or not np.all(np.isfinite(F)):
-                return None, it
+                return None
             big[: n + 2, : n + 2] = J
             big[: n + 2, n + 2] = 0.0
             # d/d(log a) of the HBM rows F = R(aY) / (a f): J_YY Y - F
@@ -720,23 +726,43 @@ class _EPMC:
             big[n + 2] = tangent * scale
             rhs[: n + 2] = -F
             rhs[n + 2] = -float(tangent @ ((u - u_pred) * scale))
+            return float(np.max(np.abs(rhs)))
+
+        u = u_pred.copy()
+        res = system(u)
+        if res is None:
+            return None, 0
+        previous = np.inf
+        for it in range(1, MAX_ITERATIONS + 1):
             try:
                 du = np.linalg.solve(big, rhs)
             except np.linalg.LinAlgError:
                 return None, it
             if not np.all(np.isfinite(du)):
                 return None, it
-            u += du
-            size = float(np.max(np.abs(du * scale)))
+            # as in solve: plain steps first, then a backtracking line
+            # search (at a change of the stick/slip pattern the Jacobian
+            # jumps and plain Newton cycles between two corrections)
+            lam = 1.0
+            while True:
+                u_try = u + lam * du
+                res_try = system(u_try)
+                if res_try is not None and (
+                    it <= PLAIN_ITERATIONS
+                    or res_try <= (1.0 - 1e-4 * lam) * res
+                    or res <= RESIDUAL_FLOOR
+                    or lam <= MIN_LAMBDA
+                ):
+                    break
+                if res_try is None and lam <= MIN_LAMBDA:
+                    return None, it
+                lam *= 0.5
+            u, res = u_try, res_try
+            size = lam * float(np.max(np.abs(du * scale)))
             if size <= STEP_TOLERANCE or (
                 size <= STALL_TOLERANCE and size > 0.5 * previous
             ):
-                F, _, state = self.equations(u[: n + 2], float(np.exp(u[n + 2])))
-                ok = (
-                    state >= 0
-                    and float(np.max(np.abs(F))) <= RESIDUAL_TOLERANCE
-                    and u[n] > 0.0
-                )
+                ok = res <= RESIDUAL_TOLERANCE and u[n] > 0.0
                 return (u if ok else None), it
             previous = size
         return None, MAX_ITERATIONS
@@ -757,15 +783,15 @@ class _EPMC:
                 best, ratio = int(k), r
         return best, ratio
 
-    def resonance_reason(self, z: np.ndarray, a: float, k: int) -> str:
-        """Why a path whose harmonic ``k`` grew to ``RESONANCE_RATIO`` times
-        the fundamental at ``(z, a)`` stops: a ``k:1`` internal resonance,
+    def resonance_reason(self, z: np.ndarray, a: float, k: int, ratio: float) -> str:
+        """Why a path whose harmonic ``k`` grew to ``ratio`` times the
+        fundamental at ``(z, a)`` stops: a ``k:1`` internal resonance,
         naming the linear mode of the stuck structure nearest to ``k ω``."""
         omega = float(z[self.n])
         j = int(np.argmin(np.abs(self.stuck_omegas - k * omega)))
         return (
             f"{k}:1 internal resonance: past the turning point the path "
-            f"follows harmonic {k}, which grows to {RESONANCE_RATIO:g} times "
+            f"follows harmonic {k}, which grows to {ratio:.2g} times "
             f"the fundamental at a = {a:.4g} ({k} ω = {k * omega:.5g} rad/s; "
             f"linear mode {j + 1} of the stuck structure: "
             f"{self.stuck_omegas[j]:.5g} rad/s), "
@@ -868,6 +894,23 @@ def _pass_folds(epmc: _EPMC, history, s_fail: float, width: float):
     tangent = chord / h
     path, folds = [], []
     steps = rejected = 0
+    # the largest higher harmonic met along the path: (ratio, k, u)
+    strongest = (0.0, 0, u_last)
+
+    def failed():
+        """The stop of a path that cannot go on: an internal resonance when
+        a higher harmonic had outgrown the fundamental, else None."""
+        ratio, k, u = strongest
+        if ratio < RESONANCE_FAILED_RATIO or not folds:
+            return None, folds, steps, rejected, None
+        reason = (
+            f"the backbone turns back at a = {folds[0]:.4g}; "
+            + epmc.resonance_reason(u[: n + 2], float(np.exp(u[n + 2])), k, ratio)
+            + f"; the continuation fails at a = {np.exp(u_last[n + 2]):.4g} "
+            "(Newton, at a kink of the path)"
+        )
+        return None, folds, steps, rejected, reason
+
     while steps < ARCLENGTH_MAX_STEPS:
         u_pred = u_last + h * tangent / scale
         u_new, its = epmc.solve_arclength(u_pred, tangent, scale)
@@ -879,7 +922,7 @@ def _pass_folds(epmc: _EPMC, history, s_fail: float, width: float):
             rejected += 1
             h *= 0.5
             if h < h_min:
-                return None, folds, steps, rejected, None
+                return failed()
             continue
         chord = (u_new - u_last) * scale
         new_tangent = chord / np.linalg.norm(chord)
@@ -895,14 +938,18 @@ def _pass_folds(epmc: _EPMC, history, s_fail: float, width: float):
         if u_new[n + 2] > s_fail and tangent[n + 2] > 0.0:
             return path, folds, steps, rejected, None
         k, ratio = epmc.dominant_harmonic(u_new)
+        if ratio > strongest[0]:
+            strongest = (ratio, k, u_new)
         if ratio > RESONANCE_RATIO:
-            reason = epmc.resonance_reason(u_new, float(np.exp(u_new[n + 2])), k)
+            reason = epmc.resonance_reason(
+                u_new, float(np.exp(u_new[n + 2])), k, RESONANCE_RATIO
+            )
             if folds:
                 reason = f"the backbone turns back at a = {folds[0]:.4g}; {reason}"
             return None, folds, steps, rejected, reason
         if its <= 4:
             h = min(2.0 * h, h_max)
-    return None, folds, steps, rejected, None
+    return failed()
 
 
 def _amplitude_range(amplitude) -> tuple[float, float]:
