@@ -195,6 +195,13 @@ class NonlinearMode:
         The points of that pseudo-arclength continuation around the folds,
         columns ``a``, ``ω`` (rad/s), ``D``, in path order (the grid
         points hold one solution per amplitude; these show the others).
+    pieces : ndarray of int, shape (n_pieces,), optional
+        Index of the first point of each continued piece, increasing in
+        amplitude; None for one piece. Two pieces when the continuation
+        from the stuck side stopped at an internal resonance and the upper
+        branch was continued down from the top of the range
+        (``upper_branch=True``): :attr:`gaps` holds the amplitudes between
+        them, which no point covers.
     truncation_error : ndarray, shape (n_points,), optional
         Estimated truncation error of each point: the larger of the
         relative error of ω and the absolute error of D (both errors of
@@ -226,6 +233,7 @@ class NonlinearMode:
     truncation_error: np.ndarray | None = None
     folds: np.ndarray = field(default_factory=lambda: np.empty(0))
     fold_path: np.ndarray = field(default_factory=lambda: np.empty((0, 3)))
+    pieces: np.ndarray | None = None
     #: the mass matrix, shape (n_dof, n_dof), kg (for the energies)
     _mass: np.ndarray | None = field(default=None, repr=False, compare=False)
 
@@ -239,8 +247,36 @@ class NonlinearMode:
 
     @property
     def complete(self) -> bool:
-        """The points cover the requested amplitude range."""
+        """The points cover the requested amplitude range (one piece, no
+        gap)."""
         return self.stop_reason == "range reached"
+
+    def piece_slices(self) -> list[slice]:
+        """The points of each piece (see :attr:`pieces`), in amplitude
+        order."""
+        n = len(self)
+        starts = [0] if self.pieces is None else [int(i) for i in self.pieces]
+        ends = starts[1:] + [n]
+        return [slice(a, b) for a, b in zip(starts, ends, strict=True)]
+
+    @property
+    def gaps(self) -> list[tuple[float, float]]:
+        """Parts ``(low, high)`` of the requested amplitude range that no
+        piece covers, m √kg, increasing (a piece covers the amplitudes
+        between its first and last point): between two pieces, and above
+        the last point of a run that stopped short. Empty when complete."""
+        lo, hi = self.requested
+        if len(self) == 0:
+            return [(lo, hi)]
+        gaps, edge = [], lo
+        for sl in self.piece_slices():
+            a0, a1 = float(self.amplitude[sl][0]), float(self.amplitude[sl][-1])
+            if a0 > edge * (1.0 + 1e-12):
+                gaps.append((edge, a0))
+            edge = max(edge, a1)
+        if hi > edge * (1.0 + 1e-12):
+            gaps.append((edge, hi))
+        return gaps
 
     def dof_amplitude(self, dof=None, harmonic: int = 1) -> np.ndarray:
         """Amplitude of one harmonic of one DOF along the mode, m.
@@ -342,8 +378,10 @@ class NonlinearMode:
         g = needed - force
         s = np.log(self.amplitude)
         omega, amp = [], []
+        # no interpolation across the gap between two pieces
+        last = {sl.stop - 1 for sl in self.piece_slices()}
         for i in np.flatnonzero(np.sign(g[1:]) != np.sign(g[:-1])):
-            if not (np.isfinite(g[i]) and np.isfinite(g[i + 1])):
+            if not (np.isfinite(g[i]) and np.isfinite(g[i + 1])) or i in last:
                 continue
             u = g[i] / (g[i] - g[i + 1])
             amp.append(float(np.exp(s[i] + u * (s[i + 1] - s[i]))))
@@ -397,6 +435,8 @@ class NonlinearMode:
             arrays["truncation_error"] = self.truncation_error
         arrays["folds"] = self.folds
         arrays["fold_path"] = self.fold_path
+        if self.pieces is not None:
+            arrays["pieces"] = self.pieces
         if self._mass is not None:
             arrays["mass"] = self._mass
         np.savez(path, **arrays)
@@ -457,6 +497,11 @@ class NonlinearMode:
                         if "fold_path" in data.files
                         else np.empty((0, 3))
                     ),
+                    pieces=(
+                        np.asarray(data["pieces"], dtype=np.int64).copy()
+                        if "pieces" in data.files
+                        else None
+                    ),
                     truncation_error=(
                         np.asarray(data["truncation_error"], dtype=np.float64).copy()
                         if "truncation_error" in data.files
@@ -502,8 +547,19 @@ class NonlinearMode:
         if axes is None:
             _, axes = plt.subplots(2, 1, sharex=True)
         ax_w, ax_d = axes
-        ax_w.plot(self.amplitude, self.frequency if hz else self.omega, **kwargs)
-        ax_d.plot(self.amplitude, self.damping_ratio, **kwargs)
+        w = self.frequency if hz else self.omega
+        color = kwargs.pop("color", None)
+        for i, sl in enumerate(self.piece_slices()):
+            # one line per piece (the gap between them stays empty), in
+            # one colour, one legend entry
+            kw = dict(kwargs) if i == 0 else {**kwargs, "label": "_nolegend_"}
+            if color is not None:
+                kw["color"] = color
+            (line,) = ax_w.plot(self.amplitude[sl], w[sl], **kw)
+            color = line.get_color()
+            ax_d.plot(
+                self.amplitude[sl], self.damping_ratio[sl], **{**kw, "color": color}
+            )
         ax_w.set_xscale("log")
         ax_d.set_xscale("log")
         ax_w.set_ylabel("frequency (Hz)" if hz else "ω (rad/s)")
@@ -513,9 +569,10 @@ class NonlinearMode:
         return ax_w, ax_d
 
     def to_csv(self, path: str | Path) -> Path:
-        """Write amplitude, ω (rad/s), frequency (Hz), damping ratio and
-        the first-harmonic amplitude of the contact DOF (m), one row per
-        point; returns the path."""
+        """Write amplitude, ω (rad/s), frequency (Hz), damping ratio, the
+        first-harmonic amplitude of the contact DOF (m) and the piece number
+        (0, or 1 for the upper branch past an internal resonance), one row
+        per point; returns the path."""
         path = Path(path)
         contact = self.dof_amplitude(None, 1) if len(self) else np.empty(0)
         with path.open("w", newline="") as fh:
@@ -527,17 +584,23 @@ class NonlinearMode:
                     "frequency_hz",
                     "damping_ratio",
                     "contact_dof_amplitude",
+                    "piece",
                 ]
             )
-            for row in zip(
-                self.amplitude,
-                self.omega,
-                self.frequency,
-                self.damping_ratio,
-                contact,
-                strict=True,
+            piece = np.zeros(len(self), dtype=int)
+            for i, sl in enumerate(self.piece_slices()):
+                piece[sl] = i
+            for i, row in enumerate(
+                zip(
+                    self.amplitude,
+                    self.omega,
+                    self.frequency,
+                    self.damping_ratio,
+                    contact,
+                    strict=True,
+                )
             ):
-                writer.writerow([repr(float(v)) for v in row])
+                writer.writerow([repr(float(v)) for v in row] + [int(piece[i])])
         return path
 
 
@@ -629,6 +692,21 @@ class _EPMC:
         # (``static_solution`` hook), else 0 (a static load may be held by
         # the contacts' preload, which K alone does not know); Newton finds
         # the mean from there
+        # the same mode of the structure with its contacts slipping freely
+        # (no contact stiffness): the large-amplitude limit, where the upper
+        # piece of a mode cut by an internal resonance starts
+        self.slipped_phi = None
+        w2_free, vecs_free = scipy.linalg.eigh(problem._matrices[2], mass)
+        if float(w2_free[mode - 1]) > 0.0:
+            psi = vecs_free[:, mode - 1]
+            psi = psi / np.sqrt(psi @ mass @ psi)
+            if psi @ self.m_phi < 0.0:
+                psi = -psi
+            self.slipped_phi = psi
+            self.slipped_omega = float(np.sqrt(w2_free[mode - 1]))
+            self.slipped_damping = float(psi @ damping @ psi) / (
+                2.0 * self.slipped_omega
+            )
         self.static = None
         hook = getattr(system, "static_solution", None)
         if problem._static is not None and hn[0] == 0 and hook is not None:
@@ -642,6 +720,15 @@ class _EPMC:
             z[: self.n : self.n_coef] = self.static / a
         z[self.n] = self.linear_omega
         z[self.n + 1] = self.linear_damping
+        return z
+
+    def slipped_guess(self, a: float) -> np.ndarray:
+        """``z`` of the linear mode of the structure with the contacts
+        slipping freely at amplitude ``a`` (needs ``slipped_phi``)."""
+        z = self.linear_guess(a)
+        z[self.cos1] = self.slipped_phi
+        z[self.n] = self.slipped_omega
+        z[self.n + 1] = self.slipped_damping
         return z
 
     def equations(self, z: np.ndarray, a: float):
@@ -952,6 +1039,79 @@ def _pass_folds(epmc: _EPMC, history, s_fail: float, width: float):
     return failed()
 
 
+def _descend(epmc: _EPMC, grid: np.ndarray, floor: float):
+    """Natural continuation of the upper piece: from the slipped linear
+    mode at the top of ``grid`` (log a, increasing) down the grid, not
+    below ``floor`` (log a; grid points at or below it are left to the
+    lower piece). Same step control as the upward continuation, no fold
+    passage: it stops at the first step that fails for good (in the
+    spring chain of issue 16: a turning point of the upper branch).
+
+    Returns ``(s, z, iterations, steps, rejected, reason)``: the points in
+    increasing amplitude, the work, and why it stopped above the floor
+    (None when it reached it)."""
+    n = epmc.n
+    width = grid[1] - grid[0]
+    targets = [t for t in grid[::-1] if t > floor + 1e-9 * width]
+    if not targets:
+        return [], [], [], 0, 0, None
+    a0 = float(np.exp(targets[0]))
+    z, its = epmc.solve(epmc.slipped_guess(a0), a0)
+    steps, rejected = 1, 0
+    if z is None:
+        return (
+            [],
+            [],
+            [],
+            steps,
+            1,
+            f"no solution near the slipped mode at a = {a0:.4g}",
+        )
+    out_s, out_z, out_it = [targets[0]], [z], [its]
+    history = [(targets[0], z)]
+    step = width
+    reason = None
+    for target in targets[1:]:
+        s = history[-1][0]
+        while s > target:
+            h = -min(step, s - target)
+            z_last = history[-1][1]
+            if len(history) >= 2:
+                s_prev, z_prev = history[-2]
+                pred = z_last + (z_last - z_prev) * h / (s - s_prev)
+            else:
+                pred = z_last.copy()
+            z_new, its = epmc.solve(pred, float(np.exp(s + h)))
+            steps += 1
+            bad = (
+                z_new is None
+                or epmc.correlation(z_last, z_new) < MAC_TOLERANCE
+                or abs(z_new[n] - pred[n]) > MAX_CORRECTION * pred[n]
+                or abs(z_new[n + 1] - pred[n + 1]) > MAX_CORRECTION
+            )
+            if bad:
+                rejected += 1
+                step = 0.5 * abs(h)
+                if step < MIN_STEP_FRACTION * width:
+                    reason = (
+                        f"coming down from a = {np.exp(grid[-1]):.4g}, the "
+                        f"continuation fails at a = {np.exp(s + h):.4g} (a "
+                        "turning point of the upper branch, or another jump)"
+                    )
+                    break
+                continue
+            history = [history[-1], (s + h, z_new)]
+            s = s + h
+            if its <= 4:
+                step = min(2.0 * abs(h), width)
+        if reason is not None:
+            break
+        out_s.append(target)
+        out_z.append(history[-1][1])
+        out_it.append(its)
+    return out_s[::-1], out_z[::-1], out_it[::-1], steps, rejected, reason
+
+
 def _amplitude_range(amplitude) -> tuple[float, float]:
     try:
         lo, hi = amplitude
@@ -1000,6 +1160,11 @@ def _check_mode_arrays(path, mode: NonlinearMode) -> None:
         raise bad("load_vector", f"must have shape ({n_dof},)")
     if mode._mass is not None and mode._mass.shape != (n_dof, n_dof):
         raise bad("mass", f"must have shape ({n_dof}, {n_dof})")
+    p = mode.pieces
+    if p is not None and (
+        p.ndim != 1 or p.size < 2 or p[0] != 0 or np.any(np.diff(p) <= 0) or p[-1] >= n
+    ):
+        raise bad("pieces", f"must start at 0 and increase below {n}")
     for name, index in mode.dof_names.items():
         if not 0 <= index < n_dof:
             raise bad("dof_names", f"maps {name!r} to {index}, not in [0, {n_dof - 1}]")
@@ -1016,6 +1181,7 @@ def nonlinear_mode(
     aft: str = "auto",
     structural_damping: bool = True,
     harmonic_tolerance: float | None = 1e-3,
+    upper_branch: bool = True,
 ) -> NonlinearMode:
     """A nonlinear mode by the extended periodic motion concept (EPMC).
 
@@ -1054,6 +1220,13 @@ def nonlinear_mode(
         error of D); an :class:`~hbmfric.AccuracyWarning` when a point
         exceeds it. The estimate costs one residual and one LU in the basis
         ``2H + 1`` per point; None skips it.
+    upper_branch : bool
+        When the continuation from the stuck side stops at an internal
+        resonance, continue the mode down from ``high``, starting from the
+        same linear mode of the structure with its contacts slipping
+        freely (default), to the amplitudes above the stop: the result then
+        has two :attr:`~NonlinearMode.pieces` and a gap between them
+        (:attr:`~NonlinearMode.gaps`). False: the lower piece alone.
 
     Returns
     -------
@@ -1115,6 +1288,7 @@ def nonlinear_mode(
                 break
             n_rejected += 1
     out_s, out_z, out_it = [], [], []
+    at_resonance = False
     folds: list[float] = []
     fold_path: list[tuple[float, np.ndarray]] = []
     stop_reason = "range reached"
@@ -1174,6 +1348,7 @@ def nonlinear_mode(
                         n_rejected += r
                         if why is not None:
                             stop_reason = why
+                            at_resonance = True
                             break
                         if path is not None and found:
                             folds.extend(found)
@@ -1217,6 +1392,29 @@ def nonlinear_mode(
                     out_it.append(its)
             if not reached:
                 break
+    pieces = None
+    upper_reason = None
+    if at_resonance and upper_branch and epmc.slipped_phi is not None:
+        # the backbone beyond the internal resonance: from the top of the
+        # range down, starting from the slipped structure's linear mode
+        up_s, up_z, up_it, k, r, upper_reason = _descend(epmc, grid, out_s[-1])
+        n_steps += k
+        n_rejected += r
+        if up_s:
+            pieces = np.array([0, len(out_s)], dtype=np.int64)
+            out_s += up_s
+            out_z += up_z
+            out_it += up_it
+            low_end, up_start = np.exp(out_s[pieces[1] - 1]), np.exp(up_s[0])
+            stop_reason += (
+                f"; the upper branch, continued down from a = {hi:.4g} (from the "
+                f"linear mode with the contacts slipping), reaches a = {up_start:.4g}"
+                f": not computed between a = {low_end:.4g} and {up_start:.4g}"
+            )
+            if upper_reason is not None:
+                stop_reason += f" ({upper_reason})"
+        elif upper_reason is not None:
+            stop_reason += f"; no upper branch: {upper_reason}"
     amps = np.exp(np.array(out_s, dtype=float))
     if amps.size:  # the asked ends exactly, not through exp(log(.))
         amps[0] = lo if out_s[0] == grid[0] else amps[0]
@@ -1264,6 +1462,7 @@ def nonlinear_mode(
         load_vector=epmc.load,
         truncation_error=errors,
         folds=np.array(folds, dtype=float),
+        pieces=pieces,
         fold_path=np.array(
             [[np.exp(sp), zp[n], zp[n + 1]] for sp, zp in fold_path], dtype=float
         ).reshape(-1, 3),
@@ -1280,6 +1479,10 @@ def nonlinear_mode(
         )
     if not result.complete:
         covered = f"up to a = {amps[-1]:.4g}" if amps.size else "no point"
+        if pieces is not None:
+            covered = "gaps " + ", ".join(
+                f"({g0:.4g}, {g1:.4g})" for g0, g1 in result.gaps
+            )
         cls = CoverageWarning if amps.size else ConvergenceWarning
         warnings.warn(
             f"nonlinear mode {mode}: {covered} of the range ({lo:.4g}, {hi:.4g}); "
