@@ -141,6 +141,10 @@ RESONANCE_RATIO = 4.0
 #: (the spring chain of issue 16 with kt = 5e4: harmonic 5 up to 2.6 times
 #: the fundamental, then a kink at a = 1.95e-4 that the path cannot pass)
 RESONANCE_FAILED_RATIO = 1.0
+#: the upper piece's start (the slipped linear mode, D from its energy
+#: balance) is kept when its D lands within this fraction of the contacts'
+#: estimated share of D from the guess; else it starts 10 times higher
+SLIPPED_START_TOLERANCE = 0.1
 #: most fold passages along one mode
 MAX_FOLDS = 8
 #: how far below the first amplitude the start may back off (factor 10 per
@@ -725,10 +729,22 @@ class _EPMC:
     def slipped_guess(self, a: float) -> np.ndarray:
         """``z`` of the linear mode of the structure with the contacts
         slipping freely at amplitude ``a`` (needs ``slipped_phi``)."""
+        n = self.n
         z = self.linear_guess(a)
         z[self.cos1] = self.slipped_phi
-        z[self.n] = self.slipped_omega
-        z[self.n + 1] = self.slipped_damping
+        z[n] = self.slipped_omega
+        z[n + 1] = self.slipped_damping
+        # D from the energy balance of that motion (the HBM rows projected
+        # on its velocity): the contacts' dissipation can be many times the
+        # structure's, and Newton from the structural D alone may cycle
+        F, _, state = self.equations(z, a)
+        v = (self.md @ z[:n]) * a
+        vv = float(v @ v)
+        if state >= 0 and np.all(np.isfinite(F)) and vv > 0.0:
+            s = 1.0 / (a * self.force_scale)
+            w2 = z[n] ** 2
+            rhs = F[:n] / s + 2.0 * z[n + 1] * w2 * v
+            z[n + 1] = float(v @ rhs) / (2.0 * w2 * vv)
         return z
 
     def equations(self, z: np.ndarray, a: float):
@@ -961,9 +977,14 @@ def _pass_folds(epmc: _EPMC, history, s_fail: float, width: float):
     Returns ``(path, folds, steps, rejected, reason)``: the points
     ``(s, z)`` of the path (None if it could not pass), the amplitudes of
     its turning points, the work, and why it stopped short (None when it
-    passed or simply failed): a path on which a higher harmonic outgrows
-    the fundamental has left the mode for an internal resonance (a higher
-    mode whose frequency is a multiple of ω) and is not followed further.
+    passed, or failed before turning): a path on which a higher harmonic
+    outgrows the fundamental has left the mode for an internal resonance (a
+    higher mode whose frequency is a multiple of ω) and is not followed
+    further; a path that turned and then fails (Newton, at a kink: the
+    spring chain of issue 16 with kt = 5e4, or kt = 5e3 at 0.1 % damping)
+    is named with its turning point, and with the internal resonance when
+    a higher harmonic outgrew the fundamental on it
+    (``RESONANCE_FAILED_RATIO``).
     """
     n = epmc.n
     scale = np.ones(n + 3)
@@ -985,16 +1006,19 @@ def _pass_folds(epmc: _EPMC, history, s_fail: float, width: float):
     strongest = (0.0, 0, u_last)
 
     def failed():
-        """The stop of a path that cannot go on: an internal resonance when
-        a higher harmonic had outgrown the fundamental, else None."""
-        ratio, k, u = strongest
-        if ratio < RESONANCE_FAILED_RATIO or not folds:
+        """The stop of a path that cannot go on past its turning points:
+        an internal resonance when a higher harmonic had outgrown the
+        fundamental; None when it turned nowhere."""
+        if not folds:
             return None, folds, steps, rejected, None
-        reason = (
-            f"the backbone turns back at a = {folds[0]:.4g}; "
-            + epmc.resonance_reason(u[: n + 2], float(np.exp(u[n + 2])), k, ratio)
-            + f"; the continuation fails at a = {np.exp(u_last[n + 2]):.4g} "
-            "(Newton, at a kink of the path)"
+        ratio, k, u = strongest
+        reason = f"the backbone turns back at a = {folds[0]:.4g}; "
+        if ratio >= RESONANCE_FAILED_RATIO:
+            a_k = float(np.exp(u[n + 2]))
+            reason += epmc.resonance_reason(u[: n + 2], a_k, k, ratio) + "; "
+        reason += (
+            f"the path past the turning point fails at a = "
+            f"{np.exp(u_last[n + 2]):.4g} (Newton, at a kink of the path)"
         )
         return None, folds, steps, rejected, reason
 
@@ -1047,6 +1071,13 @@ def _descend(epmc: _EPMC, grid: np.ndarray, floor: float):
     passage: it stops at the first step that fails for good (in the
     spring chain of issue 16: a turning point of the upper branch).
 
+    The start must land near the slipped guess (D within
+    ``SLIPPED_START_TOLERANCE`` of the contacts' estimated share, ω within
+    ``MAX_CORRECTION``): near an internal resonance the EPMC has other
+    solutions close by. Otherwise it starts 10, 100, … times higher, where
+    the contacts perturb the slipped mode less, and continues down to the
+    top of the grid first.
+
     Returns ``(s, z, iterations, steps, rejected, reason)``: the points in
     increasing amplitude, the work, and why it stopped above the floor
     (None when it reached it)."""
@@ -1055,23 +1086,42 @@ def _descend(epmc: _EPMC, grid: np.ndarray, floor: float):
     targets = [t for t in grid[::-1] if t > floor + 1e-9 * width]
     if not targets:
         return [], [], [], 0, 0, None
-    a0 = float(np.exp(targets[0]))
-    z, its = epmc.solve(epmc.slipped_guess(a0), a0)
-    steps, rejected = 1, 0
+    steps = rejected = 0
+    z = None
+    for k in range(START_BACKOFF + 1):
+        s0 = grid[-1] + k * np.log(10.0)
+        a0 = float(np.exp(s0))
+        guess = epmc.slipped_guess(a0)
+        z, its = epmc.solve(guess, a0)
+        steps += 1
+        share = abs(guess[n + 1] - epmc.slipped_damping)
+        if z is not None and (
+            abs(z[n + 1] - guess[n + 1]) <= SLIPPED_START_TOLERANCE * share
+            and abs(z[n] - guess[n]) <= MAX_CORRECTION * guess[n]
+        ):
+            break
+        rejected += 1
+        z = None
     if z is None:
         return (
             [],
             [],
             [],
             steps,
-            1,
-            f"no solution near the slipped mode at a = {a0:.4g}",
+            rejected,
+            f"no solution near the slipped mode at a = {np.exp(grid[-1]):.4g} "
+            f"to {a0:.4g}",
         )
-    out_s, out_z, out_it = [targets[0]], [z], [its]
-    history = [(targets[0], z)]
+    # above the grid: spaced like it, not returned
+    above = [s0 - i * width for i in range(int(np.ceil((s0 - grid[-1]) / width)))]
+    path = [t for t in above if t > grid[-1] + 1e-9 * width] + targets
+    out_s, out_z, out_it = [], [], []
+    if s0 == targets[0]:
+        out_s, out_z, out_it = [s0], [z], [its]
+    history = [(s0, z)]
     step = width
     reason = None
-    for target in targets[1:]:
+    for target in path[1:] if s0 == path[0] else path:
         s = history[-1][0]
         while s > target:
             h = -min(step, s - target)
@@ -1094,7 +1144,7 @@ def _descend(epmc: _EPMC, grid: np.ndarray, floor: float):
                 step = 0.5 * abs(h)
                 if step < MIN_STEP_FRACTION * width:
                     reason = (
-                        f"coming down from a = {np.exp(grid[-1]):.4g}, the "
+                        f"coming down from a = {np.exp(s0):.4g}, the "
                         f"continuation fails at a = {np.exp(s + h):.4g} (a "
                         "turning point of the upper branch, or another jump)"
                     )
@@ -1106,9 +1156,10 @@ def _descend(epmc: _EPMC, grid: np.ndarray, floor: float):
                 step = min(2.0 * abs(h), width)
         if reason is not None:
             break
-        out_s.append(target)
-        out_z.append(history[-1][1])
-        out_it.append(its)
+        if target <= grid[-1] + 1e-9 * width:
+            out_s.append(target)
+            out_z.append(history[-1][1])
+            out_it.append(its)
     return out_s[::-1], out_z[::-1], out_it[::-1], steps, rejected, reason
 
 
@@ -1221,8 +1272,9 @@ def nonlinear_mode(
         exceeds it. The estimate costs one residual and one LU in the basis
         ``2H + 1`` per point; None skips it.
     upper_branch : bool
-        When the continuation from the stuck side stops at an internal
-        resonance, continue the mode down from ``high``, starting from the
+        When the continuation from the stuck side stops on the path past a
+        turning point (at an internal resonance, or at a kink of the path
+        it cannot pass), continue the mode down from ``high``, starting from the
         same linear mode of the structure with its contacts slipping
         freely (default), to the amplitudes above the stop: the result then
         has two :attr:`~NonlinearMode.pieces` and a gap between them
@@ -1288,7 +1340,9 @@ def nonlinear_mode(
                 break
             n_rejected += 1
     out_s, out_z, out_it = [], [], []
-    at_resonance = False
+    # the run stopped on the path past a turning point (an internal
+    # resonance, or a kink it cannot pass): the upper branch is sought
+    turned_back = False
     folds: list[float] = []
     fold_path: list[tuple[float, np.ndarray]] = []
     stop_reason = "range reached"
@@ -1348,7 +1402,7 @@ def nonlinear_mode(
                         n_rejected += r
                         if why is not None:
                             stop_reason = why
-                            at_resonance = True
+                            turned_back = True
                             break
                         if path is not None and found:
                             folds.extend(found)
@@ -1394,7 +1448,7 @@ def nonlinear_mode(
                 break
     pieces = None
     upper_reason = None
-    if at_resonance and upper_branch and epmc.slipped_phi is not None:
+    if turned_back and upper_branch and epmc.slipped_phi is not None:
         # the backbone beyond the internal resonance: from the top of the
         # range down, starting from the slipped structure's linear mode
         up_s, up_z, up_it, k, r, upper_reason = _descend(epmc, grid, out_s[-1])
@@ -1407,8 +1461,8 @@ def nonlinear_mode(
             out_it += up_it
             low_end, up_start = np.exp(out_s[pieces[1] - 1]), np.exp(up_s[0])
             stop_reason += (
-                f"; the upper branch, continued down from a = {hi:.4g} (from the "
-                f"linear mode with the contacts slipping), reaches a = {up_start:.4g}"
+                "; the upper branch, continued down from the linear mode with "
+                f"the contacts slipping at a >= {hi:.4g}, reaches a = {up_start:.4g}"
                 f": not computed between a = {low_end:.4g} and {up_start:.4g}"
             )
             if upper_reason is not None:
