@@ -52,8 +52,13 @@ turning points are reported (``NonlinearMode.folds``, a
 :class:`~hbmfric.HbmfricWarning`). A path on which a higher harmonic
 ``k`` grows to ``RESONANCE_RATIO`` times the fundamental has left the mode
 for a ``k:1`` internal resonance and stops with that reason (the spring
-chain of issue 16). A run that stops short is reported by
-a :class:`~hbmfric.CoverageWarning`, never a quietly short result.
+chain of issue 16); so does a path that turned and then fails after a
+higher harmonic outgrew the fundamental on it. When the run stops on the
+path past a turning point, the mode beyond it is continued down from the
+top of the range, starting from the linear mode of the structure with its
+contacts slipping (:func:`_descend`): two pieces and the gap between them
+(``NonlinearMode.pieces``, ``gaps``). A run that stops short is reported
+by a :class:`~hbmfric.CoverageWarning`, never a quietly short result.
 
 Reference: M. Krack, *Nonlinear modal analysis of nonconservative systems:
 extension of the periodic motion concept*, Computers & Structures 154

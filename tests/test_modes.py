@@ -838,10 +838,109 @@ def test_spring_chain_stops_at_the_internal_resonance_with_that_reason():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", hf.AccuracyWarning)
         with pytest.warns(hf.CoverageWarning, match="3:1 internal resonance"):
-            nm = hf.nonlinear_mode(chain, amplitude=(1e-6, 1e-1), points=40)
+            nm = hf.nonlinear_mode(
+                chain, amplitude=(1e-6, 1e-1), points=40, upper_branch=False
+            )
     assert "turns back at a = 0.0006" in nm.stop_reason
     assert "linear mode 3 of the stuck structure" in nm.stop_reason
     assert 5.2e-4 > nm.amplitude[-1] > 4.5e-4
+    assert nm.pieces is None and nm.gaps == [(nm.amplitude[-1], 1e-1)]
+
+
+def test_spring_chain_stiff_contact_stops_at_a_named_internal_resonance():
+    """Issue 16: with kt = 5e4 the stuck chain is nearly 1:2:3:4:5 (ω5 =
+    323.20 = 4.947 ω1). Past the slip onset the backbone turns (a =
+    5.40e-4, 5.21e-4, 5.51e-4) and the path runs down along harmonic 5,
+    which grows to 2.6 times the fundamental at a = 3.25e-5 (5 ω = 323.1
+    rad/s: mode 5), turns back there and fails at a kink at a = 1.95e-4
+    (plain Newton cycled between two corrections there; with the line
+    search it converges, but no longer step passes the kink). The stop
+    names the 5:1 internal resonance and the stuck mode 5 (on main:
+    'Newton failed at a = 0.0005511', no resonance named); the points
+    found satisfy the EPMC equations (plain NumPy check)."""
+    kt = 5e4
+    chain, matrices = _spring_chain(kt)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.AccuracyWarning)
+        warnings.simplefilter("ignore", hf.HbmfricWarning)
+        with pytest.warns(hf.CoverageWarning, match="5:1 internal resonance"):
+            nm = hf.nonlinear_mode(
+                chain, amplitude=(1e-6, 1e-1), points=40, upper_branch=False
+            )
+    assert "linear mode 5 of the stuck structure" in nm.stop_reason
+    assert "Newton failed" not in nm.stop_reason
+    assert 5.2e-4 > nm.amplitude[-1] > 4.5e-4
+    worst = max(_chain_residual(nm, i, matrices, kt) for i in range(0, len(nm), 3))
+    assert worst < 1e-4
+
+
+def _slipped_limit(matrices, slip_force=1.0):
+    """ω and the damping-ratio function of the chain's mode 1 with the tip
+    sliding freely: the free chain's ω1 and ``D(a) = ζ1 + W / (2π ω1² a²)``
+    with ``W = 4 F_s a |φ_tip|`` the work of a sliding Coulomb force over
+    one cycle of the tip's harmonic motion (φ mass-normalised)."""
+    Mc, Cc, Kc = matrices
+    w2, vecs = scipy.linalg.eigh(Kc, Mc)
+    phi = vecs[:, 0] / np.sqrt(vecs[:, 0] @ Mc @ vecs[:, 0])
+    w1 = float(np.sqrt(w2[0]))
+    zeta = float(phi @ Cc @ phi) / (2.0 * w1)
+
+    def ratio(a):
+        return zeta + 4.0 * slip_force * abs(phi[-1]) / (2.0 * np.pi * w1**2 * a)
+
+    return w1, ratio
+
+
+@pytest.mark.parametrize("kt", [5e3, 5e4])
+def test_spring_chain_upper_branch_beyond_the_internal_resonance(kt, tmp_path):
+    """Issue 16: the run that stops at the internal resonance continues the
+    mode down from the top of the range (upper_branch, default), from the
+    chain's mode 1 with the tip slipping: two pieces, the gap between them
+    reported. The upper piece against independent references: its points
+    satisfy the EPMC equations (plain NumPy harmonic balance, naive
+    Jenkins march; measured worst 4.5e-5); at a = 0.1 ω is the free
+    chain's ω1 within 1e-3 (measured 1.2e-4) and D the sliding-Coulomb
+    energy balance within 1e-3 (measured 1.6e-4), approached as a grows
+    (the error of D falls over the last four points). Saved, loaded,
+    drawn and written per piece; resonances not interpolated across the
+    gap."""
+    chain, matrices = _spring_chain(kt)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.AccuracyWarning)
+        warnings.simplefilter("ignore", hf.HbmfricWarning)
+        with pytest.warns(hf.CoverageWarning, match="internal resonance"):
+            nm = hf.nonlinear_mode(chain, amplitude=(1e-6, 1e-1), points=40)
+    assert not nm.complete and nm.pieces is not None and len(nm.pieces) == 2
+    lower, upper = nm.piece_slices()
+    assert np.all(np.diff(nm.amplitude) > 0.0)
+    assert nm.amplitude[-1] == 1e-1
+    (gap,) = nm.gaps
+    assert gap == (nm.amplitude[lower][-1], nm.amplitude[upper][0])
+    assert 4.5e-4 < gap[0] < 5.2e-4 and 5.7e-4 < gap[1] < 1e-3
+    assert "not computed between a = 0.0004924" in nm.stop_reason
+    # the upper piece: EPMC residual, the slipped limits
+    worst = max(
+        _chain_residual(nm, i, matrices, kt) for i in range(upper.start, upper.stop)
+    )
+    assert worst < 1e-4
+    w1, ratio = _slipped_limit(matrices)
+    assert abs(nm.omega[-1] / w1 - 1.0) < 1e-3
+    error = np.abs(nm.damping_ratio[upper] / ratio(nm.amplitude[upper]) - 1.0)
+    assert error[-1] < 1e-3 and np.all(np.diff(error[-4:]) < 0.0)
+    # far from stuck: the upper piece is in the slipped regime (ω near ω1,
+    # not the stuck linear ω)
+    assert np.all(nm.omega[upper] < 1.1 * w1)
+    assert np.all(nm.omega[lower] > 0.9 * nm.linear_omega)
+    # per piece: the file, the plot, the CSV
+    back = hf.NonlinearMode.load(nm.save(tmp_path / "m.npz"))
+    np.testing.assert_array_equal(back.pieces, nm.pieces)
+    assert back.gaps == nm.gaps
+    ax_w, ax_d = nm.plot()
+    assert len(ax_w.lines) == 2 and len(ax_d.lines) == 2
+    data = np.genfromtxt(nm.to_csv(tmp_path / "m.csv"), delimiter=",", names=True)
+    np.testing.assert_array_equal(
+        data["piece"], [0] * lower.stop + [1] * (upper.stop - upper.start)
+    )
 
 
 def _chain_modal_amplitude(solution_coefficients, mass, harmonic_numbers):
@@ -913,4 +1012,53 @@ def test_spring_chain_backbone_through_frf_peaks(force):
         f"F = {force}: a_peak {a_peak:.4g}, Ω_peak {omega_peak:.6f}, "
         f"D {ratio:.3g}, error {error:.2e}, error / D² {error / ratio**2:.3f}"
     )
+    assert abs(error) < 1e-3
+
+
+@pytest.mark.slow
+def test_spring_chain_upper_branch_through_the_frf_peak():
+    """Issue 16 chain, kt = 5e3, ζ = 0.1 %: under F = 3.2 N at DOF 10 the
+    tip slides and the FRF peak (refined by a bounded search of
+    ``hf.periodic_solution``) lies at a = 0.249, beyond the internal
+    resonance that stops the continuation from the stuck side: the upper
+    branch, continued down from the peak's amplitude, passes through it
+    within 1e-3 in frequency (measured 3.5e-4; D = 3.4e-3 there)."""
+    chain, (Mc, _, _) = _spring_chain(5e3, 1e-3)
+    h, force = 7, 3.2
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.AccuracyWarning)
+        branch = hf.frf(chain, force, (30.0, 36.0), harmonics=h)
+    a = _chain_modal_amplitude(branch.coefficients, Mc, branch.harmonic_numbers)
+    i = int(np.argmax(a))
+
+    def minus_amplitude(omega):
+        sol = hf.periodic_solution(chain, force, omega, harmonics=h)
+        X = sol.coefficients.reshape(Mc.shape[0], -1)
+        return -float(_chain_modal_amplitude(X, Mc, sol.harmonic_numbers))
+
+    lo, hi = branch.omega[max(i - 1, 0)], branch.omega[min(i + 1, len(branch) - 1)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.AccuracyWarning)
+        res = minimize_scalar(
+            minus_amplitude,
+            bounds=(min(lo, hi), max(lo, hi)),
+            method="bounded",
+            options={"xatol": 1e-9 * branch.omega[i]},
+        )
+    omega_peak, a_peak = float(res.x), float(-res.fun)
+    assert a_peak > 0.1
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.AccuracyWarning)
+        warnings.simplefilter("ignore", hf.HbmfricWarning)
+        nm = hf.nonlinear_mode(
+            chain,
+            amplitude=(1e-6, a_peak),
+            points=40,
+            harmonics=h,
+            harmonic_tolerance=None,
+        )
+    assert nm.pieces is not None and len(nm.gaps) == 1
+    assert nm.amplitude[-1] == a_peak
+    error = omega_peak / nm.omega[-1] - 1.0
+    print(f"a_peak {a_peak:.4g}, D {nm.damping_ratio[-1]:.3g}, error {error:.2e}")
     assert abs(error) < 1e-3
