@@ -859,11 +859,14 @@ class _EPMC:
                     it <= PLAIN_ITERATIONS
                     or res_try <= (1.0 - 1e-4 * lam) * res
                     or res <= RESIDUAL_FLOOR
-                    or lam <= MIN_LAMBDA
                 ):
                     break
-                if res_try is None and lam <= MIN_LAMBDA:
-                    return None, it
+                if lam <= MIN_LAMBDA:
+                    # no descent along the correction (a kink of the
+                    # residual): the point stands if its residual does,
+                    # else give up (not 30 more full line searches)
+                    ok = res <= RESIDUAL_TOLERANCE and u[n] > 0.0
+                    return (u if ok else None), it
                 lam *= 0.5
             u, res = u_try, res_try
             size = lam * float(np.max(np.abs(du * scale)))
