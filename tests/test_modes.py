@@ -931,6 +931,13 @@ def test_spring_chain_upper_branch_beyond_the_internal_resonance(kt, tmp_path):
     # not the stuck linear ω)
     assert np.all(nm.omega[upper] < 1.1 * w1)
     assert np.all(nm.omega[lower] > 0.9 * nm.linear_omega)
+    # the force balanced over the mode jumps across the gap (kt = 5e3:
+    # 0.027 N below it, 4.8 N above): no resonance is interpolated into it
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.CoverageWarning)
+        for force in (0.1, 1.0, 2.0):
+            _, a_res = nm.resonances(force)
+            assert not np.any((a_res > gap[0]) & (a_res < gap[1])), (force, a_res)
     # per piece: the file, the plot, the CSV
     back = hf.NonlinearMode.load(nm.save(tmp_path / "m.npz"))
     np.testing.assert_array_equal(back.pieces, nm.pieces)
