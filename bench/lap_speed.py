@@ -5,7 +5,9 @@ spends its time (condensed: receptance part of the residual, AFT of the
 contacts, LU of the bordered Jacobian by :func:`hbmfric.kernels.linalg.
 lu_factor`, one GMRES product of the kept-factor solve, the nonzero
 share of the Jacobian, and one solve by GMRES on the harmonic blocks with
-its preconditioner's cost and iterations, stop 26; full: residual, LU), at
+its preconditioner's cost and iterations, stop 26; the residual with the
+high poles summed as a series planned for 185 Hz and how many poles stay
+summed term by term, stop 27; full: residual, LU), at
 three times the free linear response
 at 162 Hz, Fex = 36 N. Minimum of repeated calls after a warm-up call.
 
@@ -134,6 +136,14 @@ def iteration_costs(n_pairs, harmonics=15, full=True):
         row["n_c"] = c.n_coordinates
         row["cond_unknowns"] = c.n_unknowns
         row[f"{rec}_residual_ms"] = 1e3 * _best(lambda c=c, y=y: c.residual(y))
+    # stop 27: the high poles summed once as a series (planned for the
+    # figure's band, as hf.frf does)
+    planned = problems["state"].with_harmonics(harmonics)
+    planned.plan_band(HZ * BAND[1])
+    kp = planned.kernel_problem
+    row["series_low_poles"] = int(kp.state_low.size)
+    row["series_poles"] = int(kp.state_poles.size)
+    row["series_residual_ms"] = 1e3 * _best(lambda: planned.residual(y))
     F = np.empty((1, c.n_unknowns))
     row["aft_ms"] = 1e3 * _best(
         lambda: condensed_contact_forces(y[None], c.kernel_problem, F)
@@ -168,19 +178,27 @@ def branch(n_pairs, condense, harmonics=15, band=BAND):
     Newton iteration and its truncation probe by a dense LU (the iterative
     solves of stops 25 and 26 off), with ``-factors`` one whose corrector
     is preconditioned by kept LU factors (stop 25) instead of the harmonic
-    blocks (stop 26)."""
+    blocks (stop 26); suffixes combine: ``-keep``, the harmonic blocks
+    kept over matrices while GMRES needs at most 3 more products (stop 27,
+    off by default); ``-exact``, every pole of
+    the complex modes summed at every harmonic, no series of the high poles
+    (before stop 27)."""
     s = hf.lap_joint(n_pairs)
-    plain = condense.endswith("-plain")
-    factors = condense.endswith("-factors")
-    setting = condense.removesuffix("-plain").removesuffix("-factors")
+    setting, *suffixes = condense.split("-")
     kw = {"condense": False} if setting == "false" else {"condense": setting}
     omega = (HZ * band[0], HZ * band[1])
     threshold = hc.REUSE_MIN_UNKNOWNS
     preconditioner = hc.REUSE_PRECONDITIONER
-    if plain:
+    keep = hc.REUSE_KEEP_BLOCKS
+    margin = hc.SERIES_MARGIN
+    if "plain" in suffixes:
         hc.REUSE_MIN_UNKNOWNS = 2**62
-    if factors:
+    if "factors" in suffixes:
         hc.REUSE_PRECONDITIONER = "factors"
+    if "keep" in suffixes:
+        hc.REUSE_KEEP_BLOCKS = 3
+    if "exact" in suffixes:
+        hc.SERIES_MARGIN = np.inf  # no series planned: every pole summed
     t = time.perf_counter()
     cpu = time.process_time()
     try:
@@ -188,6 +206,8 @@ def branch(n_pairs, condense, harmonics=15, band=BAND):
     finally:
         hc.REUSE_MIN_UNKNOWNS = threshold
         hc.REUSE_PRECONDITIONER = preconditioner
+        hc.REUSE_KEEP_BLOCKS = keep
+        hc.SERIES_MARGIN = margin
     elapsed = time.perf_counter() - t
     cpu = time.process_time() - cpu
     a = b.amplitude(harmonic=1, dof="drive")

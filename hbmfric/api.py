@@ -33,6 +33,15 @@ def __getattr__(name: str):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
+def _plan_band(problem, omega_high: float) -> None:
+    """Tell a condensed problem the top of the band it will be traced over
+    (its complex-mode receptance sums the poles far above it once,
+    :meth:`~hbmfric.condensation.CondensedHBMProblem.plan_band`)."""
+    plan = getattr(problem, "plan_band", None)
+    if plan is not None:
+        plan(omega_high)
+
+
 def _omega_range(omega) -> tuple[float, float]:
     try:
         lo, hi = omega
@@ -270,6 +279,7 @@ def frf(
             retrace,
         )
     problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
+    _plan_band(problem, hi)
     return _frf_fixed(
         system,
         problem,
@@ -537,6 +547,7 @@ def _frf_auto(
     # the levels share the system's data (matrices, modes): one full
     # build, validating the input before any work
     base = _problem(system, force, LADDER[START], None, symmetry, aft, condense)
+    _plan_band(base, omega_range[1])
     problems = {LADDER[START]: base}
 
     def make_problem(h: int) -> HBMProblem:

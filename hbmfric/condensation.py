@@ -15,6 +15,7 @@ import numpy as np
 from .hbm import HBMProblem
 from .kernels.dlft.coulomb import COULOMB
 from .kernels.linalg.krylov import N_REUSE, REUSE_MODE_BLOCKS, REUSE_MODE_FACTORS
+from .kernels.linalg.krylov import REUSE_BLOCKS_KEEP as REUSE_BLOCKS_KEEP_INDEX
 from .kernels.linalg.krylov import REUSE_MODE as REUSE_MODE_INDEX
 from .kernels.linalg.krylov import REUSE_REFRESH as REUSE_REFRESH_INDEX
 from .kernels.linalg.krylov import REUSE_TOL as REUSE_TOL_INDEX
@@ -34,6 +35,7 @@ from .kernels.residuals.condensed import (
 from .kernels.residuals.hbm import aft_family
 from .laws import Contact2D
 from .signals import coefficient_columns
+from .state_series import plan_state_series
 from .systems.contacts import check_contacts, contact_arrays
 
 #: largest off-diagonal term of Φᵀ C Φ, relative to its diagonal, accepted
@@ -46,6 +48,9 @@ RECEPTANCE_METHODS = ("auto", "modal", "state", "direct")
 #: (relative to the largest receptance term, at the test pulsations of
 #: :func:`state_space_modes`) accepted; beyond it the direct solve is used
 STATE_TOL = 1e-10
+#: the series of the high poles (:meth:`CondensedHBMProblem.plan_band`) is
+#: planned for pulsations up to this factor above the band's top harmonic
+SERIES_MARGIN = 1.1
 
 #: a condensed problem on several contacts with at least this many
 #: unknowns solves its corrector's bordered systems by GMRES
@@ -69,6 +74,14 @@ REUSE_TOL = 1e-10
 #: kept factors: a solve that took more matrix products than this makes
 #: the next one factor afresh
 REUSE_REFRESH = 12
+#: the corrector on the harmonic blocks keeps the blocks factored for an
+#: earlier matrix while its GMRES needs at most this many products more
+#: than on fresh blocks (:func:`hbmfric.kernels.linalg.blocks.block_solve`);
+#: negative (the default): the blocks of every matrix are factored. Off:
+#: with 3 the lap joint's N = 40 branch took 10.8 against 10.2 s CPU (load
+#: 12-13) and its points moved (491 against 502, the sampled peak by 1e-5;
+#: bench/README.md, stop 27)
+REUSE_KEEP_BLOCKS = -1
 
 
 def solver_arrays(
@@ -102,6 +115,7 @@ def solver_arrays(
     state = np.zeros(N_REUSE)
     state[REUSE_TOL_INDEX] = REUSE_TOL
     state[REUSE_REFRESH_INDEX] = REUSE_REFRESH
+    state[REUSE_BLOCKS_KEEP_INDEX] = REUSE_KEEP_BLOCKS
     state[REUSE_MODE_INDEX] = REUSE_MODE_BLOCKS if blocks else REUSE_MODE_FACTORS
     groups = first + (n_coef - first) // 2 if blocks else 0
     size = 2 * n_dof if blocks else 0
@@ -509,6 +523,9 @@ class CondensedHBMProblem(HBMProblem):
             np.zeros(0, dtype=complex),
             np.zeros((0, self.n_coef), dtype=complex),
             np.zeros(0, dtype=complex),
+            np.zeros(0, dtype=np.int64),
+            np.zeros((n_c, n_c, 0)),
+            0.0,
         )
         method = MODAL if modal is not None else DIRECT
         if self._state is not None:
@@ -520,6 +537,7 @@ class CondensedHBMProblem(HBMProblem):
                 np.ascontiguousarray(poles),
                 np.ascontiguousarray(Y @ load),
                 np.ascontiguousarray(X[self.contact_dof]),
+                *self._series_parts(B @ X, Y @ B.T, poles),
             )
             method = STATE
         if modal is not None:
@@ -568,6 +586,7 @@ class CondensedHBMProblem(HBMProblem):
             # the curve rule draws the contact DOF, recovered (not for the
             # direct receptance: it watches coordinate 0 there)
             np.int64(self.contact_dof if self.multi else -1),
+            self._drawn_cache(n_c),
             np.zeros(1),
             solver_arrays(
                 self.n_coordinates * self.n_coef,
@@ -578,6 +597,43 @@ class CondensedHBMProblem(HBMProblem):
             ),
         )
         self.n_unknowns = self.n_coordinates * self.n_coef
+
+    def plan_band(self, omega_high: float) -> None:
+        """Plan the complex-mode receptance for fundamentals up to
+        ``omega_high`` (rad/s): the poles far above ``H × omega_high`` are
+        summed once as a series (:mod:`hbmfric.state_series`). Kept by
+        :meth:`with_harmonics`. The residual stays exact to rounding at any
+        Ω: above the planned band the kernel sums every pole. No effect
+        without complex modes."""
+        self._omega_high = float(omega_high)
+        if self._state is None:
+            return
+        kp = self.kernel_problem
+        low, series, split = self._series_parts(
+            kp.state_left, kp.state_right, kp.state_poles
+        )
+        self.kernel_problem = kp._replace(
+            state_low=low,
+            state_series=series,
+            state_split=split,
+            drawn_cache=self._drawn_cache(kp.law_codes.size),
+        )
+
+    def _drawn_cache(self, n_c: int) -> np.ndarray:
+        """Empty cache of the drawn output (``drawn_cache`` of the kernel
+        problem)."""
+        m = n_c * self.n_coef + 1
+        return np.zeros((2, 3 * m + 9 + self.n_coef if self.multi else 0))
+
+    def _series_parts(self, left, right, poles):
+        """``(state_low, state_series, state_split)`` for the planned band
+        (every pole summed when none is planned)."""
+        n_c = left.shape[0]
+        omega_high = getattr(self, "_omega_high", None)
+        if omega_high is None:
+            return np.zeros(0, dtype=np.int64), np.zeros((n_c, n_c, 0)), 0.0
+        w_max = SERIES_MARGIN * omega_high * float(np.max(self.harmonic_numbers))
+        return plan_state_series(poles, left, right, w_max)
 
     # ------------------------------------------------------------------
     def residual(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:

@@ -203,6 +203,53 @@ def test_block_solve_falls_back_to_a_dense_lu_and_keeps_it_for_the_tangent(
     assert not blocks.block_solve(S, x, solver, n_dof, n_coef, 0, False)
 
 
+def test_block_solve_keeps_blocks_for_nearby_matrices(monkeypatch):
+    """Stop 27: the blocks factored for one matrix precondition the next
+    ones (a Newton iteration, the next point) while GMRES needs at most
+    ``REUSE_KEEP_BLOCKS`` products more; every solution against NumPy's
+    dense solve; a matrix far from the kept blocks gets its own (once
+    GMRES on the kept ones fails, before any dense LU)."""
+    monkeypatch.setattr(hc, "REUSE_MIN_UNKNOWNS", 0)
+    monkeypatch.setattr(hc, "REUSE_KEEP_BLOCKS", 3)
+    n_dof, n_coef = 6, 10
+    solver = _solver(n_dof, n_coef)
+    state = solver[3]
+    A = _bordered(n_dof, n_coef, 0.05)
+    m = A.shape[0]
+    rng = np.random.default_rng(11)
+    b = rng.standard_normal(m)
+    for _ in range(6):
+        # a small change of every entry and of the border, as between
+        # Newton iterations
+        Ai = A + 1e-4 * rng.standard_normal(A.shape) * np.abs(A).max()
+        x = b.copy()
+        assert blocks.block_solve(Ai, x, solver, n_dof, n_coef, 0, False)
+        assert np.allclose(x, np.linalg.solve(Ai, b), rtol=0, atol=1e-8)
+    assert state[krylov.REUSE_SOLVES] == 6
+    assert state[krylov.REUSE_BLOCK_BUILDS] < 6
+    assert state[krylov.REUSE_FACTORISATIONS] == 0
+    # a different matrix: kept blocks useless within the Krylov basis,
+    # its own blocks solve it, no dense LU
+    short = _solver(n_dof, n_coef, k_max=8)
+    st = short[3]
+    x = b.copy()
+    assert blocks.block_solve(A, x, short, n_dof, n_coef, 0, False)
+    builds = st[krylov.REUSE_BLOCK_BUILDS]
+    C = _bordered(n_dof, n_coef, 0.05, seed=4)
+    x = b.copy()
+    assert blocks.block_solve(C, x, short, n_dof, n_coef, 0, False)
+    assert np.allclose(x, np.linalg.solve(C, b), rtol=0, atol=1e-8)
+    assert st[krylov.REUSE_BLOCK_BUILDS] == builds + 1
+    assert st[krylov.REUSE_FACTORISATIONS] == 0
+    # keeping switched off: the blocks of every matrix
+    monkeypatch.setattr(hc, "REUSE_KEEP_BLOCKS", -1)
+    every = _solver(n_dof, n_coef)
+    for _ in range(3):
+        x = b.copy()
+        assert blocks.block_solve(A, x, every, n_dof, n_coef, 0, False)
+    assert every[3][krylov.REUSE_BLOCK_BUILDS] == 3
+
+
 def test_symmetric_product_and_inverse_match_numpy():
     rng = np.random.default_rng(7)
     n_c, n_s = 9, 23

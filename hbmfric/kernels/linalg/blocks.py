@@ -36,6 +36,10 @@ from .krylov import (
     GMRES_CONVERGED,
     GMRES_NOT_CONVERGED,
     GMRES_NOT_FINITE,
+    REUSE_BLOCK_BUILDS,
+    REUSE_BLOCKS_FRESH,
+    REUSE_BLOCKS_KEEP,
+    REUSE_BLOCKS_LAST,
     REUSE_FACTORISATIONS,
     REUSE_FALLBACKS,
     REUSE_PREPARED,
@@ -156,10 +160,19 @@ def prepare_blocks(A, n_dof, n_coef, first, blocks, pivots, border, work):
     bordered, ``border[:n] = z = P⁻¹ a`` (``a`` the last column) and
     ``border[n] = d - cᵀ z`` (``cᵀ`` the last row). False if a block or
     the bordered preconditioner is singular."""
-    n = n_dof * n_coef
-    m = A.shape[0]
     if not factor_blocks(A, n_dof, n_coef, first, blocks, pivots):
         return False
+    return prepare_border(A, n_dof, n_coef, first, blocks, pivots, border, work)
+
+
+@jit
+def prepare_border(A, n_dof, n_coef, first, blocks, pivots, border, work):
+    """The bordered part of :func:`prepare_blocks` for ``A`` with harmonic
+    blocks already factored (of ``A`` or of an earlier matrix): ``border[:n]
+    = z = P⁻¹ a``, ``border[n] = d - cᵀ z``. True at once when ``A`` is not
+    bordered; False if the bordered preconditioner is singular."""
+    n = n_dof * n_coef
+    m = A.shape[0]
     if m == n:
         return True
     for i in range(n):
@@ -295,9 +308,17 @@ PREPARED_DENSE = 2.0
 @jit
 def block_solve(A, b, solver, n_dof, n_coef, first, again):
     """Solve the corrector's bordered system ``A x = b`` by GMRES
-    preconditioned by the harmonic blocks of ``A`` (:func:`gmres_prepared`),
-    with a dense LU when GMRES fails. ``b`` holds ``x`` on return; ``A``
-    is not modified.
+    preconditioned by harmonic blocks (:func:`gmres_prepared`), with a
+    dense LU when GMRES fails. ``b`` holds ``x`` on return; ``A`` is not
+    modified.
+
+    The blocks factored for an earlier matrix (an earlier Newton iteration
+    or point) are kept, with the border of ``A`` (:func:`prepare_border`),
+    while the solves on them need at most ``state[REUSE_BLOCKS_KEEP]``
+    products more than the first solve after they were factored; then the
+    next matrix's blocks are factored. A GMRES on kept blocks that fails is
+    run again on the blocks of ``A`` before the dense fallback. The
+    solution is held to the same tolerance either way.
 
     Parameters
     ----------
@@ -331,12 +352,28 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again):
     if ready == PREPARED_DENSE:
         lu_solve(F, fpiv, b)
         return np.isfinite(b).all()
+    fresh = False
     if ready != PREPARED_BLOCKS:
+        keep = (
+            state[REUSE_PREPARED] == PREPARED_BLOCKS
+            and state[REUSE_BLOCKS_KEEP] >= 0.0
+            and state[REUSE_BLOCKS_LAST]
+            <= state[REUSE_BLOCKS_FRESH] + state[REUSE_BLOCKS_KEEP]
+        )
         state[REUSE_PREPARED] = PREPARED_NONE
-        if prepare_blocks(A, n_dof, n_coef, first, blocks, pivots, border, work):
+        if keep and prepare_border(
+            A, n_dof, n_coef, first, blocks, pivots, border, work
+        ):
             state[REUSE_PREPARED] = PREPARED_BLOCKS
-    if state[REUSE_PREPARED] == PREPARED_BLOCKS:
-        x = np.empty(m)
+        else:
+            fresh = True
+            state[REUSE_BLOCK_BUILDS] += 1.0
+            if prepare_blocks(A, n_dof, n_coef, first, blocks, pivots, border, work):
+                state[REUSE_PREPARED] = PREPARED_BLOCKS
+    x = np.empty(m)
+    for attempt in range(2):
+        if state[REUSE_PREPARED] != PREPARED_BLOCKS:
+            break
         status, products = gmres_prepared(
             A,
             b,
@@ -356,7 +393,20 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again):
             for i in range(m):
                 b[i] = x[i]
             state[REUSE_SOLVES] += 1.0
+            if fresh:
+                state[REUSE_BLOCKS_FRESH] = products
+            if not again:
+                state[REUSE_BLOCKS_LAST] = products
             return True
+        if fresh or attempt == 1:
+            break
+        # kept blocks of an earlier matrix: once more on those of A
+        fresh = True
+        state[REUSE_PREPARED] = PREPARED_NONE
+        state[REUSE_BLOCK_BUILDS] += 1.0
+        if prepare_blocks(A, n_dof, n_coef, first, blocks, pivots, border, work):
+            state[REUSE_PREPARED] = PREPARED_BLOCKS
+    if state[REUSE_PREPARED] == PREPARED_BLOCKS:
         state[REUSE_FALLBACKS] += 1.0
     state[REUSE_PREPARED] = PREPARED_NONE
     for i in range(m):

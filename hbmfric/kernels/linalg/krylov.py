@@ -290,7 +290,15 @@ REUSE_MODE_FACTORS = 0.0
 REUSE_MODE_BLOCKS = 1.0
 #: what the work arrays hold for the last matrix (blocks path)
 REUSE_PREPARED = 8
-N_REUSE = 10
+#: blocks path: products of the first solve on the current harmonic
+#: blocks and of the latest one (out), the extra products over the first
+#: after which the blocks are factored afresh (in; negative: at every
+#: matrix) and the blocks factored (out)
+REUSE_BLOCKS_FRESH = 9
+REUSE_BLOCKS_LAST = 10
+REUSE_BLOCKS_KEEP = 11
+REUSE_BLOCK_BUILDS = 12
+N_REUSE = 13
 
 
 @jit
