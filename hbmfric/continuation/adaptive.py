@@ -205,6 +205,10 @@ RECALIBRATE = 16
 MARGIN = 1.25
 #: points after a calibration during which decisions use the carried ratio
 MIN_GAP = 4
+#: index of the predictor's history among a continuation's work arrays
+HISTORY = 7
+#: carry the previous point across a level change
+CARRY_HISTORY = True
 #: most points of one compiled stretch (calibrations run inside it)
 TRACE_CAPACITY = 256
 
@@ -584,7 +588,18 @@ class AdaptiveContinuation:
         # what :meth:`_rescue` needs if the new level cannot step from here
         self._moved = (h, state.y.copy(), state.tangent.copy(), len(state.points))
         t = self.pad(state.tangent, h, h_new)
+        # the second-order predictor's previous point comes along (its
+        # history, kernels.steps.arclength.predict), if the current point is
+        # the one the last step accepted
+        src = self._cont(h)._work[HISTORY]
+        dst = self._cont(h_new)._work[HISTORY]
+        carried = CARRY_HISTORY and np.array_equal(src[1], state.y)
         state.y = self.pad(state.y, h, h_new)
+        if carried:
+            dst[0] = self.pad(src[0], h, h_new)
+            dst[1] = state.y
+        else:
+            dst[1, -1] = math.nan
         state.tangent = t / float(np.linalg.norm(t))
         state.J = self._cont(h_new)._J
         self.n_switches += 1
