@@ -248,6 +248,33 @@ def test_compiled_stretches_decide_as_python(monkeypatch, system, force, tol):
     assert len(set(compiled.point_harmonics)) >= 2
 
 
+def test_compiled_stretches_return_only_to_act(monkeypatch):
+    """The compiled stretch takes every decision of ``_adapt`` that keeps
+    the level (the carried estimate right after a calibration, the count
+    of points below the lower threshold, due calibrations): each return to
+    Python for a decision changes the level or solves the point again (P1
+    at F = 0.1 / 0.5 / 2 before: 16 / 13 / 24 of 21 / 21 / 41 returns
+    kept the level; the same branch bit for bit is
+    ``test_compiled_stretches_decide_as_python``'s)."""
+    osc = hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0))
+    decide = adaptive.AdaptiveContinuation._adapt
+    calls = []
+
+    def logged(self, state, h, levels):
+        resolves = self.n_resolves
+        h_new = decide(self, state, h, levels)
+        calls.append((len(levels), h, h_new, self.n_resolves - resolves))
+        return h_new
+
+    monkeypatch.setattr(adaptive.AdaptiveContinuation, "_adapt", logged)
+    for force in (0.1, 0.5, 2.0):
+        calls.clear()
+        hf.frf(osc, force, (0.5, 3.0), "auto")
+        assert len(calls) >= 3  # the level moves: there are decisions
+        idle = [c for c in calls if c[1] == c[2] and c[3] == 0]
+        assert idle == [], (force, idle)
+
+
 @pytest.mark.parametrize(
     "law, condense, aft",
     [

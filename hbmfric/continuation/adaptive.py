@@ -48,12 +48,14 @@ Decisions, after every accepted point (the estimate at the next point is
 extrapolated from the last two at the same level). Most points need none:
 between calibrations, a point whose carried estimate is clear of both
 thresholds (or a linear point at the lowest level) keeps the level inside
-the compiled continuation (:func:`hbmfric.kernels.steps.arclength.stays`, the
-same test as the start of :meth:`AdaptiveContinuation._adapt`); a due
-calibration runs there too and keeps the level when its fresh estimate
-does (the same rule as ``_adapt`` after a calibration), so the run returns
-to Python only for a raise, a lowering or a threshold near (6-9 times on
-a branch of 130-220 points):
+the compiled continuation (:func:`hbmfric.kernels.steps.arclength.stays`,
+the whole rule of :meth:`AdaptiveContinuation._adapt` but its actions: due
+calibrations, the carried estimate right after one and the count of points
+below the lower threshold run there too), so the run returns to Python
+only to act: a raise, a lowering, a point solved again, a linear response
+above the lowest level (P1 at F = 0.5: 8 times in 280 points, 21 before
+the count and the near-threshold decisions moved into the compiled
+stretch):
 
 * raise when the estimate ahead exceeds ``RAISE_AT`` times the tolerance, to
   the smallest level at which a ``H^-DECAY`` law predicts ``TARGET`` times
@@ -203,6 +205,10 @@ RECALIBRATE = 16
 MARGIN = 1.25
 #: points after a calibration during which decisions use the carried ratio
 MIN_GAP = 4
+#: index of the predictor's history among a continuation's work arrays
+HISTORY = 7
+#: carry the previous point across a level change
+CARRY_HISTORY = True
 #: most points of one compiled stretch (calibrations run inside it)
 TRACE_CAPACITY = 256
 
@@ -582,7 +588,18 @@ class AdaptiveContinuation:
         # what :meth:`_rescue` needs if the new level cannot step from here
         self._moved = (h, state.y.copy(), state.tangent.copy(), len(state.points))
         t = self.pad(state.tangent, h, h_new)
+        # the second-order predictor's previous point comes along (its
+        # history, kernels.steps.arclength.predict), if the current point is
+        # the one the last step accepted
+        src = self._cont(h)._work[HISTORY]
+        dst = self._cont(h_new)._work[HISTORY]
+        carried = CARRY_HISTORY and np.array_equal(src[1], state.y)
         state.y = self.pad(state.y, h, h_new)
+        if carried:
+            dst[0] = self.pad(src[0], h, h_new)
+            dst[1] = state.y
+        else:
+            dst[1, -1] = math.nan
         state.tangent = t / float(np.linalg.norm(t))
         state.J = self._cont(h_new)._J
         self.n_switches += 1
@@ -800,6 +817,7 @@ class AdaptiveContinuation:
             min(blocked, TRACE_CAPACITY) if blocked >= 1 else TRACE_CAPACITY
         )
         w[a.W_LOWER] = self._lower_limit(level, blocked >= 1)
+        w[a.W_LOW] = self._low
         self._calibration = level.calibration
         return w
 
@@ -826,6 +844,9 @@ class AdaptiveContinuation:
         w[a.W_TOP_FLOOR] = ONSET * tol if level.h == self.ladder[0] else 0.0
         w[a.W_CALIBRATIONS] = 0.0
         w[a.W_CHANGE] = math.nan
+        w[a.W_PATIENCE] = LOWER_PATIENCE
+        w[a.W_TOL] = tol
+        w[a.W_MIN_GAP] = MIN_GAP
         probe = self._probe(level.h)
         w[a.W_N_DOF] = probe.n_dof
         w[a.W_DOF] = probe.dof
@@ -992,8 +1013,8 @@ class AdaptiveContinuation:
             return state, state.points, levels, time.perf_counter() - start
         h = self._adapt(state, h, levels)
         while not state.finished:
-            # compiled stretch: stops at the first point that needs a
-            # decision (calibration due, thresholds near, linear response)
+            # compiled stretch: stops at the first point that needs an
+            # action (raise, lowering, solved again, linear response)
             before = len(state.points)
             cont = self._levels[h].cont
             watch = self._watch(h, levels)
@@ -1028,8 +1049,9 @@ class AdaptiveContinuation:
                     self._pending_change = math.nan
                     continue
             decide = cont.trace_outcome == _arclength.WATCH_STOP
-            if new > int(decide):
-                self._low = 0  # the points that stayed reset the count
+            # points below the lower threshold in a row (the stretch counts
+            # them as _adapt does; the stopping point is not counted yet)
+            self._low = int(watch[_arclength.W_LOW])
             if decide and not state.finished:
                 h = self._adapt(state, h, levels)
             self._pending_change = math.nan

@@ -853,11 +853,10 @@ class Continuation:
         """Append accepted points with their physical tangents (shape
         (k, n + 1)) and their corner and fold marks."""
         first = len(state.points)
-        for j in range(points.shape[0]):
-            if flags[j] & _arclength.CORNER:
-                state.corners.append(first + j)
-            if flags[j] & _arclength.FOLD:
-                state.folds.append(first + j)
+        marks = flags[: points.shape[0]]
+        corners = np.flatnonzero(marks & _arclength.CORNER)
+        state.corners.extend((first + corners).tolist())
+        state.folds.extend((first + np.flatnonzero(marks & _arclength.FOLD)).tolist())
         state.points.extend(points)
         state.tangents.extend(tangents.copy())
         state.tangents_omega.extend((tangents[:, -1] / omega_scale).tolist())

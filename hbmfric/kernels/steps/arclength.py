@@ -145,7 +145,19 @@ W_CALIBRATIONS = 22
 #: out: the change of a calibration after which the level was not kept
 #: (NaN if none; the caller decides on it instead of computing it again)
 W_CHANGE = 23
-N_WATCH = 24
+#: in/out: points in a row, before the current one, whose estimate was
+#: below the lower threshold (``AdaptiveContinuation._low``)
+W_LOW = 24
+#: such points in a row after which the caller lowers the level
+#: (``adaptive.LOWER_PATIENCE``)
+W_PATIENCE = 25
+#: the run's tolerance: a point whose estimate exceeds it is solved again
+#: higher by the caller
+W_TOL = 26
+#: age below which the carried estimate decides without a calibration when
+#: it is within the tolerance and asks for no raise (``adaptive.MIN_GAP``)
+W_MIN_GAP = 27
+N_WATCH = 28
 
 
 @jit
@@ -471,23 +483,33 @@ def top_measure(y, watch, weights, rates):
 @jit_inline
 def stays(y, watch, calibration):
     """Whether the adaptive-harmonics run keeps its level after the point
-    ``y`` without a decision in Python: a linear response at the lowest
-    level, or the last calibration is fresh, and the free measure times the
-    calibrated ratio, extrapolated one step ahead, is clear of both the
-    raise and the lower threshold by the margin. Staying updates the last
-    estimate and the age in ``watch``; otherwise ``watch`` is unchanged
-    and the caller decides (:meth:`~hbmfric.continuation.adaptive.
-    AdaptiveContinuation._adapt` repeats the same test first).
+    ``y`` without a decision in Python: the whole rule of
+    :meth:`~hbmfric.continuation.adaptive.AdaptiveContinuation._adapt`
+    except its actions (a move to the lowest level for a linear response,
+    a raise, a point solved again higher, a lowering), for which it
+    returns False with ``watch`` unchanged (but ``watch[W_CHANGE]``) so
+    that the caller decides on the same numbers.
 
-    A due calibration (``watch[W_CALIBRATE] != 0``) runs here:
-    :func:`~hbmfric.kernels.steps.truncation.truncation_change` on the next
-    level's problem, watched output and work arrays ``calibration =
-    (problem, synthesis, weights, rates, y, R, J, A, dX)``; the level is
-    kept when the fresh estimate ahead is at most the raise threshold and
-    the estimate not below the lower one (the rule of ``_adapt`` after a
-    calibration, without margin), updating the ratio, the last estimate,
-    the age and the count of calibrations in ``watch``. Otherwise the
-    change is left in ``watch[W_CHANGE]`` for the caller's decision."""
+    * a linear response stays at the lowest level (estimate 0);
+    * between calibrations (age below ``W_RECALIBRATE``), the free measure
+      times the calibrated ratio, extrapolated one step ahead, clear of
+      the raise threshold by the margin and not below the lower one,
+      stays;
+    * otherwise the estimate is that carried estimate when the last
+      calibration is younger than ``W_MIN_GAP`` points, within the
+      tolerance and asks for no raise; else a fresh calibration
+      (:func:`~hbmfric.kernels.steps.truncation.truncation_change` on the
+      next level's problem, watched output and work arrays ``calibration
+      = (problem, synthesis, weights, rates, y, R, J, A, dX)``; needs
+      ``watch[W_CALIBRATE] != 0``), whose change is left in
+      ``watch[W_CHANGE]`` when the caller must decide;
+    * that estimate stays when it is within the tolerance, asks for no
+      raise and is not the ``W_PATIENCE``-th in a row below the lower
+      threshold (the count is kept in ``watch[W_LOW]``).
+
+    Staying updates the last estimate, the age, the count below the lower
+    threshold and, after a calibration, the ratio and the count of
+    calibrations in ``watch``."""
     measure = top_measure(y, watch, calibration[2], calibration[3])
     if measure <= watch[W_LINEAR]:
         # a linear response: stays only at the lowest level, where it is
@@ -498,7 +520,25 @@ def stays(y, watch, calibration):
         return False
     age = watch[W_AGE] + 1.0
     last = watch[W_LAST]
-    if not age < watch[W_RECALIBRATE]:
+    decided = False
+    est = 0.0
+    if age < watch[W_RECALIBRATE]:
+        stale = watch[W_FACTOR] * measure
+        ahead = stale
+        if last > 0.0 and stale > last:
+            ahead = stale * min(stale / last, watch[W_MAX_GROWTH])
+        if watch[W_MARGIN] * ahead <= watch[W_RAISE] and stale >= watch[W_LOWER]:
+            watch[W_LAST] = stale
+            watch[W_AGE] = age
+            watch[W_LOW] = 0.0
+            return True
+        # calibrated a moment ago: the carried estimate decides unless it
+        # asks for a raise or exceeds the tolerance
+        if age < watch[W_MIN_GAP] and stale <= watch[W_TOL] and ahead <= watch[W_RAISE]:
+            est = stale
+            decided = True
+    change = np.nan
+    if not decided:
         if watch[W_CALIBRATE] == 0.0:
             return False
         problem, synthesis, weights, rates, cy, cR, cJ, cA, cdX = calibration
@@ -516,31 +556,33 @@ def stays(y, watch, calibration):
             cdX,
         )
         est = watch[W_CHANGE_FACTOR] * change
-        ahead = est
-        if last > 0.0 and est > last:
-            ahead = est * min(est / last, watch[W_MAX_GROWTH])
-        if ahead <= watch[W_RAISE] and est >= watch[W_LOWER]:
-            # an estimate this small (the onset of slip: its ratio is far
-            # below the ones a step later) is not carried: the next point
-            # calibrates
-            watch[W_FACTOR] = (
-                est / max(measure, 1e-300) if est >= watch[W_TOP_FLOOR] else np.inf
-            )
-            watch[W_LAST] = est
-            watch[W_AGE] = 0.0
-            watch[W_CALIBRATIONS] += 1.0
-            return True
-        watch[W_CHANGE] = change
+    ahead = est
+    if last > 0.0 and est > last:
+        ahead = est * min(est / last, watch[W_MAX_GROWTH])
+    low = 0.0
+    act = est > watch[W_TOL] or ahead > watch[W_RAISE]
+    if not act and est < watch[W_LOWER]:
+        low = watch[W_LOW] + 1.0
+        act = low >= watch[W_PATIENCE]
+    if act:
+        # solved again higher, raised or lowered: the caller's decision
+        if not decided:
+            watch[W_CHANGE] = change
         return False
-    stale = watch[W_FACTOR] * measure
-    ahead = stale
-    if last > 0.0 and stale > last:
-        ahead = stale * min(stale / last, watch[W_MAX_GROWTH])
-    if watch[W_MARGIN] * ahead <= watch[W_RAISE] and stale >= watch[W_LOWER]:
-        watch[W_LAST] = stale
+    if decided:
         watch[W_AGE] = age
-        return True
-    return False
+    else:
+        # an estimate this small (the onset of slip: its ratio is far
+        # below the ones a step later) is not carried: the next point
+        # calibrates
+        watch[W_FACTOR] = (
+            est / max(measure, 1e-300) if est >= watch[W_TOP_FLOOR] else np.inf
+        )
+        watch[W_AGE] = 0.0
+        watch[W_CALIBRATIONS] += 1.0
+    watch[W_LAST] = est
+    watch[W_LOW] = low
+    return True
 
 
 @jit_inline

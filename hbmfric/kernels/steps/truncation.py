@@ -492,9 +492,12 @@ def branch_truncation(
         free measure under which a point is linear, the estimate per change
         (``CHANGE_FACTOR``) and the least carried ratio (``CARRY_FLOOR``).
     every, n_worst : int
-        Calibrate every ``every``-th non-linear point of each stretch, the
-        first and last one of each stretch and the ``n_worst`` of largest
-        free measure.
+        Calibrate every ``every``-th non-linear point of each stretch
+        (counted from the last ``known`` point, if one came since: the
+        adaptive run's own calibrations, up to 16 points apart, took a
+        second calibration between them every 8 points on the plain grid,
+        and now one), the first and last one of each stretch and the
+        ``n_worst`` of largest free measure.
     tolerance : float
         A point whose carried estimate exceeds it is calibrated too
         (``inf``: none), until ``max_confirmed`` calibrations have exceeded
@@ -540,6 +543,11 @@ def branch_truncation(
             count = 0
             if q > 0:
                 chosen[nonlinear[q - 1]] = True  # last of the stretch before
+        if np.isfinite(known[i]):
+            # a calibration already made: the count starts again from it
+            # (no two calibrated points further apart than ``every``, as
+            # on the plain grid)
+            count = 0
         if count % every == 0:
             chosen[i] = True
         count += 1
