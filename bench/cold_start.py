@@ -1,11 +1,13 @@
 """Time to the first FRF branch in a fresh process, cold and warm Numba cache.
 
-Run: ``python -m bench.cold_start [--phases] [--profile-frf] [--profile]``
-(from the repository root); ``--phases`` splits the warm first FRF of a
-fresh process into its parts (:data:`PHASES`); ``--profile-frf`` lists the
-compile time of every kernel (exclusive of the kernels it calls) of the cold
-first FRF, in one more fresh process with an empty cache; ``--profile`` does
-the same for a cold ``hbmfric paper``.
+Run: ``python -m bench.cold_start [--phases] [--profile-frf]
+[--profile-families] [--profile]`` (from the repository root); ``--phases``
+splits the warm first FRF of a fresh process into its parts
+(:data:`PHASES`); ``--profile-frf`` lists the compile time of every kernel
+(exclusive of the kernels it calls) of the cold first FRF, in one more fresh
+process with an empty cache; ``--profile-families`` the same for the paper's
+four kinds of FRF in one process (:data:`FAMILIES`); ``--profile`` for a
+cold ``hbmfric paper``.
 
 Each run is ``python -c "import hbmfric; hbmfric.frf(...)"`` (the SDOF
 Jenkins branch, H = 15) in a new interpreter with ``NUMBA_CACHE_DIR`` in a
@@ -39,6 +41,28 @@ FRF = (
     "b=hf.frf(o,0.5,(0.5,3.0),15);"
     "assert b.stop_reason.startswith('end')"
 )
+
+#: the paper's four kinds of FRF in one process, one problem type each: the
+#: SDOF paper oscillator with a Jenkins and with a Menq contact
+#: (``harmonics="auto"``), the paper beam at Fn = 5 N (condensed, auto) and
+#: the belt tensioner (Dahl, H = 7)
+FAMILIES = """
+import hbmfric as hf
+from hbmfric.continuation import ContinuationOptions
+from hbmfric.paper.beam import PAPER_BEAM_SCENE, _omega_range, paper_beam
+from hbmfric.paper.scenes import paper_oscillator
+from hbmfric.paper.sdof import menq_law
+from hbmfric.systems.tensioner import BeltTensioner
+from hbmfric.systems.tensioner_response import hbm_frf
+o = paper_oscillator(10.0)
+hf.frf(o, 1.0, (50.0, 300.0), "auto")
+menq = hf.Oscillator(o.mass, o.damping, o.stiffness, menq_law(10.0))
+hf.frf(menq, 1.0, (50.0, 300.0), "auto")
+band = _omega_range(PAPER_BEAM_SCENE)
+hf.frf(paper_beam(5.0), 2.0, band, "auto", max_step=PAPER_BEAM_SCENE["max_step"])
+options = ContinuationOptions(max_step=0.03)
+hbm_frf(BeltTensioner(), 5.0, (5.0, 100.0), 7, options=options)
+"""
 
 
 def _env(cache: str, pyc: str | None = None) -> dict:
@@ -253,6 +277,9 @@ def main() -> None:
     if "--profile-frf" in sys.argv:
         wall, cpu, kernels = compile_profile(code=FRF)
         _table("cold first FRF", wall, cpu, kernels)
+    if "--profile-families" in sys.argv:
+        wall, cpu, kernels = compile_profile(code=FAMILIES)
+        _table("cold four kinds of FRF, one process", wall, cpu, kernels)
     if "--profile" in sys.argv:
         with tempfile.TemporaryDirectory() as out:
             wall, cpu, kernels = compile_profile(["paper", "--out", out, "--no-plot"])

@@ -141,9 +141,9 @@ def test_compiled_changes_equal_one_call_per_point():
     points = np.array(state.points)
     probe = _Level(p.with_harmonics(15), None)
     rows = np.arange(0, len(points), 5)
-    kp, synthesis, weights, rates, y, R, J, A, dX = probe.work()
+    kp, residual_at, synthesis, weights, rates, y, R, J, A, dX = probe.work()
     out = np.empty(rows.size)
-    args = (kp, weights, rates, probe.first_column, synthesis)
+    args = (kp, residual_at, weights, rates, probe.first_column, synthesis)
     truncation_changes(points, rows, *args, y, R, J, A, dX, out)
     one = [truncation_change(points[i], *args, y, R, J, A, dX) for i in rows]
     np.testing.assert_array_equal(out, one)

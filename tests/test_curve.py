@@ -268,7 +268,14 @@ def test_step_rejected_when_chord_and_point_exceed_the_tolerance():
         s[arclength.CURVE_TOL] = tol
         s[arclength.CURVE_POINT] = point
         out, new_step, _ = arclength.advance(
-            problem.kernel_problem, y, t, step, cont.scale.copy(), s, *cont._work
+            problem.kernel_problem,
+            cont._residual_at(),
+            y,
+            t,
+            step,
+            cont.scale.copy(),
+            s,
+            *cont._work,
         )
         e = arclength.chord_error(state.y, state.tangent, y, t, cont.scale, column)
         return out, new_step, e

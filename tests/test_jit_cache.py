@@ -404,7 +404,7 @@ def test_cold_jenkins_frf_compiles_only_what_it_uses(tmp_path):
     """A cold first FRF of the Jenkins oscillator (fresh process, empty
     cache; a minute or more) compiles no DLFT kernel, no other law's AFT and
     none of the inlined continuation kernels, each kernel once, and still
-    says once that it compiles."""
+    says once that it compiles; a second fresh process compiles nothing."""
     code = textwrap.dedent(
         """
         import json
@@ -446,8 +446,9 @@ def test_cold_jenkins_frf_compiles_only_what_it_uses(tmp_path):
     line = [x for x in proc.stdout.splitlines() if x.startswith("NAMES")][-1]
     names = json.loads(line[len("NAMES") :])
     ours = [n for n in names if n.startswith("hbmfric.")]
-    # the residual's body, compiled once (under the chain, not as a wrapper)
-    assert ours.count("hbmfric.kernels.residuals.hbm.hbm_residual_impl") == 1
+    # the residual, compiled once, as its own kernel (the chain calls it
+    # through its address)
+    assert ours.count("hbmfric.kernels.residuals.hbm.hbm_residual") == 1
     assert "hbmfric.kernels.residuals.dispatch._residual.<locals>.full" not in ours
     assert not [n for n in ours if n.startswith(NOT_IN_A_JENKINS_FRF)]
     twice = sorted({n for n in ours if ours.count(n) > 1})
@@ -455,3 +456,17 @@ def test_cold_jenkins_frf_compiles_only_what_it_uses(tmp_path):
     # argument layout) would show here: none in this run
     assert not twice
     assert proc.stderr.count("hbmfric: compiling the Numba kernels") == 1
+    # the chain calls the residual through its address: a second fresh
+    # process loads every kernel from the cache, the residual as well (its
+    # address resolved from the loaded code), and compiles nothing
+    again = subprocess.run(
+        [sys.executable, "-c", code],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert again.returncode == 0, again.stderr[-3000:]
+    line = [x for x in again.stdout.splitlines() if x.startswith("NAMES")][-1]
+    assert json.loads(line[len("NAMES") :]) == []
+    assert "hbmfric: compiling" not in again.stderr

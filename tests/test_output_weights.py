@@ -105,7 +105,7 @@ def test_tension_change_matches_numpy():
     (``scipy.optimize.brentq``)."""
     p, points = _points(RIG)
     probe = _probe(p)
-    _, synthesis, _, _, y, _, _, _, dX = probe.work()
+    _, _, synthesis, _, _, y, _, _, _, dX = probe.work()
     hn = probe.problem.harmonic_numbers
     n_coef = probe.n_coef
     checked = 0

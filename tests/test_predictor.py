@@ -112,7 +112,14 @@ def test_history_follows_the_accepted_points():
     s[arclength.MAX_NEWTON] = 1
     y, t = state.y.copy(), state.tangent.copy()
     out, _, _ = arclength.advance(
-        problem.kernel_problem, y, t, 0.05, cont.scale.copy(), s, *cont._work
+        problem.kernel_problem,
+        cont._residual_at(),
+        y,
+        t,
+        0.05,
+        cont.scale.copy(),
+        s,
+        *cont._work,
     )
     assert out == arclength.REJECTED
     assert np.isnan(cont._history[1, -1])

@@ -15,6 +15,7 @@ import hbmfric.condensation as hc
 from hbmfric.condensation import CondensedHBMProblem, solver_arrays
 from hbmfric.kernels.linalg import krylov
 from hbmfric.kernels.linalg.lu import lu_factor
+from hbmfric.kernels.residuals.pointer import residual_address
 from hbmfric.kernels.steps import newton
 
 HZ = 2.0 * math.pi
@@ -160,6 +161,7 @@ def _corrector_run(problem, y0, constraint, y_pred):
     piv = np.empty(n + 1, dtype=np.int64)
     status, evaluations, _ = newton.correct(
         problem.kernel_problem,
+        residual_address(problem.kernel_problem),
         y,
         y_pred,
         constraint,

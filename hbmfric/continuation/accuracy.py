@@ -123,7 +123,7 @@ def truncation_errors(
     if probe is None or columns is None:
         errors[:] = np.inf
         return errors
-    kp, synthesis, output, rates, y, R, J, A, dX = probe.work()
+    kp, residual_at, synthesis, output, rates, y, R, J, A, dX = probe.work()
     if stretch is None:
         stretch = np.zeros(n_points, dtype=np.int64)
     else:
@@ -149,6 +149,7 @@ def truncation_errors(
         np.inf if tolerance is None else float(tolerance),
         int(max_confirmed),
         kp,
+        residual_at,
         output,
         rates,
         probe.first_column,

@@ -102,6 +102,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from ..kernels.residuals.pointer import residual_address
 from ..kernels.steps import arclength as _arclength
 from ..kernels.steps import newton as _newton
 from ..kernels.steps.truncation import output_measure, truncation_change
@@ -383,8 +384,10 @@ class _Level:
 
     def work(self) -> tuple:
         """The calibration arguments of this level (as the next level of
-        another): ``(kernel problem, synthesis, weights, rates, y, R, J, A,
-        dX)`` of :func:`truncation_change`, allocated once."""
+        another): ``(kernel problem, address of its residual, synthesis,
+        weights, rates, y, R, J, A, dX)`` of :func:`truncation_change`,
+        allocated once (the address is this process's: the tuple is never
+        pickled)."""
         if self._work is None:
             n = self.n
             # the AFT's own synthesis samples, thinned to about 4 H
@@ -395,6 +398,7 @@ class _Level:
             every = max(1, inverse.shape[0] // max(64, 4 * self.h))
             self._work = (
                 self.problem.kernel_problem,
+                residual_address(self.problem.kernel_problem),
                 np.ascontiguousarray(inverse[::every]),
                 self.output,
                 self.rates,
@@ -408,11 +412,12 @@ class _Level:
 
     def change(self, x: np.ndarray) -> float:
         """:func:`truncation_change` of a point ``x`` of a lower level."""
-        problem, synthesis, weights, rates, y, R, J, A, dX = self.work()
+        problem, residual_at, synthesis, weights, rates, y, R, J, A, dX = self.work()
         return float(
             truncation_change(
                 x,
                 problem,
+                residual_at,
                 weights,
                 rates,
                 self.first_column,

@@ -38,6 +38,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..kernels.residuals.pointer import residual_address
 from ..kernels.steps import arclength as _arclength
 from ..kernels.steps import newton as _newton
 from .options import ContinuationOptions
@@ -249,6 +250,7 @@ class Continuation:
         o = self.options
         status, iterations, _ = _newton.correct(
             self.problem.kernel_problem,
+            self._residual_at(),
             y,
             y_pred,
             constraint,
@@ -569,6 +571,7 @@ class Continuation:
         tangent = state.tangent.copy()
         outcome, new_step, evaluations = _arclength.advance(
             self.problem.kernel_problem,
+            self._residual_at(),
             y,
             tangent,
             state.step,
@@ -624,6 +627,7 @@ class Continuation:
         tangent = state.tangent.copy()
         outcome, accepted, rejected, evaluations, new_step = _arclength.trace(
             self.problem.kernel_problem,
+            self._residual_at(),
             y,
             tangent,
             state.step,
@@ -795,6 +799,8 @@ class Continuation:
                 y = y0.copy()
                 status, evaluations, _, distance, angle = _newton.palc_step(
                     self.problem.kernel_problem,
+                    self._residual_at(),
+                    self._residual_at(),
                     y,
                     t1,
                     ds,
@@ -839,13 +845,19 @@ class Continuation:
                 return True
         return False
 
+    def _residual_at(self) -> int:
+        """Address of the compiled residual of the problem's kernel problem
+        (:func:`hbmfric.kernels.residuals.pointer.residual_address`), which
+        the continuation kernels call."""
+        return residual_address(self.problem.kernel_problem)
+
     def _placeholder_calibration(self) -> tuple:
         """A calibration argument of the right types for a trace without
         adaptive harmonics (never used)."""
         if self._no_calibration is None:
             e1, e2 = np.zeros(1), np.zeros((1, 1))
             kp = self.problem.kernel_problem
-            self._no_calibration = (kp, e2, e2, e1, e1, e1, e2, e2, e1)
+            self._no_calibration = (kp, 0, e2, e2, e1, e1, e1, e2, e2, e1)
         return self._no_calibration
 
     @staticmethod

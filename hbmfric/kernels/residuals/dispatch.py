@@ -1,17 +1,15 @@
-"""One residual entry point for the Newton kernels, dispatched at compile
+"""One residual entry point for jitted code, dispatched at compile
 time on the type of the problem: a :class:`~hbmfric.kernels.residuals.condensed.
 CondensedProblem` (or another of :data:`~hbmfric.kernels.residuals.condensed.
 CONDENSED_TYPES`) goes to the condensed residual, any other problem
-tuple to the full HBM residual :func:`hbmfric.kernels.residuals.hbm.hbm_residual`.
+tuple to the full HBM residual :func:`hbmfric.kernels.residuals.hbm.hbm_residual`;
+and the other problem-dependent pieces of the Newton kernels
+(:func:`rounding_level`, :func:`drawn_output`).
 
-Numba compiles the caller once per problem type, so the dispatch costs
-nothing at run time. The implementation compiled for a type is the
-residual's body itself (:func:`~hbmfric.kernels.residuals.hbm.hbm_residual_impl`,
-:func:`~hbmfric.kernels.residuals.condensed.condensed_residual_impl`), not a wrapper
-that calls the residual's dispatcher: a wrapper would be one more compiled
-kernel that links in, optimises and emits the whole residual, all its
-contact laws included, once more (each compiled kernel emits machine code
-for all it calls).
+The continuation kernels do not call :func:`residual`: they call the
+residual through its address (:mod:`hbmfric.kernels.residuals.pointer`), so
+that they do not link in, optimise and emit the whole residual once more
+each (each compiled kernel emits machine code for all it calls).
 """
 
 from numba import types
@@ -22,7 +20,7 @@ from .condensed import (
     condensed_residual_impl,
     coordinates_drawn,
 )
-from .hbm import JIT_OPTIONS, hbm_residual_impl
+from .hbm import JIT_OPTIONS, hbm_residual
 
 
 def residual(y, problem, R, J):
@@ -45,7 +43,11 @@ def _is_condensed(problem) -> bool:
 def _residual(y, problem, R, J):
     if _is_condensed(problem):
         return condensed_residual_impl
-    return hbm_residual_impl
+
+    def full(y, problem, R, J):
+        return hbm_residual(y, problem, R, J)
+
+    return full
 
 
 def rounding_level(problem):

@@ -217,16 +217,6 @@ def hbm_residual(y, problem, R, J):
     int
         Contact-state code of the AFT (negative on failure).
     """
-    return _hbm_entry(y, problem, R, J)
-
-
-def hbm_residual_impl(y, problem, R, J):
-    """The body of :func:`hbm_residual` (same contract), a plain function:
-    compiled only through overloads (:func:`_hbm_entry` and
-    :func:`hbmfric.kernels.residuals.dispatch.residual`), never by a ``jit``
-    dispatcher of its own. Numba keys a cache entry by the function and the
-    argument types only, and an entry compiled for an overload crashes when
-    a plain dispatcher of the same function loads it from Python."""
     (
         harmonic_numbers,
         mass,
@@ -337,15 +327,6 @@ def hbm_residual_impl(y, problem, R, J):
                     J[base_b + r, base_a + c] -= dF[r, c]
                     J[base_b + r, base_b + c] += dF[r, c]
     return status
-
-
-def _hbm_entry(y, problem, R, J):
-    raise NotImplementedError("for jit code")
-
-
-@overload(_hbm_entry, jit_options=JIT_OPTIONS)
-def _hbm_entry_overload(y, problem, R, J):
-    return hbm_residual_impl
 
 
 @jit

@@ -499,9 +499,10 @@ def stays(y, watch, calibration):
       calibration is younger than ``W_MIN_GAP`` points, within the
       tolerance and asks for no raise; else a fresh calibration
       (:func:`~hbmfric.kernels.steps.truncation.truncation_change` on the
-      next level's problem, watched output and work arrays ``calibration
-      = (problem, synthesis, weights, rates, y, R, J, A, dX)``; needs
-      ``watch[W_CALIBRATE] != 0``), whose change is left in
+      next level's problem, the address of its residual, watched output
+      and work arrays ``calibration = (problem, residual_at, synthesis,
+      weights, rates, y, R, J, A, dX)``; needs ``watch[W_CALIBRATE] !=
+      0``), whose change is left in
       ``watch[W_CHANGE]`` when the caller must decide;
     * that estimate stays when it is within the tolerance, asks for no
       raise and is not the ``W_PATIENCE``-th in a row below the lower
@@ -510,7 +511,7 @@ def stays(y, watch, calibration):
     Staying updates the last estimate, the age, the count below the lower
     threshold and, after a calibration, the ratio and the count of
     calibrations in ``watch``."""
-    measure = top_measure(y, watch, calibration[2], calibration[3])
+    measure = top_measure(y, watch, calibration[3], calibration[4])
     if measure <= watch[W_LINEAR]:
         # a linear response: stays only at the lowest level, where it is
         # exact (the estimate is then 0)
@@ -541,10 +542,13 @@ def stays(y, watch, calibration):
     if not decided:
         if watch[W_CALIBRATE] == 0.0:
             return False
-        problem, synthesis, weights, rates, cy, cR, cJ, cA, cdX = calibration
+        problem, residual_at, synthesis, weights, rates, cy, cR, cJ, cA, cdX = (
+            calibration
+        )
         change = truncation_change(
             y,
             problem,
+            residual_at,
             weights,
             rates,
             int(watch[W_FIRST_COLUMN]),
@@ -588,6 +592,7 @@ def stays(y, watch, calibration):
 @jit_inline
 def advance(
     problem,
+    residual_at,
     y,
     tangent,
     step,
@@ -608,6 +613,9 @@ def advance(
     ----------
     problem : tuple
         HBM problem (:func:`hbmfric.kernels.residuals.dispatch.residual`).
+    residual_at : int
+        Address of the residual compiled for ``problem``'s type
+        (:func:`hbmfric.kernels.residuals.pointer.residual_address`).
     y, tangent : ndarray, shape (n + 1,)
         In: current point (physical units) and unit tangent (scaled). Out,
         when accepted: the new point and tangent.
@@ -640,6 +648,7 @@ def advance(
     predict(y, tangent, step, scale, settings, history, y_pred)
     status, evaluations, effort, distance, angle = palc_correct(
         problem,
+        residual_at,
         tangent,
         scale,
         settings[TOL_RESIDUAL],
@@ -754,6 +763,7 @@ def advance(
 @jit
 def trace(
     problem,
+    residual_at,
     y,
     tangent,
     step,
@@ -781,13 +791,13 @@ def trace(
 
     Parameters
     ----------
-    problem, y, tangent, step, scale, settings, R, J, A, piv, y_pred, y_new, t_new,
-    history
+    problem, residual_at, y, tangent, step, scale, settings, R, J, A, piv,
+    y_pred, y_new, t_new, history
         As in :func:`advance` (``y``, ``tangent``, ``scale`` updated in
         place).
     calibration : tuple
-        Next level's problem and work arrays for :func:`stays` (any of the
-        right types when the watch is off).
+        Next level's problem, the address of its residual and work arrays
+        for :func:`stays` (any of the right types when the watch is off).
     max_attempts : int
         Most steps (accepted plus rejected) to try.
     watch : ndarray, shape (N_WATCH,)
@@ -831,6 +841,7 @@ def trace(
         attempts += 1
         outcome, step, spent = advance(
             problem,
+            residual_at,
             y,
             tangent,
             step,

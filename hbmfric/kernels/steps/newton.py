@@ -13,8 +13,9 @@ from ..._jit import jit, jit_inline
 from ..linalg.blocks import block_solve
 from ..linalg.krylov import REUSE_MODE, REUSE_MODE_BLOCKS, reuse_solve
 from ..linalg.lu import lu_factor, lu_solve, solve_inplace
-from ..residuals.dispatch import _is_condensed, residual, rounding_level
+from ..residuals.dispatch import _is_condensed, rounding_level
 from ..residuals.hbm import JIT_OPTIONS
+from ..residuals.pointer import call_residual
 
 CONVERGED = 0
 MAX_ITERATIONS = 1
@@ -191,6 +192,7 @@ def rounding_floor(J, y):
 @jit
 def correct(
     problem,
+    residual_at,
     y,
     y_pred,
     constraint,
@@ -227,6 +229,9 @@ def correct(
     ----------
     problem : tuple
         HBM problem, see :func:`hbmfric.kernels.residuals.hbm.hbm_residual`.
+    residual_at : int
+        Address of the residual compiled for ``problem``'s type
+        (:func:`hbmfric.kernels.residuals.pointer.residual_address`).
     y : ndarray, shape (n + 1,)
         In: start point. Out: the last iterate (the solution on success).
     y_pred : ndarray, shape (n + 1,)
@@ -265,7 +270,7 @@ def correct(
     n = R.size
     b = np.empty(n + 1)
     y_try = np.empty(n + 1)
-    aft = residual(y, problem, R, J)
+    aft = call_residual(residual_at, y, problem, R, J)
     evaluations = 1
     if aft < 0:
         return AFT_FAILED, evaluations, evaluations
@@ -307,7 +312,7 @@ def correct(
         for _ls in range(10):
             for i in range(n + 1):
                 y_try[i] = y[i] + lam * b[i]
-            aft = residual(y_try, problem, R, J)
+            aft = call_residual(residual_at, y_try, problem, R, J)
             evaluations += 1
             res_try = _norm_inf(R) if aft >= 0 else np.inf
             if res_try <= tol or res_try < (1.0 - 1e-4 * lam) * res:
@@ -411,6 +416,7 @@ def _normalise(out):
 @jit_inline
 def palc_step(
     problem,
+    residual_at,
     y,
     tangent_prev,
     ds,
@@ -435,6 +441,8 @@ def palc_step(
     ----------
     problem : tuple
         HBM problem (:func:`hbmfric.kernels.residuals.hbm.hbm_residual`).
+    residual_at : int
+        Address of its residual, as in :func:`correct`.
     y, tangent_prev : ndarray, shape (n + 1,)
         Current point (physical units) and unit tangent (scaled).
     ds : float
@@ -454,6 +462,7 @@ def palc_step(
         y_pred[i] = y[i] + ds * tangent_prev[i] * scale[i]
     return palc_correct(
         problem,
+        residual_at,
         tangent_prev,
         scale,
         tol_residual,
@@ -472,6 +481,7 @@ def palc_step(
 @jit_inline
 def palc_correct(
     problem,
+    residual_at,
     tangent_prev,
     scale,
     tol_residual,
@@ -497,6 +507,8 @@ def palc_correct(
     ----------
     problem : tuple
         HBM problem (:func:`hbmfric.kernels.residuals.hbm.hbm_residual`).
+    residual_at : int
+        Address of its residual, as in :func:`correct`.
     tangent_prev : ndarray, shape (n + 1,)
         Unit tangent at the current point (scaled).
     scale, tol_residual, tol_step, max_iter, R, J, A, piv
@@ -524,6 +536,7 @@ def palc_correct(
         y_new[i] = y_pred[i]
     status, evaluations, iterations = correct(
         problem,
+        residual_at,
         y_new,
         y_pred,
         tangent_prev,

@@ -21,8 +21,9 @@ from ..linalg.krylov import (
     REUSE_TOL,
 )
 from ..linalg.lu import solve_inplace
-from ..residuals.dispatch import _is_condensed, residual
+from ..residuals.dispatch import _is_condensed
 from ..residuals.hbm import JIT_OPTIONS
+from ..residuals.pointer import call_residual
 
 #: GMRES iterations at most of the probe solve (:func:`probe_solve`)
 PROBE_KRYLOV = 60
@@ -283,7 +284,9 @@ def _extreme(z, rates, first, theta0, spacing, sign):
 
 
 @jit
-def truncation_change(x, problem, weights, rates, first, synthesis, y, R, J, A, dX):
+def truncation_change(
+    x, problem, residual_at, weights, rates, first, synthesis, y, R, J, A, dX
+):
     """Relative change of the first-harmonic amplitude and of half the
     peak-to-peak value of the watched output when a solution gains
     harmonics.
@@ -304,6 +307,9 @@ def truncation_change(x, problem, weights, rates, first, synthesis, y, R, J, A, 
     problem : tuple or CondensedProblem
         Kernel problem of the larger basis
         (:func:`hbmfric.kernels.residuals.dispatch.residual`).
+    residual_at : int
+        Address of the residual compiled for ``problem``'s type
+        (:func:`hbmfric.kernels.residuals.pointer.residual_address`).
     weights : ndarray, shape (2, n_dof)
         Displacement (row 0) and velocity (row 1, s) weights of the output
         per DOF among the unknowns (``n = n_dof * n_coef``).
@@ -331,7 +337,7 @@ def truncation_change(x, problem, weights, rates, first, synthesis, y, R, J, A, 
         for k in range(n_coef):
             y[d * n_coef + k] = x[d * n_small + k] if k < n_small else 0.0
     y[n] = x[x.size - 1]
-    status = residual(y, problem, R, J)
+    status = call_residual(residual_at, y, problem, R, J)
     if status < 0:
         return np.inf
     for i in range(n):
@@ -404,7 +410,20 @@ def truncation_change(x, problem, weights, rates, first, synthesis, y, R, J, A, 
 
 @jit
 def truncation_changes(
-    points, rows, problem, weights, rates, first, synthesis, y, R, J, A, dX, out
+    points,
+    rows,
+    problem,
+    residual_at,
+    weights,
+    rates,
+    first,
+    synthesis,
+    y,
+    R,
+    J,
+    A,
+    dX,
+    out,
 ):
     """:func:`truncation_change` of several points of one branch in one
     call (one dispatch instead of one per point).
@@ -415,7 +434,7 @@ def truncation_changes(
         ``[X, Ω]`` per point in the smaller basis.
     rows : ndarray of int64, shape (n_rows,)
         The points to evaluate.
-    problem, weights, rates, first, synthesis, y, R, J, A, dX
+    problem, residual_at, weights, rates, first, synthesis, y, R, J, A, dX
         As in :func:`truncation_change`.
     out : ndarray, shape (n_rows,)
         The change of each point of ``rows`` on return.
@@ -424,6 +443,7 @@ def truncation_changes(
         out[q] = truncation_change(
             points[rows[q]],
             problem,
+            residual_at,
             weights,
             rates,
             first,
@@ -453,6 +473,7 @@ def branch_truncation(
     tolerance,
     max_confirmed,
     problem,
+    residual_at,
     output,
     rates,
     first,
@@ -508,7 +529,7 @@ def branch_truncation(
         pass of an adaptive run, which solves every point over the
         tolerance again, calibrates them all: a carried estimate can be
         far above the fresh one).
-    problem, output, rates, first, synthesis, y, R, J, A, dX
+    problem, residual_at, output, rates, first, synthesis, y, R, J, A, dX
         The probe level, as in :func:`truncation_change` (``output`` is
         its ``weights``).
     errors : ndarray, shape (n_points,)
@@ -569,7 +590,18 @@ def branch_truncation(
             errors[i] = known[i]
         elif chosen[i]:
             change = truncation_change(
-                points[i], problem, output, rates, first, synthesis, y, R, J, A, dX
+                points[i],
+                problem,
+                residual_at,
+                output,
+                rates,
+                first,
+                synthesis,
+                y,
+                R,
+                J,
+                A,
+                dX,
             )
             errors[i] = factor * change
         if chosen[i]:
@@ -601,7 +633,18 @@ def branch_truncation(
         errors[i] = carried * measure[i]
         if errors[i] > tolerance and confirmed < max_confirmed:
             change = truncation_change(
-                points[i], problem, output, rates, first, synthesis, y, R, J, A, dX
+                points[i],
+                problem,
+                residual_at,
+                output,
+                rates,
+                first,
+                synthesis,
+                y,
+                R,
+                J,
+                A,
+                dX,
             )
             errors[i] = factor * change
             if errors[i] > tolerance:

@@ -1,0 +1,144 @@
+"""The residual called through its address (issue 17, the cold first run).
+
+The continuation kernels call the residual through the address of its
+compiled code (:mod:`hbmfric.kernels.residuals.pointer`) so that they do not
+link and compile it again. The references: the residual kernels called
+directly (``hbm_residual``, ``condensed_residual``), which must give the
+same state code, residual and Jacobian bit for bit; and the compiled code
+of the chain kernels, which must not contain the residual's functions.
+"""
+
+import numpy as np
+import pytest
+from numba import njit
+from numba.core.errors import TypingError
+
+import hbmfric as hf
+from hbmfric.condensation import CondensedHBMProblem
+from hbmfric.hbm import HBMProblem
+from hbmfric.kernels.residuals.condensed import condensed_residual
+from hbmfric.kernels.residuals.hbm import hbm_residual
+from hbmfric.kernels.residuals.pointer import call_residual, residual_address
+from hbmfric.kernels.steps import arclength, newton, truncation
+
+
+@njit
+def _through(address, y, problem, R, J):
+    return call_residual(address, y, problem, R, J)
+
+
+@njit
+def _strided(address, y, problem, R, J):
+    return call_residual(address, y[::1][::2], problem, R, J)
+
+
+def _osc(law):
+    return hf.Oscillator(1.0, 0.02, 1.0, law)
+
+
+def _y(problem, amplitude, omega):
+    y = np.zeros(problem.n_unknowns + 1)
+    y[1] = amplitude  # first-harmonic cosine of DOF 0
+    y[-1] = omega
+    return y
+
+
+CASES = {
+    "jenkins": lambda: HBMProblem(
+        _osc(hf.Jenkins(stiffness=3.0, slip_force=1.0)), 0.5, 7
+    ),
+    "menq": lambda: HBMProblem(
+        _osc(hf.Menq.from_stiffness(stiffness=3.0, slip_force=1.0)), 0.5, 7
+    ),
+    "cubic (plain tuple)": lambda: HBMProblem(_osc(hf.Cubic(0.2)), 0.5, 7),
+    "condensed jenkins": lambda: CondensedHBMProblem(
+        _osc(hf.Jenkins(stiffness=3.0, slip_force=1.0)), 0.5, 7
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+@pytest.mark.parametrize("amplitude", [0.1, 2.0])  # stuck, slipping
+def test_pointer_gives_the_residual_bit_for_bit(case, amplitude):
+    problem = CASES[case]()
+    kp = problem.kernel_problem
+    direct = (
+        condensed_residual if isinstance(problem, CondensedHBMProblem) else hbm_residual
+    )
+    y = _y(problem, amplitude, 1.1)
+    n = problem.n_unknowns
+    R, J = np.full(n, np.nan), np.full((n, n + 1), np.nan)
+    R2, J2 = np.full(n, np.nan), np.full((n, n + 1), np.nan)
+    s = _through(residual_address(kp), y, kp, R, J)
+    s2 = direct(y, kp, R2, J2)
+    assert s == s2 >= 0
+    assert np.array_equal(R, R2) and np.array_equal(J, J2)
+    assert np.all(np.isfinite(J))
+
+
+def test_one_address_per_problem_type():
+    """Problems of one type share the residual (one signature, one
+    address); another type gets its own."""
+    a = HBMProblem(
+        _osc(hf.Jenkins(stiffness=3.0, slip_force=1.0)), 0.5, 7
+    ).kernel_problem
+    b = HBMProblem(
+        _osc(hf.Jenkins(stiffness=5.0, slip_force=0.3)), 2.0, 15
+    ).kernel_problem
+    c = HBMProblem(_osc(hf.Cubic(0.2)), 0.5, 7).kernel_problem
+    assert residual_address(a) == residual_address(b) > 0
+    assert residual_address(c) != residual_address(a)
+    jenkins_sigs = [s for s in hbm_residual.signatures if s[1] == _type_of(a)]
+    assert len(jenkins_sigs) == 1
+
+
+def _type_of(value):
+    from numba import typeof
+
+    return typeof(value)
+
+
+def test_call_residual_refuses_other_layouts():
+    """Arrays of another layout than the residual was compiled for are a
+    typing error at compile time, never a call with the wrong layout."""
+    problem = HBMProblem(_osc(hf.Jenkins(stiffness=3.0, slip_force=1.0)), 0.5, 7)
+    kp = problem.kernel_problem
+    n = problem.n_unknowns
+    y = np.zeros(2 * (n + 1))
+    with pytest.raises(TypingError, match="call_residual: y"):
+        _strided(residual_address(kp), y, kp, np.empty(n), np.empty((n, n + 1)))
+
+
+def _defined_functions(dispatcher):
+    """Names of the functions the compiled code of each signature of
+    ``dispatcher`` defines (not the ones it calls through a declaration):
+    the module Numba keeps for linking, which a kernel loaded from the cache
+    has too (Numba's private ``_shared_module``; a fresh compilation's final
+    module otherwise)."""
+    names = set()
+    for cres in dispatcher.overloads.values():
+        module = getattr(cres.library, "_shared_module", None)
+        if module is None:
+            module = cres.library._final_module
+        names.update(f.name for f in module.functions if not f.is_declaration)
+    return names
+
+
+def test_chain_kernels_do_not_link_the_residual():
+    """The continuation kernels call the residual through its address: their
+    compiled code holds neither the residual's body nor its contact law's
+    AFT (before, each of them compiled the whole residual again)."""
+    b = hf.frf(_osc(hf.Jenkins(stiffness=3.0, slip_force=1.0)), 0.5, (0.5, 3.0), 15)
+    assert b.stop_reason.startswith("end")
+    # the kernels Python calls (truncation_change, called from compiled code
+    # only, holds no signature of its own when its callers come from the
+    # cache)
+    for kernel in (newton.correct, arclength.trace, truncation.branch_truncation):
+        defined = _defined_functions(kernel)
+        assert defined, kernel
+        linked = [
+            name
+            for name in defined
+            if "hbm_residual" in name or "aft_jenkins_events" in name
+        ]
+        assert not linked, (kernel, linked[:3])
