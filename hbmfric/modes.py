@@ -1229,6 +1229,37 @@ def _check_mode_arrays(path, mode: NonlinearMode) -> None:
             raise bad("dof_names", f"maps {name!r} to {index}, not in [0, {n_dof - 1}]")
 
 
+#: relative distance of two linear pulsations below which
+#: :func:`_repeated_note` calls them a repeated pair (eigh's rounding of a
+#: pair of a symmetric structure is ~1e-15)
+REPEATED_TOL = 1e-9
+
+
+def _repeated_note(omegas: np.ndarray, mode: int) -> str:
+    """Why the start failed when linear mode ``mode`` (1-based) of the
+    stuck structure is one of a repeated pair (a symmetric structure, e.g.
+    cyclic): every motion in the pair's plane is a linear mode, the EPMC's
+    phase condition fixes none of them and its Newton matrix is singular
+    (ring of three masses: no point at all, ``tests/test_hunt_modes.py``).
+    Empty otherwise."""
+    w = np.asarray(omegas, dtype=float)
+    j = mode - 1
+    same = [
+        i + 1
+        for i in range(w.size)
+        if i != j and abs(w[i] - w[j]) <= REPEATED_TOL * max(w[j], 1e-300)
+    ]
+    if not same:
+        return ""
+    return (
+        f"; linear mode {same[0]} has the same pulsation (a repeated pair, as "
+        "in a symmetric structure): the phase condition does not fix a motion "
+        "in the pair's plane, so the EPMC has no isolated solution; break the "
+        "symmetry slightly (e.g. one stiffness by 1e-6 relative) to follow "
+        "one mode of the pair"
+    )
+
+
 def nonlinear_mode(
     system,
     mode: int = 1,
@@ -1359,7 +1390,7 @@ def nonlinear_mode(
             f"no solution near the linear mode {mode} "
             f"({epmc.linear_omega / (2.0 * np.pi):.4g} Hz with the contacts "
             f"stuck) at or below a = {lo:.3g}"
-        )
+        ) + _repeated_note(epmc.stuck_omegas, mode)
     else:
         targets = list(grid) if z is None else list(grid[1:])
         if z is not None:

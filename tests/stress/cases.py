@@ -172,6 +172,35 @@ def _contact_chain(c: Case) -> hf.LinearStructure:
     )
 
 
+#: range of the ``law="blocks"`` rows (rad/s): the chain's first two
+#: modes, stuck (0.18, 0.53 at ``stiffness_ratio = 1``) and slipping
+BLOCKS_RANGE = (0.02, 0.8)
+#: contacts of the ``law="blocks"`` rows
+BLOCKS_CONTACTS = 8
+
+
+def _contact_row(c: Case) -> hf.LinearStructure:
+    """``law="blocks"``: ten unit masses and unit springs clamped at one
+    end, 2 % modal damping, forced at the free end, with eight Jenkins
+    contacts (slip force 1: ``ratio`` is F over it) to ground on the first
+    eight masses, their stiffnesses spread log-evenly over two decades,
+    ``stiffness_ratio`` / 10 to ``stiffness_ratio`` × 10. At ``H = 15``
+    the condensed problem has 8 × 16 = 128 unknowns, over
+    :data:`hbmfric.condensation.REUSE_MIN_UNKNOWNS`: its corrector solves
+    by GMRES on the harmonic blocks (stop 26)."""
+    n = 10
+    K = 2.0 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1)
+    K[-1, -1] = 1.0
+    spread = c.stiffness_ratio * np.logspace(-1.0, 1.0, BLOCKS_CONTACTS)
+    contacts = [
+        hf.Contact(hf.Jenkins(stiffness=float(kt), slip_force=1.0), i)
+        for i, kt in enumerate(spread)
+    ]
+    return hf.LinearStructure(
+        np.eye(n), K, modal_damping=0.02, load={n - 1: 1.0}, contacts=contacts
+    )
+
+
 USER_CHAIN_RANGE = (8.0, 25.0)
 
 
@@ -224,6 +253,8 @@ def build(c: Case):
         return _contact_chain(c), c.ratio, CHAIN_RANGE
     if c.law == "contact2d":
         return _element_rig(c), c.ratio, ELEMENT_RANGE
+    if c.law == "blocks":
+        return _contact_row(c), c.ratio, BLOCKS_RANGE
     if c.law == "chain3":
         return _user_chain(c), c.ratio, USER_CHAIN_RANGE
     if c.law == "beam":
@@ -657,6 +688,16 @@ def _tensioner() -> list[Case]:
     return cases
 
 
+#: the harmonic-block GMRES rows (stop 26): eight contacts, 128 condensed
+#: unknowns; stuck and slipping, stiff and soft contacts, both sweeps
+BLOCKS_ROWS = [
+    Case(law="blocks", ratio=0.5, stiffness_ratio=1.0),
+    Case(law="blocks", ratio=5.0, stiffness_ratio=1.0),
+    Case(law="blocks", ratio=0.5, stiffness_ratio=1e2),
+    Case(law="blocks", ratio=0.5, stiffness_ratio=1e-2, sweep="down"),
+]
+
+
 def _several_contacts() -> list[Case]:
     """Several contacts (a chain with a contact to ground and a relative
     one) and the 2D element (preloaded, and open at rest): stuck, slipping
@@ -669,6 +710,7 @@ def _several_contacts() -> list[Case]:
     cases.append(Case(law="contacts", ratio=0.5, sweep="down"))
     cases.append(Case(law="contacts", ratio=0.5, harmonics=3))
     cases.append(Case(law="contacts", ratio=0.5, harmonics="auto"))
+    cases += BLOCKS_ROWS
     for preload in (10.0, -2.0):
         for ratio in (0.0, 0.01, 0.3, 1.0):
             cases.append(
