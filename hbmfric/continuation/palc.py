@@ -800,7 +800,6 @@ class Continuation:
                 status, evaluations, _, distance, angle = _newton.palc_step(
                     self.problem.kernel_problem,
                     self._residual_at(),
-                    self._residual_at(),
                     y,
                     t1,
                     ds,
