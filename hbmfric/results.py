@@ -554,7 +554,9 @@ class Branch:
                 method=method,
             )
             if self._stability.criterion == "monodromy":
-                _snap_to_folds(self._stability.stable, self.folds)
+                _snap_to_folds(
+                    self._stability.stable, self.folds, self._stability.computed
+                )
             self._method = method
             self._hp = key
             self._stability_system = src["system"]
@@ -1078,30 +1080,53 @@ def _stability_runs(piece: slice, stable: np.ndarray | None, join: bool = True):
 
 
 #: points within which a stability change of the time-domain monodromy is
-#: moved onto a fold of the branch
+#: moved onto a fold of the branch (across points whose multipliers were
+#: not computed only, :func:`_snap_to_folds`)
 FOLD_SNAP = 12
 
 
-def _snap_to_folds(stable: np.ndarray, folds: np.ndarray) -> None:
-    """Move each change of ``stable`` found within ``FOLD_SNAP`` points of a
-    fold onto that fold, in place.
+def _snap_to_folds(
+    stable: np.ndarray, folds: np.ndarray, computed: np.ndarray | None = None
+) -> None:
+    """Move a change of ``stable`` found within ``FOLD_SNAP`` points of a
+    fold onto that fold, in place, where no computed point is crossed.
 
     At a fold a real multiplier crosses +1, so the stability changes there
-    (Hill's exponents are exact at it). The time-domain monodromy's
-    verdict is ill-conditioned next to a fold (the crossing multiplier
-    moves like the square root of the distance, and the monodromy carries
-    a first-order error at stick-slip): it puts the change a few points
-    off."""
-    for f in (int(v) for v in folds):
-        changes = np.flatnonzero(stable[1:] != stable[:-1]) + 1
-        near = changes[np.abs(changes - f) <= FOLD_SNAP]
-        if near.size != 1 or near[0] == f:
+    (Hill's exponents are exact at it), while the verdict of points filled
+    between computed ones is only as close as the schedule put them. Each
+    change found in ``stable`` as given moves at most once, onto its
+    nearest fold, and only when that fold has no other change within
+    ``FOLD_SNAP`` points, the change is not on a fold already, and no point
+    whose verdict it would flip is ``computed``: a verdict never
+    contradicts the multipliers computed at its point (issue 16, stop 27:
+    in a cluster of seven folds the changes were carried from fold to fold
+    across a computed unstable stretch). ``computed`` None: no point is.
+
+    Parameters
+    ----------
+    stable : ndarray of bool, shape (n_points,)
+        Verdicts, changed in place.
+    folds : ndarray of int
+        Indices of the folds (:attr:`Branch.folds`).
+    computed : ndarray of bool, shape (n_points,), optional
+        Points whose verdict comes from their own multipliers.
+    """
+    folds = np.unique(np.asarray(folds, dtype=np.int64))
+    if folds.size == 0 or stable.size < 2:
+        return
+    original = stable.copy()
+    changes = np.flatnonzero(original[1:] != original[:-1]) + 1
+    for c in (int(v) for v in changes):
+        distance = np.abs(folds - c)
+        f = int(folds[np.argmin(distance)])
+        if f == c or abs(f - c) > FOLD_SNAP:
             continue
-        c = int(near[0])
-        if c > f:
-            stable[f:c] = stable[c]
-        else:
-            stable[c:f] = stable[c - 1]
+        if np.count_nonzero(np.abs(changes - f) <= FOLD_SNAP) != 1:
+            continue
+        lo, hi = (f, c) if f < c else (c, f)
+        if computed is not None and computed[lo:hi].any():
+            continue
+        stable[lo:hi] = original[c] if f < c else original[c - 1]
 
 
 def _stability_source(source: dict | None, system) -> dict:

@@ -207,6 +207,30 @@ class Stability:
         self._max_real[missing] = lam.real.max(axis=1)
         self.computed[missing] = True
         self._fill = None
+        own = self._verdict(lam, mu)
+        wrong = missing[own != self.stable[missing]]
+        if wrong.size:
+            # a filled verdict the point's own multipliers contradict (an
+            # even number of changes between two computed points that no
+            # indicator saw): the multipliers decide, loudly
+            self.stable[wrong] = own[own != self.stable[missing]]
+            warnings.warn(
+                f"stability: {wrong.size} point(s) filled between computed ones "
+                f"(first index {int(wrong[0])}, Ω = {self.omega[wrong[0]]:.6g} "
+                "rad/s) had the other verdict from their own exponents when "
+                "they were computed; `stable` now holds theirs (the schedule "
+                'missed a change: exponents="all" computes every point)',
+                AccuracyWarning,
+                stacklevel=3,
+            )
+
+    def _verdict(self, lam: np.ndarray, mu: np.ndarray) -> np.ndarray:
+        """Stability of points from their exponents (Hill: every real part
+        negative) or multipliers (monodromy: every ``|μ| <= 1 +
+        NEUTRAL_TOLERANCE``), shape (k,)."""
+        if self.criterion == "monodromy":
+            return np.abs(mu).max(axis=1, initial=0.0) <= 1.0 + NEUTRAL_TOLERANCE
+        return lam.real.max(axis=1) < 0.0
 
     @property
     def exponents(self) -> np.ndarray:
@@ -1054,7 +1078,11 @@ def _exponents_at(levels: list, level_of: np.ndarray, local_of, where) -> np.nda
 
 
 def _sparse_schedule(
-    n_points: int, flips: np.ndarray, verdict, anchor_spacing: int
+    n_points: int,
+    flips: np.ndarray,
+    verdict,
+    anchor_spacing: int,
+    cluster: int = 0,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Points at which to compute Hill's eigenvalues, and the verdict of
     every point.
@@ -1070,6 +1098,11 @@ def _sparse_schedule(
     ``anchor_spacing = 0`` (the verdict can change only at a flip): one
     point per stretch between flips, the two ends of every flip (the
     first point if there is no flip), and no anchors.
+
+    ``cluster > 0``: every point between two flips at most ``cluster``
+    points apart is computed too (a cluster of folds, where the verdict
+    can change and change back between two flips that the indicators
+    do not see: :data:`FOLD_CLUSTER`).
     """
     want = np.zeros(n_points, dtype=bool)
     f = np.flatnonzero(flips)
@@ -1080,6 +1113,10 @@ def _sparse_schedule(
         want[0] = True
     want[f] = True
     want[f - 1] = True
+    if cluster > 0 and f.size > 1:
+        for a, b in zip(f[:-1], f[1:], strict=True):
+            if b - a <= cluster:
+                want[a - 1 : b + 1] = True
     computed = np.zeros(n_points, dtype=bool)
     stable = np.zeros(n_points, dtype=bool)
     while True:
@@ -1504,6 +1541,12 @@ MONODROMY_SPACING = 16
 #: proof, :func:`_incrementally_passive`): the monodromy at every
 #: ``PASSIVE_SPACING``-th point, a check of the proof against the numerics
 PASSIVE_SPACING = 64
+#: ``exponents="auto"`` on a monodromy branch scheduled on Hill's flips:
+#: every point between two flips at most this many points apart is
+#: computed (a cluster of folds: between two of them a multiplier near 1
+#: can leave and re-enter the unit circle with no indicator flip, issue
+#: 16, stop 27; the same reach as ``results.FOLD_SNAP``)
+FOLD_CLUSTER = 12
 #: the indicators of :func:`_hill_flips` (Hill's eigenvalues at every
 #: point) are used up to this many unknowns per point (``n_dof (2H + 1)``),
 #: where they cost a small share of a monodromy (about 5 ms per point at
@@ -1704,7 +1747,7 @@ def _monodromy_stability(
             <= HILL_FLIPS_MAX_UNKNOWNS
         ):
             computed, stable = _sparse_schedule(
-                n, flips(), stable_at, MONODROMY_SPACING
+                n, flips(), stable_at, MONODROMY_SPACING, FOLD_CLUSTER
             )
     if stable is None:
         computed = np.ones(n, dtype=bool)

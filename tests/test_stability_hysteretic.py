@@ -159,11 +159,18 @@ def test_snap_to_folds_moves_a_nearby_change_onto_the_fold():
 @pytest.mark.slow
 def test_two_dof_friction_duffing_changes_at_the_folds():
     """A Duffing with a Jenkins contact and a light second mass (two DOFs:
-    the monodromy decides): its stability changes at the two folds, where
-    the time-domain verdict alone put them 5 and 7 points off (the
-    crossing multiplier is within its error there); every point then
-    agrees with Hill, exact at folds (the snap moves verdicts only within
-    12 points of a fold)."""
+    the monodromy decides): its stability changes next to the two folds,
+    within the monodromy's error near a fold (at the first fold, and 4
+    points, 6e-6 rad/s, past the second, where the computed multipliers
+    read 1.0043, 1.0013, 1.0004; 1.0040, 1.0017, 0.9997 at 16 times the
+    steps per period).
+    Every computed point keeps its own multipliers' verdict (issue 16,
+    stop 27: the snap onto the fold no longer overrides them), and every
+    point agrees with Hill, exact at folds, except between a fold and the
+    change next to it."""
+    from hbmfric.results import FOLD_SNAP
+    from hbmfric.stability import NEUTRAL_TOLERANCE
+
     structure = friction_duffing(second_mass=0.1)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", hf.AccuracyWarning)
@@ -171,9 +178,18 @@ def test_two_dof_friction_duffing_changes_at_the_folds():
     assert branch.folds.size == 2
     stab = branch.stability()
     assert stab.criterion == "monodromy"
-    np.testing.assert_array_equal(stab.changes(), branch.folds)
+    done = np.flatnonzero(stab.computed)
+    own = np.abs(stab._multipliers[done]).max(axis=1) <= 1.0 + NEUTRAL_TOLERANCE
+    np.testing.assert_array_equal(stab.stable[done], own)
+    changes = stab.changes()
+    assert changes.size == 2
+    between = np.zeros(len(branch), dtype=bool)
+    for c, f in zip(changes, branch.folds, strict=True):
+        assert abs(int(c) - int(f)) <= FOLD_SNAP
+        assert abs(branch.omega[c] - branch.omega[f]) <= 5e-5 * branch.omega[f]
+        between[min(c, f) : max(c, f)] = True
     hill = branch.stability(method="hill")
-    np.testing.assert_array_equal(hill.stable, stab.stable)
-    f0, f1 = branch.folds
-    assert not stab.stable[f0 + 1 : f1 - 1].any()
-    assert stab.stable[: f0 - 1].all() and stab.stable[f1 + 1 :].all()
+    assert not (hill.stable != stab.stable)[~between].any()
+    c0, c1 = changes
+    assert not stab.stable[c0:c1].any()
+    assert stab.stable[:c0].all() and stab.stable[c1:].all()
