@@ -67,6 +67,10 @@ NEWTON_TOL = 1e-12
 ROOT_TOL = 1e-12
 #: a crossing exponent with ``|Im λ|`` below this fraction of Ω is real
 REAL_TOL = 1e-6
+#: points within which a change of the time-domain monodromy through a
+#: real multiplier near +1 is the change of a fold that has none of its
+#: own (the same reach as :data:`hbmfric.results.FOLD_SNAP`)
+FOLD_REACH = 12
 
 
 @dataclass
@@ -239,7 +243,9 @@ def locate_special_points(
         ``max |μ| - (1 + NEUTRAL_TOLERANCE)`` along the bordered path,
         each trial a full Newton solve and a monodromy), where Hill's
         exponents, which disagree with it, keep one sign; a change at a
-        fold stays with Hill's exponents (exact there).
+        fold stays with Hill's exponents (exact there), and a branch point
+        located within ``FOLD_REACH`` points of a fold without a change of
+        its own is that fold's change (:func:`_fold_changes_on_monodromy`).
 
     Returns
     -------
@@ -285,7 +291,59 @@ def locate_special_points(
                 ConvergenceWarning,
                 stacklevel=3,
             )
+    if stability_method == "monodromy":
+        found = _fold_changes_on_monodromy(found)
     return found
+
+
+def _fold_changes_on_monodromy(found: list[SpecialPoint]) -> list[SpecialPoint]:
+    """Give a fold the stability change located on the monodromy next to it.
+
+    The time-domain monodromy belongs to the orbit near each HBM point, so
+    the change at a fold (a real multiplier through +1) can fall a few
+    points past the HBM fold (the two-DOF friction Duffing at H = 15: 4
+    points, 3.6e-6 rad/s). Located there it would read as a separate
+    branch point. A branch point within :data:`FOLD_REACH` points of a
+    fold that carries no change of its own, with no other special point
+    between them, is that fold's change: the fold takes its Ω
+    (``stability_omega``) and multiplier, and the branch point is dropped.
+    Period doublings and Neimark–Sacker points are never merged.
+
+    Parameters
+    ----------
+    found : list of SpecialPoint
+        The located points, sorted by ``index``.
+
+    Returns
+    -------
+    list of SpecialPoint
+        The same points, merged as above, sorted by ``index``.
+    """
+    points = sorted(found, key=lambda p: p.index)
+    drop: set[int] = set()
+    for k, bp in enumerate(points):
+        if bp.kind != BRANCH_POINT:
+            continue
+        best = None
+        for j, fp in enumerate(points):
+            if (
+                fp.kind != FOLD
+                or fp.stability_omega is not None
+                or abs(fp.index - bp.index) > FOLD_REACH
+            ):
+                continue
+            lo, hi = sorted((j, k))
+            if any(points[m].kind != FOLD for m in range(lo + 1, hi)):
+                continue  # another change between them
+            if best is None or abs(fp.index - bp.index) < abs(
+                points[best].index - bp.index
+            ):
+                best = j
+        if best is not None:
+            points[best].stability_omega = bp.omega
+            points[best].multiplier = bp.multiplier
+            drop.add(k)
+    return [p for m, p in enumerate(points) if m not in drop]
 
 
 def _locate(

@@ -188,6 +188,14 @@ def test_two_dof_friction_duffing_changes_at_the_folds():
         assert abs(int(c) - int(f)) <= FOLD_SNAP
         assert abs(branch.omega[c] - branch.omega[f]) <= 5e-5 * branch.omega[f]
         between[min(c, f) : max(c, f)] = True
+    # each change is its fold's (located on the monodromy 4 points past
+    # the second fold, it read as a separate "branch point" before the
+    # merge of bifurcation._fold_changes_on_monodromy)
+    points = branch.special_points()
+    assert [p.kind for p in points] == ["fold", "fold"]
+    for p in points:
+        assert p.stability_omega is not None
+        assert abs(p.stability_omega - p.omega) <= 5e-5 * p.omega
     hill = branch.stability(method="hill")
     assert not (hill.stable != stab.stable)[~between].any()
     c0, c1 = changes
