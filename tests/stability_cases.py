@@ -44,3 +44,21 @@ def preloaded_duffing(preload: float = 1.0):
         static_load={0: preload},
         contacts=[hf.Contact(hf.Cubic(1.0), 0)],
     )
+
+
+def fold_cluster_chain():
+    """Two DOFs (M = I, K = [[2, -1], [-1, 1]], 1 % modal damping, load 1 on
+    DOF 1), Jenkins kt = 2, f_s = 0.3 to ground at DOF 0 and a cubic
+    k3 = 0.5 at DOF 1: at F = 0.3, H = 5 over 0.3-2.2 rad/s its branch
+    has a cluster of seven folds (points 557-592) where the monodromy's
+    verdicts were once snapped across computed points (issue 16, stop 27)."""
+    return hf.LinearStructure(
+        np.eye(2),
+        np.array([[2.0, -1.0], [-1.0, 1.0]]),
+        load={1: 1.0},
+        modal_damping=0.01,
+        contacts=[
+            hf.Contact(hf.Jenkins(stiffness=2.0, slip_force=0.3), 0),
+            hf.Contact(hf.Cubic(0.5), 1),
+        ],
+    )

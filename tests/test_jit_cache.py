@@ -399,6 +399,21 @@ NOT_IN_A_JENKINS_FRF = (
 )
 
 
+def _compiled_names(code: str, env: dict, timeout: float):
+    """Run ``code`` in a fresh process; the kernel names it printed after
+    ``NAMES`` (JSON) and its standard error."""
+    proc = subprocess.run(
+        [sys.executable, "-c", code],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+    )
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    line = [x for x in proc.stdout.splitlines() if x.startswith("NAMES")][-1]
+    return json.loads(line[len("NAMES") :]), proc.stderr
+
+
 @pytest.mark.slow
 def test_cold_jenkins_frf_compiles_only_what_it_uses(tmp_path):
     """A cold first FRF of the Jenkins oscillator (fresh process, empty
@@ -435,16 +450,7 @@ def test_cold_jenkins_frf_compiles_only_what_it_uses(tmp_path):
         HBMFRIC_CACHE_DIR=str(tmp_path / "cache"),
         PYTHONPATH=os.path.dirname(os.path.dirname(hbmfric.__file__)),
     )
-    proc = subprocess.run(
-        [sys.executable, "-c", code],
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=1800,
-    )
-    assert proc.returncode == 0, proc.stderr[-3000:]
-    line = [x for x in proc.stdout.splitlines() if x.startswith("NAMES")][-1]
-    names = json.loads(line[len("NAMES") :])
+    names, stderr = _compiled_names(code, env, timeout=1800)
     ours = [n for n in names if n.startswith("hbmfric.")]
     # the residual, compiled once, as its own kernel (the chain calls it
     # through its address)
@@ -455,18 +461,10 @@ def test_cold_jenkins_frf_compiles_only_what_it_uses(tmp_path):
     # a kernel with several call signatures by design (e.g. one per
     # argument layout) would show here: none in this run
     assert not twice
-    assert proc.stderr.count("hbmfric: compiling the Numba kernels") == 1
+    assert stderr.count("hbmfric: compiling the Numba kernels") == 1
     # the chain calls the residual through its address: a second fresh
     # process loads every kernel from the cache, the residual as well (its
     # address resolved from the loaded code), and compiles nothing
-    again = subprocess.run(
-        [sys.executable, "-c", code],
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    assert again.returncode == 0, again.stderr[-3000:]
-    line = [x for x in again.stdout.splitlines() if x.startswith("NAMES")][-1]
-    assert json.loads(line[len("NAMES") :]) == []
-    assert "hbmfric: compiling" not in again.stderr
+    names, stderr = _compiled_names(code, env, timeout=600)
+    assert names == []
+    assert "hbmfric: compiling" not in stderr

@@ -970,6 +970,33 @@ def coefficient_columns_of(harmonic_numbers):
     return out
 
 
+def _chain_frf_peak(chain, Mc, force, omega_range, h):
+    """The FRF peak of the forced chain in modal amplitude: the branch's
+    largest point, refined by a bounded search of ``hf.periodic_solution``
+    between its neighbours; returns ``(Ω_peak, a_peak)``."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.AccuracyWarning)
+        branch = hf.frf(chain, force, omega_range, harmonics=h)
+    a = _chain_modal_amplitude(branch.coefficients, Mc, branch.harmonic_numbers)
+    i = int(np.argmax(a))
+
+    def minus_amplitude(omega):
+        sol = hf.periodic_solution(chain, force, omega, harmonics=h)
+        X = sol.coefficients.reshape(Mc.shape[0], -1)
+        return -float(_chain_modal_amplitude(X, Mc, sol.harmonic_numbers))
+
+    lo, hi = branch.omega[max(i - 1, 0)], branch.omega[min(i + 1, len(branch) - 1)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.AccuracyWarning)
+        res = minimize_scalar(
+            minus_amplitude,
+            bounds=(min(lo, hi), max(lo, hi)),
+            method="bounded",
+            options={"xatol": 1e-9 * branch.omega[i]},
+        )
+    return float(res.x), float(-res.fun)
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("force", [0.003, 0.05])
 def test_spring_chain_backbone_through_frf_peaks(force):
@@ -984,25 +1011,7 @@ def test_spring_chain_backbone_through_frf_peaks(force):
     free one)."""
     chain, (Mc, _, _) = _spring_chain(500.0, 1e-3)
     h = 7
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", hf.AccuracyWarning)
-        branch = hf.frf(chain, force, (28.0, 44.0), harmonics=h)
-    a = _chain_modal_amplitude(branch.coefficients, Mc, branch.harmonic_numbers)
-    i = int(np.argmax(a))
-
-    def minus_amplitude(omega):
-        sol = hf.periodic_solution(chain, force, omega, harmonics=h)
-        X = sol.coefficients.reshape(Mc.shape[0], -1)
-        return -float(_chain_modal_amplitude(X, Mc, sol.harmonic_numbers))
-
-    lo, hi = branch.omega[max(i - 1, 0)], branch.omega[min(i + 1, len(branch) - 1)]
-    res = minimize_scalar(
-        minus_amplitude,
-        bounds=(min(lo, hi), max(lo, hi)),
-        method="bounded",
-        options={"xatol": 1e-9 * branch.omega[i]},
-    )
-    omega_peak, a_peak = float(res.x), float(-res.fun)
+    omega_peak, a_peak = _chain_frf_peak(chain, Mc, force, (28.0, 44.0), h)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", hf.AccuracyWarning)
         warnings.simplefilter("ignore", hf.HbmfricWarning)
@@ -1033,27 +1042,7 @@ def test_spring_chain_upper_branch_through_the_frf_peak():
     within 1e-3 in frequency (measured 3.5e-4; D = 3.4e-3 there)."""
     chain, (Mc, _, _) = _spring_chain(5e3, 1e-3)
     h, force = 7, 3.2
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", hf.AccuracyWarning)
-        branch = hf.frf(chain, force, (30.0, 36.0), harmonics=h)
-    a = _chain_modal_amplitude(branch.coefficients, Mc, branch.harmonic_numbers)
-    i = int(np.argmax(a))
-
-    def minus_amplitude(omega):
-        sol = hf.periodic_solution(chain, force, omega, harmonics=h)
-        X = sol.coefficients.reshape(Mc.shape[0], -1)
-        return -float(_chain_modal_amplitude(X, Mc, sol.harmonic_numbers))
-
-    lo, hi = branch.omega[max(i - 1, 0)], branch.omega[min(i + 1, len(branch) - 1)]
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", hf.AccuracyWarning)
-        res = minimize_scalar(
-            minus_amplitude,
-            bounds=(min(lo, hi), max(lo, hi)),
-            method="bounded",
-            options={"xatol": 1e-9 * branch.omega[i]},
-        )
-    omega_peak, a_peak = float(res.x), float(-res.fun)
+    omega_peak, a_peak = _chain_frf_peak(chain, Mc, force, (30.0, 36.0), h)
     assert a_peak > 0.1
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", hf.AccuracyWarning)

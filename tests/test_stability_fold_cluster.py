@@ -14,6 +14,7 @@ import warnings
 
 import numpy as np
 import pytest
+from stability_cases import fold_cluster_chain
 
 import hbmfric as hf
 import hbmfric.stability as stab_module
@@ -120,19 +121,6 @@ def test_the_schedule_computes_every_point_of_a_cluster_of_flips(monkeypatch):
     assert stab.computed.sum() < n // 3
 
 
-def _cluster_scene():
-    return hf.LinearStructure(
-        np.eye(2),
-        np.array([[2.0, -1.0], [-1.0, 1.0]]),
-        load={1: 1.0},
-        modal_damping=0.01,
-        contacts=[
-            hf.Contact(hf.Jenkins(stiffness=2.0, slip_force=0.3), 0),
-            hf.Contact(hf.Cubic(0.5), 1),
-        ],
-    )
-
-
 @pytest.mark.slow
 def test_verdicts_in_a_cluster_of_seven_folds_are_their_multipliers():
     """The scene of stop 27's item 4 (1393 points, folds at 557 … 592):
@@ -140,7 +128,7 @@ def test_verdicts_in_a_cluster_of_seven_folds_are_their_multipliers():
     NEUTRAL_TOLERANCE), and points 572 and 575 … 591, where the monodromy
     reads |μ| 1.004 … 1.062, are unstable (main: stable, the verdict
     carried from fold to fold; 40 s CPU at load 2)."""
-    system = _cluster_scene()
+    system = fold_cluster_chain()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", hf.HbmfricWarning)
         branch = hf.frf(system, 0.3, (0.3, 2.2), harmonics=5)

@@ -12,6 +12,7 @@ import warnings
 
 import numpy as np
 import pytest
+from stability_cases import fold_cluster_chain
 
 import hbmfric as hf
 from hbmfric.stability import NEUTRAL_TOLERANCE
@@ -24,16 +25,7 @@ def test_fold_cluster_auto_equals_every_point():
     F = 0.3, H = 5: the verdicts at a few points (the schedule computes
     every point of a cluster of flips, the snap crosses no computed point)
     equal the monodromy of every point, each verdict its own multipliers'."""
-    system = hf.LinearStructure(
-        np.eye(2),
-        np.array([[2.0, -1.0], [-1.0, 1.0]]),
-        load={1: 1.0},
-        modal_damping=0.01,
-        contacts=[
-            hf.Contact(hf.Jenkins(stiffness=2.0, slip_force=0.3), 0),
-            hf.Contact(hf.Cubic(0.5), 1),
-        ],
-    )
+    system = fold_cluster_chain()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", hf.HbmfricWarning)
         branch = hf.frf(system, 0.3, (0.3, 2.2), harmonics=5)
