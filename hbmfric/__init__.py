@@ -18,6 +18,7 @@ from .errors import (
     ConvergenceWarning,
     CoverageWarning,
     HbmfricWarning,
+    SingularPointWarning,
     StudyWarning,
 )
 from .laws import (
@@ -102,6 +103,7 @@ __all__ = [
     "ConvergenceWarning",
     "CoverageWarning",
     "HbmfricWarning",
+    "SingularPointWarning",
     "StudyWarning",
     "BeamCalibration",
     "BeltTensioner",

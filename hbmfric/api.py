@@ -13,7 +13,15 @@ from ._validate import finite_float
 from .continuation import AdaptiveContinuation, Continuation, ContinuationOptions
 from .continuation.accuracy import truncation_errors
 from .continuation.adaptive import LADDER, START
-from .errors import AccuracyWarning, CoverageWarning
+from .continuation.ends import (
+    budget_note,
+    cut_at_return,
+    cut_at_stall,
+    drop_folds_at,
+    singular_note,
+    stalled_meeting,
+)
+from .errors import AccuracyWarning, CoverageWarning, SingularPointWarning
 from .hbm import HBMProblem
 from .results import Branch, join_pieces
 from .systems.protocol import check_system
@@ -471,21 +479,37 @@ def _covering(trace, sweep: str, retrace: bool) -> Branch:
     ``retrace`` is on, joined with ``trace`` of the opposite sweep
     (:func:`hbmfric.results.join_pieces`). Warns when the result is still
     incomplete."""
-    branch = trace(sweep)
+    branch = cut_at_return(trace(sweep))
     if branch.complete:
+        _warn_ends(branch)
         return branch
     if retrace:
         other = "down" if sweep == "up" else "up"
-        second = trace(other)
+        second = cut_at_return(trace(other))
+        meeting = stalled_meeting(branch, second)
+        if meeting is not None:
+            branch = cut_at_stall(branch, meeting)
+            second = cut_at_stall(second, meeting)
         lo, hi = branch.omega_range
         start = hi if other == "down" else lo
         reason = (
             f"{sweep} sweep: {branch.stop_reason} {_ends(branch)}; retraced "
             f"{other} from {start:.6g} rad/s: {second.stop_reason} {_ends(second)}"
         )
+        singular = branch.info.get("singular_points", []) + second.info.get(
+            "singular_points", []
+        )
+        if meeting is not None and not singular:
+            singular = [meeting]
         branch = join_pieces(branch, second, reason)
+        if singular:
+            branch.info["singular_points"] = singular
+            drop_folds_at(branch, singular)
         if branch.complete:
+            _warn_ends(branch)
             return branch
+    _warn_ends(branch, budget=False)
+    climb = budget_note(branch)
     lo, hi = branch.omega_range
     covered = ", ".join(
         f"[{branch.omega[p].min():.6g}, {branch.omega[p].max():.6g}]"
@@ -496,11 +520,26 @@ def _covering(trace, sweep: str, retrace: bool) -> Branch:
         f"the branch covers only {covered or 'nothing'} of the asked range "
         f"[{lo:.6g}, {hi:.6g}] rad/s (gaps: "
         + ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in branch.gaps)
-        + f"); stop: {branch.stop_reason}",
+        + f"); stop: {branch.stop_reason}"
+        + (f"; {climb}" if climb else ""),
         CoverageWarning,
         stacklevel=4,  # _warn/_covering < _frf_fixed/_frf_auto < frf < user
     )
     return branch
+
+
+def _warn_ends(branch: Branch, budget: bool = True) -> None:
+    """Warn about singular points the pieces met and (``budget``) about a
+    step budget spent by a piece of a branch that otherwise covers its
+    range (:mod:`hbmfric.continuation.ends`)."""
+    note = singular_note(branch)
+    if note:
+        warnings.warn(note, SingularPointWarning, stacklevel=5)
+    note = budget_note(branch) if budget else None
+    if note:
+        warnings.warn(
+            f"{note}; stop: {branch.stop_reason}", CoverageWarning, stacklevel=5
+        )
 
 
 def _branch(system, problem, state, elapsed, omega, coefficients, info, **extra):

@@ -27,6 +27,13 @@ class AccuracyWarning(HbmfricWarning):
     asked for (truncation in harmonics, curve between points, sampling)."""
 
 
+class SingularPointWarning(HbmfricWarning):
+    """A branch met a singular point of the HBM equations that is not a fold
+    (the path turned back onto itself) and was traced up to it from both
+    ends of the range; the points are solutions, the point itself is not
+    passed (``Branch.info["singular_points"]``)."""
+
+
 class CacheWarning(HbmfricWarning):
     """The Numba cache cannot be used (no writable location); kernels are
     compiled in every process."""
