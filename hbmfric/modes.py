@@ -90,6 +90,7 @@ from .kernels.dlft.coulomb import COULOMB
 from .kernels.residuals.hbm import hbm_residual
 from .signals import coefficient_columns
 from .stability import derivative_operator
+from .systems.craig_bampton import warn_above_cutoff
 from .systems.protocol import check_load, check_system
 
 #: the truncation estimate's basis: ``PROBE_FACTOR * H + 1``
@@ -1332,7 +1333,10 @@ def nonlinear_mode(
         When no point at all could be found.
     AccuracyWarning
         When the estimated truncation error of a point exceeds
-        ``harmonic_tolerance``.
+        ``harmonic_tolerance``; and for a structure reduced by
+        :func:`~hbmfric.craig_bampton` when the mode's linear (stuck)
+        pulsation lies above the pulsation the reduction stands for
+        (``valid_below``).
 
     Examples
     --------
@@ -1355,6 +1359,12 @@ def nonlinear_mode(
             "harmonic_tolerance", harmonic_tolerance, low=0.0, low_open=True
         )
     epmc = _EPMC(system, mode, harmonics, n_time, aft, bool(structural_damping))
+    warn_above_cutoff(
+        system,
+        epmc.linear_omega,
+        f"the linear (stuck) pulsation of mode {mode}",
+        stacklevel=2,
+    )
     n = epmc.n
     grid = np.linspace(np.log(lo), np.log(hi), points)
     width = grid[1] - grid[0]
