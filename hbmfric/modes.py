@@ -371,7 +371,10 @@ class NonlinearMode:
         -----
         CoverageWarning
             When none is found: the resonance lies outside the mode's
-            amplitudes (the message gives the forces balanced there).
+            amplitudes (the message gives the forces balanced there); or
+            when the energy balance changes sign across a gap between two
+            pieces (:attr:`gaps`), where a resonance may lie that no point
+            locates (not returned).
         """
         force = finite_float("force", force, low=0.0, low_open=True)
         if self.load_vector is None or not np.any(self.load_vector):
@@ -387,16 +390,31 @@ class NonlinearMode:
             needed = self.supplied_energy() / (np.pi * self.amplitude * modal)
         g = needed - force
         s = np.log(self.amplitude)
-        omega, amp = [], []
-        # no interpolation across the gap between two pieces
+        omega, amp, in_gaps = [], [], []
+        # no interpolation across the gap between two pieces (but a sign
+        # change there is said: a resonance may lie in the gap)
         last = {sl.stop - 1 for sl in self.piece_slices()}
         for i in np.flatnonzero(np.sign(g[1:]) != np.sign(g[:-1])):
-            if not (np.isfinite(g[i]) and np.isfinite(g[i + 1])) or i in last:
+            if not (np.isfinite(g[i]) and np.isfinite(g[i + 1])):
+                continue
+            if i in last:
+                in_gaps.append((float(self.amplitude[i]), float(self.amplitude[i + 1])))
                 continue
             u = g[i] / (g[i] - g[i + 1])
             amp.append(float(np.exp(s[i] + u * (s[i + 1] - s[i]))))
             omega.append(float(self.omega[i] + u * (self.omega[i + 1] - self.omega[i])))
-        if not omega:
+        if in_gaps:
+            where = ", ".join(f"{a0:.4g} to {a1:.4g}" for a0, a1 in in_gaps)
+            warnings.warn(
+                f"at force = {force:.6g} N the balance of supplied and "
+                f"dissipated energy changes sign across the gap a = {where} "
+                "between the mode's pieces, which no point covers: a resonance "
+                f"may lie there and is not returned ({len(omega)} found "
+                "elsewhere); trace the forced response there with hf.frf",
+                CoverageWarning,
+                stacklevel=2,
+            )
+        elif not omega:
             finite = needed[np.isfinite(needed)]
             span = (
                 f"{np.min(finite):.4g} to {np.max(finite):.4g} N"
