@@ -20,7 +20,9 @@ def _write_triangle(path, upper: bool) -> None:
     """A 'symmetric' coordinate file storing one triangle, 1-based."""
     rows, cols = np.nonzero(np.triu(K) if upper else np.tril(K))
     lines = ["%%MatrixMarket matrix coordinate real symmetric", f"{N} {N} {rows.size}"]
-    lines += [f"{i + 1} {j + 1} {K[i, j]:.17g}" for i, j in zip(rows, cols)]
+    lines += [
+        f"{i + 1} {j + 1} {K[i, j]:.17g}" for i, j in zip(rows, cols, strict=True)
+    ]
     path.write_text("\n".join(lines) + "\n")
 
 
