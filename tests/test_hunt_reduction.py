@@ -144,3 +144,15 @@ def test_nonlinear_mode_above_valid_below_warns():
         warnings.simplefilter("always")
         hf.nonlinear_mode(reduced, mode=1, amplitude=(1e-4, 1e-3), points=2)
     assert not _cb_warnings(record)
+
+
+def test_with_contact_keeps_the_reduction_and_its_warning():
+    """``reduced.with_contact(law)`` was a plain LinearStructure: no
+    ``expand``, no ``valid_below``, no warning above the cutoff."""
+    reduced = hf.craig_bampton(_chain(), ["tip", "drive"], n_modes=2)
+    other = reduced.with_contact(hf.Jenkins(stiffness=1e3, slip_force=1e3))
+    assert isinstance(other, hf.ReducedStructure)
+    assert other.valid_below == reduced.valid_below
+    assert other.expand(np.zeros(other.n_dof)).shape == (N,)
+    with pytest.warns(hf.AccuracyWarning, match="Craig–Bampton"):
+        hf.periodic_solution(other, 1.0, 1.1 * other.valid_below, harmonics=1)

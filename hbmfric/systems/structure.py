@@ -497,8 +497,9 @@ class LinearStructure:
         self, contact: ContactLaw | None, contact_dof: int | str | None = None
     ) -> LinearStructure:
         """The same structure with another contact (on the same DOF unless
-        ``contact_dof`` is given)."""
-        new = object.__new__(LinearStructure)
+        ``contact_dof`` is given; a :class:`~hbmfric.ReducedStructure`
+        stays one, with its transformation and valid range)."""
+        new = object.__new__(type(self))
         new.__dict__.update(self.__dict__)
         new._names = dict(self._names)
         if contact is not None and not isinstance(contact, ContactLaw):
