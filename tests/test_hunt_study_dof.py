@@ -108,3 +108,40 @@ def test_scene_accepts_an_output_dof_name_across_meshes(tmp_path):
     path = tmp_path / "mesh.toml"
     path.write_text(SCENE.format(dof='"tip"'))
     load_scene(path)
+
+
+FAILING_SET = """
+[system]
+kind = "oscillator"
+mass = 1.0
+damping = 0.02
+stiffness = 1.0
+[contact]
+law = "jenkins"
+stiffness = 3.0
+slip_force = 1.0
+[frf]
+force = 0.5
+omega = [0.5, 3.0]
+harmonics = 3
+[study]
+executor = "serial"
+"contact.slip_force" = [1.0, -1.0, 0.5]
+[output]
+csv = "family.csv"
+"""
+
+
+def test_cli_run_exits_1_when_a_study_set_fails(tmp_path, capsys):
+    """A failing set among good ones (f_s = -1): the others are written,
+    and the exit status says it (it was 0, the warning the only sign)."""
+    from hbmfric.cli import main
+
+    path = tmp_path / "family.toml"
+    path.write_text(FAILING_SET)
+    out = tmp_path / "o"
+    with pytest.warns(hf.StudyWarning):
+        assert main(["run", str(path), "--out", str(out)]) == 1
+    assert "1 of 3 parameter sets failed" in capsys.readouterr().err
+    curves = np.genfromtxt(out / "family.csv", delimiter=",", names=True)["curve"]
+    assert set(curves.astype(int)) == {0, 2}
