@@ -95,3 +95,53 @@ def test_one_piece_interpolates_and_is_silent():
         warnings.simplefilter("error", hf.HbmfricWarning)
         _, amp = mode.resonances(3.0)
     assert amp.size == 3
+
+
+def test_resonance_of_a_strongly_non_harmonic_mode_warns():
+    """The issue-16 spring chain (kt = 5e3) past its 3:1 internal
+    resonance: at F = 3 N ``resonances`` predicts a = 1.1e-3 and 4.5e-3,
+    where the harmonics above the first carry 60-80 % of Σ k² |X_k|²; time
+    integration of the forced chain at the upper one's Ω gives a modal
+    amplitude more than twice the predicted one (measured 0.018 against
+    0.0045: the FRF peak is at a = 0.020). It warns now."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from test_modes import _spring_chain
+
+    from hbmfric.signals import coefficient_columns
+
+    chain, (mass, _, _) = _spring_chain(5e3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.HbmfricWarning)
+        mode = hf.nonlinear_mode(chain, amplitude=(1e-6, 1e-1), points=40)
+    with pytest.warns(hf.AccuracyWarning, match="harmonics above the first"):
+        omega, amp = mode.resonances(3.0)
+    assert omega.size == 2
+    ref = hf.validation.steady_state(chain, 3.0, float(omega[-1]))
+    c = coefficient_columns(ref.harmonic_numbers)[1]
+    xc, xs = ref.coefficients[:, c], ref.coefficients[:, c + 1]
+    modal = float(np.sqrt(xc @ mass @ xc + xs @ mass @ xs))
+    assert modal > 2.0 * amp[-1], (modal, amp[-1])
+
+
+def test_resonance_of_a_nearly_harmonic_mode_is_silent():
+    """The one-DOF Jenkins mode of tests/test_modes.py (ζ = 0.1 %, H = 7;
+    share 0.33 % at most), whose resonances are within 1 % of the FRF
+    peaks (test_backbone_through_frf_peaks): no warning."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from test_modes import _oscillator
+
+    osc = _oscillator(1e-3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.HbmfricWarning)
+        mode = hf.nonlinear_mode(osc, amplitude=(1e-6, 1e-1), points=61, harmonics=7)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", hf.HbmfricWarning)
+        for force in (0.2, 0.5, 1.0, 1.5, 3.0):
+            omega, _ = mode.resonances(force)
+            assert omega.size >= 1
