@@ -24,6 +24,7 @@ from .continuation.ends import (
 from .errors import AccuracyWarning, CoverageWarning, SingularPointWarning
 from .hbm import HBMProblem
 from .results import Branch, join_pieces
+from .systems.craig_bampton import warn_above_cutoff
 from .systems.protocol import check_system
 
 if TYPE_CHECKING:  # re-exported, imported on first use (``__getattr__`` below)
@@ -240,9 +241,13 @@ def frf(
     AccuracyWarning
         When a point's estimated truncation error exceeds
         ``harmonic_tolerance``, or the estimated error of the straight
-        lines between the points exceeds ``curve_tolerance``.
+        lines between the points exceeds ``curve_tolerance``; and, for a
+        structure reduced by :func:`~hbmfric.craig_bampton`, when the band
+        reaches above the pulsation the reduction stands for
+        (``valid_below``).
     """
     lo, hi = _omega_range(omega)
+    warn_above_cutoff(system, hi, "the FRF band", stacklevel=2)
     if sweep not in ("up", "down"):
         raise ValueError(f"sweep must be 'up' or 'down', got {sweep!r}")
     if not isinstance(retrace, bool | np.bool_):

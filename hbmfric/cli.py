@@ -191,13 +191,27 @@ def _run(args: argparse.Namespace) -> int:
     from .scene import SceneError, run_scene
 
     try:
-        run_scene(args.scene, args.out, progress=lambda line: print(line, flush=True))
+        result = run_scene(
+            args.scene, args.out, progress=lambda line: print(line, flush=True)
+        )
     except FileNotFoundError as exc:
         print(f"hbmfric run: {exc}", file=sys.stderr, flush=True)
         return 2
     except SceneError as exc:
         print(f"hbmfric run: {exc}", file=sys.stderr, flush=True)
         return 2
+    study = result.get("study")
+    if study is not None and study.failures:
+        # the others are written; a script (make, CI) must still see it
+        first = study.failures[0]
+        print(
+            f"hbmfric run: {len(study.failures)} of {len(study)} parameter sets "
+            f"failed (first: set {first.index} {first.parameters}: {first.error}); "
+            "the others are written",
+            file=sys.stderr,
+            flush=True,
+        )
+        return 1
     return 0
 
 

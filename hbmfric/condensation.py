@@ -452,7 +452,8 @@ class CondensedHBMProblem(HBMProblem):
         if receptance == "modal" and modal is None:
             raise ValueError(
                 "receptance='modal' needs classical (modal or Rayleigh) damping and "
-                "no rigid-body mode; use receptance='direct'"
+                "no rigid-body mode; use condense='direct' in hf.frf "
+                "(receptance='direct' here)"
             )
         state = None
         if receptance == "state" or (
@@ -461,14 +462,16 @@ class CondensedHBMProblem(HBMProblem):
             if not self.multi:
                 raise ValueError(
                     "receptance='state' is for several contacts (or one between "
-                    "two DOFs); use receptance='direct'"
+                    "two DOFs); use condense='direct' in hf.frf "
+                    "(receptance='direct' here)"
                 )
             state = state_space_modes(*self._matrices)
             if state is None and receptance == "state":
                 raise ValueError(
                     "the complex modes do not reproduce the direct receptance "
                     f"to {STATE_TOL:g} (defective or nearly repeated modes, or "
-                    "a rigid-body mode); use receptance='direct'"
+                    "a rigid-body mode); use condense='direct' in hf.frf "
+                    "(receptance='direct' here)"
                 )
             receptance = "direct" if state is None else "state"
         if receptance == "auto":

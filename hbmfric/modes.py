@@ -90,12 +90,22 @@ from .kernels.dlft.coulomb import COULOMB
 from .kernels.residuals.hbm import hbm_residual
 from .signals import coefficient_columns
 from .stability import derivative_operator
+from .systems.craig_bampton import warn_above_cutoff
 from .systems.protocol import check_load, check_system
 
 #: the truncation estimate's basis: ``PROBE_FACTOR * H + 1``
 PROBE_FACTOR = 2
 #: format tag of :meth:`NonlinearMode.save` files
 FORMAT = "hbmfric.NonlinearMode/1"
+#: :meth:`NonlinearMode.resonances`: largest share of the harmonics above
+#: the first in ``Σ_k k² (Xc_kᵀ M Xc_k + Xs_kᵀ M Xs_k)`` (the weight of the
+#: supplied energy) at a resonance before it warns: the energy balance takes
+#: the mode's motion for the forced one, but the EPMC's damping term also
+#: drives the higher harmonics, which the forcing does not (one-DOF Jenkins,
+#: share 0.33 % at most: amplitudes within 0.75 % of the FRF peaks; the
+#: issue-16 spring chain past its 3:1 internal resonance, 9 % and 59 %:
+#: 15 % and 4.4 times off, bench/README.md stop 28)
+HIGHER_SHARE_TOL = 0.02
 #: Newton: relative size of the last correction below which a point counts
 #: as converged
 STEP_TOLERANCE = 1e-11
@@ -370,7 +380,14 @@ class NonlinearMode:
         -----
         CoverageWarning
             When none is found: the resonance lies outside the mode's
-            amplitudes (the message gives the forces balanced there).
+            amplitudes (the message gives the forces balanced there); or
+            when the energy balance changes sign across a gap between two
+            pieces (:attr:`gaps`), where a resonance may lie that no point
+            locates (not returned).
+        AccuracyWarning
+            When at a resonance found the harmonics above the first carry
+            more than :data:`HIGHER_SHARE_TOL` of ``Σ_k k² |X_k|²_M``: the
+            prediction assumes a nearly harmonic mode.
         """
         force = finite_float("force", force, low=0.0, low_open=True)
         if self.load_vector is None or not np.any(self.load_vector):
@@ -386,16 +403,33 @@ class NonlinearMode:
             needed = self.supplied_energy() / (np.pi * self.amplitude * modal)
         g = needed - force
         s = np.log(self.amplitude)
-        omega, amp = [], []
-        # no interpolation across the gap between two pieces
+        higher = self._higher_share()
+        omega, amp, in_gaps, shares = [], [], [], []
+        # no interpolation across the gap between two pieces (but a sign
+        # change there is said: a resonance may lie in the gap)
         last = {sl.stop - 1 for sl in self.piece_slices()}
         for i in np.flatnonzero(np.sign(g[1:]) != np.sign(g[:-1])):
-            if not (np.isfinite(g[i]) and np.isfinite(g[i + 1])) or i in last:
+            if not (np.isfinite(g[i]) and np.isfinite(g[i + 1])):
+                continue
+            if i in last:
+                in_gaps.append((float(self.amplitude[i]), float(self.amplitude[i + 1])))
                 continue
             u = g[i] / (g[i] - g[i + 1])
             amp.append(float(np.exp(s[i] + u * (s[i + 1] - s[i]))))
             omega.append(float(self.omega[i] + u * (self.omega[i + 1] - self.omega[i])))
-        if not omega:
+            shares.append(float(max(higher[i], higher[i + 1])))
+        if in_gaps:
+            where = ", ".join(f"{a0:.4g} to {a1:.4g}" for a0, a1 in in_gaps)
+            warnings.warn(
+                f"at force = {force:.6g} N the balance of supplied and "
+                f"dissipated energy changes sign across the gap a = {where} "
+                "between the mode's pieces, which no point covers: a resonance "
+                f"may lie there and is not returned ({len(omega)} found "
+                "elsewhere); trace the forced response there with hf.frf",
+                CoverageWarning,
+                stacklevel=2,
+            )
+        elif not omega:
             finite = needed[np.isfinite(needed)]
             span = (
                 f"{np.min(finite):.4g} to {np.max(finite):.4g} N"
@@ -410,7 +444,43 @@ class NonlinearMode:
                 CoverageWarning,
                 stacklevel=2,
             )
+        if shares and max(shares) > HIGHER_SHARE_TOL:
+            worst = int(np.argmax(shares))
+            warnings.warn(
+                f"at force = {force:.6g} N the resonance at a = {amp[worst]:.4g} "
+                f"(Ω = {omega[worst]:.6g} rad/s) lies where the harmonics above "
+                f"the first carry {shares[worst]:.0%} of the mode's supplied "
+                "energy weight Σ k² |X_k|²: the EPMC's damping term drives them "
+                "too, the forcing does not, so the predicted amplitude may be "
+                "far off (an internal resonance, or strongly non-harmonic "
+                "motion); check it with hf.frf or hf.periodic_solution",
+                AccuracyWarning,
+                stacklevel=2,
+            )
         return np.array(omega), np.array(amp)
+
+    def _higher_share(self) -> np.ndarray:
+        """Share of the harmonics above the first in ``Σ_k k² (Xc_kᵀ M Xc_k
+        + Xs_kᵀ M Xs_k)`` at each point, shape (n_points,) (0 where the
+        sum is 0)."""
+        total = np.zeros(len(self))
+        first = np.zeros(len(self))
+        col = 0
+        for k in self.harmonic_numbers:
+            if k == 0:
+                col += 1
+                continue
+            term = np.zeros(len(self))
+            for c in (col, col + 1):
+                X = self.coefficients[:, :, c]
+                term += k * k * np.einsum("pi,ij,pj->p", X, self._mass, X)
+            total += term
+            if k == 1:
+                first += term
+            col += 2
+        out = np.zeros(len(self))
+        np.divide(total - first, total, out=out, where=total > 0.0)
+        return out
 
     def save(self, path: str | Path) -> Path:
         """Write the mode to ``path`` (``.npz``, no pickle); returns the
@@ -1332,7 +1402,10 @@ def nonlinear_mode(
         When no point at all could be found.
     AccuracyWarning
         When the estimated truncation error of a point exceeds
-        ``harmonic_tolerance``.
+        ``harmonic_tolerance``; and for a structure reduced by
+        :func:`~hbmfric.craig_bampton` when the mode's linear (stuck)
+        pulsation lies above the pulsation the reduction stands for
+        (``valid_below``).
 
     Examples
     --------
@@ -1355,6 +1428,12 @@ def nonlinear_mode(
             "harmonic_tolerance", harmonic_tolerance, low=0.0, low_open=True
         )
     epmc = _EPMC(system, mode, harmonics, n_time, aft, bool(structural_damping))
+    warn_above_cutoff(
+        system,
+        epmc.linear_omega,
+        f"the linear (stuck) pulsation of mode {mode}",
+        stacklevel=2,
+    )
     n = epmc.n
     grid = np.linspace(np.log(lo), np.log(hi), points)
     width = grid[1] - grid[0]

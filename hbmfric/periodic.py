@@ -43,6 +43,7 @@ from .hbm import HBMProblem
 from .kernels.aft.schemes import STATE_NAMES, STUCK
 from .kernels.steps import newton as _newton
 from .results import PeriodicSolution
+from .systems.craig_bampton import warn_above_cutoff
 
 #: ``harmonics="auto"`` stops when two successive ladder steps change the
 #: amplitudes by at most ``harmonic_tolerance / SETTLE_FACTOR``; measured
@@ -161,12 +162,20 @@ def periodic_solution(
         ``coefficients`` of shape (n_dof, n_coef), m; ``converged``,
         ``method``, ``residual_norm`` (N) and ``newton_iterations`` (all
         Newton evaluations of every attempt) tell how it was obtained.
+
+    Warns
+    -----
+    AccuracyWarning
+        For a structure reduced by :func:`~hbmfric.craig_bampton`, when
+        ``omega`` lies above the pulsation the reduction stands for
+        (``valid_below``); and as described under ``harmonic_tolerance``.
     """
     from .api import _problem  # api re-exports this function
 
     start = time.perf_counter()
     omega = finite_float("omega", omega, low=0.0, low_open=True)
     force = finite_float("force", force)
+    warn_above_cutoff(system, omega, "omega", stacklevel=2)
     if on_failure not in ON_FAILURE:
         raise ValueError(f"on_failure must be 'warn' or 'raise', got {on_failure!r}")
     if branch_side not in BRANCH_SIDES:

@@ -475,7 +475,33 @@ def load_scene(path: str | Path) -> Scene:
     for p in sets[:1]:
         _check_system(scene, scene.system(p))
         _check_frf(name, scene.frf_call(p))
+    _check_output_dof(scene, system, sets)
     return scene
+
+
+def _check_output_dof(scene: Scene, system, sets: list[dict]) -> None:
+    """An ``[output] dof`` index must mean one DOF in every model of the
+    study: refused, before anything runs, when a ``system.*`` axis changes
+    the DOF count (a beam's ``n_elements``), as
+    :meth:`hbmfric.study.StudyResult.table` would refuse it after the
+    runs."""
+    dof = scene.data.get("output", {}).get("dof")
+    if not isinstance(dof, int) or isinstance(dof, bool):
+        return
+    if not any(key.startswith("system.") for p in sets for key in p):
+        return
+    counts = {int(system.n_dof)}
+    for p in sets:
+        counts.add(int(scene.system(p).n_dof))
+    if len(counts) > 1:
+        raise _fail(
+            f"{scene.name}: [output] dof",
+            f"{dof} is a DOF index, but the study's models have "
+            f"{', '.join(map(str, sorted(counts)))} DOFs (a [study] axis in "
+            "[system] changes the model): the index is a different point in "
+            "each; name the DOF (such as 'tip') or leave dof unset for each "
+            "model's contact DOF",
+        )
 
 
 def _check_system(scene: Scene, system) -> None:

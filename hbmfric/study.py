@@ -206,6 +206,7 @@ class StudyResult:
         ``harmonic`` and ``dof``); ``force`` and ``normal_load`` under those
         names so that :func:`hbmfric.criterion.read_frfs` reads the CSV.
         """
+        _check_table_dof(self.runs, dof)
         names = []
         for r in self.runs:
             for k in r.parameters:
@@ -277,6 +278,27 @@ class StudyResult:
                 )
             )
         return out
+
+
+def _check_table_dof(runs, dof) -> None:
+    """Refuse a DOF *index* for a table of branches whose DOF counts differ
+    (a parameter changes the model, e.g. a beam's ``n_elements``): the same
+    index is a different point of each model, and one column would mix
+    them without a word. A name (resolved per branch) or None (each
+    branch's contact DOF) is kept."""
+    if dof is None or isinstance(dof, str):
+        return
+    counts = sorted(
+        {int(r.branch.coefficients.shape[1]) for r in runs if r.ok and len(r.branch)}
+    )
+    if len(counts) > 1:
+        raise ValueError(
+            f"dof={dof!r} is a DOF index, but the study's models have "
+            f"{', '.join(map(str, counts))} DOFs (a parameter changes the "
+            "model): the index is a different point in each; name the DOF "
+            "(its dof_names, such as 'tip') or leave dof unset for each "
+            "model's contact DOF"
+        )
 
 
 def _cell(v) -> str:

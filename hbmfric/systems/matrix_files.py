@@ -3,8 +3,11 @@
 Formats, chosen by the file suffix:
 
 ``.mtx`` (Matrix Market)
-    One matrix per file (Abaqus, ANSYS, Nastran via DMAP, FreeFEM and
-    most sparse tools write it), read by :func:`scipy.io.mmread`. A
+    One matrix per file (ANSYS ``*EXPORT`` with ``MMF``, Nastran via DMAP,
+    FreeFEM, MATLAB's ``mmwrite`` and most sparse tools write it), read by
+    :func:`scipy.io.mmread`. Abaqus's ``*MATRIX OUTPUT`` files, also
+    named ``.mtx``, are another format (no ``%%MatrixMarket`` banner; rows
+    of node and DOF labels): they are refused with a message saying so. A
     "symmetric" file stores one triangle; it is expanded (a symmetric file
     that stores an entry in both triangles is refused, as is a "pattern"
     file, which has no values).
@@ -55,6 +58,16 @@ def _read_matrix_market(path: Path) -> np.ndarray:
     would add up) are refused."""
     from scipy.io import mminfo, mmread
 
+    with path.open("rb") as fh:
+        first = fh.readline(200).decode("latin-1").strip()
+    if not first.lower().startswith("%%matrixmarket"):
+        raise ValueError(
+            f"{path} is not a Matrix Market file: its first line {first[:60]!r} "
+            "is not the '%%MatrixMarket matrix ...' banner. Abaqus's *MATRIX "
+            "OUTPUT files, also named .mtx, are another format (node and DOF "
+            "labels per entry) and are not read: convert them to a matrix "
+            "(Matrix Market, .mat or .npz) with your own DOF numbering"
+        )
     _, n_cols, _, layout, field, symmetry = mminfo(str(path))
     if field == "pattern":
         raise ValueError(

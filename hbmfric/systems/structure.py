@@ -30,6 +30,10 @@ from .contacts import Contact, shared_directions
 SYMMETRY_TOL = 1e-10
 #: eigenvalues of K above ``-NEGATIVE_TOL * max|eig|`` count as >= 0
 NEGATIVE_TOL = 1e-9
+#: natural pulsations closer than this (relative) are one repeated frequency
+#: for ``modal_damping`` (eigensolver rounding splits an exact pair by about
+#: 1e-15; a real structure's distinct modes lie further apart)
+REPEATED_TOL = 1e-8
 
 
 def _square(label: str, value, n: int | None = None) -> np.ndarray:
@@ -84,6 +88,34 @@ def _semidefinite(label: str, a: np.ndarray, strict: bool) -> np.ndarray:
     return eig
 
 
+def _check_repeated_ratios(omega: np.ndarray, zeta: np.ndarray, given: int) -> None:
+    """Refuse different damping ratios on modes of one repeated natural
+    frequency (within :data:`REPEATED_TOL`, relative).
+
+    The mode shapes of a repeated frequency (a symmetric structure: a ring,
+    a disc, a square plate) are any basis of their space, the one the
+    eigensolver returns by rounding; ``M Φ diag(2 ζ ω) Φᵀ M`` with
+    different ``ζ`` on them depends on that basis. On a ring of three
+    masses a perturbation of 1e-9 of one stiffness entry moves the
+    driving-point receptance at the repeated resonance from 2.39 to 0.96
+    m/N, and the damping matrix breaks the ring's symmetry."""
+    rigid = NEGATIVE_TOL * float(omega[-1]) ** 2  # 2 ζ ω = 0 there: no damping
+    for j in range(omega.size - 1):
+        top = float(omega[j + 1])
+        if top - omega[j] > REPEATED_TOL * top or not top * top > rigid:
+            continue
+        if zeta[j] != zeta[j + 1]:
+            rest = " (the rest undamped)" if given <= j + 1 else ""
+            raise ValueError(
+                f"modal_damping gives modes {j + 1} and {j + 2} different ratios "
+                f"({zeta[j]:g} and {zeta[j + 1]:g}{rest}), but they share the "
+                f"natural pulsation {omega[j]:.6g} rad/s (repeated: a symmetric "
+                "structure): their mode shapes are any basis of that pair, so "
+                "the damping matrix would depend on rounding; give them the "
+                "same ratio, or pass the damping matrix as damping="
+            )
+
+
 class LinearStructure:
     """A linear structure from its matrices, with friction contacts.
 
@@ -105,7 +137,9 @@ class LinearStructure:
         per mode, the rest undamped), a fraction of critical damping in
         ``[0, 1)`` (0.02 for 2 %; 1 or more is refused as a likely
         percentage): ``C = M Φ diag(2 ζ_j ω_j) Φᵀ M`` with the
-        mass-normalised modes ``Φ``.
+        mass-normalised modes ``Φ``. Modes of one repeated frequency (a
+        symmetric structure) must have equal ratios (their shapes are any
+        basis of their space; different ratios are refused).
     load : array_like or mapping, optional
         Load per unit forcing amplitude: a vector of shape (n,), real or
         complex (see the module notes for the phase), or a mapping
@@ -406,6 +440,7 @@ class LinearStructure:
         zeta = np.full(omega.size, z[0]) if z.size == 1 else np.zeros(omega.size)
         if z.size > 1:
             zeta[: z.size] = z
+        _check_repeated_ratios(omega, zeta, z.size)
         mphi = self._mass @ phi
         return (mphi * (2.0 * zeta * omega)) @ mphi.T
 
@@ -462,8 +497,9 @@ class LinearStructure:
         self, contact: ContactLaw | None, contact_dof: int | str | None = None
     ) -> LinearStructure:
         """The same structure with another contact (on the same DOF unless
-        ``contact_dof`` is given)."""
-        new = object.__new__(LinearStructure)
+        ``contact_dof`` is given; a :class:`~hbmfric.ReducedStructure`
+        stays one, with its transformation and valid range)."""
+        new = object.__new__(type(self))
         new.__dict__.update(self.__dict__)
         new._names = dict(self._names)
         if contact is not None and not isinstance(contact, ContactLaw):
