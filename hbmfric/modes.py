@@ -162,6 +162,13 @@ RESONANCE_FAILED_RATIO = 1.0
 SLIPPED_START_TOLERANCE = 0.1
 #: most fold passages along one mode
 MAX_FOLDS = 8
+#: relative distance between the first point's ω and the linear pulsation
+#: of the mode above which the start is reported (:func:`_start_notes`):
+#: a step may move ω by ``MAX_CORRECTION`` at most, so the mode at ``a``
+#: low has already left the linear one there, or never tends to it (a
+#: contact that touches at rest: the bilinear motion, bench/README.md
+#: stop 28, 126.79 rad/s against 100)
+START_OMEGA_TOL = 0.05
 #: how far below the first amplitude the start may back off (factor 10 per
 #: try) when the linear mode is not a good enough guess there
 START_BACKOFF = 8
@@ -1305,6 +1312,18 @@ def _check_mode_arrays(path, mode: NonlinearMode) -> None:
 REPEATED_TOL = 1e-9
 
 
+def _repeated_partners(omegas: np.ndarray, mode: int) -> list[int]:
+    """The other linear modes (1-based) with the pulsation of ``mode``
+    within ``REPEATED_TOL`` relative."""
+    w = np.asarray(omegas, dtype=float)
+    j = mode - 1
+    return [
+        i + 1
+        for i in range(w.size)
+        if i != j and abs(w[i] - w[j]) <= REPEATED_TOL * max(w[j], 1e-300)
+    ]
+
+
 def _repeated_note(omegas: np.ndarray, mode: int) -> str:
     """Why the start failed when linear mode ``mode`` (1-based) of the
     stuck structure is one of a repeated pair (a symmetric structure, e.g.
@@ -1312,13 +1331,7 @@ def _repeated_note(omegas: np.ndarray, mode: int) -> str:
     phase condition fixes none of them and its Newton matrix is singular
     (ring of three masses: no point at all, ``tests/test_hunt_modes.py``).
     Empty otherwise."""
-    w = np.asarray(omegas, dtype=float)
-    j = mode - 1
-    same = [
-        i + 1
-        for i in range(w.size)
-        if i != j and abs(w[i] - w[j]) <= REPEATED_TOL * max(w[j], 1e-300)
-    ]
+    same = _repeated_partners(omegas, mode)
     if not same:
         return ""
     return (
@@ -1328,6 +1341,83 @@ def _repeated_note(omegas: np.ndarray, mode: int) -> str:
         "symmetry slightly (e.g. one stiffness by 1e-6 relative) to follow "
         "one mode of the pair"
     )
+
+
+def _touching_contacts(epmc: _EPMC, z: np.ndarray) -> list[int]:
+    """Indices (in the system's contact list) of the 2D elements that touch
+    at rest without load (``preload == 0``: open at rest, closed by any
+    closing motion) and whose normal DOF moves in the fundamental of ``z``
+    (more than 1e-6 of the largest DOF)."""
+    from .laws.contact2d import Contact2D
+
+    cos1, sin1 = z[epmc.cos1], z[epmc.sin1]
+    shape = np.hypot(cos1, sin1)
+    big = float(np.max(shape)) if shape.size else 0.0
+    out = []
+    for i, (law, _a, _b, a_n, b_n) in enumerate(epmc.problem._contacts):
+        if not isinstance(law, Contact2D) or law.preload != 0.0 or a_n < 0:
+            continue
+        rel_c = cos1[a_n] - (cos1[b_n] if b_n >= 0 else 0.0)
+        rel_s = sin1[a_n] - (sin1[b_n] if b_n >= 0 else 0.0)
+        if np.hypot(rel_c, rel_s) > 1e-6 * big:
+            out.append(i)
+    return out
+
+
+def _start_notes(
+    epmc: _EPMC, mode: int, a0: float, z0: np.ndarray, dof_names: dict
+) -> list[str]:
+    """What is wrong with the start of a mode (its first solved point
+    ``z0``, at amplitude ``a0``, reached by Newton from the linear mode):
+    ω far from the linear pulsation (``START_OMEGA_TOL``), a shape that is
+    not the linear mode's (``MAC_TOLERANCE``), a linear mode of a repeated
+    pair (the eigensolver's choice of a motion in the pair's plane; DOFs
+    named by ``dof_names``). Empty when the start is the linear mode's."""
+    n = epmc.n
+    notes = []
+    w0, wl = float(z0[n]), epmc.linear_omega
+    mac = epmc.correlation(epmc.linear_guess(a0), z0)
+    if abs(w0 - wl) > START_OMEGA_TOL * wl:
+        why = (
+            "the contacts act nonlinearly below it (slip, open, close or "
+            "stiffen) and the path from the linear mode was not followed; start "
+            "the range lower to follow it"
+        )
+        touching = _touching_contacts(epmc, z0)
+        if touching:
+            why = (
+                f"contact {', '.join(str(i) for i in touching)} (Contact2D, "
+                "preload 0) touches at rest: open at rest, it closes on any "
+                "motion of its normal DOF, so a mode that moves that DOF is "
+                "piecewise linear from a = 0 and never tends to the linear mode "
+                "of the open contact (one normal DOF: the bilinear pulsation "
+                "2 ω_open ω_closed / (ω_open + ω_closed)); a small positive "
+                "preload gives the limit of a contact held closed"
+            )
+        notes.append(
+            f"its first point (a = {a0:.4g}) has ω = {w0:.6g} rad/s, "
+            f"{abs(w0 - wl) / wl:.3g} relative from the linear pulsation "
+            f"{wl:.6g} rad/s (NonlinearMode.linear_omega): {why}"
+        )
+    if mac < MAC_TOLERANCE:
+        notes.append(
+            f"the shape of its first point is not the linear mode's (modal "
+            f"assurance criterion {mac:.3g}): Newton from the linear mode reached "
+            "another mode"
+        )
+    same = _repeated_partners(epmc.stuck_omegas, mode)
+    if same:
+        names = {i: name for name, i in dof_names.items()}
+        shape = np.hypot(z0[epmc.cos1], z0[epmc.sin1])
+        top = int(np.argmax(shape))
+        notes.append(
+            f"linear mode {same[0]} has the same pulsation (a repeated pair): "
+            "the motion followed is "
+            f"the one of the pair's plane the eigensolver picked (largest at DOF "
+            f"{names.get(top, top)!r}), another mode number may give another; "
+            "break the symmetry slightly to choose"
+        )
+    return notes
 
 
 def nonlinear_mode(
@@ -1406,6 +1496,16 @@ def nonlinear_mode(
         :func:`~hbmfric.craig_bampton` when the mode's linear (stuck)
         pulsation lies above the pulsation the reduction stands for
         (``valid_below``).
+    HbmfricWarning
+        When the first point (Newton from the linear mode) does not lie on
+        that linear mode: ω more than ``START_OMEGA_TOL`` (5 %) from
+        ``linear_omega`` (the range starts where the contacts already act,
+        or a 2D element that touches at rest, preload 0, makes the mode
+        piecewise linear from a = 0 and it never tends to the linear one),
+        a fundamental shape with a modal assurance criterion below
+        ``MAC_TOLERANCE`` against the linear mode's, or a linear mode of a
+        repeated pair (the eigensolver chose the motion in the pair's plane).
+        The notes are also in ``info["start_notes"]``.
 
     Examples
     --------
@@ -1457,6 +1557,17 @@ def nonlinear_mode(
                 history.append((s0, z0))
                 break
             n_rejected += 1
+    start_notes = (
+        _start_notes(
+            epmc,
+            mode,
+            float(np.exp(history[0][0])),
+            history[0][1],
+            dict(getattr(system, "dof_names", {}) or {}),
+        )
+        if history
+        else []
+    )
     out_s, out_z, out_it = [], [], []
     # the run stopped on the path past a turning point (an internal
     # resonance, or a kink it cannot pass): the upper branch is sought
@@ -1640,6 +1751,15 @@ def nonlinear_mode(
         ).reshape(-1, 3),
         _mass=epmc.mass,
     )
+    if start_notes:
+        result.info["start_notes"] = list(start_notes)
+        warnings.warn(
+            f"nonlinear mode {mode} does not start on linear mode {mode} "
+            f"({epmc.linear_omega:.6g} rad/s with the contacts stuck): "
+            + "; ".join(start_notes),
+            HbmfricWarning,
+            stacklevel=2,
+        )
     if folds:
         warnings.warn(
             f"nonlinear mode {mode}: the backbone turns in amplitude at a = "

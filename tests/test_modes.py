@@ -1059,3 +1059,124 @@ def test_spring_chain_upper_branch_through_the_frf_peak():
     error = omega_peak / nm.omega[-1] - 1.0
     print(f"a_peak {a_peak:.4g}, D {nm.damping_ratio[-1]:.3g}, error {error:.2e}")
     assert abs(error) < 1e-3
+
+
+# ----------------------------------------------------------------------------
+# a 2D element that touches at rest (preload 0) or stands off (a gap)
+# ----------------------------------------------------------------------------
+
+#: bench/README.md stop 28: x tangential, y normal (positive closing), each
+#: 1 kg on 1e4 N/m (100 rad/s bare), the element between them and ground
+TOUCH_KT, TOUCH_KN, TOUCH_K = 3e4, 2e4, 1e4
+
+
+def _touching_rig(preload):
+    element = hf.Contact2D(
+        TOUCH_KT, TOUCH_KN, friction_coefficient=0.5, preload=preload
+    )
+    return hf.LinearStructure(
+        np.eye(2),
+        np.diag([TOUCH_K, TOUCH_K]),
+        static_load={"y": preload} if preload > 0 else None,
+        contacts=[hf.Contact(element, "x", normal="y")],
+        dof_names={"x": 0, "y": 1},
+    )
+
+
+def _bilinear_period_by_integration(y0):
+    """Period of the free normal DOF released from ``y0 > 0`` at rest:
+    ``ÿ = -k y - kn max(y, 0)``, integrated by scipy (events at y = 0),
+    independent of hbmfric."""
+    from scipy.integrate import solve_ivp
+
+    def rhs(t, s):
+        return [s[1], -TOUCH_K * s[0] - TOUCH_KN * max(s[0], 0.0)]
+
+    def up(t, s):  # crossing y = 0 upwards: one period after release
+        return s[0]
+
+    up.direction = 1.0
+    up.terminal = True
+
+    def down(t, s):
+        return s[0]
+
+    # first the closed quarter to y = 0 (down), then on to the up-crossing
+    down.direction = -1.0
+    down.terminal = True
+    first = solve_ivp(rhs, (0, 1.0), [y0, 0.0], events=down, rtol=1e-12, atol=1e-16)
+    t1, s1 = first.t_events[0][0], first.y_events[0][0]
+    second = solve_ivp(rhs, (t1, 2.0), s1, events=up, rtol=1e-12, atol=1e-16)
+    t2 = second.t_events[0][0]
+    # closed quarter again from y = 0 up to the top: the same as the first
+    return t2 + t1
+
+
+def test_mode_of_a_touching_2d_contact_is_bilinear_and_warns():
+    """Preload exactly 0: the element is open at rest (linear modes 100 and
+    100 rad/s, a repeated pair) but closes on any motion of y. Mode 2
+    follows y's bilinear motion: ω = 2 ω_o ω_c / (ω_o + ω_c) at every
+    amplitude (closed form, and the period of the free rig by scipy's
+    integration, both to 3e-6 at H = 7), the limit of the preload 1e-6 mode 1 (to
+    1e-4). It never tends to its ``linear_omega`` (100): that is said, with
+    the touching contact named and the repeated pair (on main: silent)."""
+    w_o = np.sqrt(TOUCH_K)
+    w_c = np.sqrt(TOUCH_K + TOUCH_KN)
+    bilinear = 2.0 * w_o * w_c / (w_o + w_c)
+    by_integration = 2.0 * np.pi / _bilinear_period_by_integration(1e-3)
+    assert by_integration == pytest.approx(bilinear, rel=1e-8)
+    with pytest.warns(
+        hf.HbmfricWarning, match="does not start on linear mode 2"
+    ) as rec:
+        nm = hf.nonlinear_mode(_touching_rig(0.0), 2, (1e-6, 1e-2), points=5)
+    text = " ".join(str(w.message) for w in rec)
+    assert "touches at rest" in text and "repeated pair" in text
+    assert "'y'" in text  # the motion followed is named
+    assert nm.linear_omega == pytest.approx(w_o, rel=1e-12)
+    assert nm.complete
+    # H = 7: 1.8e-6 off (the truncation estimate says 1.8e-6; H = 15:
+    # 3e-8, H = 63: 2e-10)
+    np.testing.assert_allclose(nm.omega, bilinear, rtol=3e-6)
+    np.testing.assert_allclose(nm.omega, by_integration, rtol=3e-6)
+    assert np.all(nm.dof_amplitude("x") < 1e-9 * nm.dof_amplitude("y"))
+    assert nm.info["start_notes"]
+    # the limit of a contact held closed: mode 1 of preload 1e-6 (stuck
+    # pulsation w_c) lands on the same motion; its start is reported too
+    with pytest.warns(hf.HbmfricWarning, match="does not start on linear mode 1"):
+        held = hf.nonlinear_mode(_touching_rig(1e-6), 1, (1e-6, 1e-2), points=5)
+    assert held.linear_omega == pytest.approx(w_c, rel=1e-12)
+    np.testing.assert_allclose(held.omega, nm.omega, rtol=1e-4)
+
+
+def test_mode_of_a_2d_contact_with_a_small_gap_warns():
+    """A gap of 5e-8 m (preload -1e-3 N), below the first amplitude: the
+    first point already closes it (ω 25 % above the linear 100 rad/s, up
+    to the bilinear value at large a), while the linear modes are a
+    repeated pair: said (on main: silent). A gap above the first amplitude
+    leaves the pair singular: no point, the repeated-pair
+    ConvergenceWarning, as before."""
+    w_o = np.sqrt(TOUCH_K)
+    w_c = np.sqrt(TOUCH_K + TOUCH_KN)
+    bilinear = 2.0 * w_o * w_c / (w_o + w_c)
+    with pytest.warns(
+        hf.HbmfricWarning, match="does not start on linear mode 2"
+    ) as rec:
+        nm = hf.nonlinear_mode(_touching_rig(-1e-3), 2, (1e-6, 1e-2), points=5)
+    assert "repeated pair" in " ".join(str(w.message) for w in rec)
+    assert w_o < nm.omega[0] < nm.omega[-1] < bilinear
+    assert nm.omega[-1] == pytest.approx(bilinear, rel=1e-4)
+    with pytest.warns(hf.ConvergenceWarning, match="repeated pair"):
+        far = hf.nonlinear_mode(_touching_rig(-0.5), 2, (1e-6, 1e-2), points=5)
+    assert len(far) == 0
+
+
+def test_mode_that_starts_on_its_linear_mode_is_quiet():
+    """The tangential mode at preload 1e-6 starts on its stuck pulsation
+    when the range starts below the slip limit μ N0 / kt = 1.7e-11: no
+    start note (the warning is about the start, not the softening)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", hf.HbmfricWarning)
+        warnings.simplefilter("ignore", hf.AccuracyWarning)
+        nm = hf.nonlinear_mode(_touching_rig(1e-6), 2, (1e-13, 1e-11), points=3)
+    assert nm.omega[0] == pytest.approx(nm.linear_omega, rel=1e-6)
+    assert "start_notes" not in nm.info
