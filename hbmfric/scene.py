@@ -475,8 +475,51 @@ def load_scene(path: str | Path) -> Scene:
     for p in sets[:1]:
         _check_system(scene, scene.system(p))
         _check_frf(name, scene.frf_call(p))
+    _check_set_values(scene, sets)
     _check_output_dof(scene, system, sets)
     return scene
+
+
+def _check_set_values(scene: Scene, sets: list[dict]) -> None:
+    """The values of every study set after the first (which is checked
+    whole), at load time: per set, its ``frf.force``, its values in
+    ``[contact]`` / ``[[contacts]]`` together (the laws and their placement
+    built, no model) and its ``system.*`` values together for the built-in
+    kinds (a cheap build); ``system.*`` values of kind ``"matrices"`` are
+    left to the run (a build reads the matrix files). Each distinct group
+    of values is checked once; a bad one is a :class:`SceneError` naming
+    the set (counted from 0), its keys and values, and the message of the
+    table it lands in."""
+    name = scene.name
+    kind = (scene.data.get("system") or {}).get("kind")
+    seen: set = set()
+    for i, p in enumerate(sets[1:], start=1):
+        groups: dict[str, dict] = {}
+        for key, value in p.items():
+            table = "frf" if key == "frf.force" else split_path(key)[0]
+            table = "contact" if table == "contacts" else table
+            groups.setdefault(table, {})[key] = value
+        for table, values in groups.items():
+            sig = (table, repr(sorted(values.items(), key=lambda kv: kv[0])))
+            if sig in seen or (table == "system" and kind == "matrices"):
+                continue
+            seen.add(sig)
+            try:
+                if table == "frf":
+                    _check_frf(name, scene.frf_call(values))
+                elif table == "contact":
+                    d = scene._with(values)
+                    if d.get("contacts") is not None:
+                        build_contacts(d["contacts"], f"{name}: [[contacts]]")
+                    else:
+                        build_contact(d.get("contact"), f"{name}: [contact]")
+                elif table == "system":
+                    _check_system(scene, scene.system(values))
+            except SceneError as exc:
+                msg = str(exc)
+                inner = msg[len(name) + 2 :] if msg.startswith(f"{name}: ") else msg
+                said = ", ".join(f"{k!r} = {v!r}" for k, v in values.items())
+                raise _fail(f"{name}: [study] set {i} ({said})", inner) from None
 
 
 def _check_output_dof(scene: Scene, system, sets: list[dict]) -> None:

@@ -132,11 +132,16 @@ csv = "family.csv"
 """
 
 
-def test_cli_run_exits_1_when_a_study_set_fails(tmp_path, capsys):
+def test_cli_run_exits_1_when_a_study_set_fails(tmp_path, capsys, monkeypatch):
     """A failing set among good ones (f_s = -1): the others are written,
-    and the exit status says it (it was 0, the warning the only sign)."""
+    and the exit status says it (it was 0, the warning the only sign).
+    The load-time check of the sets' values (which refuses this file, the
+    test below) is switched off to reach the run: a set can still fail
+    there (a ``system.*`` value of a matrices scene, a combination)."""
+    import hbmfric.scene
     from hbmfric.cli import main
 
+    monkeypatch.setattr(hbmfric.scene, "_check_set_values", lambda *a: None)
     path = tmp_path / "family.toml"
     path.write_text(FAILING_SET)
     out = tmp_path / "o"
@@ -145,3 +150,51 @@ def test_cli_run_exits_1_when_a_study_set_fails(tmp_path, capsys):
     assert "1 of 3 parameter sets failed" in capsys.readouterr().err
     curves = np.genfromtxt(out / "family.csv", delimiter=",", names=True)["curve"]
     assert set(curves.astype(int)) == {0, 2}
+
+
+@pytest.mark.parametrize(
+    ("axis", "match"),
+    [
+        (
+            '"contact.slip_force" = [1.0, -1.0, 0.5]',
+            r"set 1 \('contact.slip_force' = -1.0\)",
+        ),
+        ('"frf.force" = [0.5, inf]', r"set 1 \('frf.force' = inf\): \[frf\]"),
+        (
+            '"system.mass" = [1.0, 2.0, 0.0]',
+            r"set 2 \('system.mass' = 0.0\): \[system\]",
+        ),
+        (
+            'sets = [{ "contact.slip_force" = 1.0 }, { "contact.law" = "cubic" }]',
+            r"set 1 \('contact.law' = 'cubic'\): \[contact\]: unknown key",
+        ),
+    ],
+)
+def test_a_bad_value_in_a_later_study_set_is_refused_at_load(tmp_path, axis, match):
+    """Only the first set's model was checked at load: a bad value later in
+    an axis (f_s = -1 in set 1) failed at run time, after the sets before
+    it had run. Now every set's values are checked at load (the laws, the
+    force, a cheap built-in system), the message naming the set, the key
+    and the value; the CLI exits 2 before running anything. A value good
+    only with another of its set's (a law and its keys) passes."""
+    from hbmfric.cli import main
+    from hbmfric.scene import SceneError, load_scene
+
+    text = FAILING_SET.replace('"contact.slip_force" = [1.0, -1.0, 0.5]', axis)
+    path = tmp_path / "family.toml"
+    path.write_text(text)
+    with pytest.raises(SceneError, match=match) as info:
+        load_scene(path)
+    assert "family.toml" in str(info.value)
+    assert main(["run", str(path), "--out", str(tmp_path / "o")]) == 2
+    assert not (tmp_path / "o").exists()
+    # a value good only with another of its set's: menq from its stiffness
+    path.write_text(
+        FAILING_SET.replace(
+            '"contact.slip_force" = [1.0, -1.0, 0.5]',
+            'sets = [{ "contact.slip_force" = 1.0 }, '
+            '{ "contact.law" = "menq", "contact.from_stiffness" = true }]',
+        )
+    )
+    sets = load_scene(path).data["study"]["sets"]
+    assert len(sets) == 2
