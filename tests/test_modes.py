@@ -1180,3 +1180,21 @@ def test_mode_that_starts_on_its_linear_mode_is_quiet():
         nm = hf.nonlinear_mode(_touching_rig(1e-6), 2, (1e-13, 1e-11), points=3)
     assert nm.omega[0] == pytest.approx(nm.linear_omega, rel=1e-6)
     assert "start_notes" not in nm.info
+
+
+def test_start_on_another_shape_is_reported():
+    """``_start_notes`` on a start whose shape is another linear mode's
+    (the normal DOF's, for the tangential mode 2 at preload 1e-6: mass
+    orthogonal, MAC 0) names the shape, beside the pulsation 13 % off."""
+    from hbmfric.modes import _EPMC, _start_notes
+
+    rig = _touching_rig(1e-6)
+    tangential = _EPMC(rig, 2, 3, None, "auto", True)
+    normal = _EPMC(rig, 1, 3, None, "auto", True)
+    z = normal.linear_guess(1e-3)
+    notes = _start_notes(tangential, 2, 1e-3, z, {"x": 0, "y": 1})
+    assert any(
+        "not the linear mode's (modal assurance criterion 0)" in n for n in notes
+    )
+    assert any("0.134 relative" in n for n in notes)
+    assert _start_notes(tangential, 2, 1e-3, tangential.linear_guess(1e-3), {}) == []
