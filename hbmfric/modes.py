@@ -1369,7 +1369,9 @@ def _start_notes(
 ) -> list[str]:
     """What is wrong with the start of a mode (its first solved point
     ``z0``, at amplitude ``a0``, reached by Newton from the linear mode):
-    ω far from the linear pulsation (``START_OMEGA_TOL``), a shape that is
+    a 2D element touching at rest whose normal DOF moves, with ω far from
+    the linear pulsation (``START_OMEGA_TOL``; far alone is no fault: a
+    range may start where the contacts slip), a shape that is
     not the linear mode's (``MAC_TOLERANCE``), a linear mode of a repeated
     pair (the eigensolver's choice of a motion in the pair's plane; DOFs
     named by ``dof_names``). Empty when the start is the linear mode's."""
@@ -1377,27 +1379,22 @@ def _start_notes(
     notes = []
     w0, wl = float(z0[n]), epmc.linear_omega
     mac = epmc.correlation(epmc.linear_guess(a0), z0)
-    if abs(w0 - wl) > START_OMEGA_TOL * wl:
-        why = (
-            "the contacts act nonlinearly below it (slip, open, close or "
-            "stiffen) and the path from the linear mode was not followed; start "
-            "the range lower to follow it"
-        )
-        touching = _touching_contacts(epmc, z0)
-        if touching:
-            why = (
-                f"contact {', '.join(str(i) for i in touching)} (Contact2D, "
-                "preload 0) touches at rest: open at rest, it closes on any "
-                "motion of its normal DOF, so a mode that moves that DOF is "
-                "piecewise linear from a = 0 and never tends to the linear mode "
-                "of the open contact (one normal DOF: the bilinear pulsation "
-                "2 ω_open ω_closed / (ω_open + ω_closed)); a small positive "
-                "preload gives the limit of a contact held closed"
-            )
+    touching = _touching_contacts(epmc, z0)
+    # a start in slip with the linear mode's shape is that mode's
+    # continuation at a0 (a range that starts where the contacts act, on
+    # purpose): not reported; the touching element's bilinear motion is
+    if touching and abs(w0 - wl) > START_OMEGA_TOL * wl:
+        contacts = ", ".join(str(i) for i in touching)
         notes.append(
             f"its first point (a = {a0:.4g}) has ω = {w0:.6g} rad/s, "
             f"{abs(w0 - wl) / wl:.3g} relative from the linear pulsation "
-            f"{wl:.6g} rad/s (NonlinearMode.linear_omega): {why}"
+            f"{wl:.6g} rad/s (NonlinearMode.linear_omega): contact {contacts} "
+            "(Contact2D, preload 0) touches at rest: open at rest, it closes on "
+            "any motion of its normal DOF, so a mode that moves that DOF is "
+            "piecewise linear from a = 0 and never tends to the linear mode of "
+            "the open contact (one normal DOF: the bilinear pulsation "
+            "2 ω_open ω_closed / (ω_open + ω_closed)); a small positive preload "
+            "gives the limit of a contact held closed"
         )
     if mac < MAC_TOLERANCE:
         notes.append(
@@ -1498,11 +1495,11 @@ def nonlinear_mode(
         (``valid_below``).
     HbmfricWarning
         When the first point (Newton from the linear mode) does not lie on
-        that linear mode: ω more than ``START_OMEGA_TOL`` (5 %) from
-        ``linear_omega`` (the range starts where the contacts already act,
-        or a 2D element that touches at rest, preload 0, makes the mode
-        piecewise linear from a = 0 and it never tends to the linear one),
-        a fundamental shape with a modal assurance criterion below
+        that linear mode: a 2D element that touches at rest (preload 0)
+        makes the mode piecewise linear from a = 0, so that it never tends
+        to the linear one (ω more than ``START_OMEGA_TOL``, 5 %, from
+        ``linear_omega``; a start in slip alone is not reported), a
+        fundamental shape with a modal assurance criterion below
         ``MAC_TOLERANCE`` against the linear mode's, or a linear mode of a
         repeated pair (the eigensolver chose the motion in the pair's plane).
         The notes are also in ``info["start_notes"]``.
