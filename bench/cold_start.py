@@ -42,10 +42,11 @@ FRF = (
     "assert b.stop_reason.startswith('end')"
 )
 
-#: the paper's four kinds of FRF in one process, one problem type each: the
-#: SDOF paper oscillator with a Jenkins and with a Menq contact
-#: (``harmonics="auto"``), the paper beam at Fn = 5 N (condensed, auto) and
-#: the belt tensioner (Dahl, H = 7)
+#: the paper's four kinds of FRF in one process, one problem type each (the
+#: residual's; the continuation kernels take them as two chain types, full
+#: and condensed): the SDOF paper oscillator with a Jenkins and with a Menq
+#: contact (``harmonics="auto"``), the paper beam at Fn = 5 N (condensed,
+#: auto) and the belt tensioner (Dahl, H = 7)
 FAMILIES = """
 import hbmfric as hf
 from hbmfric.continuation import ContinuationOptions

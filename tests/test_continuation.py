@@ -351,11 +351,14 @@ def test_kernels_compile_once_and_no_eager_imports():
         runs((0.3, 1e9), (0.1, 2.0), 0.1)
         first = counts()
         runs((0.7, 2.0, 0.0), (0.5, 1.3), 0.2)
-        # the problem type of each signature of correct (one per AFT family)
-        kinds = [str(getattr(sig[0], "instance_class", type(sig[0])).__name__)
-                 for sig in newton.correct.signatures]
+        # the problem type of each signature of correct (one for every law
+        # family) and of the residual (one per AFT family)
+        def kinds(kernel, arg):
+            return [str(getattr(sig[arg], "instance_class", type(sig[arg])).__name__)
+                    for sig in kernel.signatures]
         print(json.dumps({"first": first, "second": counts(),
-                          "correct_problems": kinds,
+                          "correct_problems": kinds(newton.correct, 0),
+                          "residual_problems": kinds(hbm.hbm_residual, 1),
                           "mpl": "matplotlib" in sys.modules,
                           "integrate": "scipy.integrate" in sys.modules}))
         """
@@ -379,12 +382,15 @@ def test_kernels_compile_once_and_no_eager_imports():
     ):
         (key,) = [k for k in report["first"] if k.endswith(name)]
         assert report["first"][key] == 1, (key, report["first"][key])
-    # the corrector: one signature per problem type, the types of the AFT
+    # the residual: one signature per problem type, the types of the AFT
     # families run here (Jenkins, Menq/Iwan/Roughness on the event AFT) and
-    # the plain tuple (Duffing, and Menq on the sampled AFT)
-    kinds = report["correct_problems"]
+    # the plain tuple (Duffing, and Menq on the sampled AFT); the corrector
+    # one for all of them (it takes every full problem as a ChainProblem and
+    # calls the residual through its address)
+    kinds = report["residual_problems"]
     assert sorted(kinds) == ["JenkinsProblem", "MasingProblem", "Tuple"], kinds
+    assert report["correct_problems"] == ["ChainProblem"], report["correct_problems"]
     (key,) = [k for k in report["first"] if k.endswith("newton.correct")]
-    assert report["first"][key] == 3
+    assert report["first"][key] == 1
     assert not report["mpl"]
     assert not report["integrate"]

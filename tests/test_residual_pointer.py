@@ -18,7 +18,11 @@ from hbmfric.condensation import CondensedHBMProblem
 from hbmfric.hbm import HBMProblem
 from hbmfric.kernels.residuals.condensed import condensed_residual
 from hbmfric.kernels.residuals.hbm import hbm_residual
-from hbmfric.kernels.residuals.pointer import call_residual, residual_address
+from hbmfric.kernels.residuals.pointer import (
+    call_residual,
+    chain_problem,
+    residual_address,
+)
 from hbmfric.kernels.steps import arclength, newton, truncation
 
 
@@ -56,6 +60,21 @@ CASES = {
     ),
 }
 
+#: more problem types for the continuation's one type per residual
+#: (:func:`chain_problem`): rigid Coulomb (DLFT) and Dahl, full and condensed
+CHAIN_CASES = {
+    **CASES,
+    "coulomb": lambda: HBMProblem(_osc(hf.Coulomb(slip_force=1.0)), 0.5, 7),
+    "dahl": lambda: HBMProblem(
+        _osc(hf.ModifiedDahl(beta=20.0, upper=(0.0, 1.0), lower=(0.0, -1.0))),
+        0.5,
+        7,
+    ),
+    "condensed coulomb": lambda: CondensedHBMProblem(
+        _osc(hf.Coulomb(slip_force=1.0)), 0.5, 7
+    ),
+}
+
 
 @pytest.mark.parametrize("case", sorted(CASES))
 @pytest.mark.parametrize("amplitude", [0.1, 2.0])  # stuck, slipping
@@ -74,6 +93,53 @@ def test_pointer_gives_the_residual_bit_for_bit(case, amplitude):
     assert s == s2 >= 0
     assert np.array_equal(R, R2) and np.array_equal(J, J2)
     assert np.all(np.isfinite(J))
+
+
+@pytest.mark.parametrize("case", sorted(CHAIN_CASES))
+@pytest.mark.parametrize("amplitude", [0.1, 2.0])  # stuck, slipping
+def test_chain_problem_gives_the_residual_bit_for_bit(case, amplitude):
+    """The continuation kernels receive every problem in one type per
+    residual (:func:`chain_problem`) and call the residual compiled for the
+    problem's own type through its address: the same state code, ``R`` and
+    ``J`` bit for bit as the residual kernel called directly on the
+    problem itself."""
+    problem = CHAIN_CASES[case]()
+    kp = problem.kernel_problem
+    direct = (
+        condensed_residual if isinstance(problem, CondensedHBMProblem) else hbm_residual
+    )
+    y = _y(problem, amplitude, 1.1)
+    n = problem.n_unknowns
+    R, J = np.full(n, np.nan), np.full((n, n + 1), np.nan)
+    R2, J2 = np.full(n, np.nan), np.full((n, n + 1), np.nan)
+    chain = chain_problem(kp)
+    assert type(chain) is not type(kp) and tuple(chain) == tuple(kp)
+    s = _through(residual_address(kp), y, chain, R, J)
+    s2 = direct(y, kp, R2, J2)
+    assert s == s2 >= 0
+    assert np.array_equal(R, R2) and np.array_equal(J, J2)
+    assert np.all(np.isfinite(J))
+
+
+def test_one_chain_type_per_residual():
+    """Every full problem type (AFT families, plain tuple, rigid Coulomb)
+    reaches the continuation kernels as one Numba type, every condensed one
+    as another; the residual itself is resolved for the problem's own type
+    only (a chain problem does not name the law family)."""
+    full = [
+        _type_of(chain_problem(CHAIN_CASES[c]().kernel_problem))
+        for c in ("jenkins", "menq", "dahl", "cubic (plain tuple)", "coulomb")
+    ]
+    assert len(set(full)) == 1
+    condensed = [
+        _type_of(chain_problem(CHAIN_CASES[c]().kernel_problem))
+        for c in ("condensed jenkins", "condensed coulomb")
+    ]
+    assert len(set(condensed)) == 1 and condensed[0] != full[0]
+    kp = CASES["jenkins"]().kernel_problem
+    assert chain_problem(chain_problem(kp)) == chain_problem(kp)
+    with pytest.raises(TypeError, match="not its chain_problem"):
+        residual_address(chain_problem(kp))
 
 
 def test_one_address_per_problem_type():

@@ -102,7 +102,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..kernels.residuals.pointer import residual_address
+from ..kernels.residuals.pointer import chain_problem, residual_address
 from ..kernels.steps import arclength as _arclength
 from ..kernels.steps import newton as _newton
 from ..kernels.steps.truncation import output_measure, truncation_change
@@ -400,7 +400,7 @@ class _Level:
             inverse = kp[9]
             every = max(1, inverse.shape[0] // max(64, 4 * self.h))
             self._work = (
-                self.problem.kernel_problem,
+                chain_problem(self.problem.kernel_problem),
                 residual_address(self.problem.kernel_problem),
                 np.ascontiguousarray(inverse[::every]),
                 self.output,

@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..kernels.residuals.pointer import residual_address
+from ..kernels.residuals.pointer import chain_problem, residual_address
 from ..kernels.steps import arclength as _arclength
 from ..kernels.steps import newton as _newton
 from .options import ContinuationOptions
@@ -249,7 +249,7 @@ class Continuation:
     def _correct(self, y, y_pred, constraint, max_iter=None):
         o = self.options
         status, iterations, _ = _newton.correct(
-            self.problem.kernel_problem,
+            self._chain_problem(),
             self._residual_at(),
             y,
             y_pred,
@@ -570,7 +570,7 @@ class Continuation:
         y = state.y.copy()
         tangent = state.tangent.copy()
         outcome, new_step, evaluations = _arclength.advance(
-            self.problem.kernel_problem,
+            self._chain_problem(),
             self._residual_at(),
             y,
             tangent,
@@ -626,7 +626,7 @@ class Continuation:
         y = state.y.copy()
         tangent = state.tangent.copy()
         outcome, accepted, rejected, evaluations, new_step = _arclength.trace(
-            self.problem.kernel_problem,
+            self._chain_problem(),
             self._residual_at(),
             y,
             tangent,
@@ -798,7 +798,7 @@ class Continuation:
             for ds in TURN_STEPS:
                 y = y0.copy()
                 status, evaluations, _, distance, angle = _newton.palc_step(
-                    self.problem.kernel_problem,
+                    self._chain_problem(),
                     self._residual_at(),
                     y,
                     t1,
@@ -850,12 +850,18 @@ class Continuation:
         the continuation kernels call."""
         return residual_address(self.problem.kernel_problem)
 
+    def _chain_problem(self):
+        """The problem's kernel problem as the continuation kernels take it
+        (:func:`hbmfric.kernels.residuals.pointer.chain_problem`: one type
+        for every law family)."""
+        return chain_problem(self.problem.kernel_problem)
+
     def _placeholder_calibration(self) -> tuple:
         """A calibration argument of the right types for a trace without
         adaptive harmonics (never used)."""
         if self._no_calibration is None:
             e1, e2 = np.zeros(1), np.zeros((1, 1))
-            kp = self.problem.kernel_problem
+            kp = self._chain_problem()
             self._no_calibration = (kp, 0, e2, e2, e1, e1, e1, e2, e2, e1)
         return self._no_calibration
 

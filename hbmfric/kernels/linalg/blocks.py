@@ -268,7 +268,7 @@ def gmres_prepared(A, b, x, n_dof, n_coef, first, tol, blocks, pivots, border, V
         V[0, i] = b[i] * inv
     g[0] = beta
     target = tol * beta
-    k = 0
+    k = np.int64(0)  # not a literal 0: one signature of arnoldi_step
     converged = False
     while k < k_max:
         for i in range(m):

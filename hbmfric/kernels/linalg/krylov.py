@@ -100,7 +100,7 @@ def apply_factors(F, piv, b):
         if p != k:
             b[k], b[p] = b[p], b[k]
     for i in range(1, m):
-        b[i] -= _row_dot(F, i, b, 0, i)
+        b[i] -= _row_dot(F, i, b, np.int64(0), i)  # one signature, not a literal
     for i in range(m - 1, -1, -1):
         b[i] = (b[i] - _row_dot(F, i, b, i + 1, m)) / F[i, i]
 
@@ -233,7 +233,7 @@ def gmres_lu(A, F, piv, b, x, V, tol):
         V[0, i] = b[i] * inv
     g[0] = beta
     target = tol * beta
-    k = 0
+    k = np.int64(0)  # not a literal 0: one signature of arnoldi_step
     converged = False
     while k < k_max:
         # w = A M⁻¹ v_k, orthogonalised against the basis (modified

@@ -216,11 +216,19 @@ CONDENSED_FAMILY_TYPES = {
     DAHL_FAMILY: CondensedDahlProblem,
 }
 
+CondensedChainProblem = namedtuple("CondensedChainProblem", CondensedProblem._fields)
+CondensedChainProblem.__doc__ = """A condensed kernel problem as the
+continuation kernels receive it (:func:`hbmfric.kernels.residuals.pointer.
+chain_problem`): the :class:`CondensedProblem` fields in one type for every
+condensed problem type (see :class:`hbmfric.kernels.residuals.hbm.
+ChainProblem`). Never passed to :func:`condensed_residual` itself."""
+
 #: every condensed problem class (the residual dispatch sends them here)
 CONDENSED_TYPES = (
     CondensedProblem,
     CondensedCoulombProblem,
     *CONDENSED_FAMILY_TYPES.values(),
+    CondensedChainProblem,
 )
 
 
@@ -352,13 +360,6 @@ def condensed_residual(y, problem, R, J):
     int
         Contact-state code of the AFT (negative on failure).
     """
-    return _condensed_entry(y, problem, R, J)
-
-
-def condensed_residual_impl(y, problem, R, J):
-    """The body of :func:`condensed_residual` (same contract), a plain
-    function compiled only through overloads (see
-    :func:`hbmfric.kernels.residuals.hbm.hbm_residual_impl`)."""
     if problem.law_codes.size > 0:
         return _coordinates_residual(y, problem, R, J)
     status = _condensed_linear(y, problem, R, J)
@@ -378,15 +379,6 @@ def condensed_residual_impl(y, problem, R, J):
         for j in range(n):
             J[i, j] += dF[i, j]
     return status
-
-
-def _condensed_entry(y, problem, R, J):
-    raise NotImplementedError("for jit code")
-
-
-@overload(_condensed_entry, jit_options=JIT_OPTIONS)
-def _condensed_entry_overload(y, problem, R, J):
-    return condensed_residual_impl
 
 
 def condensed_rigid_coulomb(y, problem, R, J):
@@ -425,7 +417,7 @@ def _refuse_force(y, problem, R, R_lin, J, f):
 
 def _coulomb_force(y, problem, R, R_lin, J, f):
     # the implementation of ``coulomb_contact_force`` for a Coulomb problem
-    status = _condensed_entry(y, problem, R, J)
+    status = condensed_residual(y, problem, R, J)
     _condensed_linear(y, problem, R_lin, J)
     for r in range(f.size):
         f[r] = R[r] - R_lin[r]
@@ -445,9 +437,12 @@ def _coulomb(y, problem, R, J):
     DLFT scheme the full residual uses
     (:func:`hbmfric.kernels.residuals.hbm.hbm_residual`): located, with the linear
     tail when ``law_params[4] = K > 0``, classic for ``AFT_SAMPLES``."""
+    # the contact's first coefficient: row 0, not a literal 0 (the DLFT
+    # kernels would compile once more for it beside the full residual's)
+    BASE = np.int64(0)
     params = problem.law_params
     if problem.aft_scheme != AFT_EVENTS:
-        return dlft_contact(params, 0, y, problem.inverse, problem.forward, R, J)
+        return dlft_contact(params, BASE, y, problem.inverse, problem.forward, R, J)
     hn = problem.harmonic_numbers
     m_cc = problem.contact_mass
     if params[4] > 0.0:
@@ -474,7 +469,7 @@ def _coulomb(y, problem, R, J):
         return dlft_tail(
             params,
             hn,
-            0,
+            BASE,
             m_cc,
             q,
             dq,
@@ -490,7 +485,7 @@ def _coulomb(y, problem, R, J):
     return dlft_located(
         params,
         hn,
-        0,
+        BASE,
         m_cc,
         y,
         problem.inverse,
@@ -559,7 +554,7 @@ def _condensed_linear(y, problem, R, J):
     omega = y[n]
     J[:, :] = 0.0
     work = _direct_work(problem)
-    col = 0
+    col = np.int64(0)  # not a literal 0: one signature of the callee
     for k in hn:
         if problem.method == DIRECT:
             g, p, dg, dp, ok = _harmonic_receptance_direct(k, omega, col, problem, work)
@@ -1065,7 +1060,7 @@ def _coordinates_linear(y, problem, R, J):
     v = np.empty(n_c, dtype=np.complex128)
     level = 0.0
     left_abs, right_sums = _state_magnitudes(problem)
-    col = 0
+    col = np.int64(0)  # not a literal 0: one signature of the callee
     for k in hn:
         if problem.method == DIRECT:
             if not _direct_coordinate_receptance(
@@ -1421,7 +1416,7 @@ def _coordinates_drawn(problem, y, t, scale, column, coefficients):
     da = np.nan
     speed2 = 0.0
     found = False
-    col = 0
+    col = np.int64(0)  # not a literal 0: one signature of the callee
     for k in hn:
         ok, x, dx = _drawn_harmonic(problem, y, t, scale, k, col)
         if not ok:

@@ -17,7 +17,7 @@ from numba.extending import overload
 
 from .condensed import (
     CONDENSED_TYPES,
-    condensed_residual_impl,
+    condensed_residual,
     coordinates_drawn,
 )
 from .hbm import JIT_OPTIONS, hbm_residual
@@ -42,7 +42,11 @@ def _is_condensed(problem) -> bool:
 @overload(residual, jit_options=JIT_OPTIONS)
 def _residual(y, problem, R, J):
     if _is_condensed(problem):
-        return condensed_residual_impl
+
+        def condensed(y, problem, R, J):
+            return condensed_residual(y, problem, R, J)
+
+        return condensed
 
     def full(y, problem, R, J):
         return hbm_residual(y, problem, R, J)

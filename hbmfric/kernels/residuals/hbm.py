@@ -66,6 +66,16 @@ of the other laws compiles without them). Built by
 :class:`hbmfric.hbm.HBMProblem`."""
 
 
+ChainProblem = namedtuple("ChainProblem", FIELDS)
+ChainProblem.__doc__ = """The kernel problem of :func:`hbm_residual` as the
+continuation kernels receive it (:func:`hbmfric.kernels.residuals.pointer.
+chain_problem`): the same fields, in one type for every full problem type
+(plain tuple, :class:`CoulombProblem` and the AFT families' types). Those
+kernels call the residual only through its address, which is resolved for
+the problem's own type, and dispatch on nothing else of the type, so one
+compilation of the continuation serves every law family."""
+
+
 #: options of the overloads' implementations: those of the project
 #: decorator (:data:`hbmfric._jit.jit`)
 JIT_OPTIONS = {"cache": CACHE, "nogil": True, "error_model": "numpy"}

@@ -18,6 +18,15 @@ of the residual is linked into the caller.
 
 The address is only valid in the process that resolved it: never store it
 in anything that is pickled or cached.
+
+Since the continuation kernels reach the residual only through its address,
+nothing else in them depends on which law family a problem's type stands
+for: they receive the problem as :func:`chain_problem` (the same fields in
+one type per residual, full or condensed), so that they are compiled once
+for every law family instead of once per problem type. The call passes the
+problem by Numba's calling convention, which lays a named tuple out by its
+field types alone; :func:`chain_problem` checks that those are the problem's
+own (the residual's) field types.
 """
 
 from __future__ import annotations
@@ -27,9 +36,9 @@ from numba import types
 from numba.core import cgutils, errors
 from numba.extending import intrinsic
 
-from .condensed import condensed_residual
+from .condensed import CONDENSED_TYPES, CondensedChainProblem, condensed_residual
 from .dispatch import _is_condensed
-from .hbm import hbm_residual
+from .hbm import ChainProblem, hbm_residual
 
 #: the types the residual is compiled for: ``y``, ``R`` (float64, 1D,
 #: C-contiguous), ``J`` (float64, 2D, C-contiguous); the problem's type is
@@ -91,6 +100,11 @@ def residual_address(problem) -> int:
     key = _key(problem)
     address = _ADDRESSES.get(key)
     if address is None:
+        if type(problem) in (ChainProblem, CondensedChainProblem):
+            raise TypeError(
+                "residual_address takes the kernel problem itself, not its "
+                "chain_problem (whose type does not name the law family)"
+            )
         problem_type = numba.typeof(problem)
         dispatcher = residual_dispatcher(problem_type)
         # compiled (or loaded) for the argument types alone, the key of a
@@ -137,3 +151,56 @@ def call_residual(typingctx, address, y, problem, R, J):
         return out
 
     return sig, codegen
+
+
+#: problem keys (as :data:`_ADDRESSES`) whose :func:`chain_problem` has
+#: the problem's own field types; process-local
+_CHAIN_CHECKED: set = set()
+
+
+def chain_problem(problem):
+    """The kernel ``problem`` as the continuation kernels take it: its
+    fields in :class:`~hbmfric.kernels.residuals.hbm.ChainProblem` (a full
+    problem) or :class:`~hbmfric.kernels.residuals.condensed.
+    CondensedChainProblem` (a condensed one), one type for every law family,
+    so that those kernels compile once for all of them. They call the
+    residual through :func:`residual_address` of ``problem`` itself (its
+    own type's residual).
+
+    Parameters
+    ----------
+    problem : tuple
+        A kernel problem (``kernel_problem`` of
+        :class:`~hbmfric.hbm.HBMProblem` or
+        :class:`~hbmfric.condensation.CondensedHBMProblem`), or a chain
+        problem (returned as it is).
+
+    Returns
+    -------
+    ChainProblem or CondensedChainProblem
+        The same field values.
+
+    Raises
+    ------
+    TypeError
+        If the chain type's fields would not have the problem's own Numba
+        types (the residual called through its address would then read
+        them wrongly; cannot happen for the same values, checked once per
+        problem type and process).
+    """
+    kind = type(problem)
+    if kind is ChainProblem or kind is CondensedChainProblem:
+        return problem
+    view = (CondensedChainProblem if kind in CONDENSED_TYPES else ChainProblem)(
+        *problem
+    )
+    key = _key(problem)
+    if key not in _CHAIN_CHECKED:
+        own, chain = numba.typeof(problem), numba.typeof(view)
+        if tuple(own.types) != tuple(chain.types):
+            raise TypeError(
+                f"the continuation's problem type {chain} does not have the "
+                f"field types of {own}"
+            )
+        _CHAIN_CHECKED.add(key)
+    return view

@@ -102,7 +102,9 @@ def _bordered_solve(problem, A, piv, b):
             if F.shape[0] == A.shape[0]:
                 if state[REUSE_MODE] == REUSE_MODE_BLOCKS:
                     n_c, n_coef, first = _layout(problem)
-                    return block_solve(A, b, solver, n_c, n_coef, first, False)
+                    return block_solve(
+                        A, b, solver, n_c, n_coef, first, np.bool_(False)
+                    )
                 return reuse_solve(A, b, F, fpiv, V, state)
             if not lu_factor(A, piv):
                 return False
@@ -153,7 +155,7 @@ def _bordered_tangent(problem, A, piv, out):
             out[m - 1] = 1.0
             if state[REUSE_MODE] == REUSE_MODE_BLOCKS:
                 n_c, n_coef, first = _layout(problem)
-                if not block_solve(A, out, solver, n_c, n_coef, first, True):
+                if not block_solve(A, out, solver, n_c, n_coef, first, np.bool_(True)):
                     return False
             elif not reuse_solve(A, out, F, fpiv, V, state):
                 return False

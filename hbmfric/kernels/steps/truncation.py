@@ -59,7 +59,7 @@ def _probe_solve(problem, A, b, n_dof, n_coef, first):
             state = problem.solver[3]
             if problem.solver[0].shape[0] > 0:
                 m = b.size
-                arrays = block_work(n_dof, n_coef, first, m, PROBE_KRYLOV)
+                arrays = block_work(n_dof, n_coef, first, m, np.int64(PROBE_KRYLOV))
                 x = np.empty(m)
                 status, products = gmres_blocks(
                     A, b, x, n_dof, n_coef, first, state[REUSE_TOL], arrays
