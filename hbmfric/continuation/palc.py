@@ -90,8 +90,8 @@ FIRST_CURVE_STEP = 0.125
 
 def _single_condensed(problem) -> bool:
     """Whether ``problem`` is condensed onto one contact coordinate (the
-    paper beam, the tensioner), where the continuation keeps the tangent's
-    straight predictor."""
+    paper beam), where the continuation keeps the tangent's straight
+    predictor."""
     if not getattr(problem, "condensed", False):
         return False
     return int(getattr(problem, "n_coordinates", 1)) <= 1

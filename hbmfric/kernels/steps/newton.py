@@ -23,7 +23,7 @@ from ..residuals.pointer import call_residual
 #: millionth of itself (times the bordered matrix's condition), far below
 #: the quadratic error it leaves; convergence is judged on the residual
 #: recomputed at the new point and on the size of the next update. The lap
-#: joint at N = 40: a third fewer GMRES products, the same evaluations
+#: joint at N = 40: a quarter fewer GMRES products, the same evaluations
 #: (bench/README.md "Issue 15, stop 28")
 NEWTON_KRYLOV_TOL = 1e-6
 
