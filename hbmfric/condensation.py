@@ -598,6 +598,7 @@ class CondensedHBMProblem(HBMProblem):
                 self.n_coef,
                 int(hn.size > 0 and hn[0] == 0),
             ),
+            self._kept_inverse(n_c, method),
         )
         self.n_unknowns = self.n_coordinates * self.n_coef
 
@@ -620,6 +621,7 @@ class CondensedHBMProblem(HBMProblem):
             state_series=series,
             state_split=split,
             drawn_cache=self._drawn_cache(kp.law_codes.size),
+            kept_inverse=self._kept_inverse(kp.law_codes.size, int(kp.method)),
         )
 
     def _drawn_cache(self, n_c: int) -> np.ndarray:
@@ -627,6 +629,16 @@ class CondensedHBMProblem(HBMProblem):
         problem)."""
         m = n_c * self.n_coef + 1
         return np.zeros((2, 3 * m + 9 + self.n_coef if self.multi else 0))
+
+    def _kept_inverse(self, n_c: int, method: int) -> np.ndarray:
+        """Empty store of the inverse receptance per harmonic
+        (``kept_inverse`` of the kernel problem): complex modes on several
+        coordinates only."""
+        if not (self.multi and method == STATE):
+            return np.zeros((0, 0, 0), dtype=np.complex128)
+        store = np.zeros((self.harmonic_numbers.size + 1, n_c, n_c), dtype=complex)
+        store[-1, 0, 0] = np.nan
+        return store
 
     def _series_parts(self, left, right, poles):
         """``(state_low, state_series, state_split)`` for the planned band

@@ -344,3 +344,30 @@ def test_truncation_probe_failure_falls_back_to_the_dense_solve(
     assert state[krylov.REUSE_FALLBACKS] - before[krylov.REUSE_FALLBACKS] == calibrated
     assert state[krylov.REUSE_SOLVES] == before[krylov.REUSE_SOLVES]
     assert np.allclose(errors, dense, rtol=1e-12, atol=0)
+
+
+def test_block_solve_to_a_looser_tolerance(monkeypatch):
+    """Stop 28: the corrector's Newton updates are solved to
+    ``newton.NEWTON_KRYLOV_TOL`` (1e-6 relative residual, the tangent to
+    ``REUSE_TOL``): the residual of the solution recomputed with NumPy
+    meets the asked tolerance, in fewer GMRES products than at 1e-10."""
+    from hbmfric.kernels.steps import newton
+
+    monkeypatch.setattr(hc, "REUSE_MIN_UNKNOWNS", 0)
+    assert newton.NEWTON_KRYLOV_TOL == 1e-6
+    n_dof, n_coef = 6, 10
+    A = _bordered(n_dof, n_coef, 0.5, seed=3)
+    b = np.random.default_rng(7).standard_normal(A.shape[0])
+    products = {}
+    for tol in (1e-10, 1e-6):
+        solver = _solver(n_dof, n_coef)
+        x = b.copy()
+        assert blocks.block_solve(A, x, solver, n_dof, n_coef, 0, False, tol)
+        assert np.linalg.norm(A @ x - b) <= tol * np.linalg.norm(b)
+        products[tol] = solver[3][krylov.REUSE_PRODUCTS]
+    assert products[1e-6] < products[1e-10]
+    # the default is the state's tolerance (REUSE_TOL = 1e-10)
+    solver = _solver(n_dof, n_coef)
+    x = b.copy()
+    assert blocks.block_solve(A, x, solver, n_dof, n_coef, 0, False)
+    assert solver[3][krylov.REUSE_PRODUCTS] == products[1e-10]

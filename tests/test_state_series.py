@@ -176,3 +176,53 @@ def test_drawn_output_cache_returns_the_computed_values(joint):
         assert coordinates_drawn(kp, yi, ti, scale, col, X) == want
         assert np.array_equal(X, X_want)
         assert coordinates_drawn(kp, yi, ti, 2.0 * scale, col, X) != want
+
+
+def test_drawn_output_reads_the_inverse_of_the_last_residual(joint):
+    """The residual keeps ``D_k = G_k⁻¹`` of every harmonic with its Ω
+    (``kept_inverse``); the recovery of the drawn DOF at that very Ω reads
+    them instead of inverting ``G`` again: the same values, bit for bit,
+    as the recovery that inverts; at another Ω it inverts."""
+    from hbmfric.kernels.residuals.condensed import _coordinates_drawn
+
+    _, planned = joint
+    kp = planned.kernel_problem
+    hn = kp.harmonic_numbers
+    n_h, n_c = hn.size, kp.state_left.shape[0]
+    assert kp.kept_inverse.shape == (n_h + 1, n_c, n_c)
+    omega = HZ * 162.0
+    y = np.append(3.0 * planned.linear_response(omega, "free"), omega)
+    rng = np.random.default_rng(1)
+    t = rng.standard_normal(y.size)
+    t /= np.linalg.norm(t)
+    scale = np.ones_like(y)
+
+    def drawn():
+        X = np.zeros(planned.n_coef)
+        return _coordinates_drawn(kp, y, t, scale, 0, X), X
+
+    kp.kept_inverse[n_h, 0, 0] = np.nan  # nothing kept: inverts G
+    want, X_want = drawn()
+    planned.residual(y)
+    assert kp.kept_inverse[n_h, 0, 0] == omega + 1j
+    # what is kept is G⁻¹ of every harmonic (against NumPy's inverse)
+    for h, k in enumerate(hn):
+        c = 1.0 / (1j * (k * omega) - kp.state_poles)
+        G = np.empty((n_c, n_c), dtype=complex)
+        state_matrix(kp, k * omega, c, G)
+        D = np.linalg.inv(G)
+        assert np.max(np.abs(kp.kept_inverse[h] - D)) <= 1e-9 * np.max(np.abs(D))
+    got, X = drawn()
+    assert got == want
+    assert np.array_equal(X, X_want)
+    # it is read: a spoilt store changes the recovery
+    kept = kp.kept_inverse.copy()
+    kp.kept_inverse[:n_h] *= 2.0
+    assert drawn()[0] != want
+    kp.kept_inverse[:] = kept
+    # a residual at another Ω: the recovery at this one inverts again
+    planned.residual(np.append(y[:-1], 1.001 * omega))
+    kp.kept_inverse[:n_h] = 0.0
+    got, X = drawn()
+    assert got == want
+    assert np.array_equal(X, X_want)

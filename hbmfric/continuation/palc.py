@@ -88,6 +88,15 @@ LOAD_MAX_STEP = 0.2
 FIRST_CURVE_STEP = 0.125
 
 
+def _single_condensed(problem) -> bool:
+    """Whether ``problem`` is condensed onto one contact coordinate (the
+    paper beam), where the continuation keeps the tangent's straight
+    predictor."""
+    if not getattr(problem, "condensed", False):
+        return False
+    return int(getattr(problem, "n_coordinates", 1)) <= 1
+
+
 @dataclass
 class ContinuationState:
     """Mutable state of a continuation run (points in physical units)."""
@@ -215,9 +224,18 @@ class Continuation:
         # from a predictor 15 times closer), and the longer steps the
         # parabola allows moved its adaptive levels up (H = 63 on 70
         # points; 1.2x the CPU time at Fn = 1 N; bench/README.md "Issue
-        # 18, stop 26")
-        condensed = bool(getattr(self.problem, "condensed", False))
-        s[_arclength.PREDICTOR] = float(s[_arclength.CURVE_TOL] > 0.0 and not condensed)
+        # 18, stop 26"). On problems condensed onto several contact
+        # coordinates it is on: through microslip (each contact's stick-slip
+        # transition in turn) the tangent's corrector needed three
+        # evaluations at any step over a few 1e-4 and the Newton target
+        # held the step at 1/2-1/4 of what the curve rule allows; with the
+        # parabola two suffice and the curve rule sets the step (the lap
+        # joint at H = 15: N = 10 348 points and 858 evaluations against
+        # 587 and 1691, the same peak within 3e-8 and drawn curve,
+        # bench/README.md "Issue 15, stop 28")
+        s[_arclength.PREDICTOR] = float(
+            s[_arclength.CURVE_TOL] > 0.0 and not _single_condensed(self.problem)
+        )
         return s
 
     def _curve_column(self) -> int:

@@ -306,7 +306,7 @@ PREPARED_DENSE = 2.0
 
 
 @jit
-def block_solve(A, b, solver, n_dof, n_coef, first, again):
+def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0):
     """Solve the corrector's bordered system ``A x = b`` by GMRES
     preconditioned by harmonic blocks (:func:`gmres_prepared`), with a
     dense LU when GMRES fails. ``b`` holds ``x`` on return; ``A`` is not
@@ -339,6 +339,8 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again):
         ``A`` is the matrix of the previous call (the tangent after the
         corrector): its preconditioner, or its dense factors after a
         fallback, serve as they are.
+    tol : float, optional
+        Relative residual of GMRES; negative (default): ``state[REUSE_TOL]``.
 
     Returns
     -------
@@ -371,6 +373,8 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again):
             if prepare_blocks(A, n_dof, n_coef, first, blocks, pivots, border, work):
                 state[REUSE_PREPARED] = PREPARED_BLOCKS
     x = np.empty(m)
+    if not tol > 0.0:
+        tol = state[REUSE_TOL]
     for attempt in range(2):
         if state[REUSE_PREPARED] != PREPARED_BLOCKS:
             break
@@ -381,7 +385,7 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again):
             n_dof,
             n_coef,
             first,
-            state[REUSE_TOL],
+            tol,
             blocks,
             pivots,
             border,

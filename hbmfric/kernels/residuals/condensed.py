@@ -180,6 +180,12 @@ CondensedProblem = namedtuple(
         # factors have the order of the bordered matrix (n_unknowns + 1);
         # empty (order 0) for small problems
         "solver",
+        # work, complex128 (n_harmonics + 1, n_c, n_c) with complex modes on
+        # several coordinates, (0, 0, 0) otherwise: D_k = G_k⁻¹ of every
+        # harmonic at the Ω of the last residual (:func:`_coordinates_linear`),
+        # entry [n_harmonics, 0, 0] = Ω + 1j while they are valid, for the
+        # recovery of the drawn DOF at the same Ω (:func:`_drawn_harmonic`)
+        "kept_inverse",
     ],
 )
 CondensedProblem.__doc__ = """Flat data of the condensed HBM residual (see the
@@ -1060,8 +1066,12 @@ def _coordinates_linear(y, problem, R, J):
     v = np.empty(n_c, dtype=np.complex128)
     level = 0.0
     left_abs, right_sums = _state_magnitudes(problem)
+    kept = problem.kept_inverse
+    keep = problem.method == STATE and kept.shape[0] == hn.size + 1
+    if keep:
+        kept[hn.size, 0, 0] = np.nan  # invalid until every harmonic is in
     col = np.int64(0)  # not a literal 0: one signature of the callee
-    for k in hn:
+    for h, k in enumerate(hn):
         if problem.method == DIRECT:
             if not _direct_coordinate_receptance(
                 k, omega, col, problem, G, dG, p, dp, direct
@@ -1075,6 +1085,8 @@ def _coordinates_linear(y, problem, R, J):
             )
         if not _invert(G, D, work):
             return SINGULAR_RECEPTANCE
+        if keep:
+            kept[h, :, :] = D
         for a in range(n_c):
             i = a * n_coef + col
             e[a] = (y[i] + 0.0j if k == 0 else y[i] - 1j * y[i + 1]) - p[a]
@@ -1117,6 +1129,8 @@ def _coordinates_linear(y, problem, R, J):
                     J[ra + 1, cb + 1] = d.real
         col += 1 if k == 0 else 2
     problem.rounding[0] = level
+    if keep:
+        kept[hn.size, 0, 0] = omega + 1j
     return 0
 
 
@@ -1417,8 +1431,8 @@ def _coordinates_drawn(problem, y, t, scale, column, coefficients):
     speed2 = 0.0
     found = False
     col = np.int64(0)  # not a literal 0: one signature of the callee
-    for k in hn:
-        ok, x, dx = _drawn_harmonic(problem, y, t, scale, k, col)
+    for h, k in enumerate(hn):
+        ok, x, dx = _drawn_harmonic(problem, y, t, scale, h, k, col)
         if not ok:
             return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0
         coefficients[col] = x.real
@@ -1440,10 +1454,16 @@ def _coordinates_drawn(problem, y, t, scale, column, coefficients):
 
 
 @jit
-def _drawn_harmonic(problem, y, t, scale, k, col):
-    """Complex amplitude ``x̂`` of harmonic ``k`` (columns from ``col``) of
-    the output DOF at ``y`` and its derivative along ``t`` (see
-    :func:`coordinates_drawn`); False if ``G`` is singular."""
+def _drawn_harmonic(problem, y, t, scale, h, k, col):
+    """Complex amplitude ``x̂`` of harmonic ``k`` (the ``h``-th, columns
+    from ``col``) of the output DOF at ``y`` and its derivative along ``t``
+    (see :func:`coordinates_drawn`); False if ``G`` is singular.
+
+    With complex modes ``D = G⁻¹`` is taken from ``problem.kept_inverse``
+    when the last residual was evaluated at this very Ω (compared bit for
+    bit; the corrector's last residual is at the point it returns): the
+    same ``G`` from the same sums, the same ``D`` to the bit, without the
+    ``O(n_c³)`` inversion."""
     n_c = problem.law_codes.size
     n_coef = problem.inverse.shape[1]
     n = n_c * n_coef
@@ -1491,15 +1511,20 @@ def _drawn_harmonic(problem, y, t, scale, k, col):
             scaled[a, r] = left[a, r] * c[r]
             s += scaled[a, r] * rho[r]
         p[a] = s
-    G = np.empty((n_c, n_c), dtype=np.complex128)
-    if state:
-        state_matrix(problem, w, c, G)
+    kept = problem.kept_inverse
+    n_h = problem.harmonic_numbers.size
+    if state and kept.shape[0] == n_h + 1 and kept[n_h, 0, 0] == omega + 1j:
+        D = kept[h]
     else:
-        symmetric_matmul(scaled, right, G)
-    D = np.empty((n_c, n_c), dtype=np.complex128)
-    work = np.empty((n_c, n_c), dtype=np.complex128)
-    if not _invert(G, D, work):
-        return False, 0.0j, 0.0j
+        G = np.empty((n_c, n_c), dtype=np.complex128)
+        if state:
+            state_matrix(problem, w, c, G)
+        else:
+            symmetric_matmul(scaled, right, G)
+        D = np.empty((n_c, n_c), dtype=np.complex128)
+        work = np.empty((n_c, n_c), dtype=np.complex128)
+        if not _invert(G, D, work):
+            return False, 0.0j, 0.0j
     e = np.empty(n_c, dtype=np.complex128)
     dq = np.empty(n_c, dtype=np.complex128)
     for a in range(n_c):
