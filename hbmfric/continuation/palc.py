@@ -41,6 +41,7 @@ import numpy as np
 from ..kernels.residuals.pointer import residual_address
 from ..kernels.steps import arclength as _arclength
 from ..kernels.steps import newton as _newton
+from ..laws.coulomb import Coulomb
 from .options import ContinuationOptions
 
 #: stop reasons
@@ -53,6 +54,17 @@ NO_START = "no converged starting point"
 #: added to RANGE_END / RANGE_START when the step left the range but Newton
 #: found no point on the boundary itself
 NO_BOUNDARY_POINT = "but no converged point on the boundary"
+
+
+def _rigid_coulomb(problem) -> bool:
+    """Whether ``problem``'s system holds a rigid Coulomb contact (DLFT),
+    alone or among several contacts."""
+    system = getattr(problem, "system", None)
+    contacts = getattr(system, "contacts", None)
+    laws = [c.law for c in contacts] if contacts else []
+    laws.append(getattr(system, "contact", None))
+    return any(isinstance(law, Coulomb) for law in laws)
+
 
 #: most bridges (:meth:`Continuation._bridge`) in one run
 MAX_BRIDGES = 50
@@ -218,6 +230,11 @@ class Continuation:
         # 18, stop 26")
         condensed = bool(getattr(self.problem, "condensed", False))
         s[_arclength.PREDICTOR] = float(s[_arclength.CURVE_TOL] > 0.0 and not condensed)
+        # a rigid Coulomb contact (DLFT): its branch has kinks wherever a
+        # stick phase appears or goes (the tangent is one-sided there), so
+        # the curve rule stops shortening a step at the kink floor and takes
+        # it with its estimate (kernels.steps.arclength.KINK_FLOOR)
+        s[_arclength.KINK_FLOOR] = float(_rigid_coulomb(self.problem))
         return s
 
     def _curve_column(self) -> int:
@@ -226,16 +243,6 @@ class Continuation:
         unknowns are harmonics of ``Ω/ν``) of the contact DOF (the drawn
         DOF of the curve rule), -1 without it."""
         p = self.problem
-        law = getattr(getattr(p, "system", None), "contact", None)
-        if law is not None and type(law).__name__ == "Coulomb":
-            # rigid Coulomb (DLFT): with the rule the beam's branches took
-            # 3-10 times the points (the stuck tip at round-off amplitude
-            # stalled the steps: 1551 points, 866 rejections at f_s = 2 N;
-            # with the CURVE_REST floor of kernels.steps.arclength 869 points,
-            # 2.5-3x the time, bench/README.md issue 18); its branches keep
-            # the former step control, their curve error is still
-            # estimated and warned about
-            return -1
         hn = [int(k) for k in p.harmonic_numbers]
         forced = int(getattr(p, "subharmonic", 1) or 1)
         if forced not in hn:

@@ -59,7 +59,14 @@ CURVE_POINT = 17
 #: != 0: the predictor bends with the branch (:func:`predict`, a second
 #: order term from the previous point); 0: the tangent's straight line
 PREDICTOR = 18
-N_SETTINGS = 19
+#: != 0 (a rigid Coulomb contact): a step the curve rule would shorten
+#: below ``CORNER_FLOOR`` min_step is tried at that floor and taken there
+#: with its estimate, as across a corner (the DLFT branch kinks where a
+#: stick phase appears or ends: its tangents there are one-sided and the
+#: estimate need not fall with the step; without the floor the steps fell
+#: below min_step and the branch stalled)
+KINK_FLOOR = 19
+N_SETTINGS = 20
 #: a step whose chord error per squared step exceeds the last one's this
 #: many times may hold a kink (a contact transition), where the cubic
 #: estimate falls short by up to 2x: it counts twice
@@ -713,7 +720,8 @@ def advance(
             # a kink inside the step: up to twice the cubic's deviation
             curve *= 2.0
         floor = CORNER_FLOOR * settings[MIN_STEP]
-        if curve > target and (not corner or step > floor):
+        kink = corner or settings[KINK_FLOOR] != 0.0
+        if curve > target and (not kink or step > floor):
             # the chord would stray from the branch: shorter, as the
             # error goes with the square of the step (across a corner:
             # linearly, and only down to CORNER_FLOOR min_step: a corner
@@ -724,7 +732,7 @@ def advance(
             if corner:
                 factor = max(0.8 * target / curve, 0.1)
             new_step = step * min(factor, settings[SHRINK])
-            if corner:
+            if kink:
                 new_step = max(new_step, floor)
             if new_step < settings[MIN_STEP]:
                 return STEP_TOO_SMALL, new_step, evaluations
@@ -756,6 +764,10 @@ def advance(
         # next_step sizes for 0.8 CURVE_TOL: the chord's share instead
         curve *= settings[CURVE_TOL] / target
     new_step = next_step(step, effort, angle, curve, settings)
+    if settings[KINK_FLOOR] != 0.0 and target > 0.0:
+        # a step taken at the kink floor over its budget is not followed
+        # by shorter ones
+        new_step = max(new_step, min(step, CORNER_FLOOR * settings[MIN_STEP]))
     follow_amplitude(y, tangent, scale, settings[BASE_SCALE])
     return outcome, new_step, evaluations
 
