@@ -64,7 +64,10 @@ PREDICTOR = 18
 #: with its estimate, as across a corner (the DLFT branch kinks where a
 #: stick phase appears or ends: its tangents there are one-sided and the
 #: estimate need not fall with the step; without the floor the steps fell
-#: below min_step and the branch stalled)
+#: below min_step and the branch stalled); and a chord whose both ends are
+#: below ``CURVE_REST`` (the tip stuck or just short of it, 1e-9 of a 1e-3
+#: scale on the beam at f_s = 2 N, where steps sized for it stalled the
+#: branch at 77.1 Hz) is taken as exact
 KINK_FLOOR = 19
 N_SETTINGS = 20
 #: a step whose chord error per squared step exceeds the last one's this
@@ -294,7 +297,7 @@ def _drawn(y, t, scale, column):
 
 
 @jit
-def chord_error(y0, t0, y1, t1, scale, column):
+def chord_error(y0, t0, y1, t1, scale, column, rest_exact=False):
     """Estimated largest distance between the branch and the chord
     joining two of its points, in the drawn plane.
 
@@ -324,6 +327,10 @@ def chord_error(y0, t0, y1, t1, scale, column):
         Scales of the variables (m, rad/s).
     column : int
         Index of the first-harmonic cosine coefficient of the drawn DOF.
+    rest_exact : bool
+        Take a chord whose both ends are below the floor (the drawn DOF at
+        rest, or nearly: a rigid Coulomb tip just short of sticking) as
+        exact.
 
     Returns
     -------
@@ -339,26 +346,29 @@ def chord_error(y0, t0, y1, t1, scale, column):
     w0, dw0, a0, da0 = _drawn(y0, t0, scale, column)
     w1, dw1, a1, da1 = _drawn(y1, t1, scale, column)
     rest = CURVE_REST * scale[column]
-    return _chord(length, w0, dw0, a0, da0, w1, dw1, a1, da1, rest)
+    return _chord(length, w0, dw0, a0, da0, w1, dw1, a1, da1, rest, rest_exact)
 
 
 @jit
-def problem_chord_error(problem, y0, t0, y1, t1, scale, column, base_scale):
+def problem_chord_error(
+    problem, y0, t0, y1, t1, scale, column, base_scale, rest_exact=False
+):
     """:func:`chord_error` of what ``problem`` draws: the unknown at
     ``column``, or for a problem condensed onto several contact coordinates
     the output DOF recovered from them
     (:func:`hbmfric.kernels.residuals.dispatch.drawn_output`), with the
     cubic parametrised as ``Branch.curve_errors`` does: by the arc length
-    on that DOF's coefficients (scale ``base_scale``) and Ω."""
+    on that DOF's coefficients (scale ``base_scale``) and Ω; ``rest_exact``
+    as in :func:`chord_error`."""
     m = y0.size
     x0 = np.empty(m)
     x1 = np.empty(m)
     ok, w0, dw0, a0, da0, v0, n_coef = drawn_output(problem, y0, t0, scale, column, x0)
     if not ok:
-        return chord_error(y0, t0, y1, t1, scale, column)
+        return chord_error(y0, t0, y1, t1, scale, column, rest_exact)
     ok, w1, dw1, a1, da1, v1, _ = drawn_output(problem, y1, t1, scale, column, x1)
     if not ok:
-        return chord_error(y0, t0, y1, t1, scale, column)
+        return chord_error(y0, t0, y1, t1, scale, column, rest_exact)
     n = m - 1
     width = scale[n]
     length = ((w1 - w0) / width) ** 2
@@ -372,15 +382,20 @@ def problem_chord_error(problem, y0, t0, y1, t1, scale, column, base_scale):
     if not (s0 > 0.0 and s1 > 0.0):
         return 0.0
     rest = CURVE_REST * base_scale
-    return _chord(length, w0, dw0 / s0, a0, da0 / s0, w1, dw1 / s1, a1, da1 / s1, rest)
+    return _chord(
+        length, w0, dw0 / s0, a0, da0 / s0, w1, dw1 / s1, a1, da1 / s1, rest, rest_exact
+    )
 
 
 @jit
-def _chord(length, w0, dw0, a0, da0, w1, dw1, a1, da1, rest):
+def _chord(length, w0, dw0, a0, da0, w1, dw1, a1, da1, rest, rest_exact):
     """The estimate of :func:`chord_error` from the drawn values at both
     ends (Ω, ``a₁`` and their derivatives along the scaled arc length),
-    the chord length ``length`` and the amplitude floor ``rest``."""
+    the chord length ``length`` and the amplitude floor ``rest`` (with
+    ``rest_exact``: 0 when both ends are below it)."""
     if not (np.isfinite(a0) and np.isfinite(a1)):
+        return 0.0
+    if rest_exact and max(a0, a1) < rest:
         return 0.0
     # relative units: Ω by the mean of the ends, a by the smaller one (at
     # least CURVE_REST of the displacement scale)
@@ -709,6 +724,7 @@ def advance(
             scale,
             int(settings[CURVE_COLUMN]),
             settings[BASE_SCALE],
+            settings[KINK_FLOOR] != 0.0,
         )
         length2 = 0.0
         for i in range(y.size):
