@@ -21,6 +21,7 @@ from .continuation.ends import (
     singular_note,
     stalled_meeting,
 )
+from .continuation.palc import rigid_coulomb
 from .errors import AccuracyWarning, CoverageWarning, SingularPointWarning
 from .hbm import HBMProblem
 from .results import Branch, join_pieces
@@ -272,37 +273,88 @@ def frf(
         amplitude_scale = finite_float(
             "amplitude_scale", amplitude_scale, low=0.0, low_open=True
         )
-    if isinstance(harmonics, str):
-        if harmonics != "auto":
-            raise ValueError(
-                f"harmonics must be a positive integer or 'auto', got {harmonics!r}"
+    if isinstance(harmonics, str) and harmonics != "auto":
+        raise ValueError(
+            f"harmonics must be a positive integer or 'auto', got {harmonics!r}"
+        )
+
+    def trace(opts):
+        if isinstance(harmonics, str):
+            return _frf_auto(
+                system,
+                force,
+                (lo, hi),
+                n_time,
+                symmetry,
+                aft,
+                sweep,
+                harmonic_tolerance,
+                opts,
+                amplitude_scale,
+                condense,
+                retrace,
             )
-        return _frf_auto(
+        problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
+        _plan_band(problem, hi)
+        return _frf_fixed(
             system,
-            force,
+            problem,
             (lo, hi),
-            n_time,
-            symmetry,
-            aft,
             sweep,
             harmonic_tolerance,
-            options,
+            opts,
             amplitude_scale,
-            condense,
             retrace,
         )
-    problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
-    _plan_band(problem, hi)
-    return _frf_fixed(
-        system,
-        problem,
-        (lo, hi),
-        sweep,
-        harmonic_tolerance,
-        options,
-        amplitude_scale,
-        retrace,
-    )
+
+    if not (options.curve_tolerance and rigid_coulomb(system)):
+        return trace(options)
+    return _coulomb_frf(trace, options)
+
+
+def _covered(branch: Branch) -> float:
+    """Width of the asked range the branch covers, rad/s."""
+    low, high = branch.coverage
+    gaps = sum(b - a for a, b in branch.gaps)
+    return float(high - low - gaps) if branch.omega.size else 0.0
+
+
+def _coulomb_frf(trace, options: ContinuationOptions) -> Branch:
+    """A rigid Coulomb contact's branch with the curve rule, or without it
+    where the rule's short steps stall.
+
+    The DLFT residual is discontinuous at some seams (a stick phase born or
+    dying at a sample; the paper beam at f_s = 2 N, H = 15, 77.1 Hz, with
+    the tip just short of sticking): the rule's short steps land next to
+    one and the corrector fails at every step, where the longer steps
+    without the rule pass over it. A branch that does not cover the range
+    (after its retrace from the other end) is traced again without the rule
+    and that branch returned when it covers the range (its chords warned
+    about against ``curve_tolerance``, with a warning that says so) or covers more of the range (the paper beam at
+    defaults: both stall, without the rule further on); else the first
+    run's branch and warnings."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        branch = trace(options)
+    if not branch.complete:
+        with warnings.catch_warnings(record=True) as again:
+            warnings.simplefilter("always")
+            plain = trace(dataclasses.replace(options, curve_tolerance=None))
+        if plain.complete or _covered(plain) > _covered(branch):
+            warnings.warn(
+                f"the curve rule's steps stalled ({branch.stop_reason}); the "
+                "branch was traced again without the rule (rigid Coulomb "
+                "contact): its chords are not bounded by curve_tolerance",
+                AccuracyWarning,
+                stacklevel=3,
+            )
+            for w in again:
+                warnings.warn(w.message, w.category, stacklevel=3)
+            _warn_curve(plain, options.curve_tolerance)
+            return plain
+    for w in caught:
+        warnings.warn(w.message, w.category, stacklevel=3)
+    return branch
 
 
 def _frf_fixed(

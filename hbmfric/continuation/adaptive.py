@@ -1035,8 +1035,12 @@ class AdaptiveContinuation:
             last = self._last
             share = last if last >= 0.0 else TARGET * self.tolerance
             curve = self.options.curve_tolerance or 0.0
+            # nor when the point's own estimate exceeds the curve tolerance
+            # (the top of the ladder cannot meet it, a rigid Coulomb contact
+            # in stick-slip: the points are warned about; a quarter of the
+            # budget for the chord would only double its points there)
             cont._settings[_arclength.CURVE_POINT] = (
-                share if self.requested <= curve else -1.0
+                share if self.requested <= curve and share <= curve else -1.0
             )
             state = cont._trace(state, watch, self._capacity, self._calibration)
             new = len(state.points) - before

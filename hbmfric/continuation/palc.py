@@ -41,6 +41,7 @@ import numpy as np
 from ..kernels.residuals.pointer import chain_problem, residual_address
 from ..kernels.steps import arclength as _arclength
 from ..kernels.steps import newton as _newton
+from ..laws.coulomb import Coulomb
 from .options import ContinuationOptions
 
 #: stop reasons
@@ -54,6 +55,17 @@ NO_START = "no converged starting point"
 #: found no point on the boundary itself
 NO_BOUNDARY_POINT = "but no converged point on the boundary"
 
+
+def rigid_coulomb(system) -> bool:
+    """Whether ``system`` holds a rigid Coulomb contact (DLFT)."""
+    contacts = getattr(system, "contacts", None)
+    laws = [c.law for c in contacts] if contacts else []
+    laws.append(getattr(system, "contact", None))
+    return any(isinstance(law, Coulomb) for law in laws)
+
+
+#: scaled steps of a leap over a Coulomb seam (:meth:`Continuation._leap`)
+LEAP_STEPS = (1e-3, 1e-2, 1e-1)
 #: most bridges (:meth:`Continuation._bridge`) in one run
 MAX_BRIDGES = 50
 #: Ω steps of a bridge, as fractions of the range width, tried in turn
@@ -236,6 +248,13 @@ class Continuation:
         s[_arclength.PREDICTOR] = float(
             s[_arclength.CURVE_TOL] > 0.0 and not _single_condensed(self.problem)
         )
+        # a rigid Coulomb contact (DLFT): its branch has kinks wherever a
+        # stick phase appears or goes (the tangent is one-sided there), so
+        # the curve rule stops shortening a step at the kink floor and takes
+        # it with its estimate (kernels.steps.arclength.KINK_FLOOR)
+        s[_arclength.KINK_FLOOR] = float(
+            rigid_coulomb(getattr(self.problem, "system", None))
+        )
         return s
 
     def _curve_column(self) -> int:
@@ -244,16 +263,6 @@ class Continuation:
         unknowns are harmonics of ``Ω/ν``) of the contact DOF (the drawn
         DOF of the curve rule), -1 without it."""
         p = self.problem
-        law = getattr(getattr(p, "system", None), "contact", None)
-        if law is not None and type(law).__name__ == "Coulomb":
-            # rigid Coulomb (DLFT): with the rule the beam's branches took
-            # 3-10 times the points (the stuck tip at round-off amplitude
-            # stalled the steps: 1551 points, 866 rejections at f_s = 2 N;
-            # with the CURVE_REST floor of kernels.steps.arclength 869 points,
-            # 2.5-3x the time, bench/README.md issue 18); its branches keep
-            # the former step control, their curve error is still
-            # estimated and warned about
-            return -1
         hn = [int(k) for k in p.harmonic_numbers]
         forced = int(getattr(p, "subharmonic", 1) or 1)
         if forced not in hn:
@@ -604,7 +613,7 @@ class Continuation:
         if outcome in (_arclength.REJECTED, _arclength.STEP_TOO_SMALL):
             state.n_rejected += 1
             if outcome == _arclength.STEP_TOO_SMALL:
-                if self._bridge(state) or self._turn(state):
+                if self._bridge(state) or self._turn(state) or self._leap(state):
                     return state
                 return self._finish(state, MIN_STEP)
             return state
@@ -675,7 +684,7 @@ class Continuation:
         if outcome == _arclength.RANGE_LEFT:
             return self._land_on_boundary(state, self._y_new.copy())
         if outcome == _arclength.STEP_BELOW_MIN:
-            if self._bridge(state) or self._turn(state):
+            if self._bridge(state) or self._turn(state) or self._leap(state):
                 return state
             return self._finish(state, MIN_STEP)
         if outcome == _arclength.BUDGET_SPENT:
@@ -749,6 +758,63 @@ class Continuation:
             state.step = self.options.initial_step
             state.n_bridges += 1
             return True
+        return False
+
+    def _leap(self, state: ContinuationState) -> bool:
+        """Step over a seam of a rigid Coulomb contact's branch with the
+        step control of before the curve rule.
+
+        The DLFT residual is discontinuous where a stick phase is born or
+        dies at some sample (the beam at f_s = 1 and 2 N, H = 15, 62.1 and
+        77.1 Hz): the curve rule's short steps land next to it and the
+        corrector fails at every shorter step, where the longer steps of the
+        former step control passed over it. Tries ``LEAP_STEPS`` with the
+        curve rule off (``corner_step`` and above; the usual acceptance
+        tests, a corner below ``corner_step``) and records the first point
+        accepted as a corner; the chord to it keeps its estimate in
+        ``Branch.curve_errors`` (warned about when above the tolerance).
+        Only for rigid Coulomb contacts with the curve rule on, at most
+        ``MAX_BRIDGES`` times a run (counted with the bridges)."""
+        s = self._settings
+        if s[_arclength.KINK_FLOOR] == 0.0 or not s[_arclength.CURVE_TOL] > 0.0:
+            return False
+        if state.n_bridges >= MAX_BRIDGES:
+            return False
+        tol = s[_arclength.CURVE_TOL]
+        s[_arclength.CURVE_TOL] = 0.0
+        try:
+            for step in LEAP_STEPS:
+                y = state.y.copy()
+                tangent = state.tangent.copy()
+                scale = self.scale.copy()
+                outcome, _, evaluations = _arclength.advance(
+                    self.problem.kernel_problem,
+                    self._residual_at(),
+                    y,
+                    tangent,
+                    max(step, self.options.corner_step),
+                    scale,
+                    s,
+                    *self._work,
+                )
+                state.n_newton += evaluations
+                if not outcome & _arclength.ACCEPTED:
+                    continue
+                self.scale[:] = scale
+                self._record(
+                    state,
+                    y[None, :].copy(),
+                    (tangent * self.scale)[None, :],
+                    np.array([outcome | _arclength.CORNER]),
+                    self.scale[-1],
+                )
+                state.y = y
+                state.tangent = tangent
+                state.step = self.options.initial_step
+                state.n_bridges += 1
+                return True
+        finally:
+            s[_arclength.CURVE_TOL] = tol
         return False
 
     def _turn(self, state: ContinuationState) -> bool:

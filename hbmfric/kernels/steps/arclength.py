@@ -59,7 +59,17 @@ CURVE_POINT = 17
 #: != 0: the predictor bends with the branch (:func:`predict`, a second
 #: order term from the previous point); 0: the tangent's straight line
 PREDICTOR = 18
-N_SETTINGS = 19
+#: != 0 (a rigid Coulomb contact): a step the curve rule would shorten
+#: below ``CORNER_FLOOR`` min_step is tried at that floor and taken there
+#: with its estimate, as across a corner (the DLFT branch kinks where a
+#: stick phase appears or ends: its tangents there are one-sided and the
+#: estimate need not fall with the step; without the floor the steps fell
+#: below min_step and the branch stalled); and a chord whose both ends are
+#: below ``CURVE_REST`` (the tip stuck or just short of it, 1e-9 of a 1e-3
+#: scale on the beam at f_s = 2 N, where steps sized for it stalled the
+#: branch at 77.1 Hz) is taken as exact
+KINK_FLOOR = 19
+N_SETTINGS = 20
 #: a step whose chord error per squared step exceeds the last one's this
 #: many times may hold a kink (a contact transition), where the cubic
 #: estimate falls short by up to 2x: it counts twice
@@ -287,7 +297,7 @@ def _drawn(y, t, scale, column):
 
 
 @jit
-def chord_error(y0, t0, y1, t1, scale, column):
+def chord_error(y0, t0, y1, t1, scale, column, rest_exact=False):
     """Estimated largest distance between the branch and the chord
     joining two of its points, in the drawn plane.
 
@@ -317,6 +327,10 @@ def chord_error(y0, t0, y1, t1, scale, column):
         Scales of the variables (m, rad/s).
     column : int
         Index of the first-harmonic cosine coefficient of the drawn DOF.
+    rest_exact : bool
+        Take a chord whose both ends are below the floor (the drawn DOF at
+        rest, or nearly: a rigid Coulomb tip just short of sticking) as
+        exact.
 
     Returns
     -------
@@ -332,26 +346,29 @@ def chord_error(y0, t0, y1, t1, scale, column):
     w0, dw0, a0, da0 = _drawn(y0, t0, scale, column)
     w1, dw1, a1, da1 = _drawn(y1, t1, scale, column)
     rest = CURVE_REST * scale[column]
-    return _chord(length, w0, dw0, a0, da0, w1, dw1, a1, da1, rest)
+    return _chord(length, w0, dw0, a0, da0, w1, dw1, a1, da1, rest, rest_exact)
 
 
 @jit
-def problem_chord_error(problem, y0, t0, y1, t1, scale, column, base_scale):
+def problem_chord_error(
+    problem, y0, t0, y1, t1, scale, column, base_scale, rest_exact=False
+):
     """:func:`chord_error` of what ``problem`` draws: the unknown at
     ``column``, or for a problem condensed onto several contact coordinates
     the output DOF recovered from them
     (:func:`hbmfric.kernels.residuals.dispatch.drawn_output`), with the
     cubic parametrised as ``Branch.curve_errors`` does: by the arc length
-    on that DOF's coefficients (scale ``base_scale``) and Ω."""
+    on that DOF's coefficients (scale ``base_scale``) and Ω; ``rest_exact``
+    as in :func:`chord_error`."""
     m = y0.size
     x0 = np.empty(m)
     x1 = np.empty(m)
     ok, w0, dw0, a0, da0, v0, n_coef = drawn_output(problem, y0, t0, scale, column, x0)
     if not ok:
-        return chord_error(y0, t0, y1, t1, scale, column)
+        return chord_error(y0, t0, y1, t1, scale, column, rest_exact)
     ok, w1, dw1, a1, da1, v1, _ = drawn_output(problem, y1, t1, scale, column, x1)
     if not ok:
-        return chord_error(y0, t0, y1, t1, scale, column)
+        return chord_error(y0, t0, y1, t1, scale, column, rest_exact)
     n = m - 1
     width = scale[n]
     length = ((w1 - w0) / width) ** 2
@@ -365,15 +382,20 @@ def problem_chord_error(problem, y0, t0, y1, t1, scale, column, base_scale):
     if not (s0 > 0.0 and s1 > 0.0):
         return 0.0
     rest = CURVE_REST * base_scale
-    return _chord(length, w0, dw0 / s0, a0, da0 / s0, w1, dw1 / s1, a1, da1 / s1, rest)
+    return _chord(
+        length, w0, dw0 / s0, a0, da0 / s0, w1, dw1 / s1, a1, da1 / s1, rest, rest_exact
+    )
 
 
 @jit
-def _chord(length, w0, dw0, a0, da0, w1, dw1, a1, da1, rest):
+def _chord(length, w0, dw0, a0, da0, w1, dw1, a1, da1, rest, rest_exact):
     """The estimate of :func:`chord_error` from the drawn values at both
     ends (Ω, ``a₁`` and their derivatives along the scaled arc length),
-    the chord length ``length`` and the amplitude floor ``rest``."""
+    the chord length ``length`` and the amplitude floor ``rest`` (with
+    ``rest_exact``: 0 when both ends are below it)."""
     if not (np.isfinite(a0) and np.isfinite(a1)):
+        return 0.0
+    if rest_exact and max(a0, a1) < rest:
         return 0.0
     # relative units: Ω by the mean of the ends, a by the smaller one (at
     # least CURVE_REST of the displacement scale)
@@ -702,6 +724,7 @@ def advance(
             scale,
             int(settings[CURVE_COLUMN]),
             settings[BASE_SCALE],
+            settings[KINK_FLOOR] != 0.0,
         )
         length2 = 0.0
         for i in range(y.size):
@@ -713,7 +736,8 @@ def advance(
             # a kink inside the step: up to twice the cubic's deviation
             curve *= 2.0
         floor = CORNER_FLOOR * settings[MIN_STEP]
-        if curve > target and (not corner or step > floor):
+        kink = corner or settings[KINK_FLOOR] != 0.0
+        if curve > target and (not kink or step > floor):
             # the chord would stray from the branch: shorter, as the
             # error goes with the square of the step (across a corner:
             # linearly, and only down to CORNER_FLOOR min_step: a corner
@@ -724,7 +748,7 @@ def advance(
             if corner:
                 factor = max(0.8 * target / curve, 0.1)
             new_step = step * min(factor, settings[SHRINK])
-            if corner:
+            if kink:
                 new_step = max(new_step, floor)
             if new_step < settings[MIN_STEP]:
                 return STEP_TOO_SMALL, new_step, evaluations
@@ -756,6 +780,10 @@ def advance(
         # next_step sizes for 0.8 CURVE_TOL: the chord's share instead
         curve *= settings[CURVE_TOL] / target
     new_step = next_step(step, effort, angle, curve, settings)
+    if settings[KINK_FLOOR] != 0.0 and target > 0.0:
+        # a step taken at the kink floor over its budget is not followed
+        # by shorter ones
+        new_step = max(new_step, min(step, CORNER_FLOOR * settings[MIN_STEP]))
     follow_amplitude(y, tangent, scale, settings[BASE_SCALE])
     return outcome, new_step, evaluations
 
