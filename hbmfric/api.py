@@ -330,9 +330,9 @@ def _coulomb_frf(trace, options: ContinuationOptions) -> Branch:
     without the rule pass over it. A branch that does not cover the range
     (after its retrace from the other end) is traced again without the rule
     and that branch returned when it covers the range (its chords warned
-    about against ``curve_tolerance``, with a warning that says so) or covers more of the range (the paper beam at
-    defaults: both stall, without the rule further on); else the first
-    run's branch and warnings."""
+    about against ``curve_tolerance``, with a warning that says so) or
+    covers more of it (the paper beam at defaults: both stall, without the
+    rule further on); else the first run's branch and warnings."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         branch = trace(options)
