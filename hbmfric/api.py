@@ -307,9 +307,37 @@ def frf(
             retrace,
         )
 
-    if not (options.curve_tolerance and rigid_coulomb(system)):
-        return trace(options)
-    return _coulomb_frf(trace, options)
+    if options.curve_tolerance and rigid_coulomb(system):
+        return _coulomb_frf(trace, options)
+    # called here, not through ``trace``: the warnings' stack levels count
+    # the frames from the user's call (frf < _frf_fixed/_frf_auto < ...)
+    if isinstance(harmonics, str):
+        return _frf_auto(
+            system,
+            force,
+            (lo, hi),
+            n_time,
+            symmetry,
+            aft,
+            sweep,
+            harmonic_tolerance,
+            options,
+            amplitude_scale,
+            condense,
+            retrace,
+        )
+    problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
+    _plan_band(problem, hi)
+    return _frf_fixed(
+        system,
+        problem,
+        (lo, hi),
+        sweep,
+        harmonic_tolerance,
+        options,
+        amplitude_scale,
+        retrace,
+    )
 
 
 def _covered(branch: Branch) -> float:
