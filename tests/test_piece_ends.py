@@ -18,6 +18,7 @@ from hbmfric.continuation.ends import (
     cut_at_stall,
     drop_folds_at,
     returned_to_start,
+    stalled_meeting,
 )
 from hbmfric.continuation.palc import MAX_STEPS, MIN_STEP, RANGE_START
 from hbmfric.results import Branch
@@ -94,6 +95,23 @@ def test_a_stall_is_cut_at_its_first_arrival_when_the_rest_revisits():
     other = np.concatenate((curve(w_out), 2.0 * curve(w_back)))
     branch = _synthetic(omega, other, folds=[502, 505, 506], reason=MIN_STEP)
     assert cut_at_stall(branch, 1.0) is branch
+
+
+def test_a_meeting_of_stalls_and_of_budgets():
+    """Two pieces that end at one Ω: stalled (min_step) or a budget spent
+    without climbing there is a singular point; a budget spent climbing
+    (an unbounded resonance) is not."""
+    up_w = np.linspace(0.5, 1.0, 40)
+    down_w = np.linspace(2.0, 1.0, 40)
+    calm = np.linspace(1.0, 2.0, 40)
+    climbing = np.geomspace(1.0, 1e6, 40)
+    up = _synthetic(up_w, calm, [], reason=MIN_STEP)
+    down = _synthetic(down_w, calm, [], sweep="down", reason=MAX_STEPS)
+    assert stalled_meeting(up, down) == 1.0
+    down = _synthetic(down_w, climbing, [], sweep="down", reason=MAX_STEPS)
+    assert stalled_meeting(up, down) is None
+    up = _synthetic(up_w, climbing, [], reason=MAX_STEPS)
+    assert stalled_meeting(up, down) is None
 
 
 def test_folds_at_a_singular_point_are_dropped():

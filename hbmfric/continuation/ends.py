@@ -123,7 +123,8 @@ def cut_at_stall(branch: Branch, omega_singular: float) -> Branch:
         first,
         omega_singular,
         f"met a singular point at Ω = {omega_singular:.8g} rad/s, where its "
-        "step fell below min_step (a singular Jacobian, not a fold)",
+        "path stalled (step below min_step, or the step budget spent there; "
+        "a singular Jacobian, not a fold)",
     )
 
 
@@ -169,7 +170,8 @@ def _truncated(branch: Branch, last: int, omega_singular: float, reason: str):
 
 def stalled_meeting(first: Branch, second: Branch) -> float | None:
     """Ω where two pieces traced from the two ends of the range both stalled
-    (step below ``min_step``, or a return cut by :func:`cut_at_return`) at
+    (step below ``min_step``, a return cut by :func:`cut_at_return`, or a
+    step budget spent without climbing) at
     the same Ω, to ``OMEGA_RTOL`` of the range width; else None. Neither
     side could pass that point: it is singular (the undamped chain of
     ``tests/test_piece_ends.py`` at H = 7 stalls there from both sides,
@@ -177,7 +179,19 @@ def stalled_meeting(first: Branch, second: Branch) -> float | None:
     if first.omega.size == 0 or second.omega.size == 0:
         return None
     stalled = (MIN_STEP, "met a singular point")
-    if not all(b.stop_reason.startswith(stalled) for b in (first, second)):
+
+    def stuck(b: Branch) -> bool:
+        # a budget spent jittering there counts (the chain at H = 15 with
+        # the second-order predictor: 3500 steps at one Ω), one spent
+        # climbing an unbounded resonance does not (budget_note says that)
+        if b.stop_reason.startswith(stalled):
+            return True
+        if not b.stop_reason.startswith(MAX_STEPS):
+            return False
+        a = b.amplitude(harmonic=1)
+        return _climb_ratio(a[-1], a[: a.size // 2]) <= CLIMB_RATIO
+
+    if not (stuck(first) and stuck(second)):
         return None
     lo, hi = first.omega_range or (np.min(first.omega), np.max(first.omega))
     if abs(first.omega[-1] - second.omega[-1]) > OMEGA_RTOL * (hi - lo):
@@ -225,6 +239,13 @@ def singular_note(branch: Branch) -> str | None:
     )
 
 
+def _climb_ratio(last: float, earlier: np.ndarray) -> float:
+    """``last`` over the largest of ``earlier`` (amplitudes)."""
+    if earlier.size == 0:
+        return 1.0
+    return float(last) / max(float(np.max(earlier)), 1e-300)
+
+
 def budget_note(branch: Branch) -> str | None:
     """A sentence on the pieces of ``branch`` that spent their step budget,
     or None. Says where each stopped, and whether its amplitude was still
@@ -244,7 +265,7 @@ def budget_note(branch: Branch) -> str | None:
         end = 0 if piece.start > 0 else -1
         first_half = a[: a.size // 2] if end == -1 else a[a.size // 2 :]
         last = float(a[end])
-        ratio = last / max(float(np.max(first_half)), 1e-300)
+        ratio = _climb_ratio(last, first_half)
         note = (
             "a sweep spent its step budget (max_steps) at Ω = "
             f"{branch.omega[piece][end]:.8g} rad/s with a first-harmonic "
