@@ -21,7 +21,8 @@ pytestmark = pytest.mark.stress
 
 def test_undamped_chain_uncondensed_meets_the_same_singular_point():
     """``condense=False``: the same singular point, no folds, and the two
-    pieces' points on the condensed branch (amplitudes at 6 Ω within 1e-6)."""
+    pieces on the condensed branch (amplitudes at 6 Ω within the dense
+    outputs' estimates)."""
     system = undamped_contact_chain()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", hf.AccuracyWarning)
@@ -32,11 +33,14 @@ def test_undamped_chain_uncondensed_meets_the_same_singular_point():
     assert full.folds.size == 0 and full.complete
     w_s = condensed.info["singular_points"][0]
     np.testing.assert_allclose(full.info["singular_points"], w_s, rtol=1e-9)
+    # the two branches have different points (the condensed one steps with
+    # the second-order predictor): their dense outputs agree within the sum
+    # of their own estimates (about 1e-6 to 1e-5 here)
     omegas = [0.1, 0.3, 0.6, 0.74, 0.76, 0.79]
-    a_full = full.amplitude_at(omegas, harmonic=1, dof=9)
-    a_cond = condensed.amplitude_at(omegas, harmonic=1, dof=9)
+    a_full, e_full = full.amplitude_at(omegas, 1, 9, return_error=True)
+    a_cond, e_cond = condensed.amplitude_at(omegas, 1, 9, return_error=True)
     assert a_full.shape == a_cond.shape == (6, 1)
-    np.testing.assert_allclose(a_full, a_cond, rtol=1e-6)
+    assert np.all(np.abs(a_full / a_cond - 1.0) <= e_full + e_cond + 1e-8)
 
 
 @pytest.mark.parametrize(
