@@ -355,20 +355,23 @@ def _coulomb_frf(trace, options: ContinuationOptions) -> Branch:
     dying at a sample; the paper beam at f_s = 2 N, H = 15, 77.1 Hz, with
     the tip just short of sticking): the rule's short steps land next to
     one and the corrector fails at every step, where the longer steps
-    without the rule pass over it. A branch that does not cover the range
-    (after its retrace from the other end) is traced again without the rule
-    and that branch returned when it covers the range (its chords warned
-    about against ``curve_tolerance``, with a warning that says so) or
-    covers more of it (the paper beam at defaults: both stall, without the
-    rule further on); else the first run's branch and warnings."""
+    without the rule pass over it. A run whose first sweep does not end at
+    the end of the range (also when its retrace from the other end covers
+    the rest: a stuck rigid tip is at rest in the drawn plane, so the
+    rule's steps there are long and the load DOF's curve coarse) is traced
+    again without the rule and that branch returned when it does (its
+    chords warned about against ``curve_tolerance``, with a warning that
+    says so) or covers more of the range (the paper beam at defaults: both
+    stall, without the rule further on); else the first run's branch and
+    warnings."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         branch = trace(options)
-    if not branch.complete:
+    if not branch.stop_reason.startswith("end"):
         with warnings.catch_warnings(record=True) as again:
             warnings.simplefilter("always")
             plain = trace(dataclasses.replace(options, curve_tolerance=None))
-        if plain.complete or _covered(plain) > _covered(branch):
+        if plain.stop_reason.startswith("end") or _covered(plain) > _covered(branch):
             warnings.warn(
                 f"the curve rule's steps stalled ({branch.stop_reason}); the "
                 "branch was traced again without the rule (rigid Coulomb "

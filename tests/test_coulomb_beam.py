@@ -202,9 +202,7 @@ def test_beam_coulomb_branch_reaches_end(cal, slip_force, scheme):
     law = hf.Coulomb(slip_force=slip_force, linear_tail=scheme == "tail")
     kw = {"aft": "samples"} if scheme == "classic" else {}
     branch = hf.frf(_beam(cal, law), FORCE, RANGE, 15, **kw)
-    # covered: by one sweep, or (f_s = 2 N: the up sweep stalls at a DLFT
-    # seam at 77.1 Hz) by the retrace from the top, which passes it
-    assert branch.complete, (branch.stop_reason, branch.omega[-1] / HZ)
+    assert branch.stop_reason.startswith("end"), branch.omega[-1] / HZ
 
 
 @pytest.mark.slow
