@@ -49,10 +49,6 @@ def test_stress_fast(case):
 #: Newton from 21 interpolated guesses at 7 frequencies of the gap never
 #: converges (min |R| 1.5e-3 to 1.1e-2 N). H = 9, 11, 13, 17, 21, 31 cover
 #: the range.
-_COULOMB_GAP = (
-    "no H = 15 solution in (0.3414, 0.3488): the tail DLFT falls back to the "
-    "located scheme at a grazing velocity zero (residual jump 6.7e-2 N)"
-)
 _DECAY = (
     "time-integration reference not settled in 100000 periods: ζ = 1e-4 "
     "far above ω_free (decay time 1e4 s)"
@@ -80,8 +76,10 @@ KNOWN = {
         "time-integration reference change 1.4e-8 > 1e-8 after 100000 periods"
     ),
     "menq ratio=10 stiffness_ratio=10000": _RINGING,
-    "coulomb ratio=10": _COULOMB_GAP,
-    "coulomb ratio=10 sweep=down": _COULOMB_GAP,
+    # "coulomb ratio=10" (both sweeps) had no H = 15 solution in (0.3414,
+    # 0.3488) (the note above); since stop 28 the Coulomb run leaps over it
+    # (Continuation._leap) with one chord 0.341433-0.367466 rad/s, whose
+    # curve error (1.05e-3) frf warns about: the row passes its checks
     # "dahl ratio=10 stiffness_ratio=10000" stalled until the Dahl AFT
     # located the reversals of u between samples (kernels/laws/dahl.py)
 }
