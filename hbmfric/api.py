@@ -584,11 +584,10 @@ def _covering(trace, sweep: str, retrace: bool) -> Branch:
             f"{sweep} sweep: {branch.stop_reason} {_ends(branch)}; retraced "
             f"{other} from {start:.6g} rad/s: {second.stop_reason} {_ends(second)}"
         )
-        singular = branch.info.get("singular_points", []) + second.info.get(
-            "singular_points", []
-        )
-        if meeting is not None and not singular:
-            singular = [meeting]
+        # a singular point only where neither sweep passed: a piece that
+        # turned back onto its own path where the other sweep went through
+        # had its corrector reverse (cut, but nothing to say)
+        singular = [] if meeting is None else [meeting]
         branch = join_pieces(branch, second, reason)
         if singular:
             branch.info["singular_points"] = singular

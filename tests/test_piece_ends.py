@@ -63,8 +63,8 @@ def test_a_return_along_the_same_path_is_cut_at_the_turn():
     np.testing.assert_array_equal(cut.amplitude(harmonic=1), a_out)
     # the fold at 3 lies before the turn, away from it: kept
     np.testing.assert_array_equal(cut.folds, [3])
-    assert cut.info["singular_points"] == [1.0]
-    assert "singular point" in cut.stop_reason
+    assert cut.info["turned_at"] == [1.0]
+    assert "turned back onto its own path" in cut.stop_reason
     assert cut.tangents.shape == (9, 4)
     assert cut.truncation_error.shape == (9,)
 
@@ -91,7 +91,7 @@ def test_a_stall_is_cut_at_its_first_arrival_when_the_rest_revisits():
     branch = _synthetic(omega, curve(omega), folds=[502, 505, 506], reason=MIN_STEP)
     cut = cut_at_stall(branch, 1.0)
     np.testing.assert_array_equal(cut.omega, w_out)
-    assert cut.folds.size == 0 and cut.info["singular_points"] == [1.0]
+    assert cut.folds.size == 0 and cut.info["turned_at"] == [1.0]
     other = np.concatenate((curve(w_out), 2.0 * curve(w_back)))
     branch = _synthetic(omega, other, folds=[502, 505, 506], reason=MIN_STEP)
     assert cut_at_stall(branch, 1.0) is branch

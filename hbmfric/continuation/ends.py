@@ -71,7 +71,7 @@ def cut_at_return(branch: Branch) -> Branch:
         branch holding its points up to the turning point (the largest Ω of
         an up sweep, the smallest of a down sweep), without the folds at
         and after it, with ``stop_reason`` naming the singular point and
-        ``info["singular_points"]`` its Ω (rad/s).
+        ``info["turned_at"]`` its Ω (rad/s).
     """
     if not returned_to_start(branch):
         return branch
@@ -82,8 +82,8 @@ def cut_at_return(branch: Branch) -> Branch:
         branch,
         turn,
         omega_turn,
-        f"met a singular point at Ω = {omega_turn:.8g} rad/s, where the "
-        "path turned back onto itself (a singular Jacobian, not a fold)",
+        f"turned back onto its own path at Ω = {omega_turn:.8g} rad/s (the "
+        "tangent reversed: not a fold)",
     )
 
 
@@ -122,15 +122,14 @@ def cut_at_stall(branch: Branch, omega_singular: float) -> Branch:
         branch,
         first,
         omega_singular,
-        f"met a singular point at Ω = {omega_singular:.8g} rad/s, where its "
-        "path stalled (step below min_step, or the step budget spent there; "
-        "a singular Jacobian, not a fold)",
+        f"stalled at Ω = {omega_singular:.8g} rad/s (step below min_step, or "
+        "the step budget spent there; not a fold)",
     )
 
 
 def _truncated(branch: Branch, last: int, omega_singular: float, reason: str):
     """The points ``0 .. last`` of a one-piece ``branch``, folds near
-    ``omega_singular`` or after ``last`` dropped, ``info["singular_points"]``
+    ``omega_singular`` or after ``last`` dropped, ``info["turned_at"]``
     set."""
     keep = slice(0, last + 1)
     lo, hi = branch.omega_range or (np.min(branch.omega), np.max(branch.omega))
@@ -141,7 +140,7 @@ def _truncated(branch: Branch, last: int, omega_singular: float, reason: str):
         dtype=np.int64,
     )
     info = dict(branch.info)
-    info["singular_points"] = [omega_singular]
+    info["turned_at"] = [omega_singular]
     info["dropped_points"] = int(branch.omega.size - last - 1)
 
     def cut(a):
@@ -178,7 +177,7 @@ def stalled_meeting(first: Branch, second: Branch) -> float | None:
     with 17 'folds' jittering within 1e-12 rad/s)."""
     if first.omega.size == 0 or second.omega.size == 0:
         return None
-    stalled = (MIN_STEP, "met a singular point")
+    stalled = (MIN_STEP, "turned back onto its own path", "stalled at")
 
     def stuck(b: Branch) -> bool:
         # a budget spent jittering there counts (the chain at H = 15 with

@@ -485,8 +485,12 @@ def run_case(c: Case, spot: bool = True) -> dict:
             err, why, periods = spot_check(system, force, b, i)
             out["spot"].append((float(b.omega[i]), err, tol, why, periods))
     reasons = [p["stop_reason"] for p in b.info.get("pieces", [])] or [b.stop_reason]
+    # stop 28: a piece that turned back onto its own path, or stalled where
+    # the other sweep stalled, is cut there (hbmfric.continuation.ends)
+    cut = ("turned back onto its own path", "stalled at")
     out["known_stop"] = all(
-        r in (RANGE_END, RANGE_START, MAX_STEPS, MIN_STEP) for r in reasons
+        r in (RANGE_END, RANGE_START, MAX_STEPS, MIN_STEP) or r.startswith(cut)
+        for r in reasons
     )
     return out
 
