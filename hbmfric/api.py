@@ -278,66 +278,24 @@ def frf(
             f"harmonics must be a positive integer or 'auto', got {harmonics!r}"
         )
 
-    def trace(opts):
-        if isinstance(harmonics, str):
-            return _frf_auto(
-                system,
-                force,
-                (lo, hi),
-                n_time,
-                symmetry,
-                aft,
-                sweep,
-                harmonic_tolerance,
-                opts,
-                amplitude_scale,
-                condense,
-                retrace,
-            )
+    # the engine and its arguments around the options, called directly on
+    # the default path: the warnings' stack levels count the frames from
+    # the user's call (frf < _frf_fixed/_frf_auto < ...)
+    if isinstance(harmonics, str):
+        engine = _frf_auto
+        head = (system, force, (lo, hi), n_time, symmetry, aft, sweep)
+        tail = (amplitude_scale, condense, retrace)
+    else:
         problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
         _plan_band(problem, hi)
-        return _frf_fixed(
-            system,
-            problem,
-            (lo, hi),
-            sweep,
-            harmonic_tolerance,
-            opts,
-            amplitude_scale,
-            retrace,
-        )
-
+        engine = _frf_fixed
+        head = (system, problem, (lo, hi), sweep)
+        tail = (amplitude_scale, retrace)
     if options.curve_tolerance and rigid_coulomb(system):
-        return _coulomb_frf(trace, options)
-    # called here, not through ``trace``: the warnings' stack levels count
-    # the frames from the user's call (frf < _frf_fixed/_frf_auto < ...)
-    if isinstance(harmonics, str):
-        return _frf_auto(
-            system,
-            force,
-            (lo, hi),
-            n_time,
-            symmetry,
-            aft,
-            sweep,
-            harmonic_tolerance,
-            options,
-            amplitude_scale,
-            condense,
-            retrace,
+        return _coulomb_frf(
+            lambda opts: engine(*head, harmonic_tolerance, opts, *tail), options
         )
-    problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
-    _plan_band(problem, hi)
-    return _frf_fixed(
-        system,
-        problem,
-        (lo, hi),
-        sweep,
-        harmonic_tolerance,
-        options,
-        amplitude_scale,
-        retrace,
-    )
+    return engine(*head, harmonic_tolerance, options, *tail)
 
 
 def _covered(branch: Branch) -> float:
