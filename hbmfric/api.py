@@ -298,6 +298,13 @@ def frf(
     return engine(*head, harmonic_tolerance, options, *tail)
 
 
+#: a Coulomb branch traced again without the curve rule is returned instead
+#: of the first only when it covers more of the range by this fraction of
+#: the range's width (else the two stall at the same seam, and the first
+#: one's chords are bounded)
+COVERAGE_MARGIN = 1e-3
+
+
 def _covered(branch: Branch) -> float:
     """Width of the asked range the branch covers, rad/s."""
     low, high = branch.coverage
@@ -319,9 +326,9 @@ def _coulomb_frf(trace, options: ContinuationOptions) -> Branch:
     rule's steps there are long and the load DOF's curve coarse) is traced
     again without the rule and that branch returned when it does (its
     chords warned about against ``curve_tolerance``, with a warning that
-    says so) or covers more of the range (the paper beam at defaults: both
-    stall, without the rule further on); else the first run's branch and
-    warnings."""
+    says so) or covers more of the range by ``COVERAGE_MARGIN`` of its
+    width (the paper beam at defaults: both stall, without the rule further
+    on); else the first run's branch and warnings."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         branch = trace(options)
@@ -329,7 +336,11 @@ def _coulomb_frf(trace, options: ContinuationOptions) -> Branch:
         with warnings.catch_warnings(record=True) as again:
             warnings.simplefilter("always")
             plain = trace(dataclasses.replace(options, curve_tolerance=None))
-        if plain.stop_reason.startswith("end") or _covered(plain) > _covered(branch):
+        low, high = branch.coverage
+        margin = COVERAGE_MARGIN * (high - low)
+        if plain.stop_reason.startswith("end") or _covered(plain) > (
+            _covered(branch) + margin
+        ):
             warnings.warn(
                 f"the curve rule's steps stalled ({branch.stop_reason}); the "
                 "branch was traced again without the rule (rigid Coulomb "

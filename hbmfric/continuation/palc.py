@@ -66,6 +66,10 @@ def rigid_coulomb(system) -> bool:
 
 #: scaled steps of a leap over a Coulomb seam (:meth:`Continuation._leap`)
 LEAP_STEPS = (1e-3, 1e-2, 1e-1)
+#: a leap's chord is kept only while its estimated curve error stays below
+#: this factor times ``curve_tolerance``: a longer jump is not a traced
+#: stretch of the branch, and the range it skips is left as a gap
+LEAP_CURVE_FACTOR = 100.0
 #: most bridges (:meth:`Continuation._bridge`) in one run
 MAX_BRIDGES = 50
 #: Ω steps of a bridge, as fractions of the range width, tried in turn
@@ -772,7 +776,10 @@ class Continuation:
         curve rule off (``corner_step`` and above; the usual acceptance
         tests, a corner below ``corner_step``) and records the first point
         accepted as a corner; the chord to it keeps its estimate in
-        ``Branch.curve_errors`` (warned about when above the tolerance).
+        ``Branch.curve_errors`` (warned about when above the tolerance). A
+        leap whose chord estimate exceeds ``LEAP_CURVE_FACTOR`` times the
+        tolerance is refused (the run stops there and the range it would
+        skip stays a gap of the branch).
         Only for rigid Coulomb contacts with the curve rule on, at most
         ``MAX_BRIDGES`` times a run (counted with the bridges)."""
         s = self._settings
@@ -800,6 +807,20 @@ class Continuation:
                 state.n_newton += evaluations
                 if not outcome & _arclength.ACCEPTED:
                     continue
+                curve = _arclength.problem_chord_error(
+                    self.problem.kernel_problem,
+                    state.y,
+                    state.tangent,
+                    y,
+                    tangent,
+                    scale,
+                    int(s[_arclength.CURVE_COLUMN]),
+                    s[_arclength.BASE_SCALE],
+                    True,
+                )
+                if not curve <= LEAP_CURVE_FACTOR * tol:
+                    # a longer step only leaps further
+                    return False
                 self.scale[:] = scale
                 self._record(
                     state,
