@@ -118,3 +118,64 @@ def test_drawn_curve_and_peak_match_a_ten_times_tighter_branch(branches):
     peak_ref, where_ref = _peak(w_ref, a_ref)
     assert abs(peak / peak_ref - 1.0) <= 1e-6
     assert abs(where / where_ref - 1.0) <= 1e-6
+
+
+def _solve_tightly(problem, y, y_pred, constraint, scale, iterations=8):
+    """Plain Newton in NumPy (dense solve) on ``R(y) = 0`` with
+    ``constraint · (y - y_pred) / scale = 0``, to the rounding level."""
+    y = y.copy()
+    for _ in range(iterations):
+        R, J, aft = problem.residual(y)
+        assert aft >= 0
+        g = np.dot(constraint, (y - y_pred) / scale)
+        A = np.vstack([J * scale, constraint])
+        y += np.linalg.solve(A, -np.append(R, g)) * scale
+    return y
+
+
+@pytest.mark.parametrize("size", [3e-6, 1e-5])
+def test_the_corrector_applies_a_contracting_last_update(size):
+    """Stop 29: on a condensed problem solved by GMRES the corrector ends
+    by applying an update whose error, estimated from the contraction of
+    the last two, is far below ``tol_step`` (Newton is quadratic here: from
+    a predictor 3e-6 to 1e-5 off the branch in scaled variables the second
+    update is about 1e-8, which the plain test would check with a third
+    evaluation). The point returned after two evaluations is within
+    ``tol_step`` of the solution of the same bordered system found by plain
+    Newton in NumPy, and its residual, evaluated there, within the
+    tolerance."""
+    problem = CondensedHBMProblem(hf.lap_joint(10), FORCE, H)
+    options = ContinuationOptions()
+    cont = Continuation(problem, BAND, 1, options)
+    n = problem.n_unknowns
+    omega = HZ * 164.0  # microslip
+    e_omega = np.zeros(n + 1)
+    e_omega[n] = 1.0
+    for guess in problem.initial_guesses(omega):
+        y0, status, _ = cont.solve_at(omega, guess[:n], 40)
+        if status == 0:
+            break
+    else:
+        pytest.fail("no solution at 164 Hz")
+    # a predictor `size` off the branch (across the tangent: the
+    # corrector's hyperplane passes through the solution)
+    _, J, _ = problem.residual(y0)
+    tangent = np.linalg.solve(
+        np.vstack([J * cont.scale, e_omega]), np.append(np.zeros(n), 1.0)
+    )
+    tangent /= np.linalg.norm(tangent)
+    rng = np.random.default_rng(29)
+    off = rng.standard_normal(n + 1)
+    off -= np.dot(off, tangent) * tangent
+    off *= size / np.max(np.abs(off))
+    y_pred = y0 + off * cont.scale
+    y = y_pred.copy()
+    status, evaluations = cont._correct(y, y_pred, tangent)
+    assert status == 0
+    assert evaluations == 2  # 3 before stop 29
+    exact = _solve_tightly(problem, y, y_pred, tangent, cont.scale)
+    assert np.max(np.abs(y - exact) / cont.scale) <= options.tol_step
+    R, J, _ = problem.residual(y)
+    floor = 8.0 * np.finfo(float).eps * np.max(np.abs(J) @ np.abs(y))
+    tol = max(cont.tol_residual, floor, problem.kernel_problem.rounding[0])
+    assert np.max(np.abs(R)) <= tol
