@@ -77,11 +77,13 @@ REUSE_REFRESH = 12
 #: the corrector on the harmonic blocks keeps the blocks factored for an
 #: earlier matrix while its GMRES needs at most this many products more
 #: than on fresh blocks (:func:`hbmfric.kernels.linalg.blocks.block_solve`);
-#: negative (the default): the blocks of every matrix are factored. Off:
-#: with 3 the lap joint's N = 40 branch took 10.8 against 10.2 s CPU (load
-#: 12-13) and its points moved (491 against 502, the sampled peak by 1e-5;
-#: bench/README.md, stop 27)
-REUSE_KEEP_BLOCKS = -1
+#: negative: the blocks of every matrix are factored. Off at stop 27 (with
+#: 3 the lap joint's N = 40 branch took 10.8 against 10.2 s CPU, its
+#: Newton updates then solved to 1e-10); on since stop 29, with the updates
+#: solved to 1e-6 (:data:`hbmfric.kernels.steps.newton.NEWTON_KRYLOV_TOL`):
+#: N = 40 factors its blocks 44 times instead of 871 for 12 % more GMRES
+#: products (bench/README.md "Issue 15, stop 29")
+REUSE_KEEP_BLOCKS = 1
 
 
 def solver_arrays(
