@@ -179,3 +179,32 @@ def test_the_corrector_applies_a_contracting_last_update(size):
     floor = 8.0 * np.finfo(float).eps * np.max(np.abs(J) @ np.abs(y))
     tol = max(cont.tol_residual, floor, problem.kernel_problem.rounding[0])
     assert np.max(np.abs(R)) <= tol
+
+
+def test_every_point_of_the_branch_solves_its_equations():
+    """Stop 29: with the last update applied unevaluated, every point the
+    continuation returns through microslip (N = 10, 158-170 Hz, most of
+    them ended so) still has its residual, evaluated there, within the
+    corrector's tolerance, and plain Newton in NumPy across the branch (on
+    the hyperplane through the point orthogonal to its tangent) moves it by
+    less than ``tol_step`` in scaled variables."""
+    problem = CondensedHBMProblem(hf.lap_joint(10), FORCE, H)
+    options = ContinuationOptions(max_step=0.05)
+    cont = Continuation(problem, BAND, 1, options)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.HbmfricWarning)
+        state, _ = cont.run()
+    points = np.array(state.points)
+    assert len(points) > 100
+    assert state.n_newton / len(points) < 2.4  # 2.6 before stop 29
+    tangents = np.array(state.tangents) / cont.scale
+    worst_residual = worst_move = 0.0
+    for y, t in zip(points, tangents, strict=True):
+        R, J, _ = problem.residual(y)
+        floor = 8.0 * np.finfo(float).eps * np.max(np.abs(J) @ np.abs(y))
+        tol = max(cont.tol_residual, floor, problem.kernel_problem.rounding[0])
+        worst_residual = max(worst_residual, np.max(np.abs(R)) / tol)
+        exact = _solve_tightly(problem, y, y, t / np.linalg.norm(t), cont.scale, 3)
+        worst_move = max(worst_move, np.max(np.abs(exact - y) / cont.scale))
+    assert worst_residual <= 1.0
+    assert worst_move <= options.tol_step
