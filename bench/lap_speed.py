@@ -179,8 +179,9 @@ def branch(n_pairs, condense, harmonics=15, band=BAND):
     solves of stops 25 and 26 off), with ``-factors`` one whose corrector
     is preconditioned by kept LU factors (stop 25) instead of the harmonic
     blocks (stop 26); suffixes combine: ``-keep``, the harmonic blocks
-    kept over matrices while GMRES needs at most 3 more products (stop 27,
-    off by default); ``-exact``, every pole of
+    kept over matrices while GMRES needs at most 3 more products (stop 27;
+    the default keeps them while it needs at most 1 more since stop 29);
+    ``-exact``, every pole of
     the complex modes summed at every harmonic, no series of the high poles
     (before stop 27)."""
     s = hf.lap_joint(n_pairs)

@@ -27,8 +27,8 @@ from ..residuals.pointer import call_residual
 #: (bench/README.md "Issue 15, stop 28")
 NEWTON_KRYLOV_TOL = 1e-6
 
-#: the corrector of a condensed problem solved by GMRES (several contacts,
-#: :func:`bordered_solve`) applies its last Newton update without a new
+#: the corrector of a problem condensed onto several contact coordinates
+#: (:func:`applies_last_update`) applies its last Newton update without a new
 #: evaluation when the updates contract by at most this factor per
 #: iteration and the error left, estimated from that contraction, is below
 #: ``tol_step`` (:func:`correct`)
@@ -157,9 +157,11 @@ def _layout(problem):
 
 def applies_last_update(problem):
     """True when :func:`correct` may end by applying an update whose error
-    it estimates from the contraction of the last two (a condensed problem
-    that solves its bordered systems by GMRES, :func:`bordered_solve`);
-    False for any other problem. Callable from jitted code only."""
+    it estimates from the contraction of the last two: a problem condensed
+    onto several contact coordinates (``law_codes``, one per coordinate),
+    whichever way it solves its bordered systems (:func:`bordered_solve`);
+    False for any other problem (uncondensed, or condensed onto one
+    contact as the paper beam). Callable from jitted code only."""
     raise NotImplementedError("applies_last_update is for jit code")
 
 
@@ -168,7 +170,7 @@ def _applies_last_update(problem):
     if _is_condensed(problem):
 
         def condensed(problem):
-            return problem.solver[0].shape[0] > 0
+            return problem.law_codes.size > 1
 
         return condensed
 
@@ -268,7 +270,8 @@ def correct(
     update is then not applied (the point is within ``tol_step`` of the
     solution of the linearisation), which saves the residual evaluation
     that checking the size of the last applied update would cost. A
-    condensed problem solved by GMRES (:func:`applies_last_update`) also
+    problem condensed onto several contact coordinates
+    (:func:`applies_last_update`) also
     converges without evaluating at the end: after a full Newton step, with
     ``theta`` the larger of the contraction of the updates and of
     ``max |R|`` over it (at most :data:`CONTRACTION_MAX`), when the error
