@@ -27,6 +27,7 @@ import math
 import os
 import pickle
 import sys
+import threading
 import time
 import traceback
 import warnings
@@ -40,6 +41,12 @@ from .errors import StudyWarning
 
 #: executors that need no set-up
 LOCAL_EXECUTORS = ("processes", "serial")
+#: one parameter set at a time per process: ``warnings.catch_warnings`` is
+#: process-wide, so two sets traced at once in threads (a Dask worker with
+#: ``threads_per_worker > 1``) recorded each other's warnings, or lost
+#: them when the other set's exit restored the filters (stop 29: a set at
+#: 0.5 N listed clean, a stuck set at 1e-4 N listed with its warning)
+_RUN_LOCK = threading.RLock()
 
 
 def grid(**axes: Iterable) -> list[dict]:
@@ -107,10 +114,17 @@ class StudyRun:
 
 def _run_one(build: Callable, force_key: str, frf_options: dict, task) -> StudyRun:
     """Build the system of one parameter set and trace its branch (in a
-    worker). Every exception is caught and returned as the run's error."""
+    worker). Every exception is caught and returned as the run's error.
+    One set at a time per process (``_RUN_LOCK``)."""
+    index, parameters = task
+    with _RUN_LOCK:
+        return _run_locked(build, force_key, frf_options, index, parameters)
+
+
+def _run_locked(build, force_key, frf_options, index, parameters) -> StudyRun:
+    """:func:`_run_one` of one set, holding ``_RUN_LOCK``."""
     from .api import frf
 
-    index, parameters = task
     start = time.perf_counter()
     run = StudyRun(index, dict(parameters))
     with warnings.catch_warnings(record=True) as caught:
@@ -348,7 +362,11 @@ def study(
         Local execution: worker processes (default) or this process.
         Ignored when ``client`` is given.
     client : dask.distributed.Client, optional
-        Run on this Dask cluster instead (its workers need hbmfric).
+        Run on this Dask cluster instead (its workers need hbmfric). A
+        worker process traces one set at a time (the warnings of a set are
+        recorded process-wide): give each worker one thread
+        (``threads_per_worker=1``) and start as many workers as sets should
+        run at once.
     workers : int, optional
         Worker processes (``"processes"``); default: the CPU count.
     progress : bool, optional
