@@ -41,6 +41,12 @@ from .errors import StudyWarning
 
 #: executors that need no set-up
 LOCAL_EXECUTORS = ("processes", "serial")
+#: the error of a set that a dead worker process left untraced
+BROKEN_POOL = (
+    "BrokenProcessPool: a worker process ended abruptly (a crash in native "
+    "code, os._exit, the out-of-memory killer) while this set was traced or "
+    "queued; not traced (run it with executor='serial' to see the cause)"
+)
 #: one parameter set at a time per process: ``warnings.catch_warnings`` is
 #: process-wide, so two sets traced at once in threads (a Dask worker with
 #: ``threads_per_worker > 1``) recorded each other's warnings, or lost
@@ -436,15 +442,24 @@ def study(
     elif kind == "processes":
         _check_picklable(build, "build")
         from concurrent.futures import ProcessPoolExecutor, as_completed
+        from concurrent.futures.process import BrokenProcessPool
 
         n = workers or os.cpu_count() or 1
         pool = ProcessPoolExecutor(max_workers=min(n, len(tasks)))
         try:
-            futures = [
-                pool.submit(_run_one, build, force_key, options, t) for t in tasks
-            ]
+            futures = {
+                pool.submit(_run_one, build, force_key, options, t): t for t in tasks
+            }
             for fut in as_completed(futures):
-                run = fut.result()
+                try:
+                    run = fut.result()
+                except BrokenProcessPool:
+                    # a worker died (a crash in native code, os._exit, the
+                    # out-of-memory killer): the pool fails every set not
+                    # finished; the finished ones are kept (stop 29: the
+                    # whole study raised and returned nothing)
+                    run = StudyRun(futures[fut][0], dict(futures[fut][1]))
+                    run.error = BROKEN_POOL
                 runs.append(run)
                 bar.update(run)
         except BaseException:
