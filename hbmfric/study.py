@@ -479,9 +479,18 @@ def study(
             tasks,
             pure=False,
         )
+        task_of = {fut.key: t for fut, t in zip(futures, tasks, strict=True)}
         try:
             for fut in dask_completed(futures):
-                run = fut.result()
+                try:
+                    run = fut.result()
+                except Exception as exc:  # noqa: BLE001 - reported per set
+                    # _run_one catches the set's own errors: this is the
+                    # cluster's (KilledWorker after a worker died on the
+                    # set, a lost connection); the other sets are kept
+                    index, parameters = task_of[fut.key]
+                    run = StudyRun(index, dict(parameters))
+                    run.error = f"{type(exc).__name__} (cluster): {exc}"
                 runs.append(run)
                 bar.update(run)
         except BaseException:
