@@ -3,7 +3,7 @@
 * Estimates of a DOF at or near rest: the paper beam with a rigid Coulomb
   tip at three slip forces and both sweeps, H = 15, 55-110 Hz. A stuck
   tip's truncation estimate is 0 to round-off (was 4e3); the largest
-  truncation estimate of a branch is at most 30 times its change to H = 63
+  truncation estimate of a branch is at most 100 times its change to H = 63
   (relative to ``CURVE_REST`` of the scale at least; was 8.9e3 against
   0.21); the three largest chord estimates are at most 10 times the
   distance of the chord from H = 15 solutions at its fractions (was 7.7e4
@@ -68,7 +68,7 @@ def test_rigid_coulomb_beam_estimates_are_measures(beam, slip_force, sweep):
             abs(s.amplitude(1) - a[i]) / max(a[i], rest),
             abs(s.amplitude() - half[i]) / max(half[i], rest),
         )
-        assert te[i] <= 30.0 * change + 1e-3, (b.omega[i] / HZ, te[i], change)
+        assert te[i] <= 100.0 * change + 1e-3, (b.omega[i] / HZ, te[i], change)
     errors = b.curve_errors
     for j in np.argsort(errors)[::-1][:3]:
         if errors[j] <= 1e-4:
