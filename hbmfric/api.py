@@ -393,7 +393,9 @@ def _frf_fixed(
             problem.full_coefficients(pts),
             info,
             truncation_error=(
-                truncation_errors(problem, pts, tolerance)
+                truncation_errors(
+                    problem, pts, tolerance, amplitude_scale=cont.base_scale
+                )
                 if problem.subharmonic == 1
                 else None
             ),
@@ -446,6 +448,8 @@ def _branch_tangents(problem, points, tangents, amplitude_scale, width, n_coef=N
         up = problem.full_coefficients(points + h * t)
         down = problem.full_coefficients(points - h * t)
         d = (up - down) / (2.0 * h)
+        if not getattr(problem, "multi", False):
+            d = _seam_safe(problem, points, t, up, down, d, h, amplitude_scale)
         if getattr(problem, "multi", False):
             # solved on several contact coordinates: the branch measures
             # its arc length on the contact DOF (Branch._arc_metric, as for
@@ -468,6 +472,48 @@ def _branch_tangents(problem, points, tangents, amplitude_scale, width, n_coef=N
     out[:, :-1].reshape(k, problem.n_dof, m)[:, :, : problem.n_coef] = d
     out[:, -1] = t[:, n]
     return out
+
+
+#: largest difference (times the amplitude scale) between the recovered
+#: contact DOF's tangent and the condensed unknowns' own tangent before a
+#: recovery difference counts as having crossed a seam
+_SEAM_MISMATCH = 1e-3
+
+
+def _seam_safe(problem, points, t, up, down, d, h, amplitude_scale):
+    """The recovered tangents ``d`` with a one-sided difference where the
+    central one crossed a seam of the recovery.
+
+    The recovery (:meth:`CondensedHBMProblem.full_coefficients`) reads the
+    contact force of the AFT at the perturbed points, off the branch; a
+    DLFT force there can jump (a stick/slip decision flips), and a
+    difference across the jump is no tangent: on the paper beam with a
+    rigid Coulomb tip at f_s = 2 N, 77.26 Hz, the forward point of a step
+    of 1e-6 jumped by 6.6e-6 m (the tip's amplitude 1.8e-9 m), the drawn
+    tangent was 3.3 m per unit arc length and ``curve_errors`` read 7.7e4.
+    The recovered contact DOF must move as the condensed unknowns do (the
+    recovery reproduces them on the branch); a difference whose contact
+    DOF misses them by more than ``_SEAM_MISMATCH`` of the scale is
+    replaced by the one-sided difference that meets them (the central one
+    is kept where neither does)."""
+    c = problem.contact_dof
+    k = t.shape[0]
+    own = t[:, :-1].reshape(k, -1)
+
+    def miss(diff, rows):
+        return np.max(np.abs(diff[:, c, :] - own[rows]), axis=1) / amplitude_scale
+
+    bad = miss(d, slice(None)) > _SEAM_MISMATCH
+    if not np.any(bad):
+        return d
+    rows = np.flatnonzero(bad)
+    centre = problem.full_coefficients(points[rows])
+    d = d.copy()
+    for diff in ((up[rows] - centre) / h, (centre - down[rows]) / h):
+        take = bad[rows] & (miss(diff, rows) <= _SEAM_MISMATCH)
+        d[rows[take]] = diff[take]
+        bad[rows[take]] = False
+    return d
 
 
 def _warn_truncation(branch: Branch, tolerance: float) -> None:

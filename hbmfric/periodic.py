@@ -260,7 +260,11 @@ def _warn_truncation(problem, y: np.ndarray, tolerance: float) -> None:
     estimate and the threshold of :func:`hbmfric.frf` at a fixed ``H``)."""
     from .continuation.accuracy import truncation_errors
 
-    estimate = float(truncation_errors(problem, y[None, :], tolerance)[0])
+    # the displacement scale frf would use over a range at this Ω alone
+    scale = problem.amplitude_scale((float(y[-1]), float(y[-1])))
+    estimate = float(
+        truncation_errors(problem, y[None, :], tolerance, amplitude_scale=scale)[0]
+    )
     if estimate > tolerance:
         warnings.warn(
             f"estimated truncation error {estimate:.2g} of the solution at "

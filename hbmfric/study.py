@@ -27,6 +27,7 @@ import math
 import os
 import pickle
 import sys
+import threading
 import time
 import traceback
 import warnings
@@ -40,6 +41,18 @@ from .errors import StudyWarning
 
 #: executors that need no set-up
 LOCAL_EXECUTORS = ("processes", "serial")
+#: the error of a set that a dead worker process left untraced
+BROKEN_POOL = (
+    "BrokenProcessPool: a worker process ended abruptly (a crash in native "
+    "code, os._exit, the out-of-memory killer) while this set was traced or "
+    "queued; not traced (run it with executor='serial' to see the cause)"
+)
+#: one parameter set at a time per process: ``warnings.catch_warnings`` is
+#: process-wide, so two sets traced at once in threads (a Dask worker with
+#: ``threads_per_worker > 1``) recorded each other's warnings, or lost
+#: them when the other set's exit restored the filters (stop 29: a set at
+#: 0.5 N listed clean, a stuck set at 1e-4 N listed with its warning)
+_RUN_LOCK = threading.RLock()
 
 
 def grid(**axes: Iterable) -> list[dict]:
@@ -107,10 +120,17 @@ class StudyRun:
 
 def _run_one(build: Callable, force_key: str, frf_options: dict, task) -> StudyRun:
     """Build the system of one parameter set and trace its branch (in a
-    worker). Every exception is caught and returned as the run's error."""
+    worker). Every exception is caught and returned as the run's error.
+    One set at a time per process (``_RUN_LOCK``)."""
+    index, parameters = task
+    with _RUN_LOCK:
+        return _run_locked(build, force_key, frf_options, index, parameters)
+
+
+def _run_locked(build, force_key, frf_options, index, parameters) -> StudyRun:
+    """:func:`_run_one` of one set, holding ``_RUN_LOCK``."""
     from .api import frf
 
-    index, parameters = task
     start = time.perf_counter()
     run = StudyRun(index, dict(parameters))
     with warnings.catch_warnings(record=True) as caught:
@@ -348,7 +368,11 @@ def study(
         Local execution: worker processes (default) or this process.
         Ignored when ``client`` is given.
     client : dask.distributed.Client, optional
-        Run on this Dask cluster instead (its workers need hbmfric).
+        Run on this Dask cluster instead (its workers need hbmfric). A
+        worker process traces one set at a time (the warnings of a set are
+        recorded process-wide): give each worker one thread
+        (``threads_per_worker=1``) and start as many workers as sets should
+        run at once.
     workers : int, optional
         Worker processes (``"processes"``); default: the CPU count.
     progress : bool, optional
@@ -418,15 +442,24 @@ def study(
     elif kind == "processes":
         _check_picklable(build, "build")
         from concurrent.futures import ProcessPoolExecutor, as_completed
+        from concurrent.futures.process import BrokenProcessPool
 
         n = workers or os.cpu_count() or 1
         pool = ProcessPoolExecutor(max_workers=min(n, len(tasks)))
         try:
-            futures = [
-                pool.submit(_run_one, build, force_key, options, t) for t in tasks
-            ]
+            futures = {
+                pool.submit(_run_one, build, force_key, options, t): t for t in tasks
+            }
             for fut in as_completed(futures):
-                run = fut.result()
+                try:
+                    run = fut.result()
+                except BrokenProcessPool:
+                    # a worker died (a crash in native code, os._exit, the
+                    # out-of-memory killer): the pool fails every set not
+                    # finished; the finished ones are kept (stop 29: the
+                    # whole study raised and returned nothing)
+                    run = StudyRun(futures[fut][0], dict(futures[fut][1]))
+                    run.error = BROKEN_POOL
                 runs.append(run)
                 bar.update(run)
         except BaseException:
@@ -446,9 +479,18 @@ def study(
             tasks,
             pure=False,
         )
+        task_of = {fut.key: t for fut, t in zip(futures, tasks, strict=True)}
         try:
             for fut in dask_completed(futures):
-                run = fut.result()
+                try:
+                    run = fut.result()
+                except Exception as exc:  # noqa: BLE001 - reported per set
+                    # _run_one catches the set's own errors: this is the
+                    # cluster's (KilledWorker after a worker died on the
+                    # set, a lost connection); the other sets are kept
+                    index, parameters = task_of[fut.key]
+                    run = StudyRun(index, dict(parameters))
+                    run.error = f"{type(exc).__name__} (cluster): {exc}"
                 runs.append(run)
                 bar.update(run)
         except BaseException:

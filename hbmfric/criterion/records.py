@@ -281,6 +281,14 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
                 f"{', '.join(header[index[k]] for k in index)} need at least "
                 f"{needed}: {line.strip()!r}"
             )
+        if any(c.strip() for c in row[len(header) :]):
+            # decimal commas in a comma-separated file split each number in
+            # two: "10,5" read as omega = 10 and amplitude = 5 (stop 29)
+            raise ValueError(
+                f"{path}: line {lineno}: {len(row)} field(s), but the header has "
+                f"{len(header)} (decimal commas in a comma-separated file? "
+                f"numbers must use a decimal point): {line.strip()!r}"
+            )
         vals = {}
         for k in numeric:
             cell = row[index[k]].strip()
