@@ -35,7 +35,16 @@ def _paper(args: argparse.Namespace) -> int:
     def computed():
         # each figure is written as soon as it is computed, so that an error
         # (a full disk, a failing scene) never loses the ones before it
-        yield from paper.iter_sdof_figures(harmonics=h, progress=progress)
+        from .warmup import PaperHelper
+
+        # a first run: the beam's kernels compile meanwhile in a second
+        # process (bench/README.md "Issue 17, stop 29")
+        helper = PaperHelper.start(progress)
+        try:
+            yield from paper.iter_sdof_figures(harmonics=h, progress=progress)
+        finally:
+            if helper is not None:
+                helper.wait(progress)
         yield paper.beam_normal_load_family(harmonics=h, progress=progress)
         yield paper.beam_ratio_family(harmonics=h, progress=progress)
         yield paper.beam_validation(harmonics=h, progress=progress)

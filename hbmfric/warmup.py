@@ -19,7 +19,9 @@ the same code.
 
 from __future__ import annotations
 
+import glob
 import multiprocessing
+import os
 import time
 import warnings
 from collections.abc import Callable
@@ -105,7 +107,8 @@ def _steps() -> list[tuple[str, Callable[[], object]]]:
 
 def lanes(names: list[str], jobs: int) -> list[list[str]]:
     """The steps of each worker process: :data:`CONDENSED_STEP` leads the
-    second lane, the other steps are dealt in turn, in their order.
+    second lane, the other steps are dealt in their order, each to the
+    first of the lanes with the fewest steps.
 
     Parameters
     ----------
@@ -125,8 +128,8 @@ def lanes(names: list[str], jobs: int) -> list[list[str]]:
     if jobs > 1 and CONDENSED_STEP in rest:
         rest.remove(CONDENSED_STEP)
         out[1].append(CONDENSED_STEP)
-    for i, name in enumerate(rest):
-        out[i % jobs].append(name)
+    for name in rest:
+        min(out, key=len).append(name)  # the first of the shortest lanes
     return out
 
 
@@ -193,3 +196,100 @@ def warmup(
     if progress:
         progress(f"warmup: done in {time.perf_counter() - total:.1f} s")
     return times
+
+
+def first_run(cache_dir: str | None = None) -> bool:
+    """Is this the first run of the installed version: does its kernel cache
+    hold no continuation kernel yet?
+
+    Parameters
+    ----------
+    cache_dir : str, optional
+        The version's cache directory (default
+        :data:`hbmfric._jit.CACHE_DIR`).
+
+    Returns
+    -------
+    bool
+        True if ``cache_dir`` holds no cache index of
+        :func:`hbmfric.kernels.steps.arclength.trace`; False also without a
+        cache (a second process's compilation would then be lost).
+    """
+    if cache_dir is None:
+        # absolute import: this module holds no kernel, and a relative
+        # import of _jit would make it one of the sources whose hash keys
+        # the cache (hbmfric._jit.kernel_sources)
+        from hbmfric import _jit
+
+        cache_dir = _jit.CACHE_DIR
+    if cache_dir is None:
+        return False
+    pattern = os.path.join(cache_dir, "kernels", "steps", "arclength.trace-*.nbi")
+    return not glob.glob(pattern)
+
+
+def _paper_beam() -> None:
+    """One FRF of the paper beam as the paper computes them (Fn = 5 N,
+    condensed, ``harmonics="auto"``): it compiles the beam's kernels."""
+    import hbmfric as hf
+    from hbmfric.paper.beam import PAPER_BEAM_SCENE, _omega_range, paper_beam
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        hf.frf(
+            paper_beam(5.0),
+            2.0,
+            _omega_range(PAPER_BEAM_SCENE),
+            "auto",
+            max_step=PAPER_BEAM_SCENE["max_step"],
+        )
+
+
+class PaperHelper:
+    """The paper beam's kernels compiled in a second process while this one
+    computes the SDOF figures (a first run on a machine of two cores or
+    more): the beam's continuation kernels (condensed) share nothing with
+    the SDOF ones (full), so the two compilations overlap instead of
+    adding up. :meth:`wait` before the beam figures: they then load those
+    kernels from the cache. Nothing else changes: the helper computes no
+    result the paper uses.
+    """
+
+    def __init__(self) -> None:
+        context = multiprocessing.get_context("spawn")
+        self._pool = ProcessPoolExecutor(max_workers=1, mp_context=context)
+        # the helper starts with this environment: it prints no compile
+        # notice of its own (this process prints the one line)
+        quiet = os.environ.get("HBMFRIC_QUIET")
+        os.environ["HBMFRIC_QUIET"] = "1"
+        try:
+            self._future = self._pool.submit(_paper_beam)
+        finally:
+            if quiet is None:
+                del os.environ["HBMFRIC_QUIET"]
+            else:
+                os.environ["HBMFRIC_QUIET"] = quiet
+
+    @classmethod
+    def start(cls, progress: Callable[[str], None] | None = print):
+        """A helper if this is a :func:`first_run` on two cores or more
+        (one line to ``progress`` says so), else None."""
+        if (os.cpu_count() or 1) < 2 or not first_run():
+            return None
+        if progress:
+            progress(
+                "hbmfric paper: first run of this version: the beam's kernels "
+                "compile in a second process while the SDOF figures run (once)"
+            )
+        return cls()
+
+    def wait(self, progress: Callable[[str], None] | None = print) -> None:
+        """Wait for the helper; a failure of it is reported in one line and
+        otherwise ignored (this process then compiles what it needs)."""
+        try:
+            self._future.result()
+        except Exception as exc:  # the helper only fills the cache
+            if progress:
+                progress(f"hbmfric paper: the compiling helper failed ({exc})")
+        finally:
+            self._pool.shutdown()
