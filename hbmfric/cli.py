@@ -35,7 +35,16 @@ def _paper(args: argparse.Namespace) -> int:
     def computed():
         # each figure is written as soon as it is computed, so that an error
         # (a full disk, a failing scene) never loses the ones before it
-        yield from paper.iter_sdof_figures(harmonics=h, progress=progress)
+        from .warmup import PaperHelper
+
+        # a first run: the beam's kernels compile meanwhile in a second
+        # process (bench/README.md "Issue 17, stop 29")
+        helper = PaperHelper.start(progress)
+        try:
+            yield from paper.iter_sdof_figures(harmonics=h, progress=progress)
+        finally:
+            if helper is not None:
+                helper.wait(progress)
         yield paper.beam_normal_load_family(harmonics=h, progress=progress)
         yield paper.beam_ratio_family(harmonics=h, progress=progress)
         yield paper.beam_validation(harmonics=h, progress=progress)
@@ -183,7 +192,7 @@ def _write_index(path: Path, entries, combined: str | None) -> None:
 def _warmup(args: argparse.Namespace) -> int:
     from .warmup import warmup
 
-    warmup(progress=lambda line: print(line, flush=True))
+    warmup(progress=lambda line: print(line, flush=True), jobs=args.jobs)
     return 0
 
 
@@ -360,6 +369,13 @@ def main(argv: list[str] | None = None) -> int:
         "the one-time Numba compilation happens now rather than in the first "
         "real run (e.g. after pip install, or in a container build).",
     )
+    warm.add_argument(
+        "--jobs",
+        type=_jobs_arg,
+        default=1,
+        help="worker processes that compile at once (default 1; 2 on two "
+        "cores about halves the wait)",
+    )
     warm.set_defaults(func=_warmup)
     args = parser.parse_args(argv)
     return args.func(args)
@@ -375,6 +391,19 @@ def _version() -> str:
         import hbmfric
 
         return getattr(hbmfric, "__version__", "unknown")
+
+
+def _jobs_arg(text: str) -> int:
+    """``--jobs``: a positive integer."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"must be a positive integer, got {text!r}"
+        ) from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be >= 1, got {value}")
+    return value
 
 
 def _pairs_arg(text: str) -> int:

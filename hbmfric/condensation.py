@@ -23,6 +23,7 @@ from .kernels.residuals.condensed import (
     AFT_EVENTS,
     AFT_SAMPLES,
     CONDENSED_FAMILY_TYPES,
+    CONDENSED_SINGLE_TYPES,
     DIRECT,
     MODAL,
     STATE,
@@ -564,12 +565,17 @@ class CondensedHBMProblem(HBMProblem):
             direct_parts = (mass, damping, stiffness, load)
         # a rigid Coulomb contact gets its own type (its residual alone
         # compiles the DLFT kernels), contacts of one AFT family that
-        # family's type (its residual compiles that AFT alone)
+        # family's type (its residual compiles that AFT alone), one contact
+        # to ground of such a family its one-contact type (its kernels do
+        # not compile the several-contact path)
         if law_code == COULOMB:
             kind = CondensedCoulombProblem
         else:
             family = aft_family(codes, aft_code)
-            kind = CONDENSED_FAMILY_TYPES.get(family, CondensedProblem)
+            if self.multi:
+                kind = CONDENSED_FAMILY_TYPES.get(family, CondensedProblem)
+            else:
+                kind = CONDENSED_SINGLE_TYPES.get(family, CondensedProblem)
         self.kernel_problem = kind(
             hn,
             *modal_parts,

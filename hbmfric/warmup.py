@@ -8,13 +8,30 @@ moves that wait out of the first real run. Each step is a tiny problem that
 goes through one path of the engine: every contact law's AFT, the condensed
 beam, the adaptive harmonics, Hill's stability, one-frequency solves and
 the time-integration reference.
+
+With ``jobs=2`` (``hbmfric warmup --jobs 2``) the steps run in two worker
+processes that fill the same cache (:func:`lanes`): on two cores the wait
+is about that of the longer lane instead of both. Numba writes each cached
+kernel atomically (a file written aside, then renamed), so two processes
+never read a half-written kernel; a kernel both compile is written twice,
+the same code.
 """
 
 from __future__ import annotations
 
+import glob
+import multiprocessing
+import os
 import time
 import warnings
 from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor, as_completed
+
+#: the step that leads the second lane: the condensed beam compiles the
+#: condensed continuation kernels, which no other step uses, while the
+#: first lane compiles the full ones; the lanes' later steps then find most
+#: of what they share in the cache
+CONDENSED_STEP = "beam FRF (condensed)"
 
 
 def _steps() -> list[tuple[str, Callable[[], object]]]:
@@ -88,29 +105,191 @@ def _steps() -> list[tuple[str, Callable[[], object]]]:
     ]
 
 
-def warmup(progress: Callable[[str], None] | None = print) -> dict[str, float]:
+def lanes(names: list[str], jobs: int) -> list[list[str]]:
+    """The steps of each worker process: :data:`CONDENSED_STEP` leads the
+    second lane, the other steps are dealt in their order, each to the
+    first of the lanes with the fewest steps.
+
+    Parameters
+    ----------
+    names : list of str
+        Step names in their order.
+    jobs : int
+        Number of lanes, >= 1.
+
+    Returns
+    -------
+    list of list of str
+        ``jobs`` lanes (some empty if there are fewer steps); every step in
+        exactly one.
+    """
+    out: list[list[str]] = [[] for _ in range(jobs)]
+    rest = list(names)
+    if jobs > 1 and CONDENSED_STEP in rest:
+        rest.remove(CONDENSED_STEP)
+        out[1].append(CONDENSED_STEP)
+    for name in rest:
+        min(out, key=len).append(name)  # the first of the shortest lanes
+    return out
+
+
+def _run_steps(
+    names: list[str], progress: Callable[[str], None] | None = None
+) -> list[tuple[str, float]]:
+    """Run the named steps in this process; (name, seconds) of each."""
+    steps = dict(_steps())
+    times = []
+    for name in names:
+        t = time.perf_counter()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            steps[name]()
+        times.append((name, time.perf_counter() - t))
+        if progress:
+            progress(f"warmup: {name}: {times[-1][1]:.2f} s")
+    return times
+
+
+def warmup(
+    progress: Callable[[str], None] | None = print, jobs: int = 1
+) -> dict[str, float]:
     """Run one tiny problem through each path of the engine.
 
     Parameters
     ----------
     progress : callable or None
         Receives one line per step (``print`` by default).
+    jobs : int
+        Worker processes (default 1: every step in this process); with
+        more, the steps are split into :func:`lanes` run by that many
+        fresh processes at once (``spawn``), each filling the same cache.
 
     Returns
     -------
     dict
-        Seconds per step (compilation or cache loading included).
+        Seconds per step (compilation or cache loading included; wall time
+        in its worker).
+
+    Raises
+    ------
+    ValueError
+        If ``jobs`` is not a positive integer.
     """
-    times = {}
+    if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
+        raise ValueError(f"jobs must be a positive integer, got {jobs!r}")
     total = time.perf_counter()
-    for name, step in _steps():
-        t = time.perf_counter()
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            step()
-        times[name] = time.perf_counter() - t
-        if progress:
-            progress(f"warmup: {name}: {times[name]:.2f} s")
+    names = [name for name, _ in _steps()]
+    if jobs == 1:
+        times = dict(_run_steps(names, progress))
+    else:
+        times = {}
+        context = multiprocessing.get_context("spawn")
+        with ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
+            futures = [
+                pool.submit(_run_steps, lane) for lane in lanes(names, jobs) if lane
+            ]
+            for future in as_completed(futures):
+                for name, seconds in future.result():
+                    times[name] = seconds
+                    if progress:
+                        progress(f"warmup: {name}: {seconds:.2f} s")
     if progress:
         progress(f"warmup: done in {time.perf_counter() - total:.1f} s")
     return times
+
+
+def first_run(cache_dir: str | None = None) -> bool:
+    """Is this the first run of the installed version: does its kernel cache
+    hold no continuation kernel yet?
+
+    Parameters
+    ----------
+    cache_dir : str, optional
+        The version's cache directory (default
+        :data:`hbmfric._jit.CACHE_DIR`).
+
+    Returns
+    -------
+    bool
+        True if ``cache_dir`` holds no cache index of
+        :func:`hbmfric.kernels.steps.arclength.trace`; False also without a
+        cache (a second process's compilation would then be lost).
+    """
+    if cache_dir is None:
+        # absolute import: this module holds no kernel, and a relative
+        # import of _jit would make it one of the sources whose hash keys
+        # the cache (hbmfric._jit.kernel_sources)
+        from hbmfric import _jit
+
+        cache_dir = _jit.CACHE_DIR
+    if cache_dir is None:
+        return False
+    pattern = os.path.join(cache_dir, "kernels", "steps", "arclength.trace-*.nbi")
+    return not glob.glob(pattern)
+
+
+def _paper_beam() -> None:
+    """One FRF of the paper beam as the paper computes them (Fn = 5 N,
+    condensed, ``harmonics="auto"``): it compiles the beam's kernels."""
+    import hbmfric as hf
+    from hbmfric.paper.beam import PAPER_BEAM_SCENE, _omega_range, paper_beam
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        hf.frf(
+            paper_beam(5.0),
+            2.0,
+            _omega_range(PAPER_BEAM_SCENE),
+            "auto",
+            max_step=PAPER_BEAM_SCENE["max_step"],
+        )
+
+
+class PaperHelper:
+    """The paper beam's kernels compiled in a second process while this one
+    computes the SDOF figures (a first run on a machine of two cores or
+    more): the beam's continuation kernels (condensed) share nothing with
+    the SDOF ones (full), so the two compilations overlap instead of
+    adding up. :meth:`wait` before the beam figures: they then load those
+    kernels from the cache. Nothing else changes: the helper computes no
+    result the paper uses.
+    """
+
+    def __init__(self) -> None:
+        context = multiprocessing.get_context("spawn")
+        self._pool = ProcessPoolExecutor(max_workers=1, mp_context=context)
+        # the helper starts with this environment: it prints no compile
+        # notice of its own (this process prints the one line)
+        quiet = os.environ.get("HBMFRIC_QUIET")
+        os.environ["HBMFRIC_QUIET"] = "1"
+        try:
+            self._future = self._pool.submit(_paper_beam)
+        finally:
+            if quiet is None:
+                del os.environ["HBMFRIC_QUIET"]
+            else:
+                os.environ["HBMFRIC_QUIET"] = quiet
+
+    @classmethod
+    def start(cls, progress: Callable[[str], None] | None = print):
+        """A helper if this is a :func:`first_run` on two cores or more
+        (one line to ``progress`` says so), else None."""
+        if (os.cpu_count() or 1) < 2 or not first_run():
+            return None
+        if progress:
+            progress(
+                "hbmfric paper: first run of this version: the beam's kernels "
+                "compile in a second process while the SDOF figures run (once)"
+            )
+        return cls()
+
+    def wait(self, progress: Callable[[str], None] | None = print) -> None:
+        """Wait for the helper; a failure of it is reported in one line and
+        otherwise ignored (this process then compiles what it needs)."""
+        try:
+            self._future.result()
+        except Exception as exc:  # the helper only fills the cache
+            if progress:
+                progress(f"hbmfric paper: the compiling helper failed ({exc})")
+        finally:
+            self._pool.shutdown()

@@ -17,10 +17,10 @@ from hbmfric.condensation import CondensedHBMProblem
 from hbmfric.hbm import HBMProblem
 from hbmfric.kernels.laws.updates import CUBIC, DAHL, IWAN, JENKINS, MENQ
 from hbmfric.kernels.residuals.condensed import (
-    CondensedDahlProblem,
-    CondensedJenkinsProblem,
-    CondensedMasingProblem,
     CondensedProblem,
+    CondensedSingleDahlProblem,
+    CondensedSingleJenkinsProblem,
+    CondensedSingleMasingProblem,
     condensed_residual,
 )
 from hbmfric.kernels.residuals.hbm import (
@@ -68,10 +68,10 @@ def test_aft_family_rule(codes, scheme, family):
 @pytest.mark.parametrize(
     "law, aft, full, condensed",
     [
-        (JENKINS_LAW, "events", JenkinsProblem, CondensedJenkinsProblem),
+        (JENKINS_LAW, "events", JenkinsProblem, CondensedSingleJenkinsProblem),
         (JENKINS_LAW, "samples", tuple, CondensedProblem),
-        (MENQ_LAW, "events", MasingProblem, CondensedMasingProblem),
-        (IWAN_LAW, "events", MasingProblem, CondensedMasingProblem),
+        (MENQ_LAW, "events", MasingProblem, CondensedSingleMasingProblem),
+        (IWAN_LAW, "events", MasingProblem, CondensedSingleMasingProblem),
         (hf.Cubic(0.2), "events", tuple, CondensedProblem),
     ],
 )
@@ -87,7 +87,7 @@ def test_dahl_problem_type():
     law = hf.ModifiedDahl(beta=50.0, upper=(2.0, 0.5), lower=(2.0, -0.5))
     assert type(HBMProblem(_osc(law), 0.5, 5).kernel_problem) is DahlProblem
     assert type(CondensedHBMProblem(_osc(law), 0.5, 5).kernel_problem) is (
-        CondensedDahlProblem
+        CondensedSingleDahlProblem
     )
 
 
@@ -118,7 +118,7 @@ def test_jenkins_type_same_residual_as_general(amplitude):
 def test_condensed_jenkins_type_same_residual_as_general():
     problem = CondensedHBMProblem(_osc(JENKINS_LAW), 0.5, 7)
     kp = problem.kernel_problem
-    assert type(kp) is CondensedJenkinsProblem
+    assert type(kp) is CondensedSingleJenkinsProblem
     y = _y(problem, 2.0, 1.1)
     n = problem.n_unknowns
     R, J = np.empty(n), np.empty((n, n + 1))

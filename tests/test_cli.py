@@ -4,6 +4,7 @@ curves are the linear stuck and slipping FRFs."""
 import csv
 
 import numpy as np
+import pytest
 
 from hbmfric.cli import main
 from hbmfric.paper import PAPER_SDOF
@@ -76,6 +77,65 @@ def test_warmup_runs_every_path(capsys):
         "time integration",
     ):
         assert f"warmup: {step}" in out
+    assert "warmup: done" in out
+
+
+def test_warmup_lanes_hold_every_step_once():
+    """``hbmfric warmup --jobs N`` deals the steps to N worker processes:
+    every step in exactly one lane, the condensed beam leading the second
+    (its continuation kernels are the ones no other step compiles), one
+    lane keeps the order; a job count below 1 is refused."""
+    from hbmfric.warmup import CONDENSED_STEP, _steps, lanes, warmup
+
+    names = [name for name, _ in _steps()]
+    assert CONDENSED_STEP in names
+    assert lanes(names, 1) == [names]
+    for jobs in (2, 3, len(names) + 2):
+        dealt = lanes(names, jobs)
+        assert len(dealt) == jobs
+        assert sorted(sum(dealt, [])) == sorted(names)
+        assert dealt[1][0] == CONDENSED_STEP
+        assert max(map(len, dealt)) - min(map(len, dealt)) <= 1 or jobs > len(names)
+    for bad in (0, -1, 1.5, True):
+        with pytest.raises(ValueError, match="jobs"):
+            warmup(progress=None, jobs=bad)
+    with pytest.raises(SystemExit):
+        main(["warmup", "--jobs", "0"])
+
+
+def test_first_run_is_read_from_the_cache(tmp_path):
+    """The first run of a version (``hbmfric paper`` then compiles the
+    beam's kernels in a second process) is one whose cache holds no index
+    of the continuation's ``trace``; without a cache it is never one."""
+    from hbmfric.warmup import PaperHelper, first_run
+
+    assert first_run(str(tmp_path))
+    steps = tmp_path / "kernels" / "steps"
+    steps.mkdir(parents=True)
+    (steps / "arclength.other-10.py311.nbi").write_bytes(b"")
+    assert first_run(str(tmp_path))
+    (steps / "arclength.trace-671.py311.nbi").write_bytes(b"")
+    assert not first_run(str(tmp_path))
+    # this run's own cache holds the continuation kernels after one FRF:
+    # no helper
+    import hbmfric as hf
+
+    law = hf.Jenkins(stiffness=3.0, slip_force=1.0)
+    hf.frf(hf.Oscillator(1.0, 0.02, 1.0, law), 0.5, (0.5, 3.0), 5)
+    lines = []
+    assert PaperHelper.start(lines.append) is None and not lines
+
+
+@pytest.mark.slow
+def test_warmup_in_two_processes_runs_every_path(capsys):
+    """``hbmfric warmup --jobs 2`` runs every step in one of two worker
+    processes and reports each once."""
+    from hbmfric.warmup import _steps
+
+    assert main(["warmup", "--jobs", "2"]) == 0
+    out = capsys.readouterr().out
+    for name, _ in _steps():
+        assert out.count(f"warmup: {name}: ") == 1, name
     assert "warmup: done" in out
 
 

@@ -776,14 +776,14 @@ def test_coulomb_problem_type_carries_the_dlft():
     """A rigid Coulomb contact builds a ``CoulombProblem`` (full) or a
     ``CondensedCoulombProblem``, the only types whose residual compiles the
     DLFT kernels; a Jenkins contact builds the types of its AFT family
-    (``JenkinsProblem``, ``CondensedJenkinsProblem``, without the DLFT),
+    (``JenkinsProblem``, ``CondensedSingleJenkinsProblem``, without the DLFT),
     a memoryless one the plain tuple. The same Coulomb data in a plain tuple
     give the refusal status (the DLFT is not compiled into it), in a
     CoulombProblem the DLFT residual of the problem itself."""
     from hbmfric.condensation import CondensedHBMProblem
     from hbmfric.kernels.residuals.condensed import (
         CondensedCoulombProblem,
-        CondensedJenkinsProblem,
+        CondensedSingleJenkinsProblem,
     )
     from hbmfric.kernels.residuals.hbm import (
         NOT_A_COULOMB_PROBLEM,
@@ -802,7 +802,7 @@ def test_coulomb_problem_type_carries_the_dlft():
     cond = CondensedHBMProblem(osc, 1.0, 5)
     assert type(cond.kernel_problem) is CondensedCoulombProblem
     assert type(CondensedHBMProblem(jenkins, 1.0, 5).kernel_problem) is (
-        CondensedJenkinsProblem
+        CondensedSingleJenkinsProblem
     )
     y = np.zeros(problem.n_unknowns + 1)
     y[0] = 0.1

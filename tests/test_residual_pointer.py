@@ -73,6 +73,9 @@ CHAIN_CASES = {
     "condensed coulomb": lambda: CondensedHBMProblem(
         _osc(hf.Coulomb(slip_force=1.0)), 0.5, 7
     ),
+    "condensed menq": lambda: CondensedHBMProblem(
+        _osc(hf.Menq.from_stiffness(stiffness=3.0, slip_force=1.0)), 0.5, 7
+    ),
 }
 
 
@@ -124,18 +127,23 @@ def test_chain_problem_gives_the_residual_bit_for_bit(case, amplitude):
 def test_one_chain_type_per_residual():
     """Every full problem type (AFT families, plain tuple, rigid Coulomb)
     reaches the continuation kernels as one Numba type, every condensed one
-    as another; the residual itself is resolved for the problem's own type
-    only (a chain problem does not name the law family)."""
-    full = [
-        _type_of(chain_problem(CHAIN_CASES[c]().kernel_problem))
-        for c in ("jenkins", "menq", "dahl", "cubic (plain tuple)", "coulomb")
-    ]
+    of one contact to ground of an AFT family as another, the other
+    condensed ones (rigid Coulomb, the general type) as a third; the
+    residual itself is resolved for the problem's own type only (a chain
+    problem does not name the law family)."""
+
+    def chain_types(cases):
+        return [_type_of(chain_problem(CHAIN_CASES[c]().kernel_problem)) for c in cases]
+
+    full = chain_types(("jenkins", "menq", "dahl", "cubic (plain tuple)", "coulomb"))
     assert len(set(full)) == 1
-    condensed = [
-        _type_of(chain_problem(CHAIN_CASES[c]().kernel_problem))
-        for c in ("condensed jenkins", "condensed coulomb")
-    ]
-    assert len(set(condensed)) == 1 and condensed[0] != full[0]
+    single = chain_types(("condensed jenkins", "condensed menq"))
+    assert len(set(single)) == 1 and single[0] != full[0]
+    condensed = chain_types(("condensed coulomb",))
+    general = CondensedHBMProblem(_osc(hf.Cubic(0.2)), 0.5, 7).kernel_problem
+    condensed.append(_type_of(chain_problem(general)))
+    assert len(set(condensed)) == 1
+    assert condensed[0] not in (full[0], single[0])
     kp = CASES["jenkins"]().kernel_problem
     assert chain_problem(chain_problem(kp)) == chain_problem(kp)
     with pytest.raises(TypeError, match="not its chain_problem"):
@@ -183,11 +191,17 @@ def _defined_functions(dispatcher):
     module otherwise)."""
     names = set()
     for cres in dispatcher.overloads.values():
-        module = getattr(cres.library, "_shared_module", None)
-        if module is None:
-            module = cres.library._final_module
-        names.update(f.name for f in module.functions if not f.is_declaration)
+        names.update(_defined(cres))
     return names
+
+
+def _defined(cres):
+    """Names of the functions one compiled signature defines (see
+    :func:`_defined_functions`)."""
+    module = getattr(cres.library, "_shared_module", None)
+    if module is None:
+        module = cres.library._final_module
+    return {f.name for f in module.functions if not f.is_declaration}
 
 
 def test_chain_kernels_do_not_link_the_residual():
@@ -208,3 +222,50 @@ def test_chain_kernels_do_not_link_the_residual():
             if "hbm_residual" in name or "aft_jenkins_events" in name
         ]
         assert not linked, (kernel, linked[:3])
+
+
+#: functions of the several-contact path (coordinates, their receptances
+#: and drawn output) and of the iterative solvers of the condensed chain
+SEVERAL_CONTACT_PATH = (
+    "_coordinates_residual",
+    "_coordinates_linear",
+    "_coordinates_drawn",
+    "state_matrix",
+    "block_solve",
+    "reuse_solve",
+    "gmres_blocks",
+)
+
+
+def _overload_for(dispatcher, numba_type):
+    """The compiled code of ``dispatcher`` whose signature takes an
+    argument of ``numba_type``."""
+    found = [
+        cres
+        for args, cres in dispatcher.overloads.items()
+        if any(a == numba_type for a in args)
+    ]
+    assert len(found) == 1, (dispatcher, numba_type, list(dispatcher.overloads))
+    return found[0]
+
+
+def test_one_contact_to_ground_compiles_no_several_contact_path():
+    """A problem condensed onto one contact to ground (the paper beam's
+    kind) never runs the several-contact path (empty ``law_codes``) nor the
+    iterative solvers (solver arrays of order 0): its residual and the
+    continuation kernels of its chain type do not compile them (they did,
+    about 40 s of the paper's first run, bench/README.md "Issue 17, stop
+    29"); the several-contact chain type still does. Reference: the
+    functions each compiled kernel defines."""
+    jenkins = hf.Jenkins(stiffness=3.0, slip_force=1.0)
+    b = hf.frf(_osc(jenkins), 0.5, (0.5, 3.0), "auto", condense=True)
+    assert b.stop_reason.startswith("end")
+    kp = CondensedHBMProblem(_osc(jenkins), 0.5, 7).kernel_problem
+    kernels = [(condensed_residual, _type_of(kp))]
+    chain = _type_of(chain_problem(kp))
+    for kernel in (newton.correct, arclength.trace, truncation.branch_truncation):
+        kernels.append((kernel, chain))
+    for kernel, numba_type in kernels:
+        defined = _defined(_overload_for(kernel, numba_type))
+        compiled = [name for name in defined for f in SEVERAL_CONTACT_PATH if f in name]
+        assert not compiled, (kernel, compiled[:3])

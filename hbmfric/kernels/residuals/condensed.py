@@ -97,6 +97,7 @@ dispatcher :func:`hbmfric.kernels.residuals.dispatch.residual` recognises its ty
 from collections import namedtuple
 
 import numpy as np
+from numba import types
 from numba.extending import overload
 
 from ..._jit import jit
@@ -222,20 +223,78 @@ CONDENSED_FAMILY_TYPES = {
     DAHL_FAMILY: CondensedDahlProblem,
 }
 
+
+def _single_type(name, family):
+    kind = namedtuple(name, CondensedProblem._fields)
+    kind.__doc__ = f"""A :class:`CondensedProblem` of one contact to ground of
+the {family!r} AFT family (empty ``law_codes``): the same fields in their
+own type, whose residual compiles that family's AFT and the single
+contact's path alone, not the several-contact one
+(:func:`_coordinates_residual`); the continuation kernels take it as a
+:class:`CondensedSingleChainProblem`, which solves with dense factors
+only."""
+    kind.aft_family = family
+    return kind
+
+
+CondensedSingleJenkinsProblem = _single_type(
+    "CondensedSingleJenkinsProblem", JENKINS_FAMILY
+)
+CondensedSingleMasingProblem = _single_type(
+    "CondensedSingleMasingProblem", MASING_FAMILY
+)
+CondensedSingleDahlProblem = _single_type("CondensedSingleDahlProblem", DAHL_FAMILY)
+
+#: problem class of each AFT family for one condensed contact to ground
+CONDENSED_SINGLE_TYPES = {
+    JENKINS_FAMILY: CondensedSingleJenkinsProblem,
+    MASING_FAMILY: CondensedSingleMasingProblem,
+    DAHL_FAMILY: CondensedSingleDahlProblem,
+}
+
 CondensedChainProblem = namedtuple("CondensedChainProblem", CondensedProblem._fields)
 CondensedChainProblem.__doc__ = """A condensed kernel problem as the
 continuation kernels receive it (:func:`hbmfric.kernels.residuals.pointer.
 chain_problem`): the :class:`CondensedProblem` fields in one type for every
-condensed problem type (see :class:`hbmfric.kernels.residuals.hbm.
-ChainProblem`). Never passed to :func:`condensed_residual` itself."""
+condensed problem type but those of one contact to ground (see
+:class:`hbmfric.kernels.residuals.hbm.ChainProblem`). Never passed to
+:func:`condensed_residual` itself."""
+
+CondensedSingleChainProblem = namedtuple(
+    "CondensedSingleChainProblem", CondensedProblem._fields
+)
+CondensedSingleChainProblem.__doc__ = """A condensed kernel problem of one
+contact to ground (:data:`CONDENSED_SINGLE_TYPES`) as the continuation
+kernels receive it: they compile for it without the solvers and the drawn
+output of several contact coordinates. Never passed to
+:func:`condensed_residual` itself."""
+
+#: the condensed problem classes of one contact to ground, whose kernels
+#: do not compile the several-contact path
+SINGLE_CONTACT_TYPES = (*CONDENSED_SINGLE_TYPES.values(), CondensedSingleChainProblem)
 
 #: every condensed problem class (the residual dispatch sends them here)
 CONDENSED_TYPES = (
     CondensedProblem,
     CondensedCoulombProblem,
     *CONDENSED_FAMILY_TYPES.values(),
+    *SINGLE_CONTACT_TYPES,
     CondensedChainProblem,
 )
+
+#: status of the residual of a one-contact type
+#: (:data:`SINGLE_CONTACT_TYPES`) whose ``law_codes`` are not empty (its
+#: several-contact path is not compiled)
+NOT_ONE_CONTACT = -104
+
+
+def is_single_contact(problem) -> bool:
+    """Is the Numba type ``problem`` a condensed problem of one contact to
+    ground (:data:`SINGLE_CONTACT_TYPES`)? For compile-time dispatch."""
+    return (
+        isinstance(problem, types.BaseNamedTuple)
+        and problem.instance_class in SINGLE_CONTACT_TYPES
+    )
 
 
 @jit
@@ -367,7 +426,7 @@ def condensed_residual(y, problem, R, J):
         Contact-state code of the AFT (negative on failure).
     """
     if problem.law_codes.size > 0:
-        return _coordinates_residual(y, problem, R, J)
+        return coordinates_residual(y, problem, R, J)
     status = _condensed_linear(y, problem, R, J)
     if status < 0:
         return status
@@ -629,7 +688,7 @@ def condensed_contact_forces(points, problem, F):
         Lowest AFT status met (negative on a failure).
     """
     if problem.law_codes.size > 0:
-        return _coordinate_forces(points, problem, F)
+        return coordinate_forces(points, problem, F)
     n = problem.inverse.shape[1]
     dF = np.empty((n, n))
     f = np.empty(n)
@@ -1286,6 +1345,47 @@ def _coordinate_forces(points, problem, F):
             for j in range(n_coef):
                 F[i, base + j] = f[j]
     return worst
+
+
+def coordinates_residual(y, problem, R, J):
+    """:func:`_coordinates_residual`; for a problem of one contact to
+    ground (:func:`is_single_contact`) it compiles to ``return
+    NOT_ONE_CONTACT`` without compiling the several-contact path. Callable
+    from jitted code only."""
+    raise NotImplementedError("coordinates_residual is for jit code")
+
+
+def _several_residual(y, problem, R, J):
+    return _coordinates_residual(y, problem, R, J)
+
+
+def _one_contact_residual(y, problem, R, J):
+    return NOT_ONE_CONTACT
+
+
+@overload(coordinates_residual, jit_options=JIT_OPTIONS)
+def _coordinates_residual_entry(y, problem, R, J):
+    return _one_contact_residual if is_single_contact(problem) else _several_residual
+
+
+def coordinate_forces(points, problem, F):
+    """:func:`_coordinate_forces`; for a problem of one contact to ground
+    it compiles to ``return NOT_ONE_CONTACT``. Callable from jitted code
+    only."""
+    raise NotImplementedError("coordinate_forces is for jit code")
+
+
+def _several_forces(points, problem, F):
+    return _coordinate_forces(points, problem, F)
+
+
+def _one_contact_forces(points, problem, F):
+    return NOT_ONE_CONTACT
+
+
+@overload(coordinate_forces, jit_options=JIT_OPTIONS)
+def _coordinate_forces_entry(points, problem, F):
+    return _one_contact_forces if is_single_contact(problem) else _several_forces
 
 
 # ----------------------------------------------------------------------

@@ -19,6 +19,7 @@ from .condensed import (
     CONDENSED_TYPES,
     condensed_residual,
     coordinates_drawn,
+    is_single_contact,
 )
 from .hbm import JIT_OPTIONS, hbm_residual
 
@@ -37,6 +38,16 @@ def _is_condensed(problem) -> bool:
         isinstance(problem, types.BaseNamedTuple)
         and problem.instance_class in CONDENSED_TYPES
     )
+
+
+def _on_coordinates(problem) -> bool:
+    """Is the Numba type ``problem`` a condensed problem that may stand on
+    several contact coordinates (every condensed type but those of one
+    contact to ground, :func:`~hbmfric.kernels.residuals.condensed.
+    is_single_contact`)? Their continuation kernels compile the iterative
+    solvers and the drawn output of several coordinates; for one contact
+    to ground those are the full problem's."""
+    return _is_condensed(problem) and not is_single_contact(problem)
 
 
 @overload(residual, jit_options=JIT_OPTIONS)
@@ -94,7 +105,8 @@ def drawn_output(problem, y, t, scale, column, coefficients):
 
 @overload(drawn_output, jit_options=JIT_OPTIONS)
 def _drawn_output(problem, y, t, scale, column, coefficients):
-    if _is_condensed(problem):
+    # one contact to ground: coordinates_drawn returns False at run time
+    if _on_coordinates(problem):
 
         def condensed(problem, y, t, scale, column, coefficients):
             return coordinates_drawn(problem, y, t, scale, column, coefficients)

@@ -36,7 +36,13 @@ from numba import types
 from numba.core import cgutils, errors
 from numba.extending import intrinsic
 
-from .condensed import CONDENSED_TYPES, CondensedChainProblem, condensed_residual
+from .condensed import (
+    CONDENSED_TYPES,
+    SINGLE_CONTACT_TYPES,
+    CondensedChainProblem,
+    CondensedSingleChainProblem,
+    condensed_residual,
+)
 from .dispatch import _is_condensed
 from .hbm import ChainProblem, hbm_residual
 
@@ -100,7 +106,7 @@ def residual_address(problem) -> int:
     key = _key(problem)
     address = _ADDRESSES.get(key)
     if address is None:
-        if type(problem) in (ChainProblem, CondensedChainProblem):
+        if type(problem) in _CHAIN_TYPES:
             raise TypeError(
                 "residual_address takes the kernel problem itself, not its "
                 "chain_problem (whose type does not name the law family)"
@@ -153,6 +159,9 @@ def call_residual(typingctx, address, y, problem, R, J):
     return sig, codegen
 
 
+#: the types of :func:`chain_problem`
+_CHAIN_TYPES = (ChainProblem, CondensedChainProblem, CondensedSingleChainProblem)
+
 #: problem keys (as :data:`_ADDRESSES`) whose :func:`chain_problem` has
 #: the problem's own field types; process-local
 _CHAIN_CHECKED: set = set()
@@ -162,8 +171,10 @@ def chain_problem(problem):
     """The kernel ``problem`` as the continuation kernels take it: its
     fields in :class:`~hbmfric.kernels.residuals.hbm.ChainProblem` (a full
     problem) or :class:`~hbmfric.kernels.residuals.condensed.
-    CondensedChainProblem` (a condensed one), one type for every law family,
-    so that those kernels compile once for all of them. They call the
+    CondensedChainProblem` (a condensed one;
+    :class:`~hbmfric.kernels.residuals.condensed.CondensedSingleChainProblem`
+    for one contact to ground), one type for every law family, so that
+    those kernels compile once for all of them. They call the
     residual through :func:`residual_address` of ``problem`` itself (its
     own type's residual).
 
@@ -177,7 +188,7 @@ def chain_problem(problem):
 
     Returns
     -------
-    ChainProblem or CondensedChainProblem
+    ChainProblem, CondensedChainProblem or CondensedSingleChainProblem
         The same field values.
 
     Raises
@@ -189,11 +200,14 @@ def chain_problem(problem):
         problem type and process).
     """
     kind = type(problem)
-    if kind is ChainProblem or kind is CondensedChainProblem:
+    if kind in _CHAIN_TYPES:
         return problem
-    view = (CondensedChainProblem if kind in CONDENSED_TYPES else ChainProblem)(
-        *problem
-    )
+    if kind in SINGLE_CONTACT_TYPES:
+        view = CondensedSingleChainProblem(*problem)
+    elif kind in CONDENSED_TYPES:
+        view = CondensedChainProblem(*problem)
+    else:
+        view = ChainProblem(*problem)
     key = _key(problem)
     if key not in _CHAIN_CHECKED:
         own, chain = numba.typeof(problem), numba.typeof(view)

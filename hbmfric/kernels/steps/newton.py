@@ -13,7 +13,7 @@ from ..._jit import jit, jit_inline
 from ..linalg.blocks import block_solve
 from ..linalg.krylov import REUSE_MODE, REUSE_MODE_BLOCKS, reuse_solve
 from ..linalg.lu import lu_factor, lu_solve, solve_inplace
-from ..residuals.dispatch import _is_condensed, rounding_level
+from ..residuals.dispatch import _on_coordinates, rounding_level
 from ..residuals.hbm import JIT_OPTIONS
 from ..residuals.pointer import call_residual
 
@@ -111,7 +111,8 @@ def bordered_solve(problem, A, piv, b):
 
 @overload(bordered_solve, jit_options=JIT_OPTIONS)
 def _bordered_solve(problem, A, piv, b):
-    if _is_condensed(problem):
+    # one contact to ground carries no solver arrays (order 0): dense
+    if _on_coordinates(problem):
 
         def condensed(problem, A, piv, b):
             solver = problem.solver
@@ -191,7 +192,7 @@ def bordered_tangent(problem, A, piv, out):
 
 @overload(bordered_tangent, jit_options=JIT_OPTIONS)
 def _bordered_tangent(problem, A, piv, out):
-    if _is_condensed(problem):
+    if _on_coordinates(problem):
 
         def condensed(problem, A, piv, out):
             solver = problem.solver

@@ -21,7 +21,7 @@ from ..linalg.krylov import (
     REUSE_TOL,
 )
 from ..linalg.lu import solve_inplace
-from ..residuals.dispatch import _is_condensed
+from ..residuals.dispatch import _on_coordinates
 from ..residuals.hbm import JIT_OPTIONS
 from ..residuals.pointer import call_residual
 
@@ -53,7 +53,8 @@ def probe_solve(problem, A, b, n_dof, n_coef, first):
 
 @overload(probe_solve, jit_options=JIT_OPTIONS)
 def _probe_solve(problem, A, b, n_dof, n_coef, first):
-    if _is_condensed(problem):
+    # one contact to ground carries no solver arrays (order 0): dense
+    if _on_coordinates(problem):
 
         def condensed(problem, A, b, n_dof, n_coef, first):
             state = problem.solver[3]
