@@ -39,7 +39,7 @@ marched: ``F = F_v + K0 (u - u_v)``.
 
 import numpy as np
 
-from ..._jit import jit
+from ..._jit import jit, jit_inline
 from ..fourier.dft import basis_at, evaluate
 from ..fourier.segments import trig_series
 from ..laws.updates import (
@@ -308,6 +308,13 @@ def aft_samples(code, params, X, inverse, forward, F, dF):
 # Event-located Jenkins AFT
 # ----------------------------------------------------------------------------
 
+# The helpers the kernel calls several times per evaluation (the segment
+# sums, the root refinement, the assembly) are inlined (``jit_inline``): a
+# call between compiled kernels passes each array as its unpacked fields,
+# and with a dozen arrays per call that was 0.1-0.2 µs a call, about a tenth
+# of an evaluation at H = 21 (bench/README.md "Issue 18, stop 29"). The
+# arithmetic is unchanged: the same bits.
+
 
 @jit
 def _locate(harmonic_numbers, X, lo, hi, level, on_slope):
@@ -323,7 +330,7 @@ def _locate(harmonic_numbers, X, lo, hi, level, on_slope):
     return _refine(harmonic_numbers, X, lo, hi, g_lo, g_hi, level, on_slope)
 
 
-@jit
+@jit_inline
 def _refine(harmonic_numbers, X, lo, hi, g_lo, g_hi, level, on_slope):
     """:func:`_locate` with the bracket-end values ``g_lo``, ``g_hi`` of the
     function (``u - level`` or ``u'``) already known."""
@@ -367,7 +374,7 @@ def _hermite_root(a, b, va, vb, wa, wb):
     return a + t * L
 
 
-@jit
+@jit_inline
 def _newton_from(harmonic_numbers, X, lo, hi, g_lo, theta, level, on_slope):
     """The safeguarded Newton iteration of :func:`_locate` from ``theta``
     inside the bracket ``[lo, hi]`` (``g_lo``: the function at ``lo``)."""
@@ -412,6 +419,9 @@ def _samples_uv(harmonic_numbers, X, inverse, derivative, u, v):
     read: ``θ → 2π - θ`` flips the sines, ``θ → π ± θ`` flips the odd
     harmonics, so each row gives four samples from eight partial sums
     (a quarter of the products of ``inverse @ X`` and ``derivative @ X``).
+    Two rows are summed in one pass over the harmonics: the sums are
+    chains of dependent additions, and two rows' chains run side by side
+    (each sum in the same order as one row alone: the same bits).
     """
     n = u.size
     n_coef = X.size
@@ -426,8 +436,10 @@ def _samples_uv(harmonic_numbers, X, inverse, derivative, u, v):
             v[i] = b
         return
     quarter = n // 4
-    half = n // 2
-    for i in range(quarter + 1):
+    i = 0
+    while i <= quarter:
+        # rows i and i2 (i2 = i when i is the last row: computed twice)
+        i2 = i + 1 if i < quarter else i
         ce = 0.0  # Σ_even a_k cos kθ
         se = 0.0  # Σ_even b_k sin kθ
         co = 0.0
@@ -436,37 +448,66 @@ def _samples_uv(harmonic_numbers, X, inverse, derivative, u, v):
         dse = 0.0  # Σ_even k a_k sin kθ
         dco = 0.0
         dso = 0.0
+        ce2 = 0.0
+        se2 = 0.0
+        co2 = 0.0
+        so2 = 0.0
+        dce2 = 0.0
+        dse2 = 0.0
+        dco2 = 0.0
+        dso2 = 0.0
         col = 0
         for k in harmonic_numbers:
             if k == 0:
                 ce += X[col]
+                ce2 += X[col]
                 col += 1
                 continue
-            ck = inverse[i, col]
-            sk = inverse[i, col + 1]
             a = X[col]
             b = X[col + 1]
+            ck = inverse[i, col]
+            sk = inverse[i, col + 1]
+            ck2 = inverse[i2, col]
+            sk2 = inverse[i2, col + 1]
             if k % 2 == 0:
                 ce += a * ck
                 se += b * sk
                 dce += k * b * ck
                 dse += k * a * sk
+                ce2 += a * ck2
+                se2 += b * sk2
+                dce2 += k * b * ck2
+                dse2 += k * a * sk2
             else:
                 co += a * ck
                 so += b * sk
                 dco += k * b * ck
                 dso += k * a * sk
+                co2 += a * ck2
+                so2 += b * sk2
+                dco2 += k * b * ck2
+                dso2 += k * a * sk2
             col += 2
-        # θ_i, 2π - θ_i, π + θ_i, π - θ_i
-        j = (n - i) % n
-        u[j] = ce - se + co - so
-        v[j] = dce + dse + dco + dso
-        u[half + i] = ce + se - co - so
-        v[half + i] = dce - dse - dco + dso
-        u[half - i] = ce - se - co + so
-        v[half - i] = dce + dse - dco - dso
-        u[i] = ce + se + co + so
-        v[i] = dce - dse + dco - dso
+        _scatter(u, v, i, ce, se, co, so, dce, dse, dco, dso)
+        _scatter(u, v, i2, ce2, se2, co2, so2, dce2, dse2, dco2, dso2)
+        i += 2
+
+
+@jit_inline
+def _scatter(u, v, i, ce, se, co, so, dce, dse, dco, dso):
+    """The four samples of row ``i`` of :func:`_samples_uv` from its
+    partial sums: at ``θ_i``, ``2π - θ_i``, ``π + θ_i``, ``π - θ_i``."""
+    n = u.size
+    half = n // 2
+    j = (n - i) % n
+    u[j] = ce - se + co - so
+    v[j] = dce + dse + dco + dso
+    u[half + i] = ce + se - co - so
+    v[half + i] = dce - dse - dco + dso
+    u[half - i] = ce - se - co + so
+    v[half - i] = dce + dse - dco - dso
+    u[i] = ce + se + co + so
+    v[i] = dce - dse + dco - dso
 
 
 @jit
@@ -685,7 +726,7 @@ def _stick_quadrature(harmonic_numbers, X, a, b, entry_force, kt, out):
                 row += 2
 
 
-@jit
+@jit_inline
 def _close_segment(
     harmonic_numbers,
     X,
@@ -764,7 +805,7 @@ def _close_segment(
     return ns + 1
 
 
-@jit
+@jit_inline
 def _stick_matrix(harmonic_numbers, kt, C, S, P):
     """``P[r, c] = kt ∫_stick φ_c ψ_r`` (normalised rows) from the summed
     segment integrals ``C[m] = ∫ cos mθ``, ``S[m] = ∫ sin mθ``: products of
@@ -816,7 +857,7 @@ def _stick_matrix(harmonic_numbers, kt, C, S, P):
             P[c + 1, r + 1] = s_s
 
 
-@jit
+@jit_inline
 def _assemble(
     harmonic_numbers, kt, X, C, S, C_short, S_short, slip, Q, Phi, zs, ns, F, dF
 ):

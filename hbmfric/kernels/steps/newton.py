@@ -10,6 +10,7 @@ import numpy as np
 from numba.extending import overload
 
 from ..._jit import jit, jit_inline
+from ..dlft.coulomb import COULOMB
 from ..linalg.blocks import block_solve
 from ..linalg.krylov import REUSE_MODE, REUSE_MODE_BLOCKS, reuse_solve
 from ..linalg.lu import lu_factor, lu_solve, solve_inplace
@@ -143,6 +144,43 @@ def _bordered_solve(problem, A, piv, b):
             return False
         lu_solve(A, piv, b)
         return True
+
+    return full
+
+
+#: largest last applied Newton update (scaled) after which a confirming
+#: evaluation reuses the LU factors of the iterate before it
+#: (:func:`correct_core`): the Jacobians differ by about this much times
+#: their variation along the branch
+LAG_MAX = 1e-6
+#: refinement sweeps at most of a tangent from reused factors
+#: (:func:`lagged_tangent`), and the relative correction below which a
+#: sweep is the last (the error left is about its square)
+LAG_SWEEPS = 3
+LAG_CORRECTION = 1e-6
+
+
+def lagged_factors(problem):
+    """Whether :func:`correct_core` may confirm an iterate with the LU
+    factors of the previous one: for a full problem (the dense path of
+    :func:`bordered_solve`, whose factors are in ``A``, ``piv``) unless its
+    contact is rigid Coulomb (the DLFT's Jacobian jumps with the stick set
+    of the samples, so a tiny update does not mean nearby factors: the
+    rigid Coulomb H = 3 sweep of ``tests/test_coverage.py`` stalled at a
+    seam with them); never for a condensed one (its solves may be iterative
+    and leave no factors: a compile-time False). Callable from jitted code
+    only."""
+    raise NotImplementedError("lagged_factors is for jit code")
+
+
+@overload(lagged_factors, jit_options=JIT_OPTIONS, inline="always")
+def _lagged_factors(problem):
+    if _is_condensed(problem):
+        return lambda problem: False
+
+    def full(problem):
+        codes = problem.law_codes
+        return codes.size == 0 or codes[0] != COULOMB
 
     return full
 
@@ -332,13 +370,82 @@ def correct(
         (``evaluations + 1`` when the look-ahead test ended the iteration),
         so that the controller's tuning is independent of this saving.
     """
+    rows = np.empty(R.size)
+    status, evaluations, iterations, _ = correct_core(
+        problem,
+        residual_at,
+        y,
+        y_pred,
+        constraint,
+        scale,
+        tol_residual,
+        tol_step,
+        max_iter,
+        R,
+        J,
+        A,
+        piv,
+        rows,
+        np.bool_(False),
+    )
+    return status, evaluations, iterations
+
+
+@jit
+def correct_core(
+    problem,
+    residual_at,
+    y,
+    y_pred,
+    constraint,
+    scale,
+    tol_residual,
+    tol_step,
+    max_iter,
+    R,
+    J,
+    A,
+    piv,
+    rows,
+    lag,
+):
+    """:func:`correct`, with confirming evaluations that may reuse the
+    factors of the previous iterate (``lag``).
+
+    With ``lag`` (and a full problem, :func:`lagged_factors`), an iterate
+    reached by an update of at most :data:`LAG_MAX` (scaled) whose residual
+    is within the tolerance is confirmed without factoring the Jacobian
+    there: the next Newton update is solved with the previous iterate's
+    factors (the Jacobians differ by ``O(LAG_MAX)``, so the update by that
+    much relative to itself, far below what the test ``<= tol_step``
+    resolves). The point accepted is the one :func:`correct` accepts, with
+    the same counts; ``R`` and ``J`` are those at the point, but ``A``,
+    ``piv`` hold the factors at the previous iterate and ``rows`` their
+    row scales: the tangent is then :func:`lagged_tangent`, not
+    :func:`bordered_tangent`.
+
+    Parameters
+    ----------
+    rows : ndarray, shape (n,)
+        Output: row scales of the factors left in ``A``.
+    lag : bool
+        Allow the reuse.
+
+    Returns
+    -------
+    status, evaluations, iterations
+        As in :func:`correct`.
+    lagged : bool
+        True if ``A``, ``piv`` hold the factors of the previous iterate.
+    """
     n = R.size
     b = np.empty(n + 1)
     y_try = np.empty(n + 1)
+    factored = False
     aft = call_residual(residual_at, y, problem, R, J)
     evaluations = 1
     if aft < 0:
-        return AFT_FAILED, evaluations, evaluations
+        return AFT_FAILED, evaluations, evaluations, False
     res = _norm_inf(R)
     last = np.inf
     last_full = False
@@ -346,7 +453,7 @@ def correct(
     contract = applies_last_update(problem)
     for it in range(max_iter + 1):
         if not np.isfinite(res):
-            return NOT_FINITE, evaluations, evaluations
+            return NOT_FINITE, evaluations, evaluations, False
         # the residual cannot fall below the rounding of the terms it sums
         # (a stiff FE model at resonance: terms 1e7 N, rounding 2e-9 N,
         # where tol_residual = 1e-10 |F| asked 2e-10 N and Newton ran its
@@ -355,25 +462,39 @@ def correct(
         g = 0.0
         for i in range(n + 1):
             g += constraint[i] * (y[i] - y_pred[i]) / scale[i]
+        if factored and res <= tol and last <= LAG_MAX:
+            # confirming evaluation after a tiny update: the convergence
+            # tests below, the next update from the previous factors; if
+            # they fail, the Newton step is solved anew
+            if last <= tol_step:
+                return CONVERGED, evaluations, evaluations, True
+            for i in range(n):
+                b[i] = -R[i] * rows[i]
+            b[n] = -g
+            lu_solve(A, piv, b)
+            if _norm_inf(b) <= tol_step:
+                return CONVERGED, evaluations, evaluations + 1, True
         # solve in scaled variables with equilibrated rows: the unknowns
         # may differ by many orders of magnitude (X in m, Ω in rad/s)
         equilibrate_rows(J, scale, A, b)
         for i in range(n):
+            rows[i] = b[i]
             b[i] = -R[i] * b[i]
         for j in range(n + 1):
             A[n, j] = constraint[j]
         b[n] = -g
         if not bordered_solve(problem, A, piv, b):
-            return SINGULAR, evaluations, evaluations
+            return SINGULAR, evaluations, evaluations, False
+        factored = lag and lagged_factors(problem)
         full = _norm_inf(b)
         if not np.isfinite(full):
-            return SINGULAR, evaluations, evaluations
+            return SINGULAR, evaluations, evaluations, False
         for i in range(n + 1):
             b[i] *= scale[i]
         if res <= tol and last <= tol_step:
-            return CONVERGED, evaluations, evaluations
+            return CONVERGED, evaluations, evaluations, False
         if res <= tol and full <= tol_step:
-            return CONVERGED, evaluations, evaluations + 1
+            return CONVERGED, evaluations, evaluations + 1, False
         if contract and last_full and full < last and res < res_last:
             # Newton contracts: after this update the error left is at most
             # theta / (1 - theta) of it and the residual at most theta times
@@ -388,7 +509,7 @@ def correct(
             ):
                 for i in range(n + 1):
                     y[i] += b[i]
-                return CONVERGED, evaluations, evaluations + 1
+                return CONVERGED, evaluations, evaluations + 1, False
         if it == max_iter:
             break
         lam = 1.0
@@ -402,14 +523,77 @@ def correct(
                 break
             lam *= 0.5
         if aft < 0:
-            return AFT_FAILED, evaluations, evaluations
+            return AFT_FAILED, evaluations, evaluations, False
         for i in range(n + 1):
             y[i] = y_try[i]
         res_last = res
         res = res_try
         last = lam * full
         last_full = lam == 1.0
-    return MAX_ITERATIONS, evaluations, evaluations
+    return MAX_ITERATIONS, evaluations, evaluations, False
+
+
+@jit
+def lagged_tangent(J, scale, constraint, A, piv, rows, out):
+    """Unit tangent at the point of a lagged :func:`correct_core` (``J``
+    the Jacobian there, ``A``, ``piv``, ``rows`` the factors and row scales
+    of the previous iterate's bordered matrix): the tangent of those
+    factors, refined against ``[diag(rows) J diag(scale); constraint]``.
+
+    Each sweep ``t += A⁻¹ (e_n - M t)`` shrinks the error by the relative
+    difference of the two matrices (about the last update, at most
+    :data:`LAG_MAX` times the Jacobian's variation); the sweeps stop once a
+    correction is below :data:`LAG_CORRECTION` of ``t`` (the error left is
+    about its square). If :data:`LAG_SWEEPS` sweeps do not get there, the
+    bordered matrix at the point is factored (into ``A``, ``piv``) and the
+    tangent taken from it, as :func:`tangent_from_lu`.
+
+    Returns
+    -------
+    bool
+        False if the result is not finite.
+    """
+    n = J.shape[0]
+    m = n + 1
+    for i in range(m):
+        out[i] = 0.0
+    out[n] = 1.0
+    lu_solve(A, piv, out)
+    r = np.empty(m)
+    st = np.empty(m)
+    for _ in range(LAG_SWEEPS):
+        for j in range(m):
+            st[j] = scale[j] * out[j]
+        for i in range(n):
+            a0 = 0.0
+            a1 = 0.0
+            j = 0
+            while j + 1 < m:
+                a0 += J[i, j] * st[j]
+                a1 += J[i, j + 1] * st[j + 1]
+                j += 2
+            if j < m:
+                a0 += J[i, j] * st[j]
+            r[i] = -(a0 + a1) * rows[i]
+        c = 0.0
+        for j in range(m):
+            c += constraint[j] * out[j]
+        r[n] = 1.0 - c
+        lu_solve(A, piv, r)
+        for i in range(m):
+            out[i] += r[i]
+        size = _norm_inf(out)
+        if not np.isfinite(size):
+            return False
+        if _norm_inf(r) <= LAG_CORRECTION * size:
+            return _normalise(out)
+    # not converged: factor the bordered matrix at the point
+    equilibrate_rows(J, scale, A, r)
+    for j in range(m):
+        A[n, j] = constraint[j]
+    if not lu_factor(A, piv):
+        return False
+    return tangent_from_lu(A, piv, out)
 
 
 @jit
@@ -582,11 +766,13 @@ def palc_correct(
 ):
     """The corrector of a pseudo-arclength step from a given predictor.
 
-    Corrector :func:`correct` from ``y_pred`` on the hyperplane through it
-    orthogonal to ``tangent_prev``, then the new tangent from the
-    corrector's last factorisation (:func:`bordered_tangent`), the scaled
-    distance between predictor and corrected point, and the angle between
-    the tangents.
+    Corrector :func:`correct_core` from ``y_pred`` on the hyperplane
+    through it orthogonal to ``tangent_prev`` (confirming evaluations may
+    reuse the previous iterate's factors), then the new tangent from the
+    corrector's last factorisation (:func:`bordered_tangent`), or refined
+    from the reused factors against the Jacobian at the point
+    (:func:`lagged_tangent`), the scaled distance between predictor and
+    corrected point, and the angle between the tangents.
 
     Parameters
     ----------
@@ -619,7 +805,8 @@ def palc_correct(
     m = y_pred.size
     for i in range(m):
         y_new[i] = y_pred[i]
-    status, evaluations, iterations = correct(
+    rows = np.empty(m - 1)
+    status, evaluations, iterations, lagged = correct_core(
         problem,
         residual_at,
         y_new,
@@ -633,6 +820,8 @@ def palc_correct(
         J,
         A,
         piv,
+        rows,
+        np.bool_(True),
     )
     if status != CONVERGED:
         return status, evaluations, iterations, np.inf, np.inf
@@ -641,7 +830,11 @@ def palc_correct(
         d = abs(y_new[i] - y_pred[i]) / scale[i]
         if not d <= distance:
             distance = d
-    if not np.isfinite(distance) or not bordered_tangent(problem, A, piv, t_new):
+    if lagged:
+        ok = lagged_tangent(J, scale, tangent_prev, A, piv, rows, t_new)
+    else:
+        ok = bordered_tangent(problem, A, piv, t_new)
+    if not np.isfinite(distance) or not ok:
         return NOT_FINITE, evaluations, iterations, np.inf, np.inf
     c = 0.0
     for i in range(m):
