@@ -14,7 +14,7 @@ from ..dlft.coulomb import COULOMB
 from ..linalg.blocks import block_solve
 from ..linalg.krylov import REUSE_MODE, REUSE_MODE_BLOCKS, reuse_solve
 from ..linalg.lu import lu_factor, lu_solve, solve_inplace
-from ..residuals.dispatch import _on_coordinates, rounding_level
+from ..residuals.dispatch import _is_condensed, _on_coordinates, rounding_level
 from ..residuals.hbm import JIT_OPTIONS
 from ..residuals.pointer import call_residual
 
@@ -206,7 +206,7 @@ def applies_last_update(problem):
 
 @overload(applies_last_update, jit_options=JIT_OPTIONS)
 def _applies_last_update(problem):
-    if _is_condensed(problem):
+    if _on_coordinates(problem):
 
         def condensed(problem):
             return problem.law_codes.size > 1
