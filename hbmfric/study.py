@@ -255,11 +255,16 @@ class StudyResult:
     def to_csv(self, path: str | Path, harmonic: int | None = 1, dof=None) -> Path:
         """Write :meth:`table` as CSV (readable by
         :func:`hbmfric.criterion.read_frfs` when the parameters include the
-        normal load)."""
+        normal load). Every failed parameter set is named above the header
+        in a comment line (``# failed set <index>: <parameters>: <error>``,
+        which ``read_frfs`` skips): a file never drops a set unmarked."""
         path = Path(path)
         t = self.table(harmonic, dof)
         names = list(t)
         with open(path, "w", newline="") as fh:
+            for r in self.failures:
+                error = " ".join(str(r.error).split())
+                fh.write(f"# failed set {r.index}: {r.parameters}: {error}\n")
             w = csv.writer(fh)
             w.writerow(names)
             for row in zip(*(t[k] for k in names), strict=True):

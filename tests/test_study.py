@@ -82,6 +82,24 @@ def test_a_failed_set_is_reported_and_the_rest_kept():
         np.testing.assert_array_equal(run.branch.omega, ref.omega)
 
 
+def test_a_failed_set_is_named_in_the_csv(tmp_path):
+    """The CSV of a study with a failed set names it in a comment line
+    (it has no rows), and read_frfs still reads the other sets."""
+    params = [
+        {"force": 0.5, "normal_load": 1.0},
+        {"force": 0.5, "normal_load": -1.0},  # negative slip force: refused
+    ]
+    with pytest.warns(hf.StudyWarning):
+        res = hf.study(jenkins_sdof, params, OMEGA, executor="serial", **OPTIONS)
+    path = res.to_csv(tmp_path / "family.csv")
+    comments = [ln for ln in path.read_text().splitlines() if ln.startswith("#")]
+    assert len(comments) == 1
+    assert comments[0].startswith("# failed set 1: ") and "ValueError" in comments[0]
+    assert "-1.0" in comments[0] and "\n" not in comments[0]
+    (record,) = read_frfs(path)
+    assert record.normal_load == 1.0
+
+
 def test_table_feeds_the_criterion(tmp_path):
     """A force × normal-load family (two normal loads per Fex/Fn) → CSV →
     read_frfs → the criterion, and the records straight from the result."""
