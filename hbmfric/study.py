@@ -255,16 +255,25 @@ class StudyResult:
     def to_csv(self, path: str | Path, harmonic: int | None = 1, dof=None) -> Path:
         """Write :meth:`table` as CSV (readable by
         :func:`hbmfric.criterion.read_frfs` when the parameters include the
-        normal load). Every failed parameter set is named above the header
-        in a comment line (``# failed set <index>: <parameters>: <error>``,
-        which ``read_frfs`` skips): a file never drops a set unmarked."""
+        normal load). The CSV holds the traced sets only (a plain table
+        that NumPy, pandas and spreadsheets read as is); when some sets
+        failed, they are written beside it to ``<stem>.failed.csv``
+        (columns ``index``, ``parameters``, ``error``), so that the files
+        never drop a set unmarked. Returns the path of the table."""
         path = Path(path)
         t = self.table(harmonic, dof)
         names = list(t)
+        failed = path.with_name(path.stem + ".failed.csv")
+        if self.failures:
+            with open(failed, "w", newline="") as fh:
+                w = csv.writer(fh)
+                w.writerow(["index", "parameters", "error"])
+                for r in self.failures:
+                    error = " ".join(str(r.error).split())
+                    w.writerow([r.index, repr(r.parameters), error])
+        elif failed.exists():
+            failed.unlink()  # from an earlier study written to the same path
         with open(path, "w", newline="") as fh:
-            for r in self.failures:
-                error = " ".join(str(r.error).split())
-                fh.write(f"# failed set {r.index}: {r.parameters}: {error}\n")
             w = csv.writer(fh)
             w.writerow(names)
             for row in zip(*(t[k] for k in names), strict=True):

@@ -3,6 +3,7 @@ branch, identical to a direct hf.frf call, whatever runs it (this process,
 worker processes, a two-worker Dask LocalCluster); failures are kept with
 their reason and never lose the rest; the table feeds the criterion."""
 
+import csv
 import sys
 import warnings
 
@@ -82,9 +83,10 @@ def test_a_failed_set_is_reported_and_the_rest_kept():
         np.testing.assert_array_equal(run.branch.omega, ref.omega)
 
 
-def test_a_failed_set_is_named_in_the_csv(tmp_path):
-    """The CSV of a study with a failed set names it in a comment line
-    (it has no rows), and read_frfs still reads the other sets."""
+def test_a_failed_set_is_named_beside_the_csv(tmp_path):
+    """The CSV of a study with a failed set holds the traced sets (read by
+    read_frfs and by NumPy as a plain table); the failed set is named in
+    ``<stem>.failed.csv`` with its reason."""
     params = [
         {"force": 0.5, "normal_load": 1.0},
         {"force": 0.5, "normal_load": -1.0},  # negative slip force: refused
@@ -92,12 +94,18 @@ def test_a_failed_set_is_named_in_the_csv(tmp_path):
     with pytest.warns(hf.StudyWarning):
         res = hf.study(jenkins_sdof, params, OMEGA, executor="serial", **OPTIONS)
     path = res.to_csv(tmp_path / "family.csv")
-    comments = [ln for ln in path.read_text().splitlines() if ln.startswith("#")]
-    assert len(comments) == 1
-    assert comments[0].startswith("# failed set 1: ") and "ValueError" in comments[0]
-    assert "-1.0" in comments[0] and "\n" not in comments[0]
     (record,) = read_frfs(path)
     assert record.normal_load == 1.0
+    table = np.genfromtxt(path, delimiter=",", names=True)
+    assert np.all(table["normal_load"] == 1.0)
+    with open(tmp_path / "family.failed.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 1 and rows[0]["index"] == "1"
+    assert "-1.0" in rows[0]["parameters"] and rows[0]["error"].startswith("ValueError")
+    # a later study without failures written to the same path leaves none
+    ok = hf.study(jenkins_sdof, params[:1], OMEGA, executor="serial", **OPTIONS)
+    ok.to_csv(path)
+    assert not (tmp_path / "family.failed.csv").exists()
 
 
 def test_table_feeds_the_criterion(tmp_path):
