@@ -235,6 +235,7 @@ def _write_csv(fig, path, resample):
 
 
 def _resample_arg(value: str) -> int:
+    """A positive integer (``--resample``, ``--jobs``)."""
     try:
         k = int(value)
     except ValueError:
@@ -371,7 +372,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     warm.add_argument(
         "--jobs",
-        type=_jobs_arg,
+        type=_resample_arg,
         default=1,
         help="worker processes that compile at once (default 1; 2 on two "
         "cores about halves the wait)",
@@ -391,19 +392,6 @@ def _version() -> str:
         import hbmfric
 
         return getattr(hbmfric, "__version__", "unknown")
-
-
-def _jobs_arg(text: str) -> int:
-    """``--jobs``: a positive integer."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"must be a positive integer, got {text!r}"
-        ) from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be >= 1, got {value}")
-    return value
 
 
 def _pairs_arg(text: str) -> int:
