@@ -16,6 +16,9 @@ from .hbm import HBMProblem
 from .kernels.dlft.coulomb import COULOMB
 from .kernels.linalg.krylov import N_REUSE, REUSE_MODE_BLOCKS, REUSE_MODE_FACTORS
 from .kernels.linalg.krylov import REUSE_BLOCKS_KEEP as REUSE_BLOCKS_KEEP_INDEX
+from .kernels.linalg.krylov import (
+    REUSE_CAPACITANCE_EVERY as REUSE_CAPACITANCE_EVERY_INDEX,
+)
 from .kernels.linalg.krylov import REUSE_MODE as REUSE_MODE_INDEX
 from .kernels.linalg.krylov import REUSE_REFRESH as REUSE_REFRESH_INDEX
 from .kernels.linalg.krylov import REUSE_TOL as REUSE_TOL_INDEX
@@ -85,6 +88,15 @@ REUSE_REFRESH = 12
 #: N = 40 factors its blocks 44 times instead of 871 for 12 % more GMRES
 #: products (bench/README.md "Issue 15, stop 29")
 REUSE_KEEP_BLOCKS = 1
+#: the harmonic blocks are corrected for at most this many slipping
+#: coordinates (:mod:`hbmfric.kernels.linalg.capacitance`: a capacitance
+#: matrix of order ``n_coef`` times as many, one dense LU per correction);
+#: beyond it, for those with the largest coupling of harmonics; 0: no
+#: correction (bench/README.md "Issue 15, stop 30")
+REUSE_SLIP_MAX = 12
+#: the correction is built for every matrix, also on kept blocks (True),
+#: or only with freshly factored blocks (False)
+REUSE_CAPACITANCE_EVERY = True
 
 
 def solver_arrays(
@@ -99,7 +111,9 @@ def solver_arrays(
     coefficients, ``first`` 1 when column 0 is the constant): dense factors,
     pivots, Krylov basis, state (:mod:`hbmfric.kernels.linalg.krylov`) and
     the harmonic blocks' factors, pivots, border and work
-    (:func:`hbmfric.kernels.linalg.blocks.block_work`); of order 0 (plain LU
+    (:func:`hbmfric.kernels.linalg.blocks.block_work`) and their correction
+    for at most :data:`REUSE_SLIP_MAX` slipping coordinates
+    (:func:`hbmfric.kernels.linalg.capacitance.capacitance_work`); of order 0 (plain LU
     every iteration) when not ``enabled`` or below
     :data:`REUSE_MIN_UNKNOWNS`. Without a layout (``n_coef = 0``) the kept
     factors precondition."""
@@ -120,8 +134,11 @@ def solver_arrays(
     state[REUSE_REFRESH_INDEX] = REUSE_REFRESH
     state[REUSE_BLOCKS_KEEP_INDEX] = REUSE_KEEP_BLOCKS
     state[REUSE_MODE_INDEX] = REUSE_MODE_BLOCKS if blocks else REUSE_MODE_FACTORS
+    state[REUSE_CAPACITANCE_EVERY_INDEX] = 1.0 if REUSE_CAPACITANCE_EVERY else 0.0
     groups = first + (n_coef - first) // 2 if blocks else 0
     size = 2 * n_dof if blocks else 0
+    n_slip = min(max(int(REUSE_SLIP_MAX), 0), n_dof) if blocks else 0
+    k = n_slip * n_coef
     return (
         np.zeros((m, m)),
         np.zeros(m, dtype=np.int64),
@@ -131,6 +148,15 @@ def solver_arrays(
         np.zeros((groups, size), dtype=np.int64),
         np.zeros(m),
         np.zeros(size),
+        (
+            np.zeros(1, dtype=np.int64),
+            np.zeros(n_slip, dtype=np.int64),
+            np.zeros((groups, size, 2 * n_slip)),
+            np.zeros((n_slip, n_coef if blocks else 0, n_coef if blocks else 0)),
+            np.zeros(k * k),
+            np.zeros(k, dtype=np.int64),
+            np.zeros(k),
+        ),
     )
 
 

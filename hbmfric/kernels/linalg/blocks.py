@@ -32,6 +32,7 @@ recomputed from it, so the preconditioner costs iterations, never accuracy.
 import numpy as np
 
 from ..._jit import jit
+from .capacitance import apply_capacitance, capacitance_work, prepare_capacitance
 from .krylov import (
     GMRES_CONVERGED,
     GMRES_NOT_CONVERGED,
@@ -40,6 +41,8 @@ from .krylov import (
     REUSE_BLOCKS_FRESH,
     REUSE_BLOCKS_KEEP,
     REUSE_BLOCKS_LAST,
+    REUSE_CAPACITANCE_BUILDS,
+    REUSE_CAPACITANCE_EVERY,
     REUSE_FACTORISATIONS,
     REUSE_FALLBACKS,
     REUSE_PREPARED,
@@ -162,14 +165,17 @@ def prepare_blocks(A, n_dof, n_coef, first, blocks, pivots, border, work):
     the bordered preconditioner is singular."""
     if not factor_blocks(A, n_dof, n_coef, first, blocks, pivots):
         return False
-    return prepare_border(A, n_dof, n_coef, first, blocks, pivots, border, work)
+    none = capacitance_work(n_dof, n_coef, first, 0)
+    return prepare_border(A, n_dof, n_coef, first, blocks, pivots, none, border, work)
 
 
 @jit
-def prepare_border(A, n_dof, n_coef, first, blocks, pivots, border, work):
+def prepare_border(A, n_dof, n_coef, first, blocks, pivots, correction, border, work):
     """The bordered part of :func:`prepare_blocks` for ``A`` with harmonic
-    blocks already factored (of ``A`` or of an earlier matrix): ``border[:n]
-    = z = P⁻¹ a``, ``border[n] = d - cᵀ z``. True at once when ``A`` is not
+    blocks already factored (of ``A`` or of an earlier matrix) and their
+    slipping-contact ``correction`` built (:mod:`.capacitance`; none when
+    its count is 0): ``border[:n] = z = M⁻¹ a`` with ``M`` the corrected
+    blocks, ``border[n] = d - cᵀ z``. True at once when ``A`` is not
     bordered; False if the bordered preconditioner is singular."""
     n = n_dof * n_coef
     m = A.shape[0]
@@ -178,11 +184,25 @@ def prepare_border(A, n_dof, n_coef, first, blocks, pivots, border, work):
     for i in range(n):
         border[i] = A[i, n]
     apply_blocks(blocks, pivots, n_dof, n_coef, first, border, work)
+    apply_capacitance(correction, n_dof, n_coef, first, border)
     delta = A[n, n]
     for i in range(n):
         delta -= A[n, i] * border[i]
     border[n] = delta
     return np.isfinite(delta) and delta != 0.0
+
+
+@jit
+def _eliminate_border(A, border, v, n):
+    """The bordered step of the preconditioner: ``v[:n]`` holds ``M⁻¹
+    v[:n]``; solve for the last unknown and correct the others."""
+    s = v[n]
+    for i in range(n):
+        s -= A[n, i] * v[i]
+    s /= border[n]
+    for i in range(n):
+        v[i] -= s * border[i]
+    v[n] = s
 
 
 @jit
@@ -194,13 +214,22 @@ def apply_preconditioner(A, blocks, pivots, n_dof, n_coef, first, border, v, wor
     apply_blocks(blocks, pivots, n_dof, n_coef, first, v, work)
     if v.size == n:
         return
-    s = v[n]
-    for i in range(n):
-        s -= A[n, i] * v[i]
-    s /= border[n]
-    for i in range(n):
-        v[i] -= s * border[i]
-    v[n] = s
+    _eliminate_border(A, border, v, n)
+
+
+@jit
+def apply_corrected(
+    A, blocks, pivots, correction, n_dof, n_coef, first, border, v, work
+):
+    """:func:`apply_preconditioner` with the harmonic blocks corrected for
+    the slipping coordinates (:func:`~.capacitance.apply_capacitance`;
+    ``border`` from :func:`prepare_border` with the same correction)."""
+    n = n_dof * n_coef
+    apply_blocks(blocks, pivots, n_dof, n_coef, first, v, work)
+    apply_capacitance(correction, n_dof, n_coef, first, v)
+    if v.size == n:
+        return
+    _eliminate_border(A, border, v, n)
 
 
 @jit
@@ -238,16 +267,21 @@ def gmres_blocks(A, b, x, n_dof, n_coef, first, tol, arrays):
         return GMRES_NOT_FINITE, 0
     if not prepare_blocks(A, n_dof, n_coef, first, blocks, pivots, border, work):
         return GMRES_NOT_CONVERGED, 0
+    none = capacitance_work(n_dof, n_coef, first, 0)
     return gmres_prepared(
-        A, b, x, n_dof, n_coef, first, tol, blocks, pivots, border, V, work
+        A, b, x, n_dof, n_coef, first, tol, blocks, pivots, border, V, work, none
     )
 
 
 @jit
-def gmres_prepared(A, b, x, n_dof, n_coef, first, tol, blocks, pivots, border, V, work):
+def gmres_prepared(
+    A, b, x, n_dof, n_coef, first, tol, blocks, pivots, border, V, work, correction
+):
     """:func:`gmres_blocks` with the preconditioner of ``A`` already built
     by :func:`prepare_blocks` (same arguments and results; ``V`` and
-    ``work`` the Krylov basis, shape (k_max + 1, m), and shape (2 n_dof,))."""
+    ``work`` the Krylov basis, shape (k_max + 1, m), and shape (2 n_dof,);
+    ``correction`` the blocks' correction for the slipping coordinates,
+    :mod:`.capacitance`, with which ``border`` was prepared)."""
     m = b.size
     k_max = V.shape[0] - 1
     beta = _norm2(b)
@@ -273,7 +307,9 @@ def gmres_prepared(A, b, x, n_dof, n_coef, first, tol, blocks, pivots, border, V
     while k < k_max:
         for i in range(m):
             u[i] = V[k, i]
-        apply_preconditioner(A, blocks, pivots, n_dof, n_coef, first, border, u, work)
+        apply_corrected(
+            A, blocks, pivots, correction, n_dof, n_coef, first, border, u, work
+        )
         sparse_matvec(starts, columns, values, u, V[k + 1])
         status, h_next = arnoldi_step(V, H, cs, sn, g, k)
         if status != GMRES_CONVERGED:
@@ -285,7 +321,9 @@ def gmres_prepared(A, b, x, n_dof, n_coef, first, tol, blocks, pivots, border, V
     if not converged:
         return GMRES_NOT_CONVERGED, k
     krylov_combination(V, H, g, k, u)
-    apply_preconditioner(A, blocks, pivots, n_dof, n_coef, first, border, u, work)
+    apply_corrected(
+        A, blocks, pivots, correction, n_dof, n_coef, first, border, u, work
+    )
     for i in range(m):
         x[i] = u[i]
     sparse_matvec(starts, columns, values, x, u)
@@ -306,14 +344,36 @@ PREPARED_DENSE = 2.0
 
 
 @jit
+def _prepare_corrected(A, n_dof, n_coef, first, solver):
+    """Factor the harmonic blocks of ``A``, build their correction for its
+    slipping coordinates and the border (:func:`block_solve`'s arrays);
+    False if a block or the bordered preconditioner is singular."""
+    _, _, _, state, blocks, pivots, border, work, correction = solver
+    state[REUSE_BLOCK_BUILDS] += 1.0
+    if not factor_blocks(A, n_dof, n_coef, first, blocks, pivots):
+        return False
+    state[REUSE_CAPACITANCE_BUILDS] += 1.0
+    prepare_capacitance(A, n_dof, n_coef, first, blocks, pivots, correction, work)
+    return prepare_border(
+        A, n_dof, n_coef, first, blocks, pivots, correction, border, work
+    )
+
+
+@jit
 def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0):
     """Solve the corrector's bordered system ``A x = b`` by GMRES
     preconditioned by harmonic blocks (:func:`gmres_prepared`), with a
     dense LU when GMRES fails. ``b`` holds ``x`` on return; ``A`` is not
     modified.
 
+    The harmonic blocks are corrected for the coordinates of ``A`` whose
+    slipping contacts couple harmonics (:mod:`.capacitance`, as many as
+    its arrays hold): on the matrix whose blocks were factored, the
+    preconditioner is then the exact inverse of the bordered matrix.
     The blocks factored for an earlier matrix (an earlier Newton iteration
-    or point) are kept, with the border of ``A`` (:func:`prepare_border`),
+    or point) are kept, with the border of ``A`` (:func:`prepare_border`)
+    and, when ``state[REUSE_CAPACITANCE_EVERY]`` is set, their correction
+    rebuilt for ``A``,
     while the solves on them need at most ``state[REUSE_BLOCKS_KEEP]``
     products more than the first solve after they were factored; then the
     next matrix's blocks are factored. A GMRES on kept blocks that fails is
@@ -327,12 +387,13 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0):
     b : ndarray, shape (m,)
         In: right-hand side. Out: the solution.
     solver : tuple
-        ``(F, piv, V, state, blocks, pivots, border, work)`` of
-        :func:`hbmfric.condensation.solver_arrays`: dense factors (the
+        ``(F, piv, V, state, blocks, pivots, border, work, correction)``
+        of :func:`hbmfric.condensation.solver_arrays`: dense factors (the
         fallback), Krylov basis, state (counters and settings of
         :mod:`.krylov`; ``state[REUSE_PREPARED]`` says what the arrays
-        hold for the last matrix) and the preconditioner's arrays
-        (:func:`block_work`).
+        hold for the last matrix), the preconditioner's arrays
+        (:func:`block_work`) and those of its correction
+        (:func:`~.capacitance.capacitance_work`).
     n_dof, n_coef, first : int
         Layout of the unknowns (:func:`factor_blocks`).
     again : bool
@@ -348,7 +409,7 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0):
         False if ``A`` is singular to the pivot test of the dense LU or
         the solution is not finite (``b`` is then meaningless).
     """
-    F, fpiv, V, state, blocks, pivots, border, work = solver
+    F, fpiv, V, state, blocks, pivots, border, work, correction = solver
     m = b.size
     ready = state[REUSE_PREPARED] if again else PREPARED_NONE
     if ready == PREPARED_DENSE:
@@ -363,14 +424,18 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0):
             <= state[REUSE_BLOCKS_FRESH] + state[REUSE_BLOCKS_KEEP]
         )
         state[REUSE_PREPARED] = PREPARED_NONE
+        if keep and state[REUSE_CAPACITANCE_EVERY] != 0.0:
+            state[REUSE_CAPACITANCE_BUILDS] += 1.0
+            prepare_capacitance(
+                A, n_dof, n_coef, first, blocks, pivots, correction, work
+            )
         if keep and prepare_border(
-            A, n_dof, n_coef, first, blocks, pivots, border, work
+            A, n_dof, n_coef, first, blocks, pivots, correction, border, work
         ):
             state[REUSE_PREPARED] = PREPARED_BLOCKS
         else:
             fresh = True
-            state[REUSE_BLOCK_BUILDS] += 1.0
-            if prepare_blocks(A, n_dof, n_coef, first, blocks, pivots, border, work):
+            if _prepare_corrected(A, n_dof, n_coef, first, solver):
                 state[REUSE_PREPARED] = PREPARED_BLOCKS
     x = np.empty(m)
     if not tol > 0.0:
@@ -391,6 +456,7 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0):
             border,
             V,
             work,
+            correction,
         )
         state[REUSE_PRODUCTS] += products
         if status == GMRES_CONVERGED:
@@ -407,8 +473,7 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0):
         # kept blocks of an earlier matrix: once more on those of A
         fresh = True
         state[REUSE_PREPARED] = PREPARED_NONE
-        state[REUSE_BLOCK_BUILDS] += 1.0
-        if prepare_blocks(A, n_dof, n_coef, first, blocks, pivots, border, work):
+        if _prepare_corrected(A, n_dof, n_coef, first, solver):
             state[REUSE_PREPARED] = PREPARED_BLOCKS
     if state[REUSE_PREPARED] == PREPARED_BLOCKS:
         state[REUSE_FALLBACKS] += 1.0

@@ -298,7 +298,13 @@ REUSE_BLOCKS_FRESH = 9
 REUSE_BLOCKS_LAST = 10
 REUSE_BLOCKS_KEEP = 11
 REUSE_BLOCK_BUILDS = 12
-N_REUSE = 13
+#: blocks path: the blocks' correction for the slipping coordinates
+#: (:mod:`hbmfric.kernels.linalg.capacitance`) built for every matrix, also
+#: on kept blocks (in, != 0), or only with fresh blocks (0); and the
+#: corrections built (out)
+REUSE_CAPACITANCE_EVERY = 13
+REUSE_CAPACITANCE_BUILDS = 14
+N_REUSE = 15
 
 
 @jit
