@@ -86,8 +86,12 @@ REUSE_REFRESH = 12
 #: Newton updates then solved to 1e-10); on since stop 29, with the updates
 #: solved to 1e-6 (:data:`hbmfric.kernels.steps.newton.NEWTON_KRYLOV_TOL`):
 #: N = 40 factors its blocks 44 times instead of 871 for 12 % more GMRES
-#: products (bench/README.md "Issue 15, stop 29")
-REUSE_KEEP_BLOCKS = 1
+#: products (bench/README.md "Issue 15, stop 29"). 5 since stop 30: with
+#: the blocks corrected for the slipping coordinates a fresh preconditioner
+#: solves in one iteration (two products with the check), and at N = 40
+#: 1, 3, 5, 8 gave 411, 292, 98, 30 builds for 4513, 5387, 8107, 11207
+#: products (bench/README.md "Issue 15, stop 30")
+REUSE_KEEP_BLOCKS = 5
 #: the harmonic blocks are corrected for at most this many slipping
 #: coordinates (:mod:`hbmfric.kernels.linalg.capacitance`: a capacitance
 #: matrix of order ``n_coef`` times as many, one dense LU per correction);
@@ -95,8 +99,11 @@ REUSE_KEEP_BLOCKS = 1
 #: correction (bench/README.md "Issue 15, stop 30")
 REUSE_SLIP_MAX = 12
 #: the correction is built for every matrix, also on kept blocks (True),
-#: or only with freshly factored blocks (False)
-REUSE_CAPACITANCE_EVERY = True
+#: or only with freshly factored blocks (False, the default: at N = 40 a
+#: correction for 10 coordinates costs 1.5 ms, twice the blocks' 0.7 ms,
+#: and built for all 872 matrices it costs more than the GMRES products
+#: it saves)
+REUSE_CAPACITANCE_EVERY = False
 
 
 def solver_arrays(
