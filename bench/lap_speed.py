@@ -21,7 +21,8 @@ estimate, the solvers before stop 25; ``state-factors``: the corrector
 preconditioned by kept LU factors, stop 25),
 interleaved, warm (N = 10: after one untimed run of each; larger N: the
 first run is timed after a short warm-up branch over 160-161 Hz). Wall
-and CPU seconds (the CPU time of the process depends less on the load).
+and CPU seconds (the CPU time of the process depends less on the load),
+and the counters of the corrector's iterative solves (stop 30).
 
 One BLAS thread (as the other bench scripts: threaded OpenBLAS on the
 shared 2 cores makes small products 100 times slower under load).
@@ -43,6 +44,7 @@ import hbmfric as hf  # noqa: E402
 import hbmfric.condensation as hc  # noqa: E402
 from hbmfric.condensation import CondensedHBMProblem  # noqa: E402
 from hbmfric.hbm import HBMProblem  # noqa: E402
+from hbmfric.kernels.linalg import krylov  # noqa: E402
 from hbmfric.kernels.linalg.blocks import (  # noqa: E402
     block_work,
     gmres_blocks,
@@ -200,11 +202,21 @@ def branch(n_pairs, condense, harmonics=15, band=BAND):
         hc.REUSE_KEEP_BLOCKS = 3
     if "exact" in suffixes:
         hc.SERIES_MARGIN = np.inf  # no series planned: every pole summed
+    made = []  # the solver arrays of the branch's problems: their counters
+    solver_arrays = hc.solver_arrays
+
+    def keep_arrays(*args, **kwargs):
+        arrays = solver_arrays(*args, **kwargs)
+        made.append(arrays)
+        return arrays
+
+    hc.solver_arrays = keep_arrays
     t = time.perf_counter()
     cpu = time.process_time()
     try:
         b = hf.frf(s, FORCE, omega, harmonics, max_step=0.05, **kw)
     finally:
+        hc.solver_arrays = solver_arrays
         hc.REUSE_MIN_UNKNOWNS = threshold
         hc.REUSE_PRECONDITIONER = preconditioner
         hc.REUSE_KEEP_BLOCKS = keep
@@ -225,7 +237,24 @@ def branch(n_pairs, condense, harmonics=15, band=BAND):
         "peak_Hz": b.omega[i] / HZ,
         "curve_error_max": float(np.max(errors)) if errors is not None else None,
         "load": os.getloadavg()[0],
+        **_solver_counts(made),
     }
+
+
+def _solver_counts(made):
+    """Counters of the corrector's iterative solves summed over the
+    branch's problems (stop 30): GMRES solves and products, harmonic-block
+    builds and their corrections for the slipping coordinates, dense
+    fallbacks."""
+    states = [a[3] for a in made if a[0].shape[0] > 0]
+    names = {
+        "solves": krylov.REUSE_SOLVES,
+        "products": krylov.REUSE_PRODUCTS,
+        "block_builds": krylov.REUSE_BLOCK_BUILDS,
+        "corrections": krylov.REUSE_CAPACITANCE_BUILDS,
+        "fallbacks": krylov.REUSE_FALLBACKS,
+    }
+    return {k: int(sum(st[i] for st in states)) for k, i in names.items()}
 
 
 if __name__ == "__main__":
