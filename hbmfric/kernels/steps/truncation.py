@@ -48,10 +48,11 @@ def probe_factor(A, piv):
     entry in pivot order. Every entry sees the same operations in the same
     order as in ``lu_factor`` (a multiplier that is zero skips its update
     there and here), so the factors are the same to the last bit; the
-    contiguous inner loops vectorise, and each trailing entry is read and
-    written once per panel instead of once per pivot (``lu_factor``: 194
-    µs at order 90, 75 µs at 64, 30 µs at 46; this: 83-98 / 39-48 / 20-24,
-    load 5).
+    contiguous inner loops vectorise, each trailing entry is read and
+    written once per panel instead of once per pivot, and two trailing
+    rows share each pass over the panel's rows of ``U`` (``lu_factor``:
+    176-182 µs at order 90, 68-69 at 64, 28 at 46; this: 75 / 34 / 18,
+    load 5-10; no gain below order 33, slower below 23).
 
     Parameters
     ----------
@@ -118,25 +119,52 @@ def probe_factor(A, piv):
                     u = flat[kk * m + k1 : (kk + 1) * m]
                     for j in range(w):
                         a[j] -= f * u[j]
-        # the trailing rows: the panel's updates, in pivot order per entry
+        # the trailing rows: the panel's updates, in pivot order per entry;
+        # two rows per pass where all eight multipliers are nonzero (each
+        # row of U read once for both), else one row per pass
         full = k1 - k0 == PANEL
-        for i in range(k1, m):
+        u0 = flat[k0 * m + k1 : (k0 + 1) * m]
+        u1 = flat[(k0 + 1) * m + k1 : (k0 + 2) * m] if full else u0
+        u2 = flat[(k0 + 2) * m + k1 : (k0 + 3) * m] if full else u0
+        u3 = flat[(k0 + 3) * m + k1 : (k0 + 4) * m] if full else u0
+        i = k1
+        while i < m:
             a = flat[i * m + k1 : (i + 1) * m]
             if full:
                 f0 = flat[i * m + k0]
                 f1 = flat[i * m + k0 + 1]
                 f2 = flat[i * m + k0 + 2]
                 f3 = flat[i * m + k0 + 3]
-                if f0 != 0.0 and f1 != 0.0 and f2 != 0.0 and f3 != 0.0:
-                    u0 = flat[k0 * m + k1 : (k0 + 1) * m]
-                    u1 = flat[(k0 + 1) * m + k1 : (k0 + 2) * m]
-                    u2 = flat[(k0 + 2) * m + k1 : (k0 + 3) * m]
-                    u3 = flat[(k0 + 3) * m + k1 : (k0 + 4) * m]
+                nonzero = f0 != 0.0 and f1 != 0.0 and f2 != 0.0 and f3 != 0.0
+                if nonzero and i + 1 < m:
+                    g0 = flat[(i + 1) * m + k0]
+                    g1 = flat[(i + 1) * m + k0 + 1]
+                    g2 = flat[(i + 1) * m + k0 + 2]
+                    g3 = flat[(i + 1) * m + k0 + 3]
+                    if g0 != 0.0 and g1 != 0.0 and g2 != 0.0 and g3 != 0.0:
+                        c = flat[(i + 1) * m + k1 : (i + 2) * m]
+                        for j in range(w):
+                            x0 = u0[j]
+                            x1 = u1[j]
+                            x2 = u2[j]
+                            x3 = u3[j]
+                            v = a[j] - f0 * x0
+                            v = v - f1 * x1
+                            v = v - f2 * x2
+                            a[j] = v - f3 * x3
+                            q = c[j] - g0 * x0
+                            q = q - g1 * x1
+                            q = q - g2 * x2
+                            c[j] = q - g3 * x3
+                        i += 2
+                        continue
+                if nonzero:
                     for j in range(w):
                         v = a[j] - f0 * u0[j]
                         v = v - f1 * u1[j]
                         v = v - f2 * u2[j]
                         a[j] = v - f3 * u3[j]
+                    i += 1
                     continue
             for kk in range(k0, k1):
                 f = flat[i * m + kk]
@@ -144,6 +172,7 @@ def probe_factor(A, piv):
                     u = flat[kk * m + k1 : (kk + 1) * m]
                     for j in range(w):
                         a[j] -= f * u[j]
+            i += 1
     return True
 
 
