@@ -335,11 +335,10 @@ class _Level:
             self.output = np.ones((2, 1))
             self.output[1, 0] = 0.0
         first = 1 if hn[0] == 0 else 0  # column of the first harmonic
-        # harmonic number of each column (for the velocity weights)
+        # harmonic number of each column (for the velocity weights): the
+        # constant's column, then a cosine and a sine per harmonic
         self.rates = np.zeros(p.n_coef)
-        for j, k in enumerate(hn):
-            c = 0 if k == 0 else first + 2 * (j - first)
-            self.rates[c : c + (1 if k == 0 else 2)] = float(k)
+        self.rates[first:] = np.repeat(np.asarray(hn[first:], dtype=float), 2)
         base = [self.dof * p.n_coef]
         self.first_column = first
         self.first = [b + first for b in base]
@@ -514,7 +513,12 @@ class AdaptiveContinuation:
     # ------------------------------------------------------------------
     def _level(self, h: int) -> _Level:
         if h not in self._levels:
-            level = _Level(self.make_problem(h), self._make_cont)
+            # a probe level of a lower rung may already hold this problem
+            # (its roles share nothing: continuation and watch as a level,
+            # calibration work arrays as a probe)
+            level = self._probes.get(h)
+            if level is None:
+                level = _Level(self.make_problem(h), self._make_cont)
             below = [lv for lv in self.ladder if lv < h]
             # the estimate (per tolerance) under which a lower level would do
             level.lower_below = (
@@ -528,7 +532,10 @@ class AdaptiveContinuation:
         (:func:`probe_level`; may lie beyond the ladder), built once."""
         hp = probe_level(h, self.ladder)
         if hp not in self._probes:
-            self._probes[hp] = _Level(self.make_problem(hp), self._make_cont)
+            level = self._levels.get(hp)
+            if level is None:
+                level = _Level(self.make_problem(hp), self._make_cont)
+            self._probes[hp] = level
         return self._probes[hp]
 
     def _make_cont(self, problem) -> Continuation:

@@ -20,13 +20,171 @@ from ..linalg.krylov import (
     REUSE_SOLVES,
     REUSE_TOL,
 )
-from ..linalg.lu import solve_inplace
+from ..linalg.lu import lu_factor, lu_solve, solve_inplace
 from ..residuals.dispatch import _on_coordinates
 from ..residuals.hbm import JIT_OPTIONS
 from ..residuals.pointer import call_residual
 
 #: GMRES iterations at most of the probe solve (:func:`probe_solve`)
 PROBE_KRYLOV = 60
+
+
+#: pivot columns per panel of :func:`probe_factor` (their updates of the
+#: trailing rows are applied in one pass over each row; the fused pass is
+#: written for four)
+PANEL = 4
+
+
+@jit
+def probe_factor(A, piv):
+    """LU factorisation with partial pivoting, in place: the factors and
+    pivots of :func:`hbmfric.kernels.linalg.lu.lu_factor` bit for bit, in
+    about half its time from order 64 (the probe systems: orders 46-90).
+
+    The same eliminations, grouped: the ``PANEL`` pivot columns of a
+    panel are eliminated first (pivot search and row swaps as in
+    ``lu_factor``), then the panel's rows of ``U`` right of it, then each
+    trailing row takes the panel's ``PANEL`` updates in one pass, each
+    entry in pivot order. Every entry sees the same operations in the same
+    order as in ``lu_factor`` (a multiplier that is zero skips its update
+    there and here), so the factors are the same to the last bit; the
+    contiguous inner loops vectorise, each trailing entry is read and
+    written once per panel instead of once per pivot, and two trailing
+    rows share each pass over the panel's rows of ``U`` (``lu_factor``:
+    176-182 µs at order 90, 68-69 at 64, 28 at 46; this: 75 / 34 / 18,
+    load 5-10; no gain below order 33, slower below 23).
+
+    Parameters
+    ----------
+    A : ndarray, shape (m, m), C-contiguous
+        In: the matrix. Out: ``L`` (unit diagonal, below) and ``U``.
+    piv : ndarray of int64, shape (m,)
+        Out: row ``k`` was swapped with row ``piv[k]`` at step ``k``.
+
+    Returns
+    -------
+    bool
+        False if a pivot is zero or not finite.
+    """
+    m = A.shape[0]
+    if not A.flags.c_contiguous:
+        return lu_factor(A, piv)
+    flat = A.reshape(m * m)
+    big_all = 0.0
+    for i in range(m * m):
+        a = abs(flat[i])
+        if not a <= big_all:
+            big_all = a
+    if not np.isfinite(big_all):
+        return False
+    tiny = 1e-300 + big_all * 1e-15
+    for k0 in range(0, m, PANEL):
+        k1 = min(k0 + PANEL, m)  # the panel: pivot columns k0 .. k1 - 1
+        for k in range(k0, k1):
+            p = k
+            big = abs(flat[k * m + k])
+            for i in range(k + 1, m):
+                a = abs(flat[i * m + k])
+                if a > big:
+                    big = a
+                    p = i
+            piv[k] = p
+            if not big > tiny:
+                return False
+            if p != k:
+                # rows k and p carry the same updates (those of the pivots
+                # before k on the panel's columns, before k0 elsewhere)
+                rk = flat[k * m : (k + 1) * m]
+                rp = flat[p * m : (p + 1) * m]
+                for j in range(m):
+                    t = rk[j]
+                    rk[j] = rp[j]
+                    rp[j] = t
+            inv = 1.0 / flat[k * m + k]
+            for i in range(k + 1, m):
+                f = flat[i * m + k] * inv
+                flat[i * m + k] = f
+                if f != 0.0:
+                    for j in range(k + 1, k1):
+                        flat[i * m + j] -= f * flat[k * m + j]
+        if k1 == m:
+            break
+        w = m - k1
+        # the panel's rows of U right of the panel
+        for k in range(k0 + 1, k1):
+            a = flat[k * m + k1 : (k + 1) * m]
+            for kk in range(k0, k):
+                f = flat[k * m + kk]
+                if f != 0.0:
+                    u = flat[kk * m + k1 : (kk + 1) * m]
+                    for j in range(w):
+                        a[j] -= f * u[j]
+        # the trailing rows: the panel's updates, in pivot order per entry;
+        # two rows per pass where all eight multipliers are nonzero (each
+        # row of U read once for both), else one row per pass
+        full = k1 - k0 == PANEL
+        u0 = flat[k0 * m + k1 : (k0 + 1) * m]
+        u1 = flat[(k0 + 1) * m + k1 : (k0 + 2) * m] if full else u0
+        u2 = flat[(k0 + 2) * m + k1 : (k0 + 3) * m] if full else u0
+        u3 = flat[(k0 + 3) * m + k1 : (k0 + 4) * m] if full else u0
+        i = k1
+        while i < m:
+            a = flat[i * m + k1 : (i + 1) * m]
+            if full:
+                f0 = flat[i * m + k0]
+                f1 = flat[i * m + k0 + 1]
+                f2 = flat[i * m + k0 + 2]
+                f3 = flat[i * m + k0 + 3]
+                nonzero = f0 != 0.0 and f1 != 0.0 and f2 != 0.0 and f3 != 0.0
+                if nonzero and i + 1 < m:
+                    g0 = flat[(i + 1) * m + k0]
+                    g1 = flat[(i + 1) * m + k0 + 1]
+                    g2 = flat[(i + 1) * m + k0 + 2]
+                    g3 = flat[(i + 1) * m + k0 + 3]
+                    if g0 != 0.0 and g1 != 0.0 and g2 != 0.0 and g3 != 0.0:
+                        c = flat[(i + 1) * m + k1 : (i + 2) * m]
+                        for j in range(w):
+                            x0 = u0[j]
+                            x1 = u1[j]
+                            x2 = u2[j]
+                            x3 = u3[j]
+                            v = a[j] - f0 * x0
+                            v = v - f1 * x1
+                            v = v - f2 * x2
+                            a[j] = v - f3 * x3
+                            q = c[j] - g0 * x0
+                            q = q - g1 * x1
+                            q = q - g2 * x2
+                            c[j] = q - g3 * x3
+                        i += 2
+                        continue
+                if nonzero:
+                    for j in range(w):
+                        v = a[j] - f0 * u0[j]
+                        v = v - f1 * u1[j]
+                        v = v - f2 * u2[j]
+                        a[j] = v - f3 * u3[j]
+                    i += 1
+                    continue
+            for kk in range(k0, k1):
+                f = flat[i * m + kk]
+                if f != 0.0:
+                    u = flat[kk * m + k1 : (kk + 1) * m]
+                    for j in range(w):
+                        a[j] -= f * u[j]
+            i += 1
+    return True
+
+
+@jit
+def probe_dense_solve(A, b):
+    """:func:`~hbmfric.kernels.linalg.lu.solve_inplace` with the factors
+    of :func:`probe_factor` (the same ``x`` bit for bit)."""
+    piv = np.empty(b.size, dtype=np.int64)
+    if not probe_factor(A, piv):
+        return False
+    lu_solve(A, piv, b)
+    return np.isfinite(b).all()
 
 
 def probe_solve(problem, A, b, n_dof, n_coef, first):
@@ -46,7 +204,9 @@ def probe_solve(problem, A, b, n_dof, n_coef, first):
     record GMRES solves, products, fallbacks and the dense factorisations
     of the fallbacks, and its relative residual (2-norm) is
     ``state[REUSE_TOL]``. Any
-    other problem factors ``A`` (:func:`~hbmfric.kernels.linalg.lu.solve_inplace`).
+    other problem factors ``A`` (:func:`probe_dense_solve`: the factors of
+    :func:`~hbmfric.kernels.linalg.lu.solve_inplace` bit for bit, in about
+    half its time at the probe orders).
     """
     raise NotImplementedError("probe_solve is for jit code")
 
@@ -78,7 +238,7 @@ def _probe_solve(problem, A, b, n_dof, n_coef, first):
         return condensed
 
     def full(problem, A, b, n_dof, n_coef, first):
-        return solve_inplace(A, b)
+        return probe_dense_solve(A, b)
 
     return full
 
