@@ -326,11 +326,19 @@ def _same_data(first, second):
     arrays (a tuple field of the condensed problem) by shape."""
     for a, b in zip(first, second, strict=True):
         if isinstance(a, tuple):
-            assert len(a) == len(b)
-            for x, z in zip(a, b, strict=True):
-                assert np.shape(x) == np.shape(z)
+            _same_shapes(a, b)
         else:
             np.testing.assert_array_equal(a, b)
+
+
+def _same_shapes(first, second):
+    """Equal shapes of the work arrays in (nested) tuples."""
+    assert len(first) == len(second)
+    for x, z in zip(first, second, strict=True):
+        if isinstance(x, tuple):
+            _same_shapes(x, z)
+        else:
+            assert np.shape(x) == np.shape(z)
 
 
 def test_top_measure_zero_when_stuck():
