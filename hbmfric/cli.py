@@ -37,8 +37,8 @@ def _paper(args: argparse.Namespace) -> int:
         # (a full disk, a failing scene) never loses the ones before it
         from .warmup import PaperHelper
 
-        # a first run: the kernels of the later figures compile meanwhile in
-        # a second process (bench/README.md "Issue 17, stop 29" and "stop 30")
+        # a first run: the beam's kernels compile meanwhile in a second
+        # process (bench/README.md "Issue 17, stop 29")
         helper = PaperHelper.start(progress)
         try:
             yield from paper.iter_sdof_figures(harmonics=h, progress=progress)

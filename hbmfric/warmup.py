@@ -27,16 +27,11 @@ import warnings
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
-#: the condensed beam, which compiles the condensed residual and its
-#: recovery kernels, which no other step uses
+#: the step that leads the second lane: the condensed beam compiles the
+#: condensed continuation kernels, which no other step uses, while the
+#: first lane compiles the full ones; the lanes' later steps then find most
+#: of what they share in the cache
 CONDENSED_STEP = "beam FRF (condensed)"
-#: the steps that lead the second lane, in this order: the time
-#: integration (no continuation kernel), then the condensed beam, while the
-#: first lane's first step compiles the continuation kernels, which every
-#: FRF shares (full and one-contact condensed problems alike, stop 30): by
-#: the time the beam needs them they are usually in the cache; the lanes'
-#: later steps then find most of what they share there
-SECOND_LANE = ("time integration", CONDENSED_STEP)
 
 
 def _steps() -> list[tuple[str, Callable[[], object]]]:
@@ -111,7 +106,7 @@ def _steps() -> list[tuple[str, Callable[[], object]]]:
 
 
 def lanes(names: list[str], jobs: int) -> list[list[str]]:
-    """The steps of each worker process: :data:`SECOND_LANE` leads the
+    """The steps of each worker process: :data:`CONDENSED_STEP` leads the
     second lane, the other steps are dealt in their order, each to the
     first of the lanes with the fewest steps.
 
@@ -130,11 +125,9 @@ def lanes(names: list[str], jobs: int) -> list[list[str]]:
     """
     out: list[list[str]] = [[] for _ in range(jobs)]
     rest = list(names)
-    if jobs > 1:
-        for name in SECOND_LANE:
-            if name in rest:
-                rest.remove(name)
-                out[1].append(name)
+    if jobs > 1 and CONDENSED_STEP in rest:
+        rest.remove(CONDENSED_STEP)
+        out[1].append(CONDENSED_STEP)
     for name in rest:
         min(out, key=len).append(name)  # the first of the shortest lanes
     return out
@@ -235,35 +228,19 @@ def first_run(cache_dir: str | None = None) -> bool:
     return not glob.glob(pattern)
 
 
-def _paper_kernels() -> None:
-    """Compile the kernels of the paper's figures that its first FRF (the
-    SDOF Jenkins of Fig. 8, which compiles the continuation kernels) does
-    not, in the order the paper needs them: the residuals of the SDOF Menq
-    (Fig. 9), of the paper beam (Figs. 13-15, condensed onto its contact)
-    and of the belt tensioner (Fig. 5, Dahl), then one FRF of the beam as
-    the paper computes them (Fn = 5 N, condensed, ``harmonics="auto"``),
-    which compiles the beam's other kernels and by then finds the
-    continuation kernels in the cache if the main process has written them
-    (full and one-contact condensed problems share them, stop 30)."""
+def _paper_beam() -> None:
+    """One FRF of the paper beam as the paper computes them (Fn = 5 N,
+    condensed, ``harmonics="auto"``): it compiles the beam's kernels; then
+    the residual of the belt tensioner's problem type (Dahl, Fig. 5), which
+    the main process would otherwise compile after the beam figures."""
     import hbmfric as hf
     from hbmfric.api import _problem
     from hbmfric.kernels.residuals.pointer import residual_address
     from hbmfric.paper.beam import PAPER_BEAM_SCENE, _omega_range, paper_beam
-    from hbmfric.paper.scenes import paper_oscillator
-    from hbmfric.paper.sdof import menq_law
     from hbmfric.systems.tensioner import BeltTensioner
 
-    o = paper_oscillator(10.0)
-    menq = hf.Oscillator(o.mass, o.damping, o.stiffness, menq_law(10.0))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        for system, force in (
-            (menq, 1.0),
-            (paper_beam(5.0), 2.0),
-            (BeltTensioner(), 5.0),
-        ):
-            problem = _problem(system, force, 7, None, None, "auto", None)
-            residual_address(problem.kernel_problem)
         hf.frf(
             paper_beam(5.0),
             2.0,
@@ -271,16 +248,20 @@ def _paper_kernels() -> None:
             "auto",
             max_step=PAPER_BEAM_SCENE["max_step"],
         )
+        # the problem hbm_frf builds (hf.frf's defaults: full, Dahl family)
+        tensioner = _problem(BeltTensioner(), 5.0, 7, None, None, "auto", None)
+        residual_address(tensioner.kernel_problem)
 
 
 class PaperHelper:
-    """Kernels of the paper compiled in a second process while this one
-    computes the first SDOF figure (a first run on a machine of two cores
-    or more, :func:`_paper_kernels`): the residuals of the later figures'
-    problem types and the paper beam's own kernels compile meanwhile
-    instead of after it. :meth:`wait` before the beam figures: they then
-    load those kernels from the cache. Nothing else changes: the helper
-    computes no result the paper uses.
+    """The paper beam's kernels (and the belt tensioner's residual) compiled
+    in a second process while this one computes the SDOF figures (a first
+    run on a machine of two cores or more): the beam's continuation
+    kernels (condensed) share nothing with the SDOF ones (full), so the two
+    compilations overlap instead of
+    adding up. :meth:`wait` before the beam figures: they then load those
+    kernels from the cache. Nothing else changes: the helper computes no
+    result the paper uses.
     """
 
     def __init__(self) -> None:
@@ -291,7 +272,7 @@ class PaperHelper:
         quiet = os.environ.get("HBMFRIC_QUIET")
         os.environ["HBMFRIC_QUIET"] = "1"
         try:
-            self._future = self._pool.submit(_paper_kernels)
+            self._future = self._pool.submit(_paper_beam)
         finally:
             if quiet is None:
                 del os.environ["HBMFRIC_QUIET"]
@@ -306,9 +287,9 @@ class PaperHelper:
             return None
         if progress:
             progress(
-                "hbmfric paper: first run of this version: the kernels of the "
-                "later figures compile in a second process while the first one "
-                "runs (once)"
+                "hbmfric paper: first run of this version: the beam's and the "
+                "tensioner's kernels compile in a second process while the SDOF "
+                "figures run (once)"
             )
         return cls()
 

@@ -385,13 +385,11 @@ def test_kernels_compile_once_and_no_eager_imports():
     # the residual: one signature per problem type, the types of the AFT
     # families run here (Jenkins, Menq/Iwan/Roughness on the event AFT) and
     # the plain tuple (Duffing, and Menq on the sampled AFT); the corrector
-    # one for all of them (it takes every full problem as a DenseChainProblem
-    # and calls the residual through its address)
+    # one for all of them (it takes every full problem as a ChainProblem and
+    # calls the residual through its address)
     kinds = report["residual_problems"]
     assert sorted(kinds) == ["JenkinsProblem", "MasingProblem", "Tuple"], kinds
-    assert report["correct_problems"] == ["DenseChainProblem"], report[
-        "correct_problems"
-    ]
+    assert report["correct_problems"] == ["ChainProblem"], report["correct_problems"]
     (key,) = [k for k in report["first"] if k.endswith("newton.correct")]
     assert report["first"][key] == 1
     assert not report["mpl"]

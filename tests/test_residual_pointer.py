@@ -16,12 +16,8 @@ from numba.core.errors import TypingError
 import hbmfric as hf
 from hbmfric.condensation import CondensedHBMProblem
 from hbmfric.hbm import HBMProblem
-from hbmfric.kernels.residuals.condensed import (
-    CondensedSingleChainProblem,
-    condensed_residual,
-)
-from hbmfric.kernels.residuals.dispatch import DenseChainProblem
-from hbmfric.kernels.residuals.hbm import ChainProblem, hbm_residual
+from hbmfric.kernels.residuals.condensed import condensed_residual
+from hbmfric.kernels.residuals.hbm import hbm_residual
 from hbmfric.kernels.residuals.pointer import (
     call_residual,
     chain_problem,
@@ -120,7 +116,7 @@ def test_chain_problem_gives_the_residual_bit_for_bit(case, amplitude):
     R, J = np.full(n, np.nan), np.full((n, n + 1), np.nan)
     R2, J2 = np.full(n, np.nan), np.full((n, n + 1), np.nan)
     chain = chain_problem(kp)
-    assert type(chain) is not type(kp) and tuple(_member(chain)) == tuple(kp)
+    assert type(chain) is not type(kp) and tuple(chain) == tuple(kp)
     s = _through(residual_address(kp), y, chain, R, J)
     s2 = direct(y, kp, R2, J2)
     assert s == s2 >= 0
@@ -128,84 +124,30 @@ def test_chain_problem_gives_the_residual_bit_for_bit(case, amplitude):
     assert np.all(np.isfinite(J))
 
 
-def _member(chain):
-    """The member of a chain problem that holds the problem's fields."""
-    if isinstance(chain, DenseChainProblem):
-        return chain.single if chain.condensed else chain.full
-    return chain
-
-
 def test_one_chain_type_per_residual():
-    """Every full problem type (AFT families, plain tuple, rigid Coulomb) and
-    every condensed one of one contact to ground of an AFT family (both
-    solved with dense factors) reach the continuation kernels as one Numba
-    type, the other condensed ones (rigid Coulomb, the general type) as a
-    second; the residual itself is resolved for the problem's own type only
-    (a chain problem does not name the law family)."""
+    """Every full problem type (AFT families, plain tuple, rigid Coulomb)
+    reaches the continuation kernels as one Numba type, every condensed one
+    of one contact to ground of an AFT family as another, the other
+    condensed ones (rigid Coulomb, the general type) as a third; the
+    residual itself is resolved for the problem's own type only (a chain
+    problem does not name the law family)."""
 
     def chain_types(cases):
         return [_type_of(chain_problem(CHAIN_CASES[c]().kernel_problem)) for c in cases]
 
-    dense = chain_types(
-        (
-            "jenkins",
-            "menq",
-            "dahl",
-            "cubic (plain tuple)",
-            "coulomb",
-            "condensed jenkins",
-            "condensed menq",
-        )
-    )
-    assert len(set(dense)) == 1
+    full = chain_types(("jenkins", "menq", "dahl", "cubic (plain tuple)", "coulomb"))
+    assert len(set(full)) == 1
+    single = chain_types(("condensed jenkins", "condensed menq"))
+    assert len(set(single)) == 1 and single[0] != full[0]
     condensed = chain_types(("condensed coulomb",))
     general = CondensedHBMProblem(_osc(hf.Cubic(0.2)), 0.5, 7).kernel_problem
     condensed.append(_type_of(chain_problem(general)))
     assert len(set(condensed)) == 1
-    assert condensed[0] != dense[0]
-    for c in ("jenkins", "condensed jenkins"):
-        kp = CHAIN_CASES[c]().kernel_problem
-        chain = chain_problem(kp)
-        assert chain_problem(chain) is chain
-        assert tuple(_member(chain)) == tuple(kp)
-        for refused in (chain, _member(chain)):
-            with pytest.raises(TypeError, match="not its chain_problem"):
-                residual_address(refused)
-        assert residual_address(kp) > 0
-
-
-def test_full_and_one_contact_problems_share_the_continuation_kernels():
-    """A full FRF and an FRF condensed onto one contact to ground compile
-    one signature of each continuation kernel between them (they compiled
-    two, about 12 s of a first run: bench/README.md "Issue 17, stop 30"),
-    and each branch is the one its own problem gives: the condensed SDOF
-    against the full one of the same oscillator (condensation is exact for
-    one DOF: the same peak within the curve rule's 1e-4; the two branches
-    place their points differently)."""
-    jenkins = hf.Jenkins(stiffness=3.0, slip_force=1.0)
-    full = hf.frf(_osc(jenkins), 0.5, (0.5, 3.0), 15)
-    condensed = hf.frf(_osc(jenkins), 0.5, (0.5, 3.0), 15, condense=True)
-    for b in (full, condensed):
-        assert b.stop_reason.startswith("end")
-    peak_full = np.max(full.amplitude())
-    assert np.max(condensed.amplitude()) == pytest.approx(peak_full, rel=1e-4)
-    kinds = {
-        type(chain_problem(p.kernel_problem))
-        for p in (
-            HBMProblem(_osc(jenkins), 0.5, 7),
-            CondensedHBMProblem(_osc(jenkins), 0.5, 7),
-        )
-    }
-    assert kinds == {DenseChainProblem}
-    for kernel in (newton.correct, arclength.trace, truncation.branch_truncation):
-        classes = [
-            {getattr(a, "instance_class", None) for a in sig}
-            for sig in kernel.signatures
-        ]
-        dense = [c for c in classes if DenseChainProblem in c]
-        assert len(dense) == 1, (kernel, kernel.signatures)
-        members = {ChainProblem, CondensedSingleChainProblem}
-        assert not [c for c in classes if c & members], (kernel, kernel.signatures)
+    assert condensed[0] not in (full[0], single[0])
+    kp = CASES["jenkins"]().kernel_problem
+    assert chain_problem(chain_problem(kp)) == chain_problem(kp)
+    with pytest.raises(TypeError, match="not its chain_problem"):
+        residual_address(chain_problem(kp))
 
 
 def test_one_address_per_problem_type():

@@ -12,8 +12,6 @@ that they do not link in, optimise and emit the whole residual once more
 each (each compiled kernel emits machine code for all it calls).
 """
 
-from collections import namedtuple
-
 from numba import types
 from numba.extending import overload
 
@@ -24,34 +22,6 @@ from .condensed import (
     is_single_contact,
 )
 from .hbm import JIT_OPTIONS, hbm_residual
-
-DenseChainProblem = namedtuple("DenseChainProblem", ("condensed", "full", "single"))
-DenseChainProblem.__doc__ = """A problem whose corrector solves with dense
-factors as the continuation kernels receive it
-(:func:`hbmfric.kernels.residuals.pointer.chain_problem`): a full problem
-of any law family, or a problem condensed onto one contact to ground
-(:data:`~hbmfric.kernels.residuals.condensed.SINGLE_CONTACT_TYPES`), in
-one type, so that the continuation kernels compile once for both.
-
-Fields: ``condensed`` (int64, 1 for a condensed problem, else 0); ``full``
-(a :class:`~hbmfric.kernels.residuals.hbm.ChainProblem`: the problem's
-fields, or empty arrays if condensed); ``single`` (a
-:class:`~hbmfric.kernels.residuals.condensed.CondensedSingleChainProblem`:
-the problem's fields, or empty arrays if full). The residual is called
-through its address with the member ``condensed`` names
-(:func:`~hbmfric.kernels.residuals.pointer.call_residual`); the other
-members' run-time dispatch: :func:`rounding_level` and
-:func:`hbmfric.kernels.steps.newton.lagged_factors`. Never passed to a
-residual itself."""
-
-
-def is_dense_chain(problem) -> bool:
-    """Is the Numba type ``problem`` a :class:`DenseChainProblem`? For
-    compile-time dispatch."""
-    return (
-        isinstance(problem, types.BaseNamedTuple)
-        and problem.instance_class is DenseChainProblem
-    )
 
 
 def residual(y, problem, R, J):
@@ -108,15 +78,6 @@ def rounding_level(problem):
 
 @overload(rounding_level, jit_options=JIT_OPTIONS)
 def _rounding_level(problem):
-    if is_dense_chain(problem):
-
-        def dense(problem):
-            if problem.condensed:
-                return problem.single.rounding[0]
-            return 0.0
-
-        return dense
-
     if _is_condensed(problem):
 
         def condensed(problem):

@@ -21,23 +21,17 @@ in anything that is pickled or cached.
 
 Since the continuation kernels reach the residual only through its address,
 nothing else in them depends on which law family a problem's type stands
-for: they receive the problem as :func:`chain_problem`, so that they are
-compiled once for every law family instead of once per problem type: a full
-problem and a problem condensed onto one contact to ground (both solved
-with dense factors) in one type,
-:class:`~hbmfric.kernels.residuals.dispatch.DenseChainProblem`, which holds
-both layouts and says at run time which one is the problem; any other
-condensed problem in
-:class:`~hbmfric.kernels.residuals.condensed.CondensedChainProblem`. The call
-passes the problem by Numba's calling convention, which lays a named tuple
-out by its field types alone; :func:`chain_problem` checks that those are
-the problem's own (the residual's) field types.
+for: they receive the problem as :func:`chain_problem` (the same fields in
+one type per residual, full or condensed), so that they are compiled once
+for every law family instead of once per problem type. The call passes the
+problem by Numba's calling convention, which lays a named tuple out by its
+field types alone; :func:`chain_problem` checks that those are the problem's
+own (the residual's) field types.
 """
 
 from __future__ import annotations
 
 import numba
-import numpy as np
 from numba import types
 from numba.core import cgutils, errors
 from numba.extending import intrinsic
@@ -49,7 +43,7 @@ from .condensed import (
     CondensedSingleChainProblem,
     condensed_residual,
 )
-from .dispatch import DenseChainProblem, _is_condensed, is_dense_chain
+from .dispatch import _is_condensed
 from .hbm import ChainProblem, hbm_residual
 
 #: the types the residual is compiled for: ``y``, ``R`` (float64, 1D,
@@ -112,7 +106,7 @@ def residual_address(problem) -> int:
     key = _key(problem)
     address = _ADDRESSES.get(key)
     if address is None:
-        if type(problem) in _NOT_A_PROBLEM:
+        if type(problem) in _CHAIN_TYPES:
             raise TypeError(
                 "residual_address takes the kernel problem itself, not its "
                 "chain_problem (whose type does not name the law family)"
@@ -151,99 +145,22 @@ def call_residual(typingctx, address, y, problem, R, J):
             raise errors.TypingError(f"call_residual: {name} is {got}, not {want}")
     sig = STATE(address, y, problem, R, J)
 
-    def call(context, builder, address, argtys, args):
+    def codegen(context, builder, signature, args):
+        argtys = signature.args[1:]
         fnty = context.call_conv.get_function_type(STATE, argtys)
-        fn = builder.inttoptr(address, fnty.as_pointer())
-        status, out = context.call_conv.call_function(builder, fn, STATE, argtys, args)
+        fn = builder.inttoptr(args[0], fnty.as_pointer())
+        status, out = context.call_conv.call_function(
+            builder, fn, STATE, argtys, args[1:]
+        )
         with cgutils.if_unlikely(builder, status.is_error):
             context.call_conv.return_status_propagate(builder, status)
         return out
 
-    if not is_dense_chain(problem):
-
-        def codegen(context, builder, signature, args):
-            return call(context, builder, args[0], signature.args[1:], args[1:])
-
-        return sig, codegen
-
-    def dense(context, builder, signature, args):
-        # the residual takes the member that is the problem: the condensed
-        # one of one contact to ground, or the full one
-        address, y, problem, R, J = args
-        condensed = builder.extract_value(problem, 0)
-        out = cgutils.alloca_once(builder, context.get_value_type(STATE))
-        is_condensed = builder.icmp_signed("!=", condensed, condensed.type(0))
-        with builder.if_else(is_condensed) as (single, full):
-            for member, block in ((2, single), (1, full)):
-                with block:
-                    argtys = (VECTOR, signature.args[2].types[member], VECTOR, MATRIX)
-                    value = builder.extract_value(problem, member)
-                    builder.store(
-                        call(context, builder, address, argtys, (y, value, R, J)),
-                        out,
-                    )
-        return builder.load(out)
-
-    return sig, dense
+    return sig, codegen
 
 
-#: the types of :func:`chain_problem`, and of its members
-_CHAIN_TYPES = (DenseChainProblem, CondensedChainProblem)
-_NOT_A_PROBLEM = (*_CHAIN_TYPES, ChainProblem, CondensedSingleChainProblem)
-
-
-def _empty_members() -> tuple:
-    """The members of a :class:`DenseChainProblem` that are not the problem:
-    a :class:`ChainProblem` and a :class:`CondensedSingleChainProblem` of
-    empty arrays (one row for ``rounding``) and zero scalars, with the
-    field types of the problems' own (checked by :func:`chain_problem`).
-    Never read: the kernels read the member the problem is in."""
-    i1, f1, c1 = np.zeros(0, np.int64), np.zeros(0), np.zeros(0, np.complex128)
-    i2, f2, c2 = (np.zeros((0, 0), t) for t in (np.int64, float, np.complex128))
-    f3, c3 = np.zeros((0, 0, 0)), np.zeros((0, 0, 0), np.complex128)
-    full = ChainProblem(i1, f2, f2, f2, f1, i2, i1, f2, 0, f2, f2, f2)
-    single = CondensedSingleChainProblem(
-        harmonic_numbers=i1,
-        contact_shapes=f1,
-        omega_squared=f1,
-        modal_damping=f1,
-        modal_load=f2,
-        law_code=0,
-        law_params=f1,
-        aft_scheme=0,
-        inverse=f2,
-        forward=f2,
-        derivative=f2,
-        method=0,
-        contact_dof=0,
-        mass=f2,
-        damping=f2,
-        stiffness=f2,
-        load=f2,
-        contact_mass=0.0,
-        coordinate_pairs=i2,
-        law_codes=i1,
-        law_rows=f2,
-        coordinate_shapes=f2,
-        state_left=c2,
-        state_right=c2,
-        state_poles=c1,
-        state_load=c2,
-        state_output=c1,
-        state_low=i1,
-        state_series=f3,
-        state_split=0.0,
-        output_dof=0,
-        drawn_cache=f2,
-        rounding=np.zeros(1),
-        solver=(f2, i1, f2, f1, f3, i2, f1, f1),
-        kept_inverse=c3,
-    )
-    return full, single
-
-
-#: :func:`_empty_members` and their Numba types, made on first use
-_EMPTY: list = []
+#: the types of :func:`chain_problem`
+_CHAIN_TYPES = (ChainProblem, CondensedChainProblem, CondensedSingleChainProblem)
 
 #: problem keys (as :data:`_ADDRESSES`) whose :func:`chain_problem` has
 #: the problem's own field types; process-local
@@ -251,14 +168,13 @@ _CHAIN_CHECKED: set = set()
 
 
 def chain_problem(problem):
-    """The kernel ``problem`` as the continuation kernels take it, one type
-    for every law family, so that those kernels compile once for all of
-    them: a :class:`~hbmfric.kernels.residuals.dispatch.DenseChainProblem`
-    holding its fields for a full problem or one condensed onto one contact
-    to ground (:data:`~hbmfric.kernels.residuals.condensed.
-    SINGLE_CONTACT_TYPES`), whose corrector solves with dense factors; its
-    fields in :class:`~hbmfric.kernels.residuals.condensed.
-    CondensedChainProblem` for any other condensed one. They call the
+    """The kernel ``problem`` as the continuation kernels take it: its
+    fields in :class:`~hbmfric.kernels.residuals.hbm.ChainProblem` (a full
+    problem) or :class:`~hbmfric.kernels.residuals.condensed.
+    CondensedChainProblem` (a condensed one;
+    :class:`~hbmfric.kernels.residuals.condensed.CondensedSingleChainProblem`
+    for one contact to ground), one type for every law family, so that
+    those kernels compile once for all of them. They call the
     residual through :func:`residual_address` of ``problem`` itself (its
     own type's residual).
 
@@ -272,49 +188,33 @@ def chain_problem(problem):
 
     Returns
     -------
-    DenseChainProblem or CondensedChainProblem
-        The same field values (in the member of a ``DenseChainProblem``
-        its ``condensed`` flag names).
+    ChainProblem, CondensedChainProblem or CondensedSingleChainProblem
+        The same field values.
 
     Raises
     ------
     TypeError
         If the chain type's fields would not have the problem's own Numba
         types (the residual called through its address would then read
-        them wrongly), or the ``DenseChainProblem`` not the one Numba type
-        of every other (it would compile the continuation again); checked
-        once per problem type and process.
+        them wrongly; cannot happen for the same values, checked once per
+        problem type and process).
     """
     kind = type(problem)
     if kind in _CHAIN_TYPES:
         return problem
-    if not _EMPTY:
-        full, single = _empty_members()
-        _EMPTY.extend((full, single, numba.typeof(full), numba.typeof(single)))
     if kind in SINGLE_CONTACT_TYPES:
-        own = CondensedSingleChainProblem(*problem)
-        view = DenseChainProblem(1, _EMPTY[0], own)
-        empty = _EMPTY[3]
+        view = CondensedSingleChainProblem(*problem)
     elif kind in CONDENSED_TYPES:
-        own = view = CondensedChainProblem(*problem)
-        empty = None
+        view = CondensedChainProblem(*problem)
     else:
-        own = ChainProblem(*problem)
-        view = DenseChainProblem(0, own, _EMPTY[1])
-        empty = _EMPTY[2]
+        view = ChainProblem(*problem)
     key = _key(problem)
     if key not in _CHAIN_CHECKED:
-        mine, chain = numba.typeof(problem), numba.typeof(own)
-        if tuple(mine.types) != tuple(chain.types):
+        own, chain = numba.typeof(problem), numba.typeof(view)
+        if tuple(own.types) != tuple(chain.types):
             raise TypeError(
                 f"the continuation's problem type {chain} does not have the "
-                f"field types of {mine}"
-            )
-        if empty is not None and chain != empty:
-            raise TypeError(
-                f"the dense chain's member {chain} does not have the field "
-                f"types of its empty member {empty} (another compilation of "
-                "the continuation kernels)"
+                f"field types of {own}"
             )
         _CHAIN_CHECKED.add(key)
     return view

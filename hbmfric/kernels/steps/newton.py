@@ -14,12 +14,7 @@ from ..dlft.coulomb import COULOMB
 from ..linalg.blocks import block_solve
 from ..linalg.krylov import REUSE_MODE, REUSE_MODE_BLOCKS, reuse_solve
 from ..linalg.lu import lu_factor, lu_solve, solve_inplace
-from ..residuals.dispatch import (
-    _is_condensed,
-    _on_coordinates,
-    is_dense_chain,
-    rounding_level,
-)
+from ..residuals.dispatch import _is_condensed, _on_coordinates, rounding_level
 from ..residuals.hbm import JIT_OPTIONS
 from ..residuals.pointer import call_residual
 
@@ -180,17 +175,6 @@ def lagged_factors(problem):
 
 @overload(lagged_factors, jit_options=JIT_OPTIONS, inline="always")
 def _lagged_factors(problem):
-    if is_dense_chain(problem):
-        # full or condensed onto one contact: told at run time
-
-        def dense(problem):
-            if problem.condensed:
-                return False
-            codes = problem.full.law_codes
-            return codes.size == 0 or codes[0] != COULOMB
-
-        return dense
-
     if _is_condensed(problem):
         return lambda problem: False
 
