@@ -230,14 +230,9 @@ def first_run(cache_dir: str | None = None) -> bool:
 
 def _paper_beam() -> None:
     """One FRF of the paper beam as the paper computes them (Fn = 5 N,
-    condensed, ``harmonics="auto"``): it compiles the beam's kernels; then
-    the residual of the belt tensioner's problem type (Dahl, Fig. 5), which
-    the main process would otherwise compile after the beam figures."""
+    condensed, ``harmonics="auto"``): it compiles the beam's kernels."""
     import hbmfric as hf
-    from hbmfric.api import _problem
-    from hbmfric.kernels.residuals.pointer import residual_address
     from hbmfric.paper.beam import PAPER_BEAM_SCENE, _omega_range, paper_beam
-    from hbmfric.systems.tensioner import BeltTensioner
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -248,9 +243,19 @@ def _paper_beam() -> None:
             "auto",
             max_step=PAPER_BEAM_SCENE["max_step"],
         )
-        # the problem hbm_frf builds (hf.frf's defaults: full, Dahl family)
-        tensioner = _problem(BeltTensioner(), 5.0, 7, None, None, "auto", None)
-        residual_address(tensioner.kernel_problem)
+
+
+def _tensioner_residual() -> None:
+    """Compile the residual of the belt tensioner's problem type (Dahl,
+    Fig. 5: the problem ``hbm_frf`` builds with :func:`hbmfric.frf`'s
+    defaults), which the main process would otherwise compile after the
+    beam figures."""
+    from hbmfric.api import _problem
+    from hbmfric.kernels.residuals.pointer import residual_address
+    from hbmfric.systems.tensioner import BeltTensioner
+
+    tensioner = _problem(BeltTensioner(), 5.0, 7, None, None, "auto", None)
+    residual_address(tensioner.kernel_problem)
 
 
 class PaperHelper:
@@ -273,6 +278,9 @@ class PaperHelper:
         os.environ["HBMFRIC_QUIET"] = "1"
         try:
             self._future = self._pool.submit(_paper_beam)
+            # after the beam, not waited for: the main process needs it
+            # after the beam figures only
+            self._later = self._pool.submit(_tensioner_residual)
         finally:
             if quiet is None:
                 del os.environ["HBMFRIC_QUIET"]
@@ -294,12 +302,15 @@ class PaperHelper:
         return cls()
 
     def wait(self, progress: Callable[[str], None] | None = print) -> None:
-        """Wait for the helper; a failure of it is reported in one line and
-        otherwise ignored (this process then compiles what it needs)."""
+        """Wait for the beam's kernels; a failure of the helper is reported
+        in one line and otherwise ignored (this process then compiles what
+        it needs). The tensioner's residual goes on compiling in the
+        helper meanwhile (not waited for here: Python waits for it at exit;
+        a failure of it only leaves this process to compile it)."""
         try:
             self._future.result()
         except Exception as exc:  # the helper only fills the cache
             if progress:
                 progress(f"hbmfric paper: the compiling helper failed ({exc})")
         finally:
-            self._pool.shutdown()
+            self._pool.shutdown(wait=False)

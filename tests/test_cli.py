@@ -128,19 +128,18 @@ def test_first_run_is_read_from_the_cache(tmp_path):
 
 
 def test_paper_helper_compiles_the_tensioner_residual(monkeypatch):
-    """The first paper's helper (``warmup._paper_beam``) resolves the
-    residual of the problem type the tensioner's FRF (Fig. 5) calls, so
-    that the main process finds it in the cache. Reference: the types whose
-    residual a real tensioner FRF resolves (recorded at the continuation's
-    calls); the helper's beam FRF is left out here (replaced by a no-op)."""
+    """The first paper's helper (``warmup._tensioner_residual``, after the
+    beam) resolves the residual of the problem type the tensioner's FRF
+    (Fig. 5) calls, so that the main process finds it in the cache.
+    Reference: the types whose residual a real tensioner FRF resolves
+    (recorded at the continuation's calls)."""
     import numba
 
-    import hbmfric as hf
     from hbmfric.continuation import adaptive, palc
     from hbmfric.kernels.residuals import pointer
     from hbmfric.systems.tensioner import BeltTensioner
     from hbmfric.systems.tensioner_response import hbm_frf
-    from hbmfric.warmup import _paper_beam
+    from hbmfric.warmup import _tensioner_residual
 
     used = set()
 
@@ -157,11 +156,10 @@ def test_paper_helper_compiles_the_tensioner_residual(monkeypatch):
     monkeypatch.undo()
     helper = set()
     real = pointer.residual_address
-    monkeypatch.setattr(hf, "frf", lambda *args, **kwargs: None)
     monkeypatch.setattr(
         pointer, "residual_address", lambda kp: helper.add(numba.typeof(kp)) or real(kp)
     )
-    _paper_beam()
+    _tensioner_residual()
     assert used <= helper
 
 
