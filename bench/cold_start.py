@@ -1,7 +1,10 @@
 """Time to the first FRF branch in a fresh process, cold and warm Numba cache.
 
 Run: ``python -m bench.cold_start [--phases] [--profile-frf]
-[--profile-families] [--profile]`` (from the repository root); ``--phases``
+[--profile-families] [--profile] [--paper]`` (from the repository root);
+``--paper`` times a whole cold ``hbmfric paper`` (:func:`paper_cold`), with
+its compiling helper, and ``hbmfric warmup --jobs 2`` on an empty cache
+followed by ``hbmfric paper``, wall and CPU (of every process); ``--phases``
 splits the warm first FRF of a fresh process into its parts
 (:data:`PHASES`); ``--profile-frf`` lists the compile time of every kernel
 (exclusive of the kernels it calls) of the cold first FRF, in one more fresh
@@ -26,8 +29,10 @@ variable above removed, one run beforehand to write them).
 
 from __future__ import annotations
 
+import glob
 import json
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -80,6 +85,89 @@ def _run(code: str, cache: str, pyc: str | None = None) -> float:
         [sys.executable, "-c", code], check=True, cwd=ROOT, env=_env(cache, pyc)
     )
     return time.perf_counter() - t
+
+
+def _timed(argv: list[str], cache: str, quiet: bool = True) -> tuple[float, float]:
+    """Wall and CPU seconds (user + system, of the process and of every
+    process it waited for, e.g. its spawned helpers) of ``python argv``."""
+    env = _env(cache)
+    if quiet:
+        env["HBMFRIC_QUIET"] = "1"
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t = time.perf_counter()
+    subprocess.run(
+        [sys.executable, *argv],
+        check=True,
+        cwd=ROOT,
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    wall = time.perf_counter() - t
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return wall, cpu
+
+
+#: ``hbmfric <argv>`` in a fresh process
+CLI = "import sys; from hbmfric.cli import main; sys.exit(main(sys.argv[1:]))"
+
+
+def paper_cold(lap_joint_pairs: int = 10) -> dict:
+    """A first-ever ``hbmfric paper`` (its figures written to a temporary
+    directory, plots included), wall and CPU seconds of all its processes:
+    ``paper`` on an empty cache (its compiling helper,
+    :class:`hbmfric.warmup.PaperHelper`, included); ``warmup`` (``hbmfric
+    warmup --jobs 2`` on another empty cache) and ``paper_after_warmup``
+    (``hbmfric paper`` then, on that cache). ``lap_joint_pairs``: the
+    extra lap-joint figure set's ``--lap-joint-pairs`` (0 skips it).
+    Each line is printed when measured, with the load."""
+    out = {}
+    pairs = ["--lap-joint-pairs", str(lap_joint_pairs)]
+    with tempfile.TemporaryDirectory() as a, tempfile.TemporaryDirectory() as b:
+        for name, cache, argv in (
+            ("paper", a, ["paper", "--out", os.path.join(a, "out"), *pairs]),
+            ("warmup", b, ["warmup", "--jobs", "2"]),
+            (
+                "paper_after_warmup",
+                b,
+                ["paper", "--out", os.path.join(b, "out"), *pairs],
+            ),
+        ):
+            load = os.getloadavg()[0]
+            start = time.time()
+            wall, cpu = _timed(["-c", CLI, *argv], cache)
+            out[name] = (wall, cpu)
+            # the paper's own figures (fig*), before the extra lap joint's
+            figures = glob.glob(os.path.join(cache, "out", "fig*"))
+            last = max((os.path.getmtime(f) for f in figures), default=start)
+            print(
+                f"{name:>20}: {wall:7.1f} s wall, {cpu:7.1f} s CPU "
+                f"(load {load:.1f} -> {os.getloadavg()[0]:.1f})"
+                + (
+                    f"; the paper's figures written after {last - start:.1f} s"
+                    if figures
+                    else ""
+                ),
+                flush=True,
+            )
+    return out
+
+
+def first_frf_cpu(runs: int = 5, cache: str | None = None) -> dict:
+    """The warm first FRF of :data:`FRF` in a fresh process, import
+    included: least wall and CPU seconds (of the whole process) over
+    ``runs`` processes, and the same for ``import hbmfric`` alone."""
+    with tempfile.TemporaryDirectory() as new:
+        cache = new if cache is None else cache
+        _run(FRF, cache)  # compiles if cold
+        rows: dict[str, list] = {}
+        for _ in range(runs):
+            for name, code in (("frf", FRF), ("import", "import hbmfric")):
+                wall, cpu = _timed(["-c", code], cache)
+                rows.setdefault(f"{name}_wall_s", []).append(wall)
+                rows.setdefault(f"{name}_cpu_s", []).append(cpu)
+    return {k: min(v) for k, v in rows.items()}
 
 
 def measure(warm_runs: int = 5, cache: str | None = None) -> dict:
@@ -275,6 +363,13 @@ def main() -> None:
             print(f"{k:>12}: {v:.2f}")
         if "--phases" in sys.argv:
             _print_phases(cache)
+        load = os.getloadavg()[0]
+        parts = first_frf_cpu(cache=cache)
+        print(f"warm first FRF in a fresh process (min of 5, load {load:.1f}):")
+        for k, v in parts.items():
+            print(f"  {k:>14}: {v:.2f}")
+    if "--paper" in sys.argv:
+        paper_cold()
     if "--profile-frf" in sys.argv:
         wall, cpu, kernels = compile_profile(code=FRF)
         _table("cold first FRF", wall, cpu, kernels)

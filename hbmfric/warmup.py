@@ -245,11 +245,25 @@ def _paper_beam() -> None:
         )
 
 
+def _tensioner_residual() -> None:
+    """Compile the residual of the belt tensioner's problem type (Dahl,
+    Fig. 5: the problem ``hbm_frf`` builds with :func:`hbmfric.frf`'s
+    defaults), which the main process would otherwise compile after the
+    beam figures."""
+    from hbmfric.api import _problem
+    from hbmfric.kernels.residuals.pointer import residual_address
+    from hbmfric.systems.tensioner import BeltTensioner
+
+    tensioner = _problem(BeltTensioner(), 5.0, 7, None, None, "auto", None)
+    residual_address(tensioner.kernel_problem)
+
+
 class PaperHelper:
-    """The paper beam's kernels compiled in a second process while this one
-    computes the SDOF figures (a first run on a machine of two cores or
-    more): the beam's continuation kernels (condensed) share nothing with
-    the SDOF ones (full), so the two compilations overlap instead of
+    """The paper beam's kernels (and the belt tensioner's residual) compiled
+    in a second process while this one computes the SDOF figures (a first
+    run on a machine of two cores or more): the beam's continuation
+    kernels (condensed) share nothing with the SDOF ones (full), so the two
+    compilations overlap instead of
     adding up. :meth:`wait` before the beam figures: they then load those
     kernels from the cache. Nothing else changes: the helper computes no
     result the paper uses.
@@ -264,6 +278,9 @@ class PaperHelper:
         os.environ["HBMFRIC_QUIET"] = "1"
         try:
             self._future = self._pool.submit(_paper_beam)
+            # after the beam, not waited for: the main process needs it
+            # after the beam figures only
+            self._later = self._pool.submit(_tensioner_residual)
         finally:
             if quiet is None:
                 del os.environ["HBMFRIC_QUIET"]
@@ -278,18 +295,22 @@ class PaperHelper:
             return None
         if progress:
             progress(
-                "hbmfric paper: first run of this version: the beam's kernels "
-                "compile in a second process while the SDOF figures run (once)"
+                "hbmfric paper: first run of this version: the beam's and the "
+                "tensioner's kernels compile in a second process while the SDOF "
+                "figures run (once)"
             )
         return cls()
 
     def wait(self, progress: Callable[[str], None] | None = print) -> None:
-        """Wait for the helper; a failure of it is reported in one line and
-        otherwise ignored (this process then compiles what it needs)."""
+        """Wait for the beam's kernels; a failure of the helper is reported
+        in one line and otherwise ignored (this process then compiles what
+        it needs). The tensioner's residual goes on compiling in the
+        helper meanwhile (not waited for here: Python waits for it at exit;
+        a failure of it only leaves this process to compile it)."""
         try:
             self._future.result()
         except Exception as exc:  # the helper only fills the cache
             if progress:
                 progress(f"hbmfric paper: the compiling helper failed ({exc})")
         finally:
-            self._pool.shutdown()
+            self._pool.shutdown(wait=False)

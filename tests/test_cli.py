@@ -2,6 +2,7 @@
 curves are the linear stuck and slipping FRFs."""
 
 import csv
+import warnings
 
 import numpy as np
 import pytest
@@ -124,6 +125,42 @@ def test_first_run_is_read_from_the_cache(tmp_path):
     hf.frf(hf.Oscillator(1.0, 0.02, 1.0, law), 0.5, (0.5, 3.0), 5)
     lines = []
     assert PaperHelper.start(lines.append) is None and not lines
+
+
+def test_paper_helper_compiles_the_tensioner_residual(monkeypatch):
+    """The first paper's helper (``warmup._tensioner_residual``, after the
+    beam) resolves the residual of the problem type the tensioner's FRF
+    (Fig. 5) calls, so that the main process finds it in the cache.
+    Reference: the types whose residual a real tensioner FRF resolves
+    (recorded at the continuation's calls)."""
+    import numba
+
+    from hbmfric.continuation import adaptive, palc
+    from hbmfric.kernels.residuals import pointer
+    from hbmfric.systems.tensioner import BeltTensioner
+    from hbmfric.systems.tensioner_response import hbm_frf
+    from hbmfric.warmup import _tensioner_residual
+
+    used = set()
+
+    def recording(kp):
+        used.add(numba.typeof(kp))
+        return pointer.residual_address(kp)
+
+    monkeypatch.setattr(palc, "residual_address", recording)
+    monkeypatch.setattr(adaptive, "residual_address", recording)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        hbm_frf(BeltTensioner(), 20.0, (5.0, 30.0), 7)
+    assert len(used) == 1
+    monkeypatch.undo()
+    helper = set()
+    real = pointer.residual_address
+    monkeypatch.setattr(
+        pointer, "residual_address", lambda kp: helper.add(numba.typeof(kp)) or real(kp)
+    )
+    _tensioner_residual()
+    assert used <= helper
 
 
 @pytest.mark.slow
