@@ -39,7 +39,7 @@ def _paper(args: argparse.Namespace) -> int:
 
         # a first run: the beam's kernels compile meanwhile in a second
         # process (bench/README.md "Issue 17, stop 29")
-        helper = PaperHelper.start(progress)
+        helper = PaperHelper.start(progress, args.lap_joint_pairs)
         try:
             yield from paper.iter_sdof_figures(harmonics=h, progress=progress)
         finally:

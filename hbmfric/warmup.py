@@ -96,6 +96,7 @@ def _steps() -> list[tuple[str, Callable[[], object]]]:
             "time integration",
             lambda: hf.validation.steady_state(osc(jenkins), 0.5, 1.2),
         ),
+        ("lap joint FRF (10 pairs)", lambda: _lap_joint(10)),
         (
             "belt tensioner FRF",
             lambda: hf.frf(
@@ -258,8 +259,26 @@ def _tensioner_residual() -> None:
     residual_address(tensioner.kernel_problem)
 
 
+def _lap_joint(n_pairs: int) -> None:
+    """One FRF of the extra lap-joint figure set (its first preload, a
+    microslip ratio) with ``n_pairs`` contact pairs: it compiles the
+    several-contact condensed kernels, which no paper figure before it
+    uses (the kernels do not depend on ``n_pairs``)."""
+    from hbmfric.paper.lap_joint import LAP_JOINT_SCENE, lap_joint_family
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        lap_joint_family(
+            n_pairs,
+            ratios=(1e-3,),
+            check_ratios=(),
+            bolt_preloads=LAP_JOINT_SCENE["bolt_preloads"][:1],
+        )
+
+
 class PaperHelper:
-    """The paper beam's kernels (and the belt tensioner's residual) compiled
+    """The paper beam's kernels (then the belt tensioner's residual and, if
+    asked, the extra lap joint's kernels) compiled
     in a second process while this one computes the SDOF figures (a first
     run on a machine of two cores or more): the beam's continuation
     kernels (condensed) share nothing with the SDOF ones (full), so the two
@@ -269,7 +288,7 @@ class PaperHelper:
     result the paper uses.
     """
 
-    def __init__(self) -> None:
+    def __init__(self, lap_joint_pairs: int = 0) -> None:
         context = multiprocessing.get_context("spawn")
         self._pool = ProcessPoolExecutor(max_workers=1, mp_context=context)
         # the helper starts with this environment: it prints no compile
@@ -281,6 +300,11 @@ class PaperHelper:
             # after the beam, not waited for: the main process needs it
             # after the beam figures only
             self._later = self._pool.submit(_tensioner_residual)
+            if lap_joint_pairs:
+                # the extra lap joint comes last: its kernels (minutes of
+                # compiling on a first run) compile while the beam and
+                # tensioner figures run
+                self._lap = self._pool.submit(_lap_joint, lap_joint_pairs)
         finally:
             if quiet is None:
                 del os.environ["HBMFRIC_QUIET"]
@@ -288,18 +312,26 @@ class PaperHelper:
                 os.environ["HBMFRIC_QUIET"] = quiet
 
     @classmethod
-    def start(cls, progress: Callable[[str], None] | None = print):
+    def start(
+        cls,
+        progress: Callable[[str], None] | None = print,
+        lap_joint_pairs: int = 0,
+    ) -> PaperHelper | None:
         """A helper if this is a :func:`first_run` on two cores or more
-        (one line to ``progress`` says so), else None."""
+        (one line to ``progress`` says so), else None. With
+        ``lap_joint_pairs`` > 0 it also compiles the extra lap joint's
+        kernels, after the tensioner's residual (not waited for: the main
+        process reaches the lap joint last)."""
         if (os.cpu_count() or 1) < 2 or not first_run():
             return None
         if progress:
+            lap = " and the lap joint's" if lap_joint_pairs else ""
             progress(
-                "hbmfric paper: first run of this version: the beam's and the "
-                "tensioner's kernels compile in a second process while the SDOF "
-                "figures run (once)"
+                "hbmfric paper: first run of this version: the beam's, the "
+                f"tensioner's{lap} kernels compile in a second process while "
+                "the figures before them run (once)"
             )
-        return cls()
+        return cls(lap_joint_pairs)
 
     def wait(self, progress: Callable[[str], None] | None = print) -> None:
         """Wait for the beam's kernels; a failure of the helper is reported

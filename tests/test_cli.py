@@ -163,6 +163,38 @@ def test_paper_helper_compiles_the_tensioner_residual(monkeypatch):
     assert used <= helper
 
 
+def test_paper_helper_compiles_the_lap_joint_kernels(monkeypatch):
+    """With the extra lap joint asked for, the first paper's helper
+    (``warmup._lap_joint``) resolves the residual of every problem type the
+    lap-joint figure set calls (reference: the types a real family, at a
+    stuck and a macroslip ratio and both preloads, resolves)."""
+    import numba
+
+    from hbmfric.continuation import adaptive, palc
+    from hbmfric.kernels.residuals import pointer
+    from hbmfric.paper.lap_joint import lap_joint_family
+    from hbmfric.warmup import _lap_joint
+
+    used = set()
+
+    def recording(kp):
+        used.add(numba.typeof(kp))
+        return pointer.residual_address(kp)
+
+    monkeypatch.setattr(palc, "residual_address", recording)
+    monkeypatch.setattr(adaptive, "residual_address", recording)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        lap_joint_family(
+            3, ratios=(2e-5, 4e-2), check_ratios=(4e-2,), frequency_range=(150, 175)
+        )
+        assert used
+        family = set(used)
+        used.clear()
+        _lap_joint(3)
+    assert family <= used
+
+
 @pytest.mark.slow
 def test_warmup_in_two_processes_runs_every_path(capsys):
     """``hbmfric warmup --jobs 2`` runs every step in one of two worker
