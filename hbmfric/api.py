@@ -292,10 +292,14 @@ def frf(
         head = (system, problem, (lo, hi), sweep)
         tail = (amplitude_scale, retrace)
     if options.curve_tolerance and rigid_coulomb(system):
-        return _coulomb_frf(
+        branch = _coulomb_frf(
             lambda opts: engine(*head, harmonic_tolerance, opts, *tail), options
         )
-    return engine(*head, harmonic_tolerance, options, *tail)
+    else:
+        branch = engine(*head, harmonic_tolerance, options, *tail)
+    # what Branch.plot compares the curve of a DOF the rule did not watch with
+    branch.info["curve_tolerance"] = options.curve_tolerance
+    return branch
 
 
 #: a Coulomb branch traced again without the curve rule is returned instead
