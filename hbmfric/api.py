@@ -225,7 +225,9 @@ def frf(
         ``curve_tolerance`` (default 1e-4; None or 0: off): the largest
         estimated relative error of the first-harmonic amplitude at the
         contact DOF of the straight lines between consecutive points, which
-        the step control keeps (``Branch.curve_errors``).
+        the step control keeps (``Branch.curve_errors``; another DOF's lines
+        are not bounded: ``Branch.curve_errors_of``, recorded in
+        ``info["curve_tolerance"]`` for the warnings of ``Branch.plot``).
 
     Returns
     -------
