@@ -225,7 +225,9 @@ def frf(
         ``curve_tolerance`` (default 1e-4; None or 0: off): the largest
         estimated relative error of the first-harmonic amplitude at the
         contact DOF of the straight lines between consecutive points, which
-        the step control keeps (``Branch.curve_errors``).
+        the step control keeps (``Branch.curve_errors``; another DOF's lines
+        are not bounded: ``Branch.curve_errors_of``, recorded in
+        ``info["curve_tolerance"]`` for the warnings of ``Branch.plot``).
 
     Returns
     -------
@@ -292,10 +294,14 @@ def frf(
         head = (system, problem, (lo, hi), sweep)
         tail = (amplitude_scale, retrace)
     if options.curve_tolerance and rigid_coulomb(system):
-        return _coulomb_frf(
+        branch = _coulomb_frf(
             lambda opts: engine(*head, harmonic_tolerance, opts, *tail), options
         )
-    return engine(*head, harmonic_tolerance, options, *tail)
+    else:
+        branch = engine(*head, harmonic_tolerance, options, *tail)
+    # what Branch.plot compares the curve of a DOF the rule did not watch with
+    branch.info["curve_tolerance"] = options.curve_tolerance
+    return branch
 
 
 #: a Coulomb branch traced again without the curve rule is returned instead

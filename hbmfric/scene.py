@@ -817,6 +817,9 @@ def _branch_csv(branch, path: Path, dof=None) -> Path:
     import csv
 
     amp = branch.amplitude(harmonic=1, dof=dof)
+    # the lines a reader draws through these points, for a DOF the step
+    # control did not watch
+    branch._warn_unwatched(dof, stacklevel=2)
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["omega", "amplitude", "truncation_error"])

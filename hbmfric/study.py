@@ -37,7 +37,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import StudyWarning
+from .errors import AccuracyWarning, StudyWarning
+from .results import _resolve_dof
 
 #: executors that need no set-up
 LOCAL_EXECUTORS = ("processes", "serial")
@@ -278,7 +279,41 @@ class StudyResult:
             w.writerow(names)
             for row in zip(*(t[k] for k in names), strict=True):
                 w.writerow([_cell(v) for v in row])
+        self._warn_unwatched(dof)
         return path
+
+    def _warn_unwatched(self, dof) -> None:
+        """One :class:`~hbmfric.errors.AccuracyWarning` when the straight
+        lines between the points of ``dof`` (a DOF the step control did not
+        watch) exceed the ``curve_tolerance`` of their run in some runs
+        (:meth:`hbmfric.Branch.curve_errors_of`)."""
+        if dof is None:
+            return
+        over = []
+        for r in self.runs:
+            b = r.branch if r.ok else None
+            tol = b.info.get("curve_tolerance") if b is not None else None
+            if not tol or len(b) < 2:
+                continue
+            n_dof = b.coefficients.shape[1]
+            k = _resolve_dof(dof, b.dof_names, n_dof)
+            if k == _resolve_dof(None, b.dof_names, n_dof):
+                continue
+            errors = b.curve_errors_of(k)
+            if errors is not None and errors.size and np.max(errors) > tol:
+                over.append((float(np.max(errors)), r.index, tol))
+        if over:
+            worst, index, tol = max(over)
+            warnings.warn(
+                f"the straight lines between the points of DOF {dof!r} exceed "
+                f"curve_tolerance in {len(over)} of {len(self.runs)} runs "
+                f"(worst: run {index}, estimated {worst:.2g} against "
+                f"{tol:g}): the step control bounds the lines of the watched "
+                "contact DOF only; per-interval estimates in "
+                "Branch.curve_errors_of",
+                AccuracyWarning,
+                stacklevel=3,
+            )
 
     def to_npz(self, path: str | Path, harmonic: int | None = 1, dof=None) -> Path:
         """Write :meth:`table` (and the failures) to a NumPy ``.npz`` file."""

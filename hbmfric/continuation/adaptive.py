@@ -908,8 +908,12 @@ class AdaptiveContinuation:
 
         Between calibrations the run decides on a carried estimate; the
         final estimate (``estimate(problem, points, tolerance, stretch,
-        max_confirmed, known, every, probe)``,
-        :func:`hbmfric.continuation.accuracy.truncation_errors`) reuses the
+        max_confirmed, known, every, probe, amplitude_scale=...)``,
+        :func:`hbmfric.continuation.accuracy.truncation_errors`, relative to
+        at least ``CURVE_REST`` of the run's amplitude scale, with its
+        implausible first-order changes confirmed by probe solves: a stuck
+        rigid tip's round-off amplitude read 5.3e3 and sent linear points to
+        the top of the ladder, bench/README.md "stop 30") reuses the
         run's calibrations (``known``; they can be ``RECALIBRATE`` points
         apart on a level, over which a carried ratio can read 10 times
         low), calibrates every ``SETTLE_EVERY``-th point and the first and
@@ -963,6 +967,7 @@ class AdaptiveContinuation:
                 known[idx],
                 SETTLE_EVERY,
                 self._probe(int(h)),
+                amplitude_scale=self.amplitude_scale,
             )
         failing = [int(i) for i in np.flatnonzero(errors > tol)]
         while failing:
@@ -998,6 +1003,7 @@ class AdaptiveContinuation:
                     None,
                     None,
                     self._probe(h_new),
+                    amplitude_scale=self.amplitude_scale,
                 )
                 failing += [i for i in idx if errors[i] > tol]
         return errors
