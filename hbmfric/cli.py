@@ -53,6 +53,8 @@ def _paper(args: argparse.Namespace) -> int:
         yield paper.tensioner_frf(loop.identification.law, progress=progress)
         # extra figure set, not the paper's (issue 15): the bolted lap joint
         if args.lap_joint_pairs:
+            if helper is not None:
+                helper.wait_lap_joint(progress)
             yield paper.lap_joint_family(args.lap_joint_pairs, progress=progress)
 
     figures = []

@@ -277,34 +277,39 @@ def _lap_joint(n_pairs: int) -> None:
 
 
 class PaperHelper:
-    """The paper beam's kernels (then the belt tensioner's residual and, if
-    asked, the extra lap joint's kernels) compiled
-    in a second process while this one computes the SDOF figures (a first
-    run on a machine of two cores or more): the beam's continuation
-    kernels (condensed) share nothing with the SDOF ones (full), so the two
-    compilations overlap instead of
-    adding up. :meth:`wait` before the beam figures: they then load those
-    kernels from the cache. Nothing else changes: the helper computes no
-    result the paper uses.
+    """Kernels compiled in a second process while this one computes the
+    figures before them (a first run on a machine of two cores or more):
+    the longest compilation the paper's figures wait for goes to the
+    helper, the rest this process compiles as it goes.
+
+    With the extra lap joint (``lap_joint_pairs`` > 0) the helper compiles
+    the lap joint's kernels (the several-contact condensed path, ≈ 110 s of
+    compiling, which no paper figure shares) and then the belt tensioner's
+    residual, while this process computes the SDOF and beam figures;
+    without it, the paper beam's kernels (condensed, sharing nothing with
+    the SDOF figures' full ones) and then the tensioner's residual.
+    :meth:`wait` before the beam figures and :meth:`wait_lap_joint` before
+    the lap joint's: they then load those kernels from the cache. Nothing
+    else changes: the helper computes no result the paper uses (cold
+    whole paper, bench/README.md "stop 30").
     """
 
     def __init__(self, lap_joint_pairs: int = 0) -> None:
         context = multiprocessing.get_context("spawn")
         self._pool = ProcessPoolExecutor(max_workers=1, mp_context=context)
+        self._future = self._lap = None
         # the helper starts with this environment: it prints no compile
         # notice of its own (this process prints the one line)
         quiet = os.environ.get("HBMFRIC_QUIET")
         os.environ["HBMFRIC_QUIET"] = "1"
         try:
-            self._future = self._pool.submit(_paper_beam)
-            # after the beam, not waited for: the main process needs it
-            # after the beam figures only
-            self._later = self._pool.submit(_tensioner_residual)
             if lap_joint_pairs:
-                # the extra lap joint comes last: its kernels (minutes of
-                # compiling on a first run) compile while the beam and
-                # tensioner figures run
                 self._lap = self._pool.submit(_lap_joint, lap_joint_pairs)
+            else:
+                self._future = self._pool.submit(_paper_beam)
+            # not waited for: the main process needs it after the beam
+            # figures only (a failure leaves this process to compile it)
+            self._later = self._pool.submit(_tensioner_residual)
         finally:
             if quiet is None:
                 del os.environ["HBMFRIC_QUIET"]
@@ -325,24 +330,40 @@ class PaperHelper:
         if (os.cpu_count() or 1) < 2 or not first_run():
             return None
         if progress:
-            lap = " and the lap joint's" if lap_joint_pairs else ""
+            first = "lap joint's" if lap_joint_pairs else "beam's"
             progress(
-                "hbmfric paper: first run of this version: the beam's, the "
-                f"tensioner's{lap} kernels compile in a second process while "
-                "the figures before them run (once)"
+                f"hbmfric paper: first run of this version: the {first} and the "
+                "tensioner's kernels compile in a second process while the "
+                "figures before them run (once)"
             )
         return cls(lap_joint_pairs)
 
     def wait(self, progress: Callable[[str], None] | None = print) -> None:
-        """Wait for the beam's kernels; a failure of the helper is reported
-        in one line and otherwise ignored (this process then compiles what
-        it needs). The tensioner's residual goes on compiling in the
-        helper meanwhile (not waited for here: Python waits for it at exit;
-        a failure of it only leaves this process to compile it)."""
+        """Wait for the beam's kernels if this helper compiles them (no lap
+        joint asked for); a failure of the helper is reported in one line
+        and otherwise ignored (this process then compiles what it needs).
+        The tensioner's residual (and the lap joint's kernels) go on
+        compiling in the helper meanwhile; Python waits for them at exit."""
         try:
-            self._future.result()
+            if self._future is not None:
+                self._future.result()
         except Exception as exc:  # the helper only fills the cache
             if progress:
                 progress(f"hbmfric paper: the compiling helper failed ({exc})")
         finally:
             self._pool.shutdown(wait=False)
+
+    def wait_lap_joint(self, progress: Callable[[str], None] | None = print) -> None:
+        """Wait for the lap joint's kernels (if this helper compiles them)
+        before the extra lap-joint figures: compiling them here as well
+        would double the work on two cores (a cold paper: 130 s for the
+        first lap-joint FRF against 110 s without a helper's, bench/README
+        "stop 30"). A failure is reported in one line and otherwise ignored
+        (this process then compiles them)."""
+        if self._lap is None:
+            return
+        try:
+            self._lap.result()
+        except Exception as exc:  # the helper only fills the cache
+            if progress:
+                progress(f"hbmfric paper: the compiling helper failed ({exc})")
