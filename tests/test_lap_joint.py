@@ -244,6 +244,11 @@ def test_extra_figure_set_is_labelled_and_depends_on_the_ratio_only(tmp_path):
     accuracy = [w for w in caught if issubclass(w.category, hf.AccuracyWarning)]
     assert len(accuracy) == 1
     assert "fixed H = 3" in str(accuracy[0].message)
+    # the drive DOF it draws is not watched by the step control: the
+    # warning names its lines' largest estimate (checked against
+    # fixed-frequency solves in test_hunt_unwatched_dof.py)
+    drive = max(float(b.curve_errors_of("drive").max()) for b in fam.branches)
+    assert f"up to {drive:.2g} off" in str(accuracy[0].message)
     assert "not in the paper" in fam.title
     assert fam.name == "extra_lapjoint_n10"
     stuck = fam.branches[0]
