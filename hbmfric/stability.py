@@ -1759,8 +1759,12 @@ def _monodromy_stability(
         mu = mu.reshape(where.size, -1)
         w = omega[where]
         period = 2.0 * np.pi / w  # the map's duration: ν forcing periods
-        with np.errstate(divide="ignore"):
-            lam = np.log(mu) / period[:, None]
+        # a multiplier exactly 0 (a slipping Jenkins element forgets its
+        # state over the period) has the exponent -inf + 0j: the complex
+        # division read log(0) / T as -inf + nan j, with a RuntimeWarning
+        zero = mu == 0
+        lam = np.log(np.where(zero, 1.0, mu)) / period[:, None]
+        lam[zero] = -np.inf
         lam = lam.real + 1j * (lam.imag - w[:, None] * np.round(lam.imag / w[:, None]))
         order = np.argsort(-lam.real, axis=1, kind="stable")
         return (

@@ -229,3 +229,49 @@ def test_passive_systems_every_point_monodromy_is_stable(which):
         )
     assert auto.stable.all() and auto.computed.sum() < idx.size
     np.testing.assert_array_equal(auto.stable, full.stable)
+
+
+def test_a_zero_multiplier_has_the_exponent_minus_infinity():
+    """A slipping Jenkins element forgets its state over the period: a
+    Floquet multiplier exactly 0, whose exponent is -inf + 0j (the complex
+    division gave -inf + nan j with a RuntimeWarning). The other exponents
+    are log(mu) / T folded into the band of half the forcing frequency
+    (checked from the multipliers with NumPy)."""
+    system = hf.LinearStructure(
+        np.eye(2),
+        np.array([[2.0, -1.0], [-1.0, 2.0]]),
+        np.diag([0.03, 0.0]),
+        load={0: 1.0},
+        contacts=[
+            hf.Contact(hf.Jenkins(stiffness=3.0, slip_force=0.2), 0),
+            hf.Contact(hf.Jenkins(stiffness=1.0, slip_force=0.1), 0, other=1),
+        ],
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.HbmfricWarning)
+        branch = hf.frf(system, 0.5, (0.5, 2.5), harmonics=5)
+    # near the resonance, where the multiplier 0 appears (Ω 1.03-1.12)
+    idx = np.flatnonzero((branch.omega > 1.05) & (branch.omega < 1.07))[:8]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.HbmfricWarning)
+        warnings.simplefilter("error", RuntimeWarning)
+        r = stability_of_points(
+            system,
+            branch.force,
+            branch.omega[idx],
+            branch.harmonic_numbers,
+            branch.coefficients[idx],
+            np.full(idx.size, 5),
+            method="monodromy",
+            symmetric=True,
+            exponents="all",
+        )
+    zero = r.multipliers == 0
+    assert zero.any()
+    assert not np.isnan(r.exponents).any()
+    assert np.all(r.exponents[zero] == -np.inf)
+    w = branch.omega[idx][:, None] * np.ones(zero.shape)
+    mu = r.multipliers[~zero]
+    lam = np.log(mu) * w[~zero] / (2 * np.pi)
+    lam = lam.real + 1j * (lam.imag - w[~zero] * np.round(lam.imag / w[~zero]))
+    np.testing.assert_allclose(r.exponents[~zero], lam, rtol=1e-12, atol=1e-12)
