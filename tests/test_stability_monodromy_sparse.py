@@ -187,6 +187,21 @@ def test_friction_duffing_monodromy_at_a_few_points_equals_every_point():
         assert auto.computed[i - 1] and auto.computed[i]
 
 
+def two_contact_pair(damping_second: float = 0.0) -> hf.LinearStructure:
+    """Two DOFs, a grounded and a between-DOF Jenkins contact, the second
+    DOF undamped by default (also used by the stress rows of stop 30)."""
+    return hf.LinearStructure(
+        np.eye(2),
+        np.array([[2.0, -1.0], [-1.0, 2.0]]),
+        np.diag([0.03, damping_second]),
+        load={0: 1.0},
+        contacts=[
+            hf.Contact(hf.Jenkins(stiffness=3.0, slip_force=0.2), 0),
+            hf.Contact(hf.Jenkins(stiffness=1.0, slip_force=0.1), 0, other=1),
+        ],
+    )
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("which", ["between", "ground-and-between-undamped"])
 def test_passive_systems_every_point_monodromy_is_stable(which):
@@ -198,16 +213,7 @@ def test_passive_systems_every_point_monodromy_is_stable(which):
     if which == "between":
         system, branch = _small_branch()
     else:
-        system = hf.LinearStructure(
-            np.eye(2),
-            np.array([[2.0, -1.0], [-1.0, 2.0]]),
-            np.diag([0.03, 0.0]),
-            load={0: 1.0},
-            contacts=[
-                hf.Contact(hf.Jenkins(stiffness=3.0, slip_force=0.2), 0),
-                hf.Contact(hf.Jenkins(stiffness=1.0, slip_force=0.1), 0, other=1),
-            ],
-        )
+        system = two_contact_pair()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", hf.HbmfricWarning)
             branch = hf.frf(system, 0.5, (0.5, 2.5), harmonics=5)
@@ -237,16 +243,7 @@ def test_a_zero_multiplier_has_the_exponent_minus_infinity():
     division gave -inf + nan j with a RuntimeWarning). The other exponents
     are log(mu) / T folded into the band of half the forcing frequency
     (checked from the multipliers with NumPy)."""
-    system = hf.LinearStructure(
-        np.eye(2),
-        np.array([[2.0, -1.0], [-1.0, 2.0]]),
-        np.diag([0.03, 0.0]),
-        load={0: 1.0},
-        contacts=[
-            hf.Contact(hf.Jenkins(stiffness=3.0, slip_force=0.2), 0),
-            hf.Contact(hf.Jenkins(stiffness=1.0, slip_force=0.1), 0, other=1),
-        ],
-    )
+    system = two_contact_pair()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", hf.HbmfricWarning)
         branch = hf.frf(system, 0.5, (0.5, 2.5), harmonics=5)

@@ -25,6 +25,7 @@ import warnings
 
 import numpy as np
 import pytest
+from test_hunt_auto_rest import _tension_measures
 
 import hbmfric as hf
 from hbmfric.paper.beam import HZ, paper_beam, paper_calibration
@@ -88,25 +89,6 @@ def test_rigid_tip_short_of_sticking_auto(scale):
     assert checked >= 1
 
 
-def _tension(rig, harmonics, X, omega):
-    k, c = rig.belt_stiffness, rig.belt_damping
-    t = np.linspace(0.0, 2.0 * np.pi, 4096, endpoint=False)
-    d = X[0] - X[1]
-    T = np.zeros_like(t)
-    j, a1 = 0, None
-    for h in harmonics:
-        if h == 0:
-            j += 1
-            continue
-        p, q = d[j], d[j + 1]
-        j += 2
-        T += k * (p * np.cos(h * t) + q * np.sin(h * t))
-        T += c * h * omega * (q * np.cos(h * t) - p * np.sin(h * t))
-        if h == 1:
-            a1 = math.hypot(k * p + c * omega * q, k * q - c * omega * p)
-    return a1, 0.5 * (T.max() - T.min())
-
-
 @pytest.mark.parametrize("harmonics", [3, 5])
 def test_tension_estimate_not_floored(harmonics):
     rig = hf.BeltTensioner()
@@ -121,8 +103,8 @@ def test_tension_estimate_not_floored(harmonics):
             s = hf.periodic_solution(rig, 2.0, b.omega[i], 31, initial_guess=b.point(i))
         if not s.converged:
             continue
-        ours = _tension(rig, b.harmonic_numbers, b.coefficients[i], b.omega[i])
-        ref = _tension(rig, s.harmonic_numbers, s.coefficients, b.omega[i])
+        ours = _tension_measures(b.harmonic_numbers, b.coefficients[i], b.omega[i], rig)
+        ref = _tension_measures(s.harmonic_numbers, s.coefficients, b.omega[i], rig)
         change = max(abs(x - r) / r for x, r in zip(ours, ref, strict=True))
         if change < 1e-7:
             continue  # below what H = 31 resolves against the estimate

@@ -16,23 +16,11 @@ import warnings
 
 import numpy as np
 import pytest
+from test_stability_monodromy_sparse import two_contact_pair
 
 import hbmfric as hf
 
 pytestmark = pytest.mark.stress
-
-
-def _two_dof(damping_second: float) -> hf.LinearStructure:
-    return hf.LinearStructure(
-        np.eye(2),
-        np.array([[2.0, -1.0], [-1.0, 2.0]]),
-        np.diag([0.03, damping_second]),
-        load={0: 1.0},
-        contacts=[
-            hf.Contact(hf.Jenkins(stiffness=3.0, slip_force=0.2), 0),
-            hf.Contact(hf.Jenkins(stiffness=1.0, slip_force=0.1), 0, other=1),
-        ],
-    )
 
 
 @pytest.mark.parametrize("damping_second", [0.0, 0.02])
@@ -42,7 +30,7 @@ def test_exponents_of_a_zero_multiplier_are_minus_infinity(damping_second, omega
     and a between-DOF Jenkins contact, near the resonance where both slip:
     no NaN, no RuntimeWarning; a zero multiplier's exponent is -inf, the
     others satisfy exp(λ T) = μ (NumPy from the multipliers)."""
-    system = _two_dof(damping_second)
+    system = two_contact_pair(damping_second)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", hf.HbmfricWarning)
         warnings.simplefilter("error", RuntimeWarning)
