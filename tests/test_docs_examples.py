@@ -97,7 +97,9 @@ def _run_page(page: str, tmp_path, monkeypatch) -> tuple[dict, dict]:
             assert proc.returncode == 0, f"{page} block {i}:\n{proc.stderr[-3000:]}"
             namespace[f"_script{i}"] = proc
             raised[i] = [
-                w for w in proc.stderr.splitlines() if "Warning:" in w and "hbmfric" in w
+                w
+                for w in proc.stderr.splitlines()
+                if "Warning:" in w and "hbmfric" in w
             ]
             continue
         with warnings.catch_warnings(record=True) as record:
@@ -124,7 +126,9 @@ def _check_warnings(page: str, raised: dict) -> None:
     for i, got in raised.items():
         expected = EXPECTED_WARNINGS.get((page, i))
         if expected is None:
-            assert not got, f"{page} block {i} warns and its page does not say so: {got}"
+            assert not got, (
+                f"{page} block {i} warns and its page does not say so: {got}"
+            )
         else:
             assert got, f"{page} block {i}: the page says it warns; it did not"
             assert all(issubclass(w.category, expected) for w in got), got
@@ -348,7 +352,9 @@ CHECKS = {
 SLOW: dict[str, str] = {}
 
 RUN_PAGES = [
-    p.name for p in PAGES if any(kind in ("run", "script") for _, kind, _, _ in _blocks(p))
+    p.name
+    for p in PAGES
+    if any(kind in ("run", "script") for _, kind, _, _ in _blocks(p))
 ]
 
 
@@ -399,7 +405,9 @@ def _commands() -> list[tuple[str, str]]:
     out = []
     for path in [*PAGES, ROOT / "README.md"]:
         text = path.read_text(encoding="utf-8")
-        shell = re.findall(r"^```(?:bash|console|sh|shell)\n(.*?)^```", text, re.S | re.M)
+        shell = re.findall(
+            r"^```(?:bash|console|sh|shell)\n(.*?)^```", text, re.S | re.M
+        )
         lines = [ln for block in shell for ln in block.splitlines()]
         lines += re.findall(r"`(hbmfric [^`]+)`", text)
         for line in lines:
@@ -449,7 +457,9 @@ def test_documented_commands_found():
 
 
 def _texts() -> list[tuple[str, str]]:
-    return [(p.name, p.read_text(encoding="utf-8")) for p in [*PAGES, ROOT / "README.md"]]
+    return [
+        (p.name, p.read_text(encoding="utf-8")) for p in [*PAGES, ROOT / "README.md"]
+    ]
 
 
 def _resolve(dotted: str) -> bool:
@@ -473,7 +483,9 @@ def test_every_named_api_exists():
     resolve (a name that no longer exists is stale documentation)."""
     missing = []
     for where, text in _texts():
-        names = set(re.findall(r"(?<![\w.])hf\.([A-Za-z_]\w*(?:\.[A-Za-z_]\w*)*)", text))
+        names = set(
+            re.findall(r"(?<![\w.])hf\.([A-Za-z_]\w*(?:\.[A-Za-z_]\w*)*)", text)
+        )
         full = set(re.findall(r"(?<![\w./-])(hbmfric(?:\.[A-Za-z_]\w*)+)", text))
         for name in sorted(names):
             name = name.rstrip(".")
@@ -505,3 +517,95 @@ def test_nothing_points_outside_the_repository():
                 continue
             base = DOCS if where != "README.md" else ROOT
             assert (base / target).exists(), (where, target)
+
+
+def test_trust_table_on_failure_is_an_argument_where_it_says():
+    """docs/trust.md: ``on_failure="raise"`` is an argument of these calls
+    and not of ``hf.frf``."""
+    import inspect
+
+    text = (DOCS / "trust.md").read_text(encoding="utf-8")
+    assert "not of `hf.frf`" in text
+    for call in (
+        hf.periodic_solution,
+        hf.validation.steady_state,
+        hf.validation.exact_periodic_solution,
+        hf.validation.exact_branch,
+    ):
+        assert "on_failure" in inspect.signature(call).parameters, call
+    assert "on_failure" not in inspect.signature(hf.frf).parameters
+
+
+# ------------------------------------------- README blocks test_readme skips
+
+_README = ROOT / "README.md"
+
+
+def _readme_block(marker: str) -> str:
+    blocks = re.findall(
+        r"^```python\n(.*?)^```", _README.read_text(encoding="utf-8"), re.S | re.M
+    )
+    (code,) = [b for b in blocks if marker in b]
+    return code
+
+
+def _exec(code: str, where: str) -> tuple[dict, list]:
+    namespace: dict = {"__name__": "__docs__"}
+    with warnings.catch_warnings(record=True) as record:
+        warnings.simplefilter("always")
+        exec(compile(code, where, "exec"), namespace)
+    return namespace, [w for w in record if issubclass(w.category, hf.HbmfricWarning)]
+
+
+def test_readme_beam_block(tmp_path, monkeypatch):
+    """The calibrated beam: the values the comment quotes, and the defining
+    property of the calibration (free 24 Hz, stuck 87 Hz)."""
+    monkeypatch.chdir(tmp_path)
+    ns, raised = _exec(_readme_block("CantileverBeam.calibrate"), "README beam")
+    assert not raised, raised
+    cal = ns["cal"]
+    assert round(cal.tip_mass, 4) == 0.0772  # "≈ 0.0772 kg"
+    assert round(cal.contact_stiffness, -2) == 1.586e5  # "≈ 1.586e5 N/m"
+    beam = ns["beam"]
+    assert beam.natural_frequencies("free", 1)[0] == pytest.approx(24.0, rel=1e-6)
+    assert beam.natural_frequencies("stuck", 1)[0] == pytest.approx(87.0, rel=1e-6)
+    assert ns["branch"].complete and ns["full"].complete
+
+
+def test_readme_criterion_block(tmp_path, monkeypatch):
+    """The criterion block reads the reader's ``frfs.csv``: here a family of
+    a Jenkins oscillator (slip force ∝ Fn), which is Masing macroslip
+    without roughness by construction."""
+    monkeypatch.chdir(tmp_path)
+    import matplotlib
+
+    matplotlib.use("Agg")
+
+    def build(p):
+        return hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(3.0, 0.3 * p["normal_load"]))
+
+    grid = hf.grid(force=[0.02, 0.2, 2.0], normal_load=[1.0, 10.0])
+    hf.study(build, grid, (0.5, 3.0), executor="serial").to_csv("frfs.csv")
+    ns, raised = _exec(_readme_block('read_frfs("frfs.csv")'), "README criterion")
+    assert not raised, raised
+    assert ns["result"].model == "macroslip" and not ns["result"].roughness
+    import matplotlib.pyplot as plt
+
+    plt.close("all")
+
+
+def test_readme_tensioner_block(tmp_path, monkeypatch):
+    """The belt tensioner block: the closed-form energy per cycle equals
+    the area of the loop the law marches (trapezoidal rule on a fine
+    cycle), and the identified law reproduces the synthetic loop's law."""
+    monkeypatch.chdir(tmp_path)
+    ns, raised = _exec(_readme_block("ModifiedDahl("), "README tensioner")
+    assert not raised, raised
+    law = ns["law"]
+    n = 1 << 14
+    u = 2e-3 * np.cos(2 * np.pi * np.arange(n + 1) / n)
+    f = law.hysteresis(u[:-1])
+    f = np.append(f, f[0])
+    area = abs(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(u)))
+    assert ns["W"] == pytest.approx(area, rel=1e-4)
+    assert ns["branch"].complete
