@@ -240,7 +240,13 @@ def _check_stability(ns: dict) -> None:
     for p in pd:
         assert abs(p.multiplier + 1) < 1e-6
     b2 = ns["b2"]
-    assert len(b2) > 0 and b2.stable.shape == (len(b2),)
+    assert b2.stable.shape == (len(b2),)
+    # "leaves the doubling at 2.9965 rad/s towards lower Ω (subcritical),
+    # folds three times and returns at the second doubling, 3.1782 rad/s"
+    forcing = 2 * b2.omega
+    assert abs(forcing[0] - pd[0].omega) < 2e-4
+    assert abs(forcing[-1] - pd[1].omega) < 2e-4
+    assert forcing[1] < forcing[0] and len(b2.folds) == 3
 
 
 def _check_modes(ns: dict) -> None:
@@ -285,6 +291,38 @@ def _check_lap_joint(ns: dict) -> None:
     # points fall on the peak differently: frequency within 0.03 %)
     assert drive[i] == pytest.approx(2.176e-5, abs=0.0006e-5)
     assert branch.omega[i] / (2 * math.pi) == pytest.approx(162.21, rel=3e-4)
+
+
+# docs/lap-joint.md, "Results": Fex -> (drive peak m/N, at Hz)
+LAP_TABLE = {
+    0.72: ("2.464e-4", 167.11),
+    3.6: ("1.106e-4", 167.09),
+    36.0: ("2.176e-5", 162.21),
+    144.0: ("1.48e-5", 155.90),
+    432.0: ("3.554e-5", 145.17),
+    1440.0: ("1.963e-4", 144.29),
+}
+
+
+def test_lap_joint_table_holds():
+    """Every row of the lap-joint page's table, traced as the page's example
+    does: the peaks to the stated digits, their frequencies to 0.05 Hz (the
+    computed points fall on the peak differently)."""
+    s = hf.lap_joint(n_pairs=10, n_modes=8)
+    band = (2 * math.pi * 125, 2 * math.pi * 185)
+    for force, (peak, at) in LAP_TABLE.items():
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", hf.AccuracyWarning)  # stated there
+            branch = hf.frf(s, force, band, harmonics=9)
+        drive = branch.amplitude(1, "drive") / force
+        i = int(np.argmax(drive))
+        mantissa, exponent = peak.split("e")
+        half_unit = 0.5 * 10.0 ** (int(exponent) - len(mantissa.split(".")[1]))
+        assert abs(drive[i] - float(peak)) <= half_unit, (force, drive[i])
+        assert branch.omega[i] / (2 * math.pi) == pytest.approx(at, abs=0.05), force
+    # the stuck limit: the linear FRF's resonance with the contact springs
+    f_stuck = hf.LapJoint(n_pairs=10).natural_frequencies("stuck", 4)
+    assert np.any(np.abs(f_stuck - 167.10) < 0.01)
 
 
 def _check_structures(ns: dict) -> None:
