@@ -304,6 +304,7 @@ LAP_TABLE = {
 }
 
 
+@pytest.mark.slow  # six lap-joint FRFs: 8 s at load 5 on two cores
 def test_lap_joint_table_holds():
     """Every row of the lap-joint page's table, traced as the page's example
     does: the peaks to the stated digits, their frequencies to 0.05 Hz (the
