@@ -176,6 +176,8 @@ def _check_laws(ns: dict) -> None:
     _, v = sol.time_response(n=512, dof="y_tip")
     assert (10.0 + 2e4 * v).min() < 0
     assert ns["branch"].complete
+    # the warning the page quotes: "up to 1.5e-3 on this band"
+    assert float(f"{ns['branch'].truncation_error.max():.1e}") == 1.5e-3
     # "without it ... at rest v = -N0/(k_y + k_n)": the static balance of
     # two springs in parallel, read at a vanishing force
     bare = hf.LinearStructure(
@@ -285,6 +287,8 @@ def _check_modes(ns: dict) -> None:
 def _check_lap_joint(ns: dict) -> None:
     branch = ns["branch"]
     assert branch.complete
+    # the warning the page quotes: "an estimated truncation error of 0.03"
+    assert float(f"{branch.truncation_error.max():.0e}") == 0.03
     drive = branch.amplitude(1, "drive") / 36.0
     i = int(np.argmax(drive))
     # the table of the page: 2.176e-5 m/N at 162.21 Hz (the computed
@@ -648,3 +652,19 @@ def test_readme_tensioner_block(tmp_path, monkeypatch):
     area = abs(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(u)))
     assert ns["W"] == pytest.approx(area, rel=1e-4)
     assert ns["branch"].complete
+
+
+def test_toml_fragments_parse():
+    """The TOML fragments of the docs are valid TOML (the shipped scene
+    files they include are run by the scene tests)."""
+    import tomllib
+
+    found = 0
+    for page in PAGES:
+        text = page.read_text(encoding="utf-8")
+        for block in re.findall(r"^```toml\n(.*?)^```", text, re.S | re.M):
+            if "--8<--" in block:
+                continue
+            tomllib.loads(block)
+            found += 1
+    assert found >= 2
