@@ -10,7 +10,9 @@ by the same loop in Python over the same compiled step
 outcome and evaluations are seen; the branch is the same (points and
 evaluation count as ``hf.frf``'s, checked). The solves made from Python
 (first point, points solved again at a new level, the boundary point) are
-logged by their caller.
+logged by their caller (the final pass's, ``settle``, which solves a
+point one level up where its estimate fails, are not in the branch's
+``newton_iterations``).
 
 The floor is two evaluations per accepted step: the corrector evaluates
 at the predictor, solves one Newton update, and must evaluate at the
@@ -179,6 +181,16 @@ def main() -> None:
             f"the step out of the range: {r['left_range_evaluations']}"
         )
         print(f"  Python solves (calls, evaluations): {r['python_solves']}")
+        counted = (
+            r["accepted_evaluations"]
+            + r["rejected_evaluations"]
+            + r["left_range_evaluations"]
+            + sum(v[1] for k, v in r["python_solves"].items() if k != "settle")
+        )
+        print(
+            f"  logged, the final pass's solves (settle) left out: {counted} "
+            f"(the branch's count: {r['evaluations']}; settle's are not in it)"
+        )
 
 
 if __name__ == "__main__":
