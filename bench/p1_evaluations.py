@@ -42,11 +42,12 @@ P1_RANGE = (0.5, 3.0)
 
 
 class _Log:
-    """Steps ``(H, outcome, evaluations)`` and Python solves
-    ``(H, caller, evaluations)`` of one branch."""
+    """Steps ``(H, outcome, evaluations, first)`` (``first``: the first
+    step of a compiled stretch, i.e. after a level change or a decision in
+    Python) and Python solves ``(H, caller, evaluations)`` of one branch."""
 
     def __init__(self) -> None:
-        self.steps: list[tuple[int, int, int]] = []
+        self.steps: list[tuple[int, int, int, bool]] = []
         self.solves: list[tuple[int, str, int]] = []
         self.level = 0
 
@@ -72,7 +73,7 @@ def _traced(log: _Log):
                 R, J, A, piv, y_pred, y_new, t_new, history,
             )  # fmt: skip
             ev += spent
-            log.steps.append((log.level, int(outcome), int(spent)))
+            log.steps.append((log.level, int(outcome), int(spent), attempts == 1))
             if outcome == al.LEFT_RANGE:
                 return al.RANGE_LEFT, n_acc, n_rej, ev, step
             if outcome == al.REJECTED or outcome == al.STEP_TOO_SMALL:
@@ -134,8 +135,9 @@ def breakdown(force: float) -> dict:
     rej = [s for s in log.steps if s[1] in rejected]
     left = [s for s in log.steps if s[1] == al.LEFT_RANGE]
     by_level = collections.defaultdict(collections.Counter)
-    for h, _, e in acc:
+    for h, _, e, _ in acc:
         by_level[h][e] += 1
+    first = collections.Counter(s[2] for s in acc if s[3])
     solves = collections.defaultdict(lambda: [0, 0])
     for _, caller, e in log.solves:
         solves[caller][0] += 1
@@ -151,6 +153,8 @@ def breakdown(force: float) -> dict:
             sorted(collections.Counter(s[2] for s in acc).items())
         ),
         "by_level": {h: dict(sorted(c.items())) for h, c in sorted(by_level.items())},
+        "first_of_stretch": dict(sorted(first.items())),
+        "stretches": sum(1 for s in log.steps if s[3]),
         "rejected": len(rej),
         "rejected_evaluations": sum(s[2] for s in rej),
         "left_range_evaluations": sum(s[2] for s in left),
@@ -173,6 +177,10 @@ def main() -> None:
         print(
             f"  accepted {r['accepted']}: {r['accepted_evaluations']} evaluations, "
             f"by evaluations per step {r['accepted_histogram']}"
+        )
+        print(
+            f"  the first accepted step of each of the {r['stretches']} "
+            f"compiled stretches: {r['first_of_stretch']}"
         )
         for h, c in r["by_level"].items():
             print(f"    H = {h}: {c}")
