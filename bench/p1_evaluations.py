@@ -138,6 +138,7 @@ def breakdown(force: float) -> dict:
     for h, _, e, _ in acc:
         by_level[h][e] += 1
     first = collections.Counter(s[2] for s in acc if s[3])
+    first_rejected = sum(1 for s in rej if s[3])
     solves = collections.defaultdict(lambda: [0, 0])
     for _, caller, e in log.solves:
         solves[caller][0] += 1
@@ -156,6 +157,7 @@ def breakdown(force: float) -> dict:
         "first_of_stretch": dict(sorted(first.items())),
         "stretches": sum(1 for s in log.steps if s[3]),
         "rejected": len(rej),
+        "rejected_first": first_rejected,
         "rejected_evaluations": sum(s[2] for s in rej),
         "left_range_evaluations": sum(s[2] for s in left),
         "python_solves": {k: tuple(v) for k, v in solves.items()},
@@ -179,13 +181,16 @@ def main() -> None:
             f"by evaluations per step {r['accepted_histogram']}"
         )
         print(
-            f"  the first accepted step of each of the {r['stretches']} "
-            f"compiled stretches: {r['first_of_stretch']}"
+            f"  {r['stretches']} compiled stretches (a level change or a "
+            f"decision in Python before each): first steps accepted at once, "
+            f"by evaluations {r['first_of_stretch']}; rejected "
+            f"{r['rejected_first']}"
         )
         for h, c in r["by_level"].items():
             print(f"    H = {h}: {c}")
         print(
-            f"  rejected {r['rejected']}: {r['rejected_evaluations']} evaluations; "
+            f"  rejected {r['rejected']} ({r['rejected_first']} the first step of "
+            f"a stretch): {r['rejected_evaluations']} evaluations; "
             f"the step out of the range: {r['left_range_evaluations']}"
         )
         print(f"  Python solves (calls, evaluations): {r['python_solves']}")
