@@ -69,12 +69,71 @@ def _omega_range(omega) -> tuple[float, float]:
     return lo, hi
 
 
-def _problem(system, force, harmonics, n_time, symmetry, aft, condense, subharmonic=1):
+def _problem(
+    system,
+    force,
+    harmonics,
+    n_time,
+    symmetry,
+    aft,
+    condense,
+    subharmonic=1,
+    *,
+    at=(),
+    top=None,
+):
     """The HBM discretisation: condensed onto the contact DOF or full
-    (``subharmonic``: see :class:`~hbmfric.hbm.HBMProblem`)."""
+    (``subharmonic``: see :class:`~hbmfric.hbm.HBMProblem`).
+
+    ``at``: pulsations (rad/s) solved from a standing start (a fixed Ω, the
+    ends of a range), ``top``: the highest harmonic a ladder of levels
+    reaches. Where a harmonic of one of them lies on a pole of the
+    condensed receptance (within
+    :data:`~hbmfric.condensation.POLE_DISTANCE`: an undamped natural
+    pulsation of the structure without its contacts), the default
+    (``condense=None``) solves the full problem, and an explicit
+    ``condense`` raises ``ValueError``.
+    """
+    data = check_system(system)  # before anything reads the system
+    condensed = _condensed_problem(
+        system, force, harmonics, n_time, symmetry, aft, condense, subharmonic, data
+    )
+    if not getattr(condensed, "condensed", False):
+        return condensed
+    from .condensation import POLE_DISTANCE
+
+    for w in at:
+        dist, k, w_r = condensed.pole_distance(w, top)
+        if dist >= POLE_DISTANCE:
+            continue
+        if condense is None:
+            return HBMProblem(
+                system,
+                force,
+                harmonics,
+                n_time,
+                symmetry,
+                aft,
+                subharmonic=subharmonic,
+                _checked=data,
+            )
+        raise ValueError(
+            f"condense={condense!r} cannot be solved at Omega = {w:.10g} rad/s: "
+            f"harmonic {k} of it lies within {dist:.2g} (relative) of the "
+            f"natural pulsation {w_r:.10g} rad/s of the structure without its "
+            "contacts, where the receptance of the condensation is infinite "
+            "(undamped; nearly so: huge) and its recovered DOFs lose about 6e-17 / "
+            f"{dist:.2g} of their value; use condense=False or None (the "
+            "default solves the full problem there)"
+        )
+    return condensed
+
+
+def _condensed_problem(
+    system, force, harmonics, n_time, symmetry, aft, condense, subharmonic, data
+):
     from .condensation import CondensedHBMProblem, condensed_by_default
 
-    data = check_system(system)  # before anything reads the system
     if condense is None:
         condense = condensed_by_default(system)
     if isinstance(condense, str) and condense in ("modal", "state", "direct"):
@@ -288,7 +347,9 @@ def frf(
         head = (system, force, (lo, hi), n_time, symmetry, aft, sweep)
         tail = (amplitude_scale, condense, retrace)
     else:
-        problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
+        problem = _problem(
+            system, force, harmonics, n_time, symmetry, aft, condense, at=(lo, hi)
+        )
         _plan_band(problem, hi)
         engine = _frf_fixed
         head = (system, problem, (lo, hi), sweep)
@@ -504,6 +565,10 @@ def _seam_safe(problem, points, t, up, down, d, h, amplitude_scale):
     is kept where neither does)."""
     c = problem.contact_dof
     k = t.shape[0]
+    if k == 0:
+        # a sweep without a point (no converged start: an undamped stuck
+        # resonance at the range's end); the retrace may still cover it
+        return d
     own = t[:, :-1].reshape(k, -1)
 
     def miss(diff, rows):
@@ -693,7 +758,17 @@ def _frf_auto(
     )
     # the levels share the system's data (matrices, modes): one full
     # build, validating the input before any work
-    base = _problem(system, force, LADDER[START], None, symmetry, aft, condense)
+    base = _problem(
+        system,
+        force,
+        LADDER[START],
+        None,
+        symmetry,
+        aft,
+        condense,
+        at=omega_range,
+        top=LADDER[-1],
+    )
     _plan_band(base, omega_range[1])
     problems = {LADDER[START]: base}
 

@@ -207,7 +207,18 @@ def periodic_solution(
                 "with harmonics='auto' initial_guess must be a PeriodicSolution"
             )
         harmonics = LADDER[START]
-    problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
+    # the fallback continuations start at 0.5 and 1.5 times Ω
+    problem = _problem(
+        system,
+        force,
+        harmonics,
+        n_time,
+        symmetry,
+        aft,
+        condense,
+        at=(omega, 0.5 * omega, 1.5 * omega),
+        top=LADDER[-1] if auto else None,
+    )
     if not np.any(problem.load):
         # unforced and damped: the steady state is rest
         rest = np.zeros(problem.n_unknowns + 1)
