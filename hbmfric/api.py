@@ -11,7 +11,7 @@ import numpy as np
 
 from ._validate import finite_float
 from .continuation import AdaptiveContinuation, Continuation, ContinuationOptions
-from .continuation.accuracy import truncation_errors
+from .continuation.accuracy import truncation_errors, watched_truncation_errors
 from .continuation.adaptive import LADDER, START
 from .continuation.ends import (
     budget_note,
@@ -460,7 +460,7 @@ def _frf_fixed(
             problem.full_coefficients(pts),
             info,
             truncation_error=(
-                truncation_errors(
+                watched_truncation_errors(
                     problem, pts, tolerance, amplitude_scale=cont.base_scale
                 )
                 if problem.subharmonic == 1
