@@ -11,7 +11,7 @@ import numpy as np
 
 from ._validate import finite_float
 from .continuation import AdaptiveContinuation, Continuation, ContinuationOptions
-from .continuation.accuracy import truncation_errors, watched_truncation_errors
+from .continuation.accuracy import watched_truncation_errors
 from .continuation.adaptive import LADDER, START
 from .continuation.ends import (
     budget_note,
@@ -784,7 +784,8 @@ def _frf_auto(
         )
         state, points, levels, elapsed = cont.run()
         # a point solved again one rung higher takes that level's tangent
-        errors = cont.settle(points, levels, truncation_errors, state.tangents)
+        # the final estimates watch the normal DOF of a 2D element too
+        errors = cont.settle(points, levels, watched_truncation_errors, state.tangents)
         top = make_problem(max(levels) if levels else LADDER[0])
         # the harmonics of a level are a prefix of the top level's, in the
         # same column layout: each level fills the leading columns of its

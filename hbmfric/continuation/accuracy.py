@@ -219,10 +219,21 @@ def normal_outputs(problem) -> list[np.ndarray]:
     return out
 
 
-def watched_truncation_errors(problem, points: np.ndarray, *args, **kwargs):
+def watched_truncation_errors(
+    problem,
+    points: np.ndarray,
+    tolerance: float | None = None,
+    stretch: np.ndarray | None = None,
+    max_confirmed: int = MAX_CONFIRMED,
+    known: np.ndarray | None = None,
+    every: int | None = None,
+    probe=None,
+    amplitude_scale: float | None = None,
+) -> np.ndarray:
     """:func:`truncation_errors` of the watched output and, for a problem
     with 2D elements, the larger of it and the estimate of each element's
-    normal displacement (same arguments).
+    normal displacement (the same arguments; ``known`` and ``probe`` are
+    the watched output's and serve it alone).
 
     The normal force of a 2D element has a kink where the contact opens
     and closes, so the normal DOF's harmonics decay slowly while the
@@ -231,14 +242,31 @@ def watched_truncation_errors(problem, points: np.ndarray, *args, **kwargs):
     (``Fx = 0``), ``H = 7``, 126 rad/s: the normal DOF's first harmonic
     8.2e-4 off ``H = 63``, with no warning (the tangential DOF at rest).
     """
-    errors = truncation_errors(problem, points, *args, **kwargs)
-    outputs = normal_outputs(problem)
-    if outputs:
-        kwargs.pop("known", None)
-        for w in outputs:
-            errors = np.fmax(
-                errors, truncation_errors(problem, points, *args, output=w, **kwargs)
-            )
+    errors = truncation_errors(
+        problem,
+        points,
+        tolerance,
+        stretch,
+        max_confirmed,
+        known,
+        every,
+        probe,
+        amplitude_scale=amplitude_scale,
+    )
+    for w in normal_outputs(problem):
+        normal = truncation_errors(
+            problem,
+            points,
+            tolerance,
+            stretch,
+            max_confirmed,
+            None,
+            every,
+            None,
+            amplitude_scale=amplitude_scale,
+            output=w,
+        )
+        errors = np.fmax(errors, normal)
     return errors
 
 
