@@ -4,12 +4,13 @@ The 2-DOF rig of ``tests/test_contact2d.py`` (tangential DOF x, normal DOF
 y, a ``Contact2D`` with preload 10 N) with a small or no tangential load,
 so that the watched (tangential) DOF moves little or not at all while the
 contact separates. Each row: ``hf.periodic_solution`` at a fixed ``H``
-(or its ``ConvergenceWarning``); the normal DOF's first-harmonic amplitude
-is within ``harmonic_tolerance`` (1e-4) of the time integration, or an ``AccuracyWarning`` says it may not
-be. Before stop 31 nothing watched the normal DOF (no warning at 8.2e-4
-off). Known limit: at 130 rad/s, ``H = 7``, the change to the probe level
-is 4e-5 while the error is 2.4e-4 (convergence in ``H`` is not monotone
-through a separation): that row is marked xfail.
+(or its ``ConvergenceWarning``); the normal DOF's first-harmonic
+amplitude is within ``harmonic_tolerance`` (1e-4) of the time
+integration, or an ``AccuracyWarning`` says it may not be. Before stop
+31 nothing watched the normal DOF (no warning at 8.2e-4 off). Known
+limit: at 130 rad/s, ``H = 7``, the change to the probe level is 4e-5
+while the error is 2.4e-4 (convergence in ``H`` is not monotone through
+a separation): that row is marked xfail.
 
 Run with ``python -m pytest -m stress tests/stress/test_stop31_contact2d_normal.py``.
 """
