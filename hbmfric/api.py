@@ -244,10 +244,11 @@ def frf(
         estimated from their first-order change when the basis grows to the
         next level (:mod:`hbmfric.continuation.adaptive`), at the contact
         DOF (and, in the final estimates, the normal DOF of each 2D
-        element, :class:`~hbmfric.Contact2D`). Measured against time integration the error is typically
-        0.02-0.2 times it (``bench/README.md``); it does not see the AFT's
-        own sampling error (Menq: about 1e-5 at the default ``n_time``),
-        and a rigid Coulomb contact (error ~ 1/H) drives ``H`` to the top.
+        element, :class:`~hbmfric.Contact2D`). Measured against time
+        integration the error is typically 0.02-0.2 times it
+        (``bench/README.md``); it does not see the AFT's own sampling
+        error (Menq: about 1e-5 at the default ``n_time``), and a rigid
+        Coulomb contact (error ~ 1/H) drives ``H`` to the top.
         With a fixed ``H``: the threshold of the
         :class:`~hbmfric.errors.AccuracyWarning` on the per-point estimate
         (:mod:`hbmfric.continuation.accuracy`).
