@@ -11,7 +11,7 @@ import numpy as np
 
 from ._validate import finite_float
 from .continuation import AdaptiveContinuation, Continuation, ContinuationOptions
-from .continuation.accuracy import truncation_errors
+from .continuation.accuracy import watched_truncation_errors
 from .continuation.adaptive import LADDER, START
 from .continuation.ends import (
     budget_note,
@@ -69,12 +69,71 @@ def _omega_range(omega) -> tuple[float, float]:
     return lo, hi
 
 
-def _problem(system, force, harmonics, n_time, symmetry, aft, condense, subharmonic=1):
+def _problem(
+    system,
+    force,
+    harmonics,
+    n_time,
+    symmetry,
+    aft,
+    condense,
+    subharmonic=1,
+    *,
+    at=(),
+    top=None,
+):
     """The HBM discretisation: condensed onto the contact DOF or full
-    (``subharmonic``: see :class:`~hbmfric.hbm.HBMProblem`)."""
+    (``subharmonic``: see :class:`~hbmfric.hbm.HBMProblem`).
+
+    ``at``: pulsations (rad/s) solved from a standing start (a fixed Ω, the
+    ends of a range), ``top``: the highest harmonic a ladder of levels
+    reaches. Where a harmonic of one of them lies on a pole of the
+    condensed receptance (within
+    :data:`~hbmfric.condensation.POLE_DISTANCE`: an undamped natural
+    pulsation of the structure without its contacts), the default
+    (``condense=None``) solves the full problem, and an explicit
+    ``condense`` raises ``ValueError``.
+    """
+    data = check_system(system)  # before anything reads the system
+    condensed = _condensed_problem(
+        system, force, harmonics, n_time, symmetry, aft, condense, subharmonic, data
+    )
+    if not getattr(condensed, "condensed", False):
+        return condensed
+    from .condensation import POLE_DISTANCE
+
+    for w in at:
+        dist, k, w_r = condensed.pole_distance(w, top)
+        if dist >= POLE_DISTANCE:
+            continue
+        if condense is None:
+            return HBMProblem(
+                system,
+                force,
+                harmonics,
+                n_time,
+                symmetry,
+                aft,
+                subharmonic=subharmonic,
+                _checked=data,
+            )
+        raise ValueError(
+            f"condense={condense!r} cannot be solved at Omega = {w:.10g} rad/s: "
+            f"harmonic {k} of it lies within {dist:.2g} (relative) of the "
+            f"natural pulsation {w_r:.10g} rad/s of the structure without its "
+            "contacts, where the receptance of the condensation is infinite "
+            "(undamped; nearly so: huge) and its recovered DOFs lose about 6e-17 / "
+            f"{dist:.2g} of their value; use condense=False or None (the "
+            "default solves the full problem there)"
+        )
+    return condensed
+
+
+def _condensed_problem(
+    system, force, harmonics, n_time, symmetry, aft, condense, subharmonic, data
+):
     from .condensation import CondensedHBMProblem, condensed_by_default
 
-    data = check_system(system)  # before anything reads the system
     if condense is None:
         condense = condensed_by_default(system)
     if isinstance(condense, str) and condense in ("modal", "state", "direct"):
@@ -184,10 +243,12 @@ def frf(
         first-harmonic amplitude and of half the peak-to-peak value,
         estimated from their first-order change when the basis grows to the
         next level (:mod:`hbmfric.continuation.adaptive`), at the contact
-        DOF. Measured against time integration the error is typically
-        0.02-0.2 times it (``bench/README.md``); it does not see the AFT's
-        own sampling error (Menq: about 1e-5 at the default ``n_time``),
-        and a rigid Coulomb contact (error ~ 1/H) drives ``H`` to the top.
+        DOF (and, in the final estimates, the normal DOF of each 2D
+        element, :class:`~hbmfric.Contact2D`). Measured against time
+        integration the error is typically 0.02-0.2 times it
+        (``bench/README.md``); it does not see the AFT's own sampling
+        error (Menq: about 1e-5 at the default ``n_time``), and a rigid
+        Coulomb contact (error ~ 1/H) drives ``H`` to the top.
         With a fixed ``H``: the threshold of the
         :class:`~hbmfric.errors.AccuracyWarning` on the per-point estimate
         (:mod:`hbmfric.continuation.accuracy`).
@@ -288,7 +349,9 @@ def frf(
         head = (system, force, (lo, hi), n_time, symmetry, aft, sweep)
         tail = (amplitude_scale, condense, retrace)
     else:
-        problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
+        problem = _problem(
+            system, force, harmonics, n_time, symmetry, aft, condense, at=(lo, hi)
+        )
         _plan_band(problem, hi)
         engine = _frf_fixed
         head = (system, problem, (lo, hi), sweep)
@@ -399,7 +462,7 @@ def _frf_fixed(
             problem.full_coefficients(pts),
             info,
             truncation_error=(
-                truncation_errors(
+                watched_truncation_errors(
                     problem, pts, tolerance, amplitude_scale=cont.base_scale
                 )
                 if problem.subharmonic == 1
@@ -504,6 +567,10 @@ def _seam_safe(problem, points, t, up, down, d, h, amplitude_scale):
     is kept where neither does)."""
     c = problem.contact_dof
     k = t.shape[0]
+    if k == 0:
+        # a sweep without a point (no converged start: an undamped stuck
+        # resonance at the range's end); the retrace may still cover it
+        return d
     own = t[:, :-1].reshape(k, -1)
 
     def miss(diff, rows):
@@ -693,7 +760,17 @@ def _frf_auto(
     )
     # the levels share the system's data (matrices, modes): one full
     # build, validating the input before any work
-    base = _problem(system, force, LADDER[START], None, symmetry, aft, condense)
+    base = _problem(
+        system,
+        force,
+        LADDER[START],
+        None,
+        symmetry,
+        aft,
+        condense,
+        at=omega_range,
+        top=LADDER[-1],
+    )
     _plan_band(base, omega_range[1])
     problems = {LADDER[START]: base}
 
@@ -709,7 +786,8 @@ def _frf_auto(
         )
         state, points, levels, elapsed = cont.run()
         # a point solved again one rung higher takes that level's tangent
-        errors = cont.settle(points, levels, truncation_errors, state.tangents)
+        # the final estimates watch the normal DOF of a 2D element too
+        errors = cont.settle(points, levels, watched_truncation_errors, state.tangents)
         top = make_problem(max(levels) if levels else LADDER[0])
         # the harmonics of a level are a prefix of the top level's, in the
         # same column layout: each level fills the leading columns of its

@@ -207,7 +207,18 @@ def periodic_solution(
                 "with harmonics='auto' initial_guess must be a PeriodicSolution"
             )
         harmonics = LADDER[START]
-    problem = _problem(system, force, harmonics, n_time, symmetry, aft, condense)
+    # the fallback continuations start at 0.5 and 1.5 times Ω
+    problem = _problem(
+        system,
+        force,
+        harmonics,
+        n_time,
+        symmetry,
+        aft,
+        condense,
+        at=(omega, 0.5 * omega, 1.5 * omega),
+        top=LADDER[-1] if auto else None,
+    )
     if not np.any(problem.load):
         # unforced and damped: the steady state is rest
         rest = np.zeros(problem.n_unknowns + 1)
@@ -258,12 +269,14 @@ def _warn_truncation(problem, y: np.ndarray, tolerance: float) -> None:
     """An :class:`~hbmfric.AccuracyWarning` when the estimated truncation
     error of the solution ``y`` at a fixed ``H`` exceeds ``tolerance`` (the
     estimate and the threshold of :func:`hbmfric.frf` at a fixed ``H``)."""
-    from .continuation.accuracy import truncation_errors
+    from .continuation.accuracy import watched_truncation_errors
 
     # the displacement scale frf would use over a range at this Ω alone
     scale = problem.amplitude_scale((float(y[-1]), float(y[-1])))
     estimate = float(
-        truncation_errors(problem, y[None, :], tolerance, amplitude_scale=scale)[0]
+        watched_truncation_errors(
+            problem, y[None, :], tolerance, amplitude_scale=scale
+        )[0]
     )
     if estimate > tolerance:
         warnings.warn(
@@ -460,13 +473,26 @@ def _climb(system, problem, omega, options, y, solver, tolerance):
     Returns the finest converged ``(y, problem, solver)``; the solvers'
     iteration counts add up in the returned one.
     """
+    from .continuation.accuracy import normal_outputs
+    from .signals import half_peak_to_peak
+
     contact = int(getattr(system, "contact_dof", 0))
+    # and the normal displacement of each 2D element: its normal force has
+    # kinks where the contact opens (stop 31: loaded normally only, the
+    # contact DOF at rest settled at once while the normal DOF was 8e-4
+    # off at H = 7)
+    normals = [w[0] for w in normal_outputs(problem)]
 
     def measures(p, v):
         sol = _solution(system, p, v, True, 0, 0.0, 0.0, "", "")
-        return np.array(
-            [sol.amplitude(harmonic=1, dof=contact), sol.amplitude(dof=contact)]
-        )
+        out = [sol.amplitude(harmonic=1, dof=contact), sol.amplitude(dof=contact)]
+        hn = np.asarray(p.harmonic_numbers)
+        first = 1 if hn[0] == 0 else 0
+        for a in normals:
+            z = a @ sol.coefficients
+            out += [float(np.hypot(z[first], z[first + 1]))]
+            out += [float(half_peak_to_peak(hn, z))]
+        return np.array(out)
 
     here = measures(problem, y)
     changes: list[float] = []

@@ -283,19 +283,19 @@ def microslip_points():
     captured = {}
     import hbmfric.api as api
 
-    original = api.truncation_errors
+    original = api.watched_truncation_errors
 
     def keep(problem, points, *args, **kwargs):
         captured["points"] = points.copy()
         return original(problem, points, *args, **kwargs)
 
-    api.truncation_errors = keep
+    api.watched_truncation_errors = keep
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", hf.AccuracyWarning)
             hf.frf(joint, 36.0, (HZ * 160.0, HZ * 164.0), 15, max_step=0.05)
     finally:
-        api.truncation_errors = original
+        api.watched_truncation_errors = original
     return joint, captured["points"]
 
 

@@ -68,6 +68,7 @@ def truncation_errors(
     every: int | None = None,
     probe=None,
     amplitude_scale: float | None = None,
+    output: np.ndarray | None = None,
 ) -> np.ndarray:
     """Estimated relative truncation error of each point of a branch.
 
@@ -112,6 +113,11 @@ def truncation_errors(
         first-order change exceeds ``CONFIRM_ABOVE`` times that measure is
         solved at the probe level, and its estimate is the change to that
         solution (:func:`_confirm`).
+    output : ndarray, shape (2, n_dof), optional
+        Weights ``(a, b)`` of another output to measure (``Σ a_d x_d +
+        b_d ẋ_d``; a full problem only) instead of the problem's watched
+        one: :func:`watched_truncation_errors` measures the normal DOF of
+        a 2D element with it. Not with ``probe`` or ``known``.
 
     Returns
     -------
@@ -127,15 +133,25 @@ def truncation_errors(
     errors = np.zeros(n_points)
     if n_points == 0:
         return errors
-    cached = getattr(problem, "_accuracy_levels", None)
-    if cached is None:
-        cached = problem._accuracy_levels = _levels(problem, probe is None)
-    level, own, columns, weights = cached
-    if probe is None:
-        if own is None and columns is not None:
-            own = _levels(problem, True)[1]
-            problem._accuracy_levels = (level, own, columns, weights)
-        probe = own
+    if output is not None:
+        if probe is not None or known is not None:
+            raise ValueError("output cannot be given with probe or known")
+        output = np.ascontiguousarray(output, dtype=np.float64)
+        by_output = problem.__dict__.setdefault("_accuracy_levels_by_output", {})
+        key = output.tobytes()
+        if key not in by_output:
+            by_output[key] = _levels(problem, True, output)
+        level, probe, columns, weights = by_output[key]
+    else:
+        cached = getattr(problem, "_accuracy_levels", None)
+        if cached is None:
+            cached = problem._accuracy_levels = _levels(problem, probe is None)
+        level, own, columns, weights = cached
+        if probe is None:
+            if own is None and columns is not None:
+                own = _levels(problem, True)[1]
+                problem._accuracy_levels = (level, own, columns, weights)
+            probe = own
     if probe is None or columns is None:
         errors[:] = np.inf
         return errors
@@ -178,7 +194,79 @@ def truncation_errors(
         errors,
     )
     if amplitude_scale is not None and np.isfinite(amplitude_scale):
-        errors = _confirm(problem, level, probe, points, errors, amplitude_scale)
+        errors = _confirm(
+            problem, level, probe, points, errors, amplitude_scale, output
+        )
+    return errors
+
+
+def normal_outputs(problem) -> list[np.ndarray]:
+    """Output weights (shape (2, n_dof)) of the normal relative displacement
+    of each 2D element (:class:`~hbmfric.Contact2D`) of a full problem;
+    empty for a problem without one (or condensed, which has none)."""
+    from ..laws import Contact2D
+
+    if getattr(problem, "condensed", False):
+        return []
+    out = []
+    for law, _a, _b, a_n, b_n in getattr(problem, "_contacts", ()):
+        if isinstance(law, Contact2D) and a_n >= 0:
+            w = np.zeros((2, problem.n_dof))
+            w[0, a_n] = 1.0
+            if b_n >= 0:
+                w[0, b_n] = -1.0
+            out.append(w)
+    return out
+
+
+def watched_truncation_errors(
+    problem,
+    points: np.ndarray,
+    tolerance: float | None = None,
+    stretch: np.ndarray | None = None,
+    max_confirmed: int = MAX_CONFIRMED,
+    known: np.ndarray | None = None,
+    every: int | None = None,
+    probe=None,
+    amplitude_scale: float | None = None,
+) -> np.ndarray:
+    """:func:`truncation_errors` of the watched output and, for a problem
+    with 2D elements, the larger of it and the estimate of each element's
+    normal displacement (the same arguments; ``known`` and ``probe`` are
+    the watched output's and serve it alone).
+
+    The normal force of a 2D element has a kink where the contact opens
+    and closes, so the normal DOF's harmonics decay slowly while the
+    watched (tangential) DOF may be at rest or nearly linear. Stop 31: the
+    2-DOF rig of ``tests/test_contact2d.py`` loaded normally only
+    (``Fx = 0``), ``H = 7``, 126 rad/s: the normal DOF's first harmonic
+    8.2e-4 off ``H = 63``, with no warning (the tangential DOF at rest).
+    """
+    errors = truncation_errors(
+        problem,
+        points,
+        tolerance,
+        stretch,
+        max_confirmed,
+        known,
+        every,
+        probe,
+        amplitude_scale=amplitude_scale,
+    )
+    for w in normal_outputs(problem):
+        normal = truncation_errors(
+            problem,
+            points,
+            tolerance,
+            stretch,
+            max_confirmed,
+            None,
+            every,
+            None,
+            amplitude_scale=amplitude_scale,
+            output=w,
+        )
+        errors = np.fmax(errors, normal)
     return errors
 
 
@@ -230,7 +318,7 @@ def _output_measures(level, points: np.ndarray, rest_scale: float):
     return a1, hpp, np.full(n_points, rest)
 
 
-def _confirm(problem, level, probe, points, errors, amplitude_scale):
+def _confirm(problem, level, probe, points, errors, amplitude_scale, output=None):
     """The estimates relative to the rest floor, with the implausible ones
     replaced by the change to a solve at the probe level (module doc of
     :func:`truncation_errors`, ``amplitude_scale``)."""
@@ -285,7 +373,7 @@ def _confirm(problem, level, probe, points, errors, amplitude_scale):
         # carried from its neighbours (the structure of the paper beam at
         # mass x 1e4, rigid tip, H = 7, 101.35 Hz: 273 carried, 0.29 own)
         rows = np.array(unsolved)
-        own = truncation_errors(problem, points[rows], every=1)
+        own = truncation_errors(problem, points[rows], every=1, output=output)
         errors[rows] = np.where(np.isfinite(own), own * factor[rows], errors[rows])
     return errors
 
@@ -337,17 +425,21 @@ def _solved(problem, cont, y: np.ndarray, status: int) -> bool:
     return float(np.max(np.abs(R))) <= max(cont.tol_residual, floor)
 
 
-def _levels(problem, with_probe: bool = True) -> tuple:
+def _levels(problem, with_probe: bool = True, output=None) -> tuple:
     """The problem's own level, its probe level (None for ``H = 1`` or
     when not ``with_probe``) and the column and weight arguments of
     :func:`~hbmfric.kernels.steps.truncation.branch_truncation` (None for
-    ``H = 1``)."""
+    ``H = 1``); ``output``: weights of another output to measure."""
     level = _Level(problem, None)
+    if output is not None:
+        level.output = output
     if not level.top:
         return level, None, None, None
     probe = None
     if with_probe:
         probe = _Level(problem.with_harmonics(probe_level(level.h)), None)
+        if output is not None:
+            probe.output = output
     columns = np.array(level.columns, dtype=np.int64)
     weights = np.array(
         [level.h, level.prev_weight, LINEAR * 1e-4, CHANGE_FACTOR, CARRY_FLOOR]
@@ -355,4 +447,4 @@ def _levels(problem, with_probe: bool = True) -> tuple:
     return level, probe, columns, weights
 
 
-__all__ = ["truncation_errors", "next_level"]
+__all__ = ["truncation_errors", "watched_truncation_errors", "next_level"]

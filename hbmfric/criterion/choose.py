@@ -26,6 +26,11 @@ from .smoothing import (
 )
 
 MODELS = ("macroslip", "microslip", "undecided")
+#: two records whose bands' two ends lie within this relative distance of
+#: 2π times each other's, or a ``stuck_frequency`` within it of 2π (or
+#: 1/2π) times the stuck reference's own interior peak, are read as a
+#: mix of Hz and rad/s and refused
+TWO_PI_RTOL = 0.02
 #: below this log-amplitude noise the curves are compared unsmoothed
 AUTO_NOISE_FLOOR = 0.002
 AUTO_WIDTH_FACTOR = 0.5
@@ -203,6 +208,45 @@ class CriterionResult:
         ax2.set_xlabel("frequency")
         fig.tight_layout()
         return fig
+
+
+def _near_two_pi(ratio: float) -> bool:
+    """``ratio`` within :data:`TWO_PI_RTOL` of 2π."""
+    return abs(ratio / (2.0 * math.pi) - 1.0) <= TWO_PI_RTOL
+
+
+def _check_units(pool: tuple[FRFRecord, ...]) -> None:
+    """Refuse a family whose records are in different frequency units: the
+    units they state (``FRFRecord.omega_unit``) differ, or one record's
+    band is 2π times another's at both ends (the same sweep exported once
+    in Hz and once in rad/s). Records in different units are compared
+    where their bands happen to overlap, or not at all (stop 31: a record
+    in Hz among rad/s ones left step 1 without it, silently)."""
+    stated: dict[str, list[str]] = {}
+    for r in pool:
+        if r.omega_unit is not None:
+            stated.setdefault(r.omega_unit, []).append(r.name)
+    if len(stated) > 1:
+        parts = [
+            f"{unit}: {', '.join(names[:3])}{' ...' if len(names) > 3 else ''}"
+            for unit, names in stated.items()
+        ]
+        raise ValueError(
+            "the records state different frequency units ("
+            + "; ".join(parts)
+            + "): convert them to one unit"
+        )
+    for a in pool:
+        for b in pool:
+            if _near_two_pi(a.omega[0] / b.omega[0]) and _near_two_pi(
+                a.omega[-1] / b.omega[-1]
+            ):
+                raise ValueError(
+                    f"record {a.name!r} spans {a.omega[0]:.5g}-{a.omega[-1]:.5g}, "
+                    f"2π times the band of record {b.name!r} "
+                    f"({b.omega[0]:.5g}-{b.omega[-1]:.5g}): one is in rad/s and "
+                    "the other in Hz? Convert them to one unit"
+                )
 
 
 def _groups(ratios: np.ndarray, rtol: float) -> list[list[int]]:
@@ -445,6 +489,7 @@ def choose_contact_model(
             )
     if stuck is not None and not isinstance(stuck, FRFRecord):
         raise ValueError(f"stuck must be an FRFRecord, got {type(stuck).__name__}")
+    _check_units(recs + ((stuck,) if stuck is not None else ()))
     if stuck_frequency is not None:
         stuck_frequency = finite_float(
             "stuck_frequency", stuck_frequency, low=0.0, low_open=True
@@ -640,7 +685,25 @@ def choose_contact_model(
         candidates = curves[1:]
     evidence["reference"] = ref
     ref_peak = peak(grid, ref)
-    if stuck_frequency is not None:
+    if stuck_frequency is not None and ref_peak[2]:
+        ratio = stuck_frequency / ref_peak[0]
+        if _near_two_pi(ratio) or _near_two_pi(1.0 / ratio):
+            raise ValueError(
+                f"stuck_frequency = {stuck_frequency:.5g} is {ratio:.4g} times the "
+                f"peak of the stuck reference ({ref_name}) at {ref_peak[0]:.5g}: "
+                "given in Hz for records in rad/s, or the other way round? Give it "
+                "in the unit of the records' omega"
+            )
+    if stuck_frequency is not None and stuck_frequency <= grid[0]:
+        # step 2 reads the curves below the stuck resonance: none here
+        w_ref = None
+        missing.append(
+            f"stuck_frequency = {stuck_frequency:.5g} lies below the band of the "
+            f"records ({grid[0]:.5g}-{grid[-1]:.5g}), so no curve is measured "
+            "below the stuck resonance (is it in the unit of the records' "
+            "omega?)"
+        )
+    elif stuck_frequency is not None:
         w_ref = stuck_frequency
     elif ref_peak[2]:
         w_ref = ref_peak[0]
@@ -841,6 +904,15 @@ def choose_contact_model(
                 f"{m_side:+.2g} noise units from its threshold: the data cannot "
                 "tell whether the mostly stuck peaks leave the stuck envelope"
             )
+    if model == "undecided" and not missing and not unclear:
+        # no verdict leaves without its reason (stop 31: a stuck_frequency
+        # below the band ended in "Verdict: undecided" and no reason)
+        missing.append(
+            "no mostly stuck curve has points below the stuck resonance "
+            f"({w_ref:.5g}), where step 2 compares them with the stuck envelope"
+            if w_ref is not None
+            else "the stuck resonance is not known"
+        )
     if missing:
         model = "undecided"
         ind["undecided_reason"] = "data"

@@ -22,6 +22,13 @@ COLUMNS = {
     "curve": ("curve", "label", "record"),
 }
 
+#: frequency units the column name of ``omega`` states (lower case); the
+#: other names (``omega``, ``frequency``, ``freq``) state none
+COLUMN_UNITS = {"omega_rad_s": "rad/s", "frequency_hz": "Hz"}
+
+#: accepted values of :attr:`FRFRecord.omega_unit` (besides None)
+OMEGA_UNITS = ("rad/s", "Hz")
+
 
 @dataclass(frozen=True, eq=False)
 class FRFRecord:
@@ -42,13 +49,19 @@ class FRFRecord:
         the whole family); the criterion divides it by ``force``.
     label : str, optional
         Name of the curve (plots and explanations).
+    omega_unit : {None, "rad/s", "Hz"}, optional
+        The unit of ``omega`` when it is known (:func:`read_frfs` takes it
+        from a column named ``omega_rad_s`` or ``frequency_Hz``,
+        :meth:`from_branch` gives ``"rad/s"``); None: not stated.
+        :func:`~hbmfric.criterion.choose_contact_model` refuses a family
+        whose records state different units.
 
     Raises
     ------
     ValueError
         Non-finite or non-positive force, load, frequency or amplitude,
-        arrays of different lengths, fewer than 5 points, or a repeated
-        frequency.
+        arrays of different lengths, fewer than 5 points, a repeated
+        frequency, or an unknown ``omega_unit``.
     """
 
     force: float
@@ -56,6 +69,7 @@ class FRFRecord:
     omega: np.ndarray
     amplitude: np.ndarray
     label: str = ""
+    omega_unit: str | None = None
 
     def __post_init__(self) -> None:
         force = finite_float("force", self.force, low=0.0, low_open=True)
@@ -88,6 +102,14 @@ class FRFRecord:
         object.__setattr__(self, "omega", omega)
         object.__setattr__(self, "amplitude", amp)
         object.__setattr__(self, "label", str(self.label))
+        unit = self.omega_unit
+        if unit is not None:
+            known = {u.lower(): u for u in OMEGA_UNITS}
+            if not isinstance(unit, str) or unit.strip().lower() not in known:
+                raise ValueError(
+                    f"omega_unit must be None, 'rad/s' or 'Hz', got {unit!r}"
+                )
+            object.__setattr__(self, "omega_unit", known[unit.strip().lower()])
 
     @property
     def ratio(self) -> float:
@@ -141,7 +163,9 @@ class FRFRecord:
             amp = dense.amplitude(harmonic=harmonic, dof=dof)
         # a branch through folds has repeated abscissae: keep the first point
         _, keep = np.unique(omega, return_index=True)
-        return cls(branch.force, normal_load, omega[keep], amp[keep])
+        return cls(
+            branch.force, normal_load, omega[keep], amp[keep], omega_unit="rad/s"
+        )
 
 
 def _vector(name: str, value) -> np.ndarray:
@@ -203,7 +227,12 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
         Normal load Fn, N (alias ``normal_load_N``, ``Fn``).
     ``omega``
         Excitation frequency (alias ``omega_rad_s``, ``frequency``,
-        ``frequency_Hz``); rad/s or Hz, the same for every row.
+        ``frequency_Hz``); rad/s or Hz, the same for every row. The names
+        ``omega_rad_s`` and ``frequency_Hz`` state the unit
+        (``FRFRecord.omega_unit``), and ``choose_contact_model`` refuses a
+        family that mixes the two; under the other names the unit is not
+        known, and records read from files in different units would be
+        compared as if in one: name the column, or convert.
     ``amplitude``
         Response amplitude at that frequency, > 0 (alias
         ``amplitude_h1_m``, ``amplitude_m``); not divided by the force.
@@ -225,7 +254,8 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
     Returns
     -------
     list of FRFRecord
-        In order of first appearance in the file.
+        In order of first appearance in the file, with ``omega_unit`` as
+        the column name states it (else None).
 
     Raises
     ------
@@ -267,6 +297,7 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
                     f"{', '.join(names)}); header (line {numbered[0][0]}, read as "
                     f"{encoding}) is {header}"
                 )
+    omega_unit = COLUMN_UNITS.get(header[index["omega"]])
     numeric = ("force", "normal_load", "omega", "amplitude")
     needed = max(index.values()) + 1
     curves: dict[str, dict] = {}
@@ -332,7 +363,14 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
     for key, c in curves.items():
         try:
             records.append(
-                FRFRecord(c["force"], c["normal_load"], c["w"], c["a"], label=key)
+                FRFRecord(
+                    c["force"],
+                    c["normal_load"],
+                    c["w"],
+                    c["a"],
+                    label=key,
+                    omega_unit=omega_unit,
+                )
             )
         except ValueError as err:
             raise ValueError(f"{path}: curve {key!r}: {err}") from None
@@ -341,11 +379,29 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
 
 def write_frfs(path: str | Path, records) -> Path:
     """Write records to a CSV file that :func:`read_frfs` reads back
-    (columns ``curve, force, normal_load, omega, amplitude``)."""
+    (columns ``curve, force, normal_load, omega, amplitude``; the frequency
+    column is ``omega_rad_s`` or ``frequency_Hz`` when every record states
+    that unit, so that it is read back).
+
+    Raises
+    ------
+    ValueError
+        Records that state different frequency units.
+    """
     path = Path(path)
+    records = list(records)
+    units = {r.omega_unit for r in records}
+    if len(units - {None}) > 1:
+        raise ValueError(
+            "the records state different frequency units "
+            f"({', '.join(sorted(units - {None}))}): convert them to one"
+        )
+    column = "omega"
+    if len(units) == 1 and None not in units:
+        column = {"rad/s": "omega_rad_s", "Hz": "frequency_Hz"}[units.pop()]
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["curve", "force", "normal_load", "omega", "amplitude"])
+        w.writerow(["curve", "force", "normal_load", column, "amplitude"])
         for r in records:
             for om, a in zip(r.omega, r.amplitude, strict=True):
                 w.writerow(
