@@ -4,10 +4,11 @@ corrector at N pairs (H = 15), to multiply with a branch's counters.
 ``python -m bench.lap_split N``: CPU ms (least of repeats) of the residual
 kernel (and of zeroing its dense Jacobian alone), the passes of the
 corrector over the dense bordered matrix (row equilibration,
-``rounding_floor``, the nonzero gather), a GMRES product on the harmonic
-blocks (sparse product + preconditioner), a block factorisation with its
-correction, at 162 Hz, 3 times the free linear response (some contacts
-slip) and 30 times (all slip).
+``rounding_floor``, the nonzero gather; and stop 31's same passes on the
+Jacobian's pattern, :mod:`hbmfric.kernels.linalg.pattern`), a GMRES
+product on the harmonic blocks (sparse product + preconditioner), a
+block factorisation with its correction, at 162 Hz, 3 times the free
+linear response (some contacts slip) and 30 times (all slip).
 """
 
 from __future__ import annotations
@@ -30,6 +31,12 @@ from hbmfric.kernels.linalg.blocks import (  # noqa: E402
     apply_corrected,
 )
 from hbmfric.kernels.linalg.krylov import sparse_matvec, sparse_rows  # noqa: E402
+from hbmfric.kernels.linalg.pattern import (  # noqa: E402
+    append_last_row,
+    equilibrate_pattern,
+    pattern_size,
+    pattern_term_sum,
+)
 from hbmfric.kernels.residuals.condensed import condensed_residual  # noqa: E402
 from hbmfric.kernels.steps.newton import equilibrate_rows, rounding_floor  # noqa: E402
 
@@ -73,11 +80,32 @@ def unit_costs(n_pairs, harmonics=15, factor=3.0):
     row["rounding_floor_ms"] = _best(lambda: rounding_floor(J, y))
     row["gather_ms"] = _best(lambda: sparse_rows(A))
     st, co, va = sparse_rows(A)
+    # stop 31: the same rows, floor and nonzeros on the Jacobian's pattern
+    n_c, n_coef = c.n_coordinates, c.n_coef
+    room = pattern_size(n_c, n_coef, 0)
+    ps = np.zeros(m + 1, dtype=np.int64)
+    pc = np.zeros(room, dtype=np.int64)
+    pv = np.zeros(room)
+    B = A.copy()
+
+    def pattern_rows():
+        equilibrate_pattern(J, scale, B, rows, n_c, n_coef, 0, ps, pc, pv)
+        append_last_row(B, ps, pc, pv)
+
+    row["pattern_rows_and_nonzeros_ms"] = _best(pattern_rows)
+    row["pattern_term_sum_ms"] = _best(
+        lambda: pattern_term_sum(J, y, n_c, n_coef, 0), inner=10
+    )
+    row["pattern_equal"] = bool(
+        np.array_equal(ps, st)
+        and np.array_equal(pc[: st[-1]], co)
+        and np.array_equal(pv[: st[-1]], va)
+    )
     x = np.ones(m)
     out = np.empty(m)
     row["matvec_ms"] = _best(lambda: sparse_matvec(st, co, va, x, out), inner=20)
     solver = hc.solver_arrays(n, True, c.n_coordinates, c.n_coef, 0)
-    _, _, _, state, blocks, pivots, border, work, correction = solver
+    _, _, _, state, blocks, pivots, border, work, correction = solver[:9]
     row["block_build_ms"] = _best(
         lambda: _prepare_corrected(A, c.n_coordinates, c.n_coef, 0, solver)
     )

@@ -452,7 +452,9 @@ def correct(
         scaled variables, ``[D J diag(scale); constraint]`` with ``D`` the
         row equilibration (reused for the tangent by
         :func:`bordered_tangent`); on the reuse path of
-        :func:`bordered_solve` ``A`` holds that matrix itself.
+        :func:`bordered_solve` ``A`` holds that matrix itself (on the
+        harmonic blocks: at the places of the Jacobian's pattern and the
+        last row, :func:`bordered_rows`; its other entries undefined).
 
     Returns
     -------
