@@ -24,6 +24,7 @@ from .kernels.linalg.krylov import (
 from .kernels.linalg.krylov import REUSE_MODE as REUSE_MODE_INDEX
 from .kernels.linalg.krylov import REUSE_REFRESH as REUSE_REFRESH_INDEX
 from .kernels.linalg.krylov import REUSE_TOL as REUSE_TOL_INDEX
+from .kernels.linalg.pattern import pattern_size
 from .kernels.residuals.condensed import (
     AFT_EVENTS,
     AFT_SAMPLES,
@@ -130,9 +131,12 @@ def solver_arrays(
     coefficients, ``first`` 1 when column 0 is the constant): dense factors,
     pivots, Krylov basis, state (:mod:`hbmfric.kernels.linalg.krylov`) and
     the harmonic blocks' factors, pivots, border and work
-    (:func:`hbmfric.kernels.linalg.blocks.block_work`) and their correction
+    (:func:`hbmfric.kernels.linalg.blocks.block_work`), their correction
     for at most :data:`REUSE_SLIP_MAX` slipping coordinates
-    (:func:`hbmfric.kernels.linalg.capacitance.capacitance_work`); of order 0 (plain LU
+    (:func:`hbmfric.kernels.linalg.capacitance.capacitance_work`) and room
+    for the bordered matrix's nonzeros built on the Jacobian's pattern
+    (CSR starts, columns, values;
+    :func:`hbmfric.kernels.linalg.pattern.pattern_size` entries); of order 0 (plain LU
     every iteration) when not ``enabled`` or below
     :data:`REUSE_MIN_UNKNOWNS`. Without a layout (``n_coef = 0``) the kept
     factors precondition."""
@@ -158,6 +162,7 @@ def solver_arrays(
     size = 2 * n_dof if blocks else 0
     n_slip = min(max(int(REUSE_SLIP_MAX), 0), n_dof) if blocks else 0
     k = n_slip * n_coef
+    room = int(pattern_size(n_dof, n_coef, first)) if blocks else 0
     return (
         np.zeros((m, m)),
         np.zeros(m, dtype=np.int64),
@@ -175,6 +180,11 @@ def solver_arrays(
             np.zeros(k * k),
             np.zeros(k, dtype=np.int64),
             np.zeros(k),
+        ),
+        (
+            np.zeros(m + 1 if blocks else 1, dtype=np.int64),
+            np.zeros(room, dtype=np.int64),
+            np.zeros(room),
         ),
     )
 

@@ -234,6 +234,8 @@ SEVERAL_CONTACT_PATH = (
     "block_solve",
     "reuse_solve",
     "gmres_blocks",
+    "equilibrate_pattern",
+    "pattern_term_sum",
 )
 
 

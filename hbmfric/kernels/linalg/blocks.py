@@ -45,6 +45,7 @@ from .krylov import (
     REUSE_CAPACITANCE_EVERY,
     REUSE_FACTORISATIONS,
     REUSE_FALLBACKS,
+    REUSE_NONZEROS,
     REUSE_PREPARED,
     REUSE_PRODUCTS,
     REUSE_SOLVES,
@@ -268,20 +269,55 @@ def gmres_blocks(A, b, x, n_dof, n_coef, first, tol, arrays):
     if not prepare_blocks(A, n_dof, n_coef, first, blocks, pivots, border, work):
         return GMRES_NOT_CONVERGED, 0
     none = capacitance_work(n_dof, n_coef, first, 0)
+    starts, columns, values = sparse_rows(A)
     return gmres_prepared(
-        A, b, x, n_dof, n_coef, first, tol, blocks, pivots, border, V, work, none
+        A,
+        b,
+        x,
+        n_dof,
+        n_coef,
+        first,
+        tol,
+        blocks,
+        pivots,
+        border,
+        V,
+        work,
+        none,
+        starts,
+        columns,
+        values,
     )
 
 
 @jit
 def gmres_prepared(
-    A, b, x, n_dof, n_coef, first, tol, blocks, pivots, border, V, work, correction
+    A,
+    b,
+    x,
+    n_dof,
+    n_coef,
+    first,
+    tol,
+    blocks,
+    pivots,
+    border,
+    V,
+    work,
+    correction,
+    starts,
+    columns,
+    values,
 ):
     """:func:`gmres_blocks` with the preconditioner of ``A`` already built
     by :func:`prepare_blocks` (same arguments and results; ``V`` and
     ``work`` the Krylov basis, shape (k_max + 1, m), and shape (2 n_dof,);
     ``correction`` the blocks' correction for the slipping coordinates,
-    :mod:`.capacitance`, with which ``border`` was prepared)."""
+    :mod:`.capacitance`, with which ``border`` was prepared; ``starts``,
+    ``columns``, ``values`` the nonzeros of ``A``, CSR as
+    :func:`~.krylov.sparse_rows` gives them: every product is taken with
+    them, ``A`` itself is read only at its last row and column and its
+    harmonic blocks)."""
     m = b.size
     k_max = V.shape[0] - 1
     beta = _norm2(b)
@@ -291,7 +327,6 @@ def gmres_prepared(
         for i in range(m):
             x[i] = 0.0
         return GMRES_CONVERGED, 0
-    starts, columns, values = sparse_rows(A)
     H = np.zeros((k_max + 1, k_max))
     cs = np.empty(k_max)
     sn = np.empty(k_max)
@@ -348,7 +383,8 @@ def _prepare_corrected(A, n_dof, n_coef, first, solver):
     """Factor the harmonic blocks of ``A``, build their correction for its
     slipping coordinates and the border (:func:`block_solve`'s arrays);
     False if a block or the bordered preconditioner is singular."""
-    _, _, _, state, blocks, pivots, border, work, correction = solver
+    state, blocks, pivots = solver[3], solver[4], solver[5]
+    border, work, correction = solver[6], solver[7], solver[8]
     state[REUSE_BLOCK_BUILDS] += 1.0
     if not factor_blocks(A, n_dof, n_coef, first, blocks, pivots):
         return False
@@ -360,7 +396,7 @@ def _prepare_corrected(A, n_dof, n_coef, first, solver):
 
 
 @jit
-def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0):
+def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0, built=False):
     """Solve the corrector's bordered system ``A x = b`` by GMRES
     preconditioned by harmonic blocks (:func:`gmres_prepared`), with a
     dense LU when GMRES fails. ``b`` holds ``x`` on return; ``A`` is not
@@ -387,13 +423,15 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0):
     b : ndarray, shape (m,)
         In: right-hand side. Out: the solution.
     solver : tuple
-        ``(F, piv, V, state, blocks, pivots, border, work, correction)``
-        of :func:`hbmfric.condensation.solver_arrays`: dense factors (the
-        fallback), Krylov basis, state (counters and settings of
-        :mod:`.krylov`; ``state[REUSE_PREPARED]`` says what the arrays
+        ``(F, piv, V, state, blocks, pivots, border, work, correction,
+        nonzeros)`` of :func:`hbmfric.condensation.solver_arrays`: dense
+        factors (the fallback), Krylov basis, state (counters and settings
+        of :mod:`.krylov`; ``state[REUSE_PREPARED]`` says what the arrays
         hold for the last matrix), the preconditioner's arrays
-        (:func:`block_work`) and those of its correction
-        (:func:`~.capacitance.capacitance_work`).
+        (:func:`block_work`), those of its correction
+        (:func:`~.capacitance.capacitance_work`) and room for the
+        nonzeros of ``A`` (``(starts, columns, values)``,
+        :func:`~.pattern.pattern_size` entries).
     n_dof, n_coef, first : int
         Layout of the unknowns (:func:`factor_blocks`).
     again : bool
@@ -402,6 +440,15 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0):
         fallback, serve as they are.
     tol : float, optional
         Relative residual of GMRES; negative (default): ``state[REUSE_TOL]``.
+    built : bool, optional
+        The solver's ``nonzeros`` hold those of ``A``
+        (:func:`~.pattern.equilibrate_pattern` and
+        :func:`~.pattern.append_last_row`): GMRES multiplies with them and
+        ``A`` is read only at its harmonic blocks, the slipping
+        coordinates' blocks and its last row and column (its other entries
+        may hold anything). False (default): the nonzeros are gathered
+        from the whole of ``A`` (:func:`~.krylov.sparse_rows`), unless
+        ``again`` follows a call that had them built.
 
     Returns
     -------
@@ -409,8 +456,11 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0):
         False if ``A`` is singular to the pivot test of the dense LU or
         the solution is not finite (``b`` is then meaningless).
     """
-    F, fpiv, V, state, blocks, pivots, border, work, correction = solver
+    F, fpiv, V, state, blocks, pivots, border, work, correction = solver[:9]
+    starts, columns, values = solver[9]
     m = b.size
+    kept = built or (again and state[REUSE_NONZEROS] != 0.0)
+    state[REUSE_NONZEROS] = 1.0 if kept else 0.0
     ready = state[REUSE_PREPARED] if again else PREPARED_NONE
     if ready == PREPARED_DENSE:
         lu_solve(F, fpiv, b)
@@ -440,6 +490,8 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0):
     x = np.empty(m)
     if not tol > 0.0:
         tol = state[REUSE_TOL]
+    if not kept:
+        starts, columns, values = sparse_rows(A)
     for attempt in range(2):
         if state[REUSE_PREPARED] != PREPARED_BLOCKS:
             break
@@ -457,6 +509,9 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0):
             V,
             work,
             correction,
+            starts,
+            columns,
+            values,
         )
         state[REUSE_PRODUCTS] += products
         if status == GMRES_CONVERGED:
@@ -478,9 +533,13 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0):
     if state[REUSE_PREPARED] == PREPARED_BLOCKS:
         state[REUSE_FALLBACKS] += 1.0
     state[REUSE_PREPARED] = PREPARED_NONE
+    # the dense matrix from its nonzeros (A itself may hold anything off
+    # them when they were built on the pattern)
     for i in range(m):
         for j in range(m):
-            F[i, j] = A[i, j]
+            F[i, j] = 0.0
+        for e in range(starts[i], starts[i + 1]):
+            F[i, columns[e]] = values[e]
     if not lu_factor(F, fpiv):
         return False
     state[REUSE_FACTORISATIONS] += 1.0

@@ -304,7 +304,12 @@ REUSE_BLOCK_BUILDS = 12
 #: corrections built (out)
 REUSE_CAPACITANCE_EVERY = 13
 REUSE_CAPACITANCE_BUILDS = 14
-N_REUSE = 15
+#: blocks path: != 0 when the kept nonzeros (the solver's tenth array,
+#: :func:`hbmfric.kernels.linalg.pattern.equilibrate_pattern`) are those of
+#: the matrix of the last solve (out; the tangent's solve on the same
+#: matrix multiplies with them)
+REUSE_NONZEROS = 15
+N_REUSE = 16
 
 
 @jit

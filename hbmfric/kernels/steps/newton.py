@@ -14,6 +14,7 @@ from ..dlft.coulomb import COULOMB
 from ..linalg.blocks import block_solve
 from ..linalg.krylov import REUSE_MODE, REUSE_MODE_BLOCKS, reuse_solve
 from ..linalg.lu import lu_factor, lu_solve, solve_inplace
+from ..linalg.pattern import append_last_row, equilibrate_pattern, pattern_term_sum
 from ..residuals.dispatch import _is_condensed, _on_coordinates, rounding_level
 from ..residuals.hbm import JIT_OPTIONS
 from ..residuals.pointer import call_residual
@@ -91,6 +92,93 @@ def equilibrate_rows(J, scale, A, row_scale):
         row_scale[i] = inv
 
 
+def _pattern_rows(problem, A):
+    """Whether the corrector of ``problem`` builds the rows of its bordered
+    matrix ``A`` on the Jacobian's pattern (:func:`bordered_rows`): a
+    problem condensed onto several contact coordinates whose bordered
+    systems are solved on the harmonic blocks (:func:`bordered_solve`).
+    Callable from jitted code only."""
+    raise NotImplementedError("_pattern_rows is for jit code")
+
+
+@overload(_pattern_rows, jit_options=JIT_OPTIONS, inline="always")
+def _pattern_rows_impl(problem, A):
+    if _on_coordinates(problem):
+
+        def condensed(problem, A):
+            solver = problem.solver
+            return (
+                solver[0].shape[0] == A.shape[0]
+                and solver[3][REUSE_MODE] == REUSE_MODE_BLOCKS
+            )
+
+        return condensed
+    return lambda problem, A: False
+
+
+def jacobian_floor(problem, J, y):
+    """:func:`rounding_floor` of the Jacobian ``J`` of ``problem`` at
+    ``y``: over the places of its pattern for a problem condensed onto
+    several contact coordinates
+    (:func:`hbmfric.kernels.linalg.pattern.pattern_term_sum`, the same
+    value bit for bit),
+    over every entry for any other. Callable from jitted code only."""
+    raise NotImplementedError("jacobian_floor is for jit code")
+
+
+@overload(jacobian_floor, jit_options=JIT_OPTIONS)
+def _jacobian_floor(problem, J, y):
+    if _on_coordinates(problem):
+
+        def condensed(problem, J, y):
+            n_c, n_coef, first = _layout(problem)
+            if n_c > 0 and n_c * n_coef == J.shape[0]:
+                worst = pattern_term_sum(J, y, n_c, n_coef, first)
+                return ROUNDING_EPS * 2.220446049250313e-16 * worst
+            return rounding_floor(J, y)
+
+        return condensed
+
+    def full(problem, J, y):
+        return rounding_floor(J, y)
+
+    return full
+
+
+def bordered_rows(problem, J, scale, A, row_scale):
+    """Rows ``0 .. n - 1`` of the corrector's bordered matrix into ``A``:
+    :func:`equilibrate_rows`, or for a problem whose bordered systems are
+    solved on the harmonic blocks (:func:`bordered_solve`) the same rows
+    written at the places of the Jacobian's pattern only, with their
+    nonzeros into the solver's arrays
+    (:func:`hbmfric.kernels.linalg.pattern.equilibrate_pattern`; the other
+    entries of ``A`` are then left as they were and never read).
+    Callable from jitted code only."""
+    raise NotImplementedError("bordered_rows is for jit code")
+
+
+@overload(bordered_rows, jit_options=JIT_OPTIONS)
+def _bordered_rows(problem, J, scale, A, row_scale):
+    if _on_coordinates(problem):
+
+        def condensed(problem, J, scale, A, row_scale):
+            if _pattern_rows(problem, A):
+                n_c, n_coef, first = _layout(problem)
+                starts, columns, values = problem.solver[9]
+                equilibrate_pattern(
+                    J, scale, A, row_scale, n_c, n_coef, first, starts, columns, values
+                )
+            else:
+                equilibrate_rows(J, scale, A, row_scale)
+
+        return condensed
+
+    def full(problem, J, scale, A, row_scale):
+        equilibrate_rows(J, scale, A, row_scale)
+
+    return full
+
+
 def bordered_solve(problem, A, piv, b):
     """Solve the corrector's bordered system ``A x = b`` (``b`` holds ``x``
     on return); False if ``A`` is singular to the pivot test. Callable from
@@ -106,6 +194,9 @@ def bordered_solve(problem, A, piv, b):
     (:func:`~hbmfric.kernels.linalg.krylov.reuse_solve`), as
     ``state[REUSE_MODE]`` says, a dense factorisation when that fails;
     any other problem factors ``A`` in place (its factors in ``A``, ``piv``).
+    On the harmonic blocks, rows ``0 .. n - 1`` of ``A`` and their
+    nonzeros are those :func:`bordered_rows` built on the Jacobian's
+    pattern (its other entries are not read); the last row is read whole.
     """
     raise NotImplementedError("bordered_solve is for jit code")
 
@@ -120,6 +211,10 @@ def _bordered_solve(problem, A, piv, b):
             F, fpiv, V, state = solver[0], solver[1], solver[2], solver[3]
             if F.shape[0] == A.shape[0]:
                 if state[REUSE_MODE] == REUSE_MODE_BLOCKS:
+                    # rows 0 .. n - 1 and their nonzeros were built on the
+                    # Jacobian's pattern (bordered_rows): add the last row
+                    starts, columns, values = solver[9]
+                    append_last_row(A, starts, columns, values)
                     n_c, n_coef, first = _layout(problem)
                     return block_solve(
                         A,
@@ -130,6 +225,7 @@ def _bordered_solve(problem, A, piv, b):
                         first,
                         np.bool_(False),
                         NEWTON_KRYLOV_TOL,
+                        np.bool_(True),
                     )
                 return reuse_solve(A, b, F, fpiv, V, state)
             if not lu_factor(A, piv):
@@ -356,7 +452,9 @@ def correct(
         scaled variables, ``[D J diag(scale); constraint]`` with ``D`` the
         row equilibration (reused for the tangent by
         :func:`bordered_tangent`); on the reuse path of
-        :func:`bordered_solve` ``A`` holds that matrix itself.
+        :func:`bordered_solve` ``A`` holds that matrix itself (on the
+        harmonic blocks: at the places of the Jacobian's pattern and the
+        last row, :func:`bordered_rows`; its other entries undefined).
 
     Returns
     -------
@@ -458,7 +556,7 @@ def correct_core(
         # (a stiff FE model at resonance: terms 1e7 N, rounding 2e-9 N,
         # where tol_residual = 1e-10 |F| asked 2e-10 N and Newton ran its
         # whole budget, then periodic_solution's fallbacks for minutes)
-        tol = max(tol_residual, rounding_floor(J, y), rounding_level(problem))
+        tol = max(tol_residual, jacobian_floor(problem, J, y), rounding_level(problem))
         g = 0.0
         for i in range(n + 1):
             g += constraint[i] * (y[i] - y_pred[i]) / scale[i]
@@ -476,7 +574,7 @@ def correct_core(
                 return CONVERGED, evaluations, evaluations + 1, True
         # solve in scaled variables with equilibrated rows: the unknowns
         # may differ by many orders of magnitude (X in m, Ω in rad/s)
-        equilibrate_rows(J, scale, A, b)
+        bordered_rows(problem, J, scale, A, b)
         for i in range(n):
             rows[i] = b[i]
             b[i] = -R[i] * b[i]
