@@ -459,6 +459,37 @@ class Branch:
                     worst[p - 1] = 0.0
         return worst
 
+    def _unwatched_excess(self, dof) -> tuple[float, int, int, float] | None:
+        """How far the straight lines between the points of ``dof`` exceed
+        the ``curve_tolerance`` of the :func:`hbmfric.frf` call, when
+        ``dof`` is not the DOF the step control watched.
+
+        Returns
+        -------
+        tuple or None
+            ``(worst, interval, n_over, tolerance)``: the largest estimate
+            of :meth:`curve_errors_of`, the interval where it is, the
+            number of intervals over the tolerance, and the tolerance;
+            None when ``dof`` is the watched DOF, the run had no curve
+            tolerance, there are fewer than two points or no estimate, or
+            no interval is over.
+        """
+        tolerance = self.info.get("curve_tolerance")
+        if not tolerance or self.n_points < 2:
+            return None
+        n_dof = self.coefficients.shape[1]
+        k = _resolve_dof(dof, self.dof_names, n_dof)
+        if k == _resolve_dof(None, self.dof_names, n_dof):
+            return None
+        errors = self.curve_errors_of(k)
+        if errors is None or errors.size == 0:
+            return None
+        worst = int(np.argmax(errors))
+        if not errors[worst] > tolerance:
+            return None
+        n_over = int(np.count_nonzero(errors > tolerance))
+        return float(errors[worst]), worst, n_over, float(tolerance)
+
     def _warn_unwatched(self, dof, stacklevel: int = 3) -> None:
         """An :class:`~hbmfric.errors.AccuracyWarning` when the straight
         lines between the points of ``dof``, a DOF the step control did not
@@ -472,19 +503,12 @@ class Branch:
         DOF: 1.03e-4 against 7.1e-6), which stayed within 2.3e-5 where the
         straight lines were 2.5e-4 and 4.3e-4 off (bench/README.md "stop
         30")."""
-        tolerance = self.info.get("curve_tolerance")
-        if not tolerance or self.n_points < 2:
+        excess = self._unwatched_excess(dof)
+        if excess is None:
             return
-        n_dof = self.coefficients.shape[1]
-        k = _resolve_dof(dof, self.dof_names, n_dof)
-        if k == _resolve_dof(None, self.dof_names, n_dof):
-            return
-        errors = self.curve_errors_of(k)
-        if errors is None or errors.size == 0:
-            return
-        worst = int(np.argmax(errors))
-        if not errors[worst] > tolerance:
-            return
+        error, worst, n_over, tolerance = excess
+        n_intervals = self.n_points - 1
+        k = _resolve_dof(dof, self.dof_names, self.coefficients.shape[1])
         import warnings
 
         from .errors import AccuracyWarning
@@ -492,9 +516,9 @@ class Branch:
         label = dof if isinstance(dof, str) else k
         warnings.warn(
             f"the straight lines between the points of DOF {label!r} are "
-            f"estimated {errors[worst]:.2g} off (relative amplitude), over "
+            f"estimated {error:.2g} off (relative amplitude), over "
             f"curve_tolerance={tolerance:g} on "
-            f"{int(np.count_nonzero(errors > tolerance))} of {errors.size} "
+            f"{n_over} of {n_intervals} "
             f"intervals (worst between omega={self.omega[worst]:.6g} and "
             f"{self.omega[worst + 1]:.6g} rad/s): the step control bounds the "
             "lines of the watched contact DOF only; the dense output "
