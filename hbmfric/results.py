@@ -6,13 +6,19 @@ from __future__ import annotations
 
 import json
 import math
-import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from ._npz import check_harmonics, check_npz_sizes, field_error
+from ._npz import (
+    READ_ERRORS,
+    check_harmonics,
+    check_npz_sizes,
+    field_error,
+    optional_array,
+    stored_array,
+)
 from ._validate import dof_index
 from .signals import half_peak_to_peak, harmonic_amplitude, synthesis_matrix
 
@@ -1075,15 +1081,11 @@ class Branch:
                 ):
                     raise ValueError("wrong format tag")
                 branch = cls(
-                    omega=np.asarray(data["omega"], dtype=np.float64).copy(),
-                    coefficients=np.asarray(
-                        data["coefficients"], dtype=np.float64
-                    ).copy(),
-                    harmonic_numbers=np.asarray(
-                        data["harmonic_numbers"], dtype=np.int64
-                    ).copy(),
+                    omega=stored_array(data, "omega", np.float64),
+                    coefficients=stored_array(data, "coefficients", np.float64),
+                    harmonic_numbers=stored_array(data, "harmonic_numbers", np.int64),
                     force=float(meta["force"]),
-                    folds=np.asarray(data["folds"], dtype=np.int64).copy(),
+                    folds=stored_array(data, "folds", np.int64),
                     stop_reason=str(meta["stop_reason"]),
                     n_steps=int(meta["n_steps"]),
                     n_rejected=int(meta["n_rejected"]),
@@ -1093,36 +1095,14 @@ class Branch:
                     dof_names={
                         str(k): int(v) for k, v in meta.get("dof_names", {}).items()
                     },
-                    point_harmonics=(
-                        np.asarray(data["point_harmonics"], dtype=np.int64).copy()
-                        if "point_harmonics" in data.files
-                        else None
+                    point_harmonics=optional_array(data, "point_harmonics", np.int64),
+                    truncation_error=optional_array(
+                        data, "truncation_error", np.float64
                     ),
-                    truncation_error=(
-                        np.asarray(data["truncation_error"], dtype=np.float64).copy()
-                        if "truncation_error" in data.files
-                        else None
-                    ),
-                    pieces=(
-                        np.asarray(data["pieces"], dtype=np.int64).copy()
-                        if "pieces" in data.files
-                        else None
-                    ),
-                    tangents=(
-                        np.asarray(data["tangents"], dtype=np.float64).copy()
-                        if "tangents" in data.files
-                        else None
-                    ),
+                    pieces=optional_array(data, "pieces", np.int64),
+                    tangents=optional_array(data, "tangents", np.float64),
                 )
-        except (
-            AttributeError,
-            OSError,
-            EOFError,
-            KeyError,
-            TypeError,
-            ValueError,
-            zipfile.BadZipFile,
-        ) as exc:
+        except READ_ERRORS as exc:
             raise ValueError(
                 f"path {str(path)!r} is not an hbmfric branch file, or is damaged "
                 f"({exc})"
