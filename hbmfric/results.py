@@ -173,7 +173,9 @@ class PeriodicSolution:
         return bool(self.stability().stable[0])
 
     def time_response(self, n: int = 256, dof=None) -> tuple[np.ndarray, np.ndarray]:
-        """``(t, x)`` over one period at ``n`` equidistant instants (s, m)."""
+        """``(t, x)`` over one period at ``n`` equidistant instants (s, m)
+        of the displacement of ``dof`` (index, name from ``dof_names``, or
+        None: the contact DOF)."""
         if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 2:
             raise ValueError(f"n must be an integer >= 2, got {n!r}")
         X = self.coefficients[
