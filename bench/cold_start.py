@@ -10,7 +10,8 @@ splits the warm first FRF of a fresh process into its parts
 (exclusive of the kernels it calls) of the cold first FRF, in one more fresh
 process with an empty cache; ``--profile-families`` the same for the paper's
 four kinds of FRF in one process (:data:`FAMILIES`); ``--profile`` for a
-cold ``hbmfric paper``.
+cold ``hbmfric paper``. Every run also times the README's first FRF
+(:data:`FRF_README`, ``harmonics="auto"``) cold, as a newcomer meets it.
 
 Each run is ``python -c "import hbmfric; hbmfric.frf(...)"`` (the SDOF
 Jenkins branch, H = 15) in a new interpreter with ``NUMBA_CACHE_DIR`` in a
@@ -52,6 +53,16 @@ FRF = (
 #: and condensed): the SDOF paper oscillator with a Jenkins and with a Menq
 #: contact (``harmonics="auto"``), the paper beam at Fn = 5 N (condensed,
 #: auto) and the belt tensioner (Dahl, H = 7)
+#: the README's first FRF as a newcomer runs it: P1 with ``harmonics="auto"``
+#: (the default), which compiles the adaptive run's kernels (truncation
+#: estimates, the probes) on top of :data:`FRF`'s
+FRF_README = (
+    "import hbmfric as hf;"
+    "o=hf.Oscillator(1.0,0.02,1.0,hf.Jenkins(stiffness=3.0,slip_force=1.0));"
+    "b=hf.frf(o,0.5,(0.5,3.0));"
+    "assert b.complete"
+)
+
 FAMILIES = """
 import hbmfric as hf
 from hbmfric.continuation import ContinuationOptions
@@ -168,6 +179,13 @@ def first_frf_cpu(runs: int = 5, cache: str | None = None) -> dict:
                 rows.setdefault(f"{name}_wall_s", []).append(wall)
                 rows.setdefault(f"{name}_cpu_s", []).append(cpu)
     return {k: min(v) for k, v in rows.items()}
+
+
+def readme_frf_cold() -> tuple[float, float]:
+    """Wall and CPU seconds of :data:`FRF_README` in a fresh process on an
+    empty cache (import and compilation included)."""
+    with tempfile.TemporaryDirectory() as cache:
+        return _timed(["-c", FRF_README], cache)
 
 
 def measure(warm_runs: int = 5, cache: str | None = None) -> dict:
@@ -368,6 +386,12 @@ def main() -> None:
         print(f"warm first FRF in a fresh process (min of 5, load {load:.1f}):")
         for k, v in parts.items():
             print(f"  {k:>14}: {v:.2f}")
+    load = os.getloadavg()[0]
+    wall, cpu = readme_frf_cold()
+    print(
+        f"cold README first FRF (harmonics='auto'): {wall:.1f} s wall, "
+        f"{cpu:.1f} s CPU (load {load:.1f} -> {os.getloadavg()[0]:.1f})"
+    )
     if "--paper" in sys.argv:
         paper_cold()
     if "--profile-frf" in sys.argv:

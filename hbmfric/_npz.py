@@ -57,6 +57,32 @@ def check_npz_sizes(path, kind: str) -> None:
         ) from None
 
 
+#: what reading a damaged or foreign ``.npz`` file may raise (a missing
+#: field, a wrong dtype or shape, a broken archive); loaders turn each into
+#: one ``ValueError`` naming the file
+READ_ERRORS = (
+    AttributeError,
+    OSError,
+    EOFError,
+    KeyError,
+    TypeError,
+    ValueError,
+    zipfile.BadZipFile,
+)
+
+
+def stored_array(data, name: str, dtype) -> np.ndarray:
+    """A copy of the array ``name`` of the open ``.npz`` file ``data`` as
+    ``dtype`` (``KeyError`` if it is missing)."""
+    return np.asarray(data[name], dtype=dtype).copy()
+
+
+def optional_array(data, name: str, dtype, default=None):
+    """:func:`stored_array`, or ``default`` when the file has no array ``name``
+    (a field added by a later version)."""
+    return stored_array(data, name, dtype) if name in data.files else default
+
+
 def field_error(path) -> Callable[[str, str], ValueError]:
     """``bad(field, what)``: the ``ValueError`` for one field of ``path``."""
 

@@ -71,13 +71,19 @@ import csv
 import json
 import time
 import warnings
-import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from ._npz import check_harmonics, check_npz_sizes, field_error
+from ._npz import (
+    READ_ERRORS,
+    check_harmonics,
+    check_npz_sizes,
+    field_error,
+    optional_array,
+    stored_array,
+)
 from ._validate import finite_float, positive_int
 from .errors import (
     AccuracyWarning,
@@ -544,70 +550,34 @@ class NonlinearMode:
                 if not isinstance(meta, dict) or meta.get("format") != FORMAT:
                     raise ValueError("wrong format tag")
                 mode = cls(
-                    amplitude=np.asarray(data["amplitude"], dtype=np.float64).copy(),
-                    omega=np.asarray(data["omega"], dtype=np.float64).copy(),
-                    damping_ratio=np.asarray(
-                        data["damping_ratio"], dtype=np.float64
-                    ).copy(),
-                    coefficients=np.asarray(
-                        data["coefficients"], dtype=np.float64
-                    ).copy(),
-                    harmonic_numbers=np.asarray(
-                        data["harmonic_numbers"], dtype=np.int64
-                    ).copy(),
+                    amplitude=stored_array(data, "amplitude", np.float64),
+                    omega=stored_array(data, "omega", np.float64),
+                    damping_ratio=stored_array(data, "damping_ratio", np.float64),
+                    coefficients=stored_array(data, "coefficients", np.float64),
+                    harmonic_numbers=stored_array(data, "harmonic_numbers", np.int64),
                     mode=int(meta["mode"]),
                     linear_omega=float(meta["linear_omega"]),
                     linear_damping_ratio=float(meta["linear_damping_ratio"]),
                     requested=tuple(float(v) for v in meta["requested"]),
                     stop_reason=str(meta["stop_reason"]),
-                    newton_iterations=np.asarray(
-                        data["newton_iterations"], dtype=np.int64
-                    ).copy(),
+                    newton_iterations=stored_array(data, "newton_iterations", np.int64),
                     n_steps=int(meta["n_steps"]),
                     n_rejected=int(meta["n_rejected"]),
                     elapsed=float(meta["elapsed"]),
                     info=dict(meta["info"]),
                     dof_names={str(k): int(v) for k, v in meta["dof_names"].items()},
-                    load_vector=(
-                        np.asarray(data["load_vector"], dtype=np.complex128).copy()
-                        if "load_vector" in data.files
-                        else None
+                    load_vector=optional_array(data, "load_vector", np.complex128),
+                    folds=optional_array(data, "folds", np.float64, np.empty(0)),
+                    fold_path=optional_array(
+                        data, "fold_path", np.float64, np.empty((0, 3))
                     ),
-                    folds=(
-                        np.asarray(data["folds"], dtype=np.float64).copy()
-                        if "folds" in data.files
-                        else np.empty(0)
+                    pieces=optional_array(data, "pieces", np.int64),
+                    truncation_error=optional_array(
+                        data, "truncation_error", np.float64
                     ),
-                    fold_path=(
-                        np.asarray(data["fold_path"], dtype=np.float64).copy()
-                        if "fold_path" in data.files
-                        else np.empty((0, 3))
-                    ),
-                    pieces=(
-                        np.asarray(data["pieces"], dtype=np.int64).copy()
-                        if "pieces" in data.files
-                        else None
-                    ),
-                    truncation_error=(
-                        np.asarray(data["truncation_error"], dtype=np.float64).copy()
-                        if "truncation_error" in data.files
-                        else None
-                    ),
-                    _mass=(
-                        np.asarray(data["mass"], dtype=np.float64).copy()
-                        if "mass" in data.files
-                        else None
-                    ),
+                    _mass=optional_array(data, "mass", np.float64),
                 )
-        except (
-            AttributeError,
-            OSError,
-            EOFError,
-            KeyError,
-            TypeError,
-            ValueError,
-            zipfile.BadZipFile,
-        ) as exc:
+        except READ_ERRORS as exc:
             raise ValueError(
                 f"path {str(path)!r} is not an hbmfric nonlinear-mode file, or is "
                 f"damaged ({exc})"

@@ -6,13 +6,19 @@ from __future__ import annotations
 
 import json
 import math
-import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from ._npz import check_harmonics, check_npz_sizes, field_error
+from ._npz import (
+    READ_ERRORS,
+    check_harmonics,
+    check_npz_sizes,
+    field_error,
+    optional_array,
+    stored_array,
+)
 from ._validate import dof_index
 from .signals import half_peak_to_peak, harmonic_amplitude, synthesis_matrix
 
@@ -167,7 +173,9 @@ class PeriodicSolution:
         return bool(self.stability().stable[0])
 
     def time_response(self, n: int = 256, dof=None) -> tuple[np.ndarray, np.ndarray]:
-        """``(t, x)`` over one period at ``n`` equidistant instants (s, m)."""
+        """``(t, x)`` over one period at ``n`` equidistant instants (s, m)
+        of the displacement of ``dof`` (index, name from ``dof_names``, or
+        None: the contact DOF)."""
         if isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 2:
             raise ValueError(f"n must be an integer >= 2, got {n!r}")
         X = self.coefficients[
@@ -459,6 +467,37 @@ class Branch:
                     worst[p - 1] = 0.0
         return worst
 
+    def _unwatched_excess(self, dof) -> tuple[float, int, int, float] | None:
+        """How far the straight lines between the points of ``dof`` exceed
+        the ``curve_tolerance`` of the :func:`hbmfric.frf` call, when
+        ``dof`` is not the DOF the step control watched.
+
+        Returns
+        -------
+        tuple or None
+            ``(worst, interval, n_over, tolerance)``: the largest estimate
+            of :meth:`curve_errors_of`, the interval where it is, the
+            number of intervals over the tolerance, and the tolerance;
+            None when ``dof`` is the watched DOF, the run had no curve
+            tolerance, there are fewer than two points or no estimate, or
+            no interval is over.
+        """
+        tolerance = self.info.get("curve_tolerance")
+        if not tolerance or self.n_points < 2:
+            return None
+        n_dof = self.coefficients.shape[1]
+        k = _resolve_dof(dof, self.dof_names, n_dof)
+        if k == _resolve_dof(None, self.dof_names, n_dof):
+            return None
+        errors = self.curve_errors_of(k)
+        if errors is None or errors.size == 0:
+            return None
+        worst = int(np.argmax(errors))
+        if not errors[worst] > tolerance:
+            return None
+        n_over = int(np.count_nonzero(errors > tolerance))
+        return float(errors[worst]), worst, n_over, float(tolerance)
+
     def _warn_unwatched(self, dof, stacklevel: int = 3) -> None:
         """An :class:`~hbmfric.errors.AccuracyWarning` when the straight
         lines between the points of ``dof``, a DOF the step control did not
@@ -472,19 +511,12 @@ class Branch:
         DOF: 1.03e-4 against 7.1e-6), which stayed within 2.3e-5 where the
         straight lines were 2.5e-4 and 4.3e-4 off (bench/README.md "stop
         30")."""
-        tolerance = self.info.get("curve_tolerance")
-        if not tolerance or self.n_points < 2:
+        excess = self._unwatched_excess(dof)
+        if excess is None:
             return
-        n_dof = self.coefficients.shape[1]
-        k = _resolve_dof(dof, self.dof_names, n_dof)
-        if k == _resolve_dof(None, self.dof_names, n_dof):
-            return
-        errors = self.curve_errors_of(k)
-        if errors is None or errors.size == 0:
-            return
-        worst = int(np.argmax(errors))
-        if not errors[worst] > tolerance:
-            return
+        error, worst, n_over, tolerance = excess
+        n_intervals = self.n_points - 1
+        k = _resolve_dof(dof, self.dof_names, self.coefficients.shape[1])
         import warnings
 
         from .errors import AccuracyWarning
@@ -492,9 +524,9 @@ class Branch:
         label = dof if isinstance(dof, str) else k
         warnings.warn(
             f"the straight lines between the points of DOF {label!r} are "
-            f"estimated {errors[worst]:.2g} off (relative amplitude), over "
+            f"estimated {error:.2g} off (relative amplitude), over "
             f"curve_tolerance={tolerance:g} on "
-            f"{int(np.count_nonzero(errors > tolerance))} of {errors.size} "
+            f"{n_over} of {n_intervals} "
             f"intervals (worst between omega={self.omega[worst]:.6g} and "
             f"{self.omega[worst + 1]:.6g} rad/s): the step control bounds the "
             "lines of the watched contact DOF only; the dense output "
@@ -1051,15 +1083,11 @@ class Branch:
                 ):
                     raise ValueError("wrong format tag")
                 branch = cls(
-                    omega=np.asarray(data["omega"], dtype=np.float64).copy(),
-                    coefficients=np.asarray(
-                        data["coefficients"], dtype=np.float64
-                    ).copy(),
-                    harmonic_numbers=np.asarray(
-                        data["harmonic_numbers"], dtype=np.int64
-                    ).copy(),
+                    omega=stored_array(data, "omega", np.float64),
+                    coefficients=stored_array(data, "coefficients", np.float64),
+                    harmonic_numbers=stored_array(data, "harmonic_numbers", np.int64),
                     force=float(meta["force"]),
-                    folds=np.asarray(data["folds"], dtype=np.int64).copy(),
+                    folds=stored_array(data, "folds", np.int64),
                     stop_reason=str(meta["stop_reason"]),
                     n_steps=int(meta["n_steps"]),
                     n_rejected=int(meta["n_rejected"]),
@@ -1069,36 +1097,14 @@ class Branch:
                     dof_names={
                         str(k): int(v) for k, v in meta.get("dof_names", {}).items()
                     },
-                    point_harmonics=(
-                        np.asarray(data["point_harmonics"], dtype=np.int64).copy()
-                        if "point_harmonics" in data.files
-                        else None
+                    point_harmonics=optional_array(data, "point_harmonics", np.int64),
+                    truncation_error=optional_array(
+                        data, "truncation_error", np.float64
                     ),
-                    truncation_error=(
-                        np.asarray(data["truncation_error"], dtype=np.float64).copy()
-                        if "truncation_error" in data.files
-                        else None
-                    ),
-                    pieces=(
-                        np.asarray(data["pieces"], dtype=np.int64).copy()
-                        if "pieces" in data.files
-                        else None
-                    ),
-                    tangents=(
-                        np.asarray(data["tangents"], dtype=np.float64).copy()
-                        if "tangents" in data.files
-                        else None
-                    ),
+                    pieces=optional_array(data, "pieces", np.int64),
+                    tangents=optional_array(data, "tangents", np.float64),
                 )
-        except (
-            AttributeError,
-            OSError,
-            EOFError,
-            KeyError,
-            TypeError,
-            ValueError,
-            zipfile.BadZipFile,
-        ) as exc:
+        except READ_ERRORS as exc:
             raise ValueError(
                 f"path {str(path)!r} is not an hbmfric branch file, or is damaged "
                 f"({exc})"

@@ -38,7 +38,6 @@ from pathlib import Path
 import numpy as np
 
 from .errors import AccuracyWarning, StudyWarning
-from .results import _resolve_dof
 
 #: executors that need no set-up
 LOCAL_EXECUTORS = ("processes", "serial")
@@ -291,17 +290,10 @@ class StudyResult:
             return
         over = []
         for r in self.runs:
-            b = r.branch if r.ok else None
-            tol = b.info.get("curve_tolerance") if b is not None else None
-            if not tol or len(b) < 2:
-                continue
-            n_dof = b.coefficients.shape[1]
-            k = _resolve_dof(dof, b.dof_names, n_dof)
-            if k == _resolve_dof(None, b.dof_names, n_dof):
-                continue
-            errors = b.curve_errors_of(k)
-            if errors is not None and errors.size and np.max(errors) > tol:
-                over.append((float(np.max(errors)), r.index, tol))
+            excess = r.branch._unwatched_excess(dof) if r.ok else None
+            if excess is not None:
+                worst, _, _, tol = excess
+                over.append((worst, r.index, tol))
         if over:
             worst, index, tol = max(over)
             warnings.warn(

@@ -83,20 +83,27 @@ def test_warmup_runs_every_path(capsys):
 
 def test_warmup_lanes_hold_every_step_once():
     """``hbmfric warmup --jobs N`` deals the steps to N worker processes:
-    every step in exactly one lane, the condensed beam leading the second
-    (its continuation kernels are the ones no other step compiles), one
-    lane keeps the order; a job count below 1 is refused."""
-    from hbmfric.warmup import CONDENSED_STEP, _steps, lanes, warmup
+    every step in exactly one lane, the condensed steps (the beam, the lap
+    joint: the kernels no other step compiles) alone in the second, the
+    others in their order in the rest, so that no two lanes start on the
+    same kernels; one lane keeps the order; a job count below 1 is
+    refused."""
+    from hbmfric.warmup import CONDENSED_STEPS, _steps, lanes, warmup
 
     names = [name for name, _ in _steps()]
-    assert CONDENSED_STEP in names
+    assert set(CONDENSED_STEPS) <= set(names)
     assert lanes(names, 1) == [names]
+    others = [n for n in names if n not in CONDENSED_STEPS]
+    assert lanes(names, 2) == [others, list(CONDENSED_STEPS)]
     for jobs in (2, 3, len(names) + 2):
         dealt = lanes(names, jobs)
         assert len(dealt) == jobs
         assert sorted(sum(dealt, [])) == sorted(names)
-        assert dealt[1][0] == CONDENSED_STEP
-        assert max(map(len, dealt)) - min(map(len, dealt)) <= 1 or jobs > len(names)
+        assert dealt[1] == [n for n in names if n in CONDENSED_STEPS]
+        rest = [lane for i, lane in enumerate(dealt) if i != 1]
+        assert max(map(len, rest)) - min(map(len, rest)) <= 1
+        for lane in rest:  # each keeps the steps' order
+            assert lane == [n for n in others if n in lane]
     for bad in (0, -1, 1.5, True):
         with pytest.raises(ValueError, match="jobs"):
             warmup(progress=None, jobs=bad)

@@ -223,6 +223,12 @@ def test_craig_bampton_errors():
         hf.craig_bampton(s, [4], 9)
     with pytest.raises(ValueError, match="repeated"):
         hf.craig_bampton(s, [4, 4], 1)
+    # a contact DOF the user named is named back, with what to do
+    named = hf.LinearStructure(
+        M, K, contact=hf.Jenkins(10.0, 1.0), contact_dof="tip", dof_names={"tip": 4}
+    )
+    with pytest.raises(ValueError, match=r"DOF 4 \('tip'\) must be a boundary DOF"):
+        hf.craig_bampton(named, [0], 2)
     with pytest.raises(ValueError, match="does not exist"):
         hf.craig_bampton(s, [4, 7], 1)
 

@@ -145,9 +145,13 @@ def craig_bampton(
     )
     for d in contact_dofs:
         if d not in b:
+            named = [
+                k for k, i in structure.dof_names.items() if i == d and k != "contact"
+            ]
+            label = f"{d} ({', '.join(map(repr, named))})" if named else f"{d}"
             raise ValueError(
-                f"the contact DOF {d} must be a boundary DOF "
-                "(friction acts on physical DOFs only)"
+                f"the contact DOF {label} must be a boundary DOF "
+                "(friction acts on physical DOFs only): add it to boundary"
             )
     interior = np.setdiff1d(np.arange(n), b)
     if isinstance(n_modes, bool) or not isinstance(n_modes, int | np.integer):

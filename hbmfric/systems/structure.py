@@ -489,7 +489,11 @@ class LinearStructure:
         return omega.copy(), phi.copy()
 
     def natural_frequencies(self, n: int | None = None) -> np.ndarray:
-        """The first ``n`` natural frequencies (all by default), Hz."""
+        """The first ``n`` natural frequencies (all by default), Hz, of the
+        linear structure alone: without the contacts (their stiffness not
+        added; ``CantileverBeam.natural_frequencies`` defaults to the same,
+        ``contact="free"``, while ``LapJoint.natural_frequencies`` defaults
+        to the joint stuck)."""
         omega = self.modes()[0] / (2.0 * math.pi)
         return omega if n is None else omega[:n]
 
