@@ -18,7 +18,7 @@ import numpy as np
 
 import hbmfric as hf
 
-H_TRUE = 31  # the points here are at H <= 11 (the truth's own error < 1e-6)
+H_TRUE = 31  # the truth (63 where an end is at H >= 21)
 INSTANTS = 5  # fixed-frequency solves inside each interval
 
 
@@ -40,37 +40,57 @@ def readme_structure() -> hf.LinearStructure:
     )
 
 
-def line_error(system, branch: hf.Branch, i: int, harmonics: int = H_TRUE) -> float:
-    """Largest distance of the straight line between points ``i`` and
-    ``i + 1`` (first-harmonic amplitude of the contact DOF against Ω) from
-    fixed-frequency solves at ``harmonics`` at ``INSTANTS`` evenly spaced
-    pulsations inside the interval, relative to the solved amplitude."""
+def line_distances(
+    system, branch: hf.Branch, i: int, instants: int = INSTANTS
+) -> tuple[float, float]:
+    """Distances of the straight line between points ``i`` and ``i + 1``
+    (first-harmonic amplitude of the contact DOF against Ω) from
+    fixed-frequency solves at ``instants`` evenly spaced pulsations inside
+    the interval (H = 31, 63 where an end is at H >= 21), relative to the
+    solved amplitude: (whole, chord). The chord's is the line's less the
+    straight line between the ends' own errors (solved at the ends too),
+    which the points' truncation estimates carry: what the estimate of
+    ``Branch.curve_errors`` measures."""
+    h = 63 if int(branch.point_harmonics[i : i + 2].max()) >= 21 else H_TRUE
     a = branch.amplitude(harmonic=1)
-    worst = 0.0
-    for k in range(1, INSTANTS + 1):
-        tau = k / (INSTANTS + 1)
+    taus = np.arange(instants + 2) / (instants + 1)
+    dev, true = np.empty(taus.size), np.empty(taus.size)
+    for k, tau in enumerate(taus):
         w = branch.omega[i] + tau * (branch.omega[i + 1] - branch.omega[i])
-        near = i if tau <= 0.5 else i + 1
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", hf.AccuracyWarning)
             sol = hf.periodic_solution(
                 system,
                 branch.force,
                 w,
-                harmonics,
-                initial_guess=branch.point(near),
+                h,
+                initial_guess=branch.point(i if tau <= 0.5 else i + 1),
                 on_failure="raise",
             )
-        true = sol.amplitude(harmonic=1)
-        line = a[i] + tau * (a[i + 1] - a[i])
-        worst = max(worst, abs(line - true) / true)
-    return worst
+        true[k] = sol.amplitude(harmonic=1)
+        dev[k] = a[i] + tau * (a[i + 1] - a[i]) - true[k]
+    chord = dev - ((1.0 - taus) * dev[0] + taus * dev[-1])
+    inside = slice(1, -1)
+    whole = float(np.max(np.abs(dev[inside]) / true[inside]))
+    return whole, float(np.max(np.abs(chord[inside]) / true[inside]))
+
+
+def check_join(est: float, whole: float, tol: float) -> None:
+    """The estimate on one join against the line's whole distance from the
+    solves: never more than 2x below it where it exceeds half the tolerance
+    (no missed warning), and never above twice it or twice half the
+    tolerance (no false warning: over the tolerance only where the line is
+    more than half of it off)."""
+    if whole > 0.5 * tol:
+        assert est >= 0.5 * whole, (est, whole)
+    assert est <= 2.0 * max(whole, 0.5 * tol), (est, whole)
 
 
 def test_readme_several_contacts_no_false_curve_alarm():
-    """No curve warning on the README's example, and the estimate within 2x
-    of the fixed-frequency truth on the level joins where the alarm was
-    (27.9-28.0 rad/s) and on the join of largest estimate."""
+    """No curve warning on the README's example, and the estimate against
+    fixed-frequency solves (:func:`check_join`) on the level joins where
+    the alarm was (27.9-28.0 rad/s; every join: the stress row
+    tests/stress/test_stop31_level_joins.py)."""
     system = readme_structure()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -82,12 +102,7 @@ def test_readme_several_contacts_no_false_curve_alarm():
     joins = np.flatnonzero(np.diff(b.point_harmonics) != 0)
     near = joins[(b.omega[joins] > 27.9) & (b.omega[joins] < 28.0)]
     assert near.size >= 2
-    worst = joins[np.argmax(est[joins])]
-    checked = 0
-    for i in np.unique(np.append(near, worst)):
-        h = max(H_TRUE, 2 * int(b.point_harmonics[i : i + 2].max()) + 1)
-        true = line_error(system, b, int(i), h)
-        if true > 1e-5:  # below, the solves' own differences blur the ratio
-            checked += 1
-            assert 0.5 * true <= est[i] <= 2.0 * true, (i, est[i], true)
-    assert checked >= 2
+    tol = b.info["curve_tolerance"]
+    for i in near:
+        whole, _ = line_distances(system, b, int(i))
+        check_join(est[i], whole, tol)
