@@ -12,7 +12,7 @@ import numpy as np
 from ._validate import finite_float
 from .continuation import AdaptiveContinuation, Continuation, ContinuationOptions
 from .continuation.accuracy import watched_truncation_errors
-from .continuation.adaptive import LADDER, START
+from .continuation.adaptive import JOIN_ROUNDS, LADDER, START
 from .continuation.ends import (
     budget_note,
     cut_at_return,
@@ -738,6 +738,73 @@ def _branch(system, problem, state, elapsed, omega, coefficients, info, **extra)
     )
 
 
+def _assemble_levels(
+    system,
+    make_problem,
+    cont: AdaptiveContinuation,
+    state,
+    points: list,
+    levels: list,
+    errors: np.ndarray,
+    elapsed: float,
+    omega_range,
+    sweep: str,
+    tolerance: float,
+) -> Branch:
+    """The :class:`Branch` of an adaptive run: each level's points in the
+    leading columns of the top level's layout, its tangents and estimates."""
+    top = make_problem(max(levels) if levels else LADDER[0])
+    # the harmonics of a level are a prefix of the top level's, in the
+    # same column layout: each level fills the leading columns of its
+    # points
+    coefficients = np.zeros((len(points), top.n_dof, top.n_coef))
+    levels_array = np.array(levels, dtype=np.int64)
+    omegas = np.empty(len(points))
+    tangents = np.zeros((len(points), top.n_dof * top.n_coef + 1))
+    scale = cont._cont(int(levels_array[0])).base_scale if levels else 1.0
+    for h in np.unique(levels_array):
+        idx = np.flatnonzero(levels_array == h)
+        p = make_problem(int(h))
+        pts = np.array([points[i] for i in idx])
+        omegas[idx] = pts[:, -1]
+        coefficients[idx, :, : p.n_coef] = p.full_coefficients(pts)
+        tangents[idx] = _branch_tangents(
+            p,
+            pts,
+            np.array([state.tangents[i] for i in idx]),
+            scale,
+            omega_range[1] - omega_range[0],
+            top.n_coef,
+        )
+    info = _describe(
+        system,
+        top,
+        {
+            "omega_range": list(omega_range),
+            "sweep": sweep,
+            "harmonics": "auto",
+            "harmonic_tolerance": tolerance,
+            "harmonic_switches": cont.n_switches,
+            "harmonic_resolves": cont.n_resolves,
+            "harmonic_settled": cont.n_settled,
+            "harmonic_calibrations": cont.n_calibrations,
+            "amplitude_scale": scale,
+        },
+    )
+    return _branch(
+        system,
+        top,
+        state,
+        elapsed,
+        omegas,
+        coefficients,
+        info,
+        point_harmonics=levels_array,
+        truncation_error=errors,
+        tangents=tangents,
+    )
+
+
 def _frf_auto(
     system,
     force,
@@ -788,56 +855,24 @@ def _frf_auto(
         # a point solved again one rung higher takes that level's tangent
         # the final estimates watch the normal DOF of a 2D element too
         errors = cont.settle(points, levels, watched_truncation_errors, state.tangents)
-        top = make_problem(max(levels) if levels else LADDER[0])
-        # the harmonics of a level are a prefix of the top level's, in the
-        # same column layout: each level fills the leading columns of its
-        # points
-        coefficients = np.zeros((len(points), top.n_dof, top.n_coef))
-        levels_array = np.array(levels, dtype=np.int64)
-        omegas = np.empty(len(points))
-        tangents = np.zeros((len(points), top.n_dof * top.n_coef + 1))
-        scale = cont._cont(int(levels_array[0])).base_scale if levels else 1.0
-        for h in np.unique(levels_array):
-            idx = np.flatnonzero(levels_array == h)
-            p = make_problem(int(h))
-            pts = np.array([points[i] for i in idx])
-            omegas[idx] = pts[:, -1]
-            coefficients[idx, :, : p.n_coef] = p.full_coefficients(pts)
-            tangents[idx] = _branch_tangents(
-                p,
-                pts,
-                np.array([state.tangents[i] for i in idx]),
-                scale,
-                omega_range[1] - omega_range[0],
-                top.n_coef,
+        args = (system, make_problem, cont, state, points, levels, errors)
+        branch = _assemble_levels(*args, elapsed, omega_range, sweep, tolerance)
+        curve = options.curve_tolerance
+        for _ in range(JOIN_ROUNDS if curve else 0):
+            # chords over the tolerance between two levels: their lower end
+            # solved again at the higher one (AdaptiveContinuation.join_levels)
+            chords = branch.curve_errors
+            if chords is None:
+                break
+            joins = np.flatnonzero(
+                (np.diff(branch.point_harmonics) != 0) & (chords > curve)
             )
-        info = _describe(
-            system,
-            top,
-            {
-                "omega_range": list(omega_range),
-                "sweep": sweep,
-                "harmonics": "auto",
-                "harmonic_tolerance": tolerance,
-                "harmonic_switches": cont.n_switches,
-                "harmonic_resolves": cont.n_resolves,
-                "harmonic_settled": cont.n_settled,
-                "harmonic_calibrations": cont.n_calibrations,
-                "amplitude_scale": scale,
-            },
-        )
-        return _branch(
-            system,
-            top,
-            state,
-            elapsed,
-            omegas,
-            coefficients,
-            info,
-            point_harmonics=levels_array,
-            truncation_error=errors,
-            tangents=tangents,
-        )
+            if joins.size == 0 or not cont.join_levels(
+                joins, points, levels, errors, watched_truncation_errors, state.tangents
+            ):
+                break
+            branch = _assemble_levels(*args, elapsed, omega_range, sweep, tolerance)
+        return branch
 
     branch = _covering(trace, sweep, retrace)
     _warn_truncation(branch, tolerance)

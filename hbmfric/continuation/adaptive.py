@@ -199,6 +199,11 @@ AIM = 0.7
 #: Every 8th point meets 1e-4 there too and costs less (beam at Fn = 1 N:
 #: 1.40 against 1.46 times the smallest fixed H meeting 1e-4)
 SETTLE_EVERY = 8
+#: rounds of :meth:`AdaptiveContinuation.join_levels` after the final pass
+#: (each raises the lower end of every interval between two levels whose
+#: chord estimate exceeds ``curve_tolerance``; a raised point can make a
+#: new such interval with its other neighbour)
+JOIN_ROUNDS = 4
 #: points between calibrations of the free measure on one level
 RECALIBRATE = 16
 #: between calibrations, stay only if the estimate ahead is this factor
@@ -969,44 +974,129 @@ class AdaptiveContinuation:
                 self._probe(int(h)),
                 amplitude_scale=self.amplitude_scale,
             )
-        failing = [int(i) for i in np.flatnonzero(errors > tol)]
+        self._climb_failing(
+            [int(i) for i in np.flatnonzero(errors > tol)],
+            points,
+            levels,
+            errors,
+            estimate,
+            tangents,
+        )
+        return errors
+
+    def _solve_higher(
+        self,
+        i: int,
+        h_new: int,
+        points: list[np.ndarray],
+        levels: list[int],
+        tangents: list[np.ndarray] | None,
+    ) -> bool:
+        """Solve point ``i`` of a finished branch again at level ``h_new``
+        (fixed Ω, Newton from its zero-padded self), in place in ``points``,
+        ``levels`` and ``tangents`` (the new level's tangent, oriented by
+        the old one). False, nothing changed, if Newton fails."""
+        h = levels[i]
+        dst = self._cont(h_new)
+        guess = self.pad(points[i], h, h_new)
+        y, status, _ = dst.solve_at(float(points[i][-1]), guess[:-1])
+        if status != _newton.CONVERGED or not np.all(np.isfinite(y)):
+            return False
+        if tangents is not None:
+            old = self.pad(tangents[i], h, h_new) / dst.scale
+            t = dst._tangent(old / float(np.linalg.norm(old)))
+            t = t * dst.scale if np.all(np.isfinite(t)) else None
+            tangents[i] = self.pad(tangents[i], h, h_new) if t is None else t
+        points[i], levels[i] = y, h_new
+        self.n_resolves += 1
+        self.n_settled += 1
+        return True
+
+    def _estimate_solved(
+        self,
+        solved: dict[int, list[int]],
+        points: list[np.ndarray],
+        errors: np.ndarray,
+        estimate: Callable,
+    ) -> list[int]:
+        """Estimates of the points solved again (``level -> indices``), each
+        calibrated (its own stretch), into ``errors``; the ones over the
+        tolerance."""
+        failing = []
+        for h_new, idx in solved.items():
+            errors[idx] = estimate(
+                self._level(h_new).problem,
+                np.array([points[i] for i in idx]),
+                self.tolerance,
+                np.arange(len(idx)),
+                len(idx),
+                None,
+                None,
+                self._probe(h_new),
+                amplitude_scale=self.amplitude_scale,
+            )
+            failing += [i for i in idx if errors[i] > self.tolerance]
+        return failing
+
+    def _climb_failing(
+        self,
+        failing: list[int],
+        points: list[np.ndarray],
+        levels: list[int],
+        errors: np.ndarray,
+        estimate: Callable,
+        tangents: list[np.ndarray] | None,
+    ) -> None:
+        """Each point of ``failing`` one rung up, then one estimate per
+        level, until all meet the tolerance or the ladder ends."""
         while failing:
-            # one rung up for every failing point, then one estimate per level
             solved: dict[int, list[int]] = {}
             for i in failing:
                 h = levels[i]
                 if h >= self.ladder[-1]:
                     continue
                 h_new = min(lv for lv in self.ladder if lv > h)
-                dst = self._cont(h_new)
-                guess = self.pad(points[i], h, h_new)
-                y, status, _ = dst.solve_at(float(points[i][-1]), guess[:-1])
-                if status != _newton.CONVERGED or not np.all(np.isfinite(y)):
-                    continue
-                if tangents is not None:
-                    old = self.pad(tangents[i], h, h_new) / dst.scale
-                    t = dst._tangent(old / float(np.linalg.norm(old)))
-                    t = t * dst.scale if np.all(np.isfinite(t)) else None
-                    tangents[i] = self.pad(tangents[i], h, h_new) if t is None else t
-                points[i], levels[i] = y, h_new
-                solved.setdefault(h_new, []).append(i)
-                self.n_resolves += 1
-                self.n_settled += 1
-            failing = []
-            for h_new, idx in solved.items():
-                errors[idx] = estimate(
-                    self._level(h_new).problem,
-                    np.array([points[i] for i in idx]),
-                    tol,
-                    np.arange(len(idx)),
-                    len(idx),
-                    None,
-                    None,
-                    self._probe(h_new),
-                    amplitude_scale=self.amplitude_scale,
-                )
-                failing += [i for i in idx if errors[i] > tol]
-        return errors
+                if self._solve_higher(i, h_new, points, levels, tangents):
+                    solved.setdefault(h_new, []).append(i)
+            failing = self._estimate_solved(solved, points, errors, estimate)
+
+    def join_levels(
+        self,
+        joins: np.ndarray,
+        points: list[np.ndarray],
+        levels: list[int],
+        errors: np.ndarray,
+        estimate: Callable,
+        tangents: list[np.ndarray] | None = None,
+    ) -> int:
+        """Solve the lower end of each interval ``joins[k]`` (points ``i``
+        and ``i + 1`` at two harmonic levels) again at the level of the
+        other end, in place as :meth:`settle` (``errors`` updated, a point
+        then over the tolerance climbs on). Returns the number raised.
+
+        The caller passes the joins whose chord estimate
+        (:attr:`hbmfric.Branch.curve_errors`) exceeds ``curve_tolerance``.
+        Across a join the estimate compares the tangents of two
+        truncations. Near a contact transition their slopes differ by more
+        than the branch bends: the README's several-contacts example left
+        an H = 5 point between two points :meth:`settle` had raised to
+        H = 7 (27.963-27.969 rad/s); its tangent's slope (d ln a / d ln Ω)
+        read 32.4 against 26.5 and 30.0 at its H = 7 neighbours, and the
+        estimate 1.2e-4 where the line is 6.0e-5 off solves at H = 31
+        (bench/README.md "Issue 18, stop 31"). At one level the estimate
+        compares tangents of one curve again."""
+        solved: dict[int, list[int]] = {}
+        for i in np.asarray(joins, dtype=np.int64):
+            i = int(i)
+            lo, hi = (i, i + 1) if levels[i] < levels[i + 1] else (i + 1, i)
+            h_new = levels[hi]
+            if levels[lo] >= h_new or any(lo in v for v in solved.values()):
+                continue
+            if self._solve_higher(lo, h_new, points, levels, tangents):
+                solved.setdefault(h_new, []).append(lo)
+        failing = self._estimate_solved(solved, points, errors, estimate)
+        self._climb_failing(failing, points, levels, errors, estimate, tangents)
+        return sum(len(v) for v in solved.values())
 
     def run(self) -> tuple[ContinuationState, list[np.ndarray], list[int], float]:
         """Trace the branch.
