@@ -100,13 +100,14 @@ def _plain_tuple(*fields) -> tuple:
 
 
 #: :meth:`HBMProblem.amplitude_scale` leaves out a sample of a linear
-#: response more than this many times the median of its grid: a pulsation
-#: on an undamped natural pulsation within rounding (a two-contact chain
-#: asked at Ω = √2, the stuck pulsation, sampled there exactly: 1.1e12 m,
-#: and every step and curve test in units of it passed a branch that leapt
-#: over a resonance of 1.0 m as 6e-3 m with a curve estimate of 5.5e-11);
-#: a damped peak reads about 1 / (2ζ) times the median, kept down to
-#: ζ ≈ 1e-6
+#: response more than this many times the larger of the samples beside it
+#: on its grid: a pulsation on an undamped natural pulsation within
+#: rounding (a two-contact chain asked at Ω = √2, its stuck pulsation,
+#: sampled there exactly: 1.1e12 m beside 1.6e-2 m, and every step and
+#: curve test in units of it passed a branch that leapt over a resonance of
+#: 1.0 m as 6e-3 m with a curve estimate of 5.5e-11); a damped peak sampled
+#: on its top reads at most about (grid spacing) / (ζ Ω) times the samples
+#: beside it, kept down to ζ ≈ 1e-8
 POLE_HIT = 1e6
 
 
@@ -445,12 +446,15 @@ class HBMProblem:
         for contact in ("stuck", "free"):
             response = np.abs(self.linear_response(grid, contact))
             samples = np.max(response.reshape(grid.size, -1), axis=1)
-            samples = samples[np.isfinite(samples)]
-            if samples.size == 0:
-                continue
+            samples = np.where(np.isfinite(samples), samples, np.inf)
             # a sample on an undamped pole within rounding is no typical
-            # amplitude (1e12 m where the next samples read 1e-2 m): left out
-            typical = samples <= POLE_HIT * np.median(samples)
+            # amplitude (1e12 m where the samples beside it read 1e-2 m):
+            # left out
+            beside = np.maximum(
+                np.concatenate(([0.0], samples[:-1])),
+                np.concatenate((samples[1:], [0.0])),
+            )
+            typical = np.isfinite(samples) & (samples <= POLE_HIT * beside)
             if np.any(typical):
                 peak = max(peak, float(np.max(samples[typical])))
         if not np.isfinite(peak) or peak <= 0.0:

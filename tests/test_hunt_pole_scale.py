@@ -79,3 +79,23 @@ def test_one_frequency_on_the_pole_converges_to_the_full_solution(condense):
         assert sol.amplitude(harmonic=1, dof=dof) == pytest.approx(
             full.amplitude(harmonic=1, dof=dof), rel=1e-9
         )
+
+
+@pytest.mark.parametrize("band", [(0.5, 3.0), (0.5, 5000.0), (1e-3, 1e3)])
+def test_amplitude_scale_of_a_damped_oscillator_is_its_sampled_peak(band):
+    """With no pole on the grid the scale is the largest sample of the stuck
+    and free linear responses, closed form for the oscillator (m = 1,
+    c = 0.02, k = 1, k_t = 3), also over a band of four decades whose
+    median sample is 1e-7 of its largest (a rule on the median dropped the
+    largest there)."""
+    from hbmfric import api
+
+    osc = hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0))
+    problem = api._problem(osc, 1.0, 5, None, None, "auto", None)
+    w = np.linspace(band[0], band[1], 65)
+    # the scale reads the cosine and sine coefficients, X = 1 / (k - Ω² + icΩ)
+    peak = max(
+        float(np.max(np.abs(np.r_[x.real, x.imag])))
+        for x in (1.0 / (k - w**2 + 0.02j * w) for k in (4.0, 1.0))
+    )
+    assert problem.amplitude_scale(band) == pytest.approx(peak, rel=1e-12)
