@@ -609,6 +609,12 @@ def _warn_truncation(branch: Branch, tolerance: float) -> None:
             "harmonics='auto' could not solve that point with more harmonics "
             "(Newton failed there)"
         )
+    n_none = int(np.count_nonzero(np.isinf(errors)))
+    if n_none:
+        advice = (
+            f"{n_none} of them without an estimate (none is formed below H = 3, "
+            f"or its solve failed): nothing vouches for those; {advice}"
+        )
     warnings.warn(
         f"estimated truncation error {errors[worst]:.2g} exceeds "
         f"harmonic_tolerance={tolerance:g} at {n_over} of {errors.size} points "

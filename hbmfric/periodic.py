@@ -278,7 +278,16 @@ def _warn_truncation(problem, y: np.ndarray, tolerance: float) -> None:
             problem, y[None, :], tolerance, amplitude_scale=scale
         )[0]
     )
-    if estimate > tolerance:
+    if not np.isfinite(estimate):
+        warnings.warn(
+            f"the truncation error of the solution at omega = {y[-1]:.6g} rad/s "
+            f"with H = {problem.harmonics} could not be estimated (no estimate "
+            "below H = 3, or the estimate's solve failed): nothing vouches for "
+            "it; use harmonics='auto' or raise harmonics",
+            AccuracyWarning,
+            stacklevel=3,
+        )
+    elif estimate > tolerance:
         warnings.warn(
             f"estimated truncation error {estimate:.2g} of the solution at "
             f"omega = {y[-1]:.6g} rad/s with H = {problem.harmonics} exceeds "
