@@ -311,7 +311,7 @@ def test_truncation_estimate_by_harmonic_blocks_matches_the_dense_solve(
         monkeypatch.setattr(hc, "REUSE_MIN_UNKNOWNS", threshold)
         p = CondensedHBMProblem(joint, 36.0, 15)
         out[label] = truncation_errors(p, points, 1e-4)
-        probe = p._accuracy_levels[1].problem.kernel_problem
+        probe = p._accuracy_cache["watched"][1].problem.kernel_problem
         out[label + "_state"] = probe.solver[3].copy()
     dense, fast = out["dense"], out["blocks"]
     assert np.count_nonzero(dense) >= 3
@@ -335,7 +335,7 @@ def test_truncation_probe_failure_falls_back_to_the_dense_solve(
     monkeypatch.setattr(hc, "REUSE_MIN_UNKNOWNS", 0)
     p = CondensedHBMProblem(joint, 36.0, 15)
     truncation_errors(p, points[:1], 1e-4)  # builds the probe level
-    state = p._accuracy_levels[1].problem.kernel_problem.solver[3]
+    state = p._accuracy_cache["watched"][1].problem.kernel_problem.solver[3]
     state[krylov.REUSE_TOL] = 0.0
     before = state.copy()
     errors = truncation_errors(p, points, 1e-4)
