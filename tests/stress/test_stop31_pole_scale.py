@@ -3,7 +3,8 @@ undamped natural pulsation of the *stuck* structure, which the amplitude
 scale's grid samples within rounding (its middle sample).
 
 Before stop 31 the scale read about 1e12 m there (two-DOF chain) and
-every step, curve and convergence test in its units passed: branches leapt over the resonance
+every step, curve and convergence test in its units passed: branches
+leapt over the resonance
 (peak 6e-3 m for 1.0 m, complete, no warning) and the state-condensed
 solve reported convergence 3 % off. The reference is the full
 (uncondensed) one-frequency solve at the pole.
