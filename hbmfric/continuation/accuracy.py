@@ -310,25 +310,26 @@ MAX_CONFIRM = 32
 BATCH = 32
 
 
-def _output_measures(level, points: np.ndarray, rest_scale: float):
-    """First-harmonic amplitude, half the peak-to-peak value and the rest
-    floor (``CURVE_REST`` times the output's scale: the displacement scale
-    ``rest_scale`` for an output that reads one DOF, 0 for one that weighs
-    several DOFs or velocities) of the watched output of ``level`` at
-    ``points`` (its layout), each shape (n_points,)."""
-    from ..signals import half_peak_to_peak
-
+def _output_series(level, points: np.ndarray) -> np.ndarray:
+    """Fourier coefficients of the watched output of ``level`` at ``points``
+    (its layout), shape (n_points, n_coef)."""
     n_coef = level.n_coef
     w = level.output
     first = level.first_column
-    n_points = points.shape[0]
-    z = np.empty((n_points, n_coef))
-    for i in range(n_points):
+    z = np.empty((points.shape[0], n_coef))
+    for i in range(points.shape[0]):
         output_coefficients(
             points[i], n_coef, w, level.rates, points[i, -1], first, z[i]
         )
-    a1 = np.hypot(z[:, first], z[:, first + 1])
-    hpp = half_peak_to_peak(level.problem.harmonic_numbers, z)
+    return z
+
+
+def _rest_floor(level, n_points: int, rest_scale: float) -> np.ndarray:
+    """The rest floor of the watched output of ``level`` (``CURVE_REST``
+    times the output's scale: the displacement scale ``rest_scale`` for an
+    output that reads one DOF, 0 for one that weighs several DOFs or
+    velocities), shape (n_points,)."""
+    w = level.output
     if np.count_nonzero(w[0]) != 1 or np.any(w[1] != 0.0):
         # an output that weighs several DOFs (the belt tension k (u1 - u2)
         # of the tensioner) has no scale of its own in the displacement
@@ -337,19 +338,53 @@ def _output_measures(level, points: np.ndarray, rest_scale: float):
         # the point at 91.1 Hz at H = 3, 1.7e-4 off the shooting reference
         # with an estimate of 5.4e-5 (bench/README.md "stop 30"): measured
         # relative to itself
-        return a1, hpp, np.zeros(n_points)
-    rest = CURVE_REST * rest_scale * np.sum(np.abs(w[0]))
-    return a1, hpp, np.full(n_points, rest)
+        return np.zeros(n_points)
+    return np.full(n_points, CURVE_REST * rest_scale * np.sum(np.abs(w[0])))
+
+
+def _output_measures(level, points: np.ndarray, rest_scale: float):
+    """First-harmonic amplitude, half the peak-to-peak value and the rest
+    floor (:func:`_rest_floor`) of the watched output of ``level`` at
+    ``points`` (its layout), each shape (n_points,)."""
+    from ..signals import half_peak_to_peak
+
+    z = _output_series(level, points)
+    first = level.first_column
+    a1 = np.hypot(z[:, first], z[:, first + 1])
+    hpp = half_peak_to_peak(level.problem.harmonic_numbers, z)
+    return a1, hpp, _rest_floor(level, points.shape[0], rest_scale)
 
 
 def _confirm(problem, level, probe, points, errors, amplitude_scale, output=None):
     """The estimates relative to the rest floor, with the implausible ones
     replaced by the change to a solve at the probe level (module doc of
     :func:`truncation_errors`, ``amplitude_scale``)."""
-    a1, hpp, rest = _output_measures(level, points, amplitude_scale)
+    from ..signals import half_peak_to_peak
+
+    z = _output_series(level, points)
+    first = level.first_column
+    a1 = np.hypot(z[:, first], z[:, first + 1])
+    rest = _rest_floor(level, points.shape[0], amplitude_scale)
+    # half the peak-to-peak value, computed only where it is read (its
+    # extremes cost a grid and Newton steps per point: at P1's final pass
+    # more than the branch itself): where the first harmonic is below the
+    # rest floor, and at the points confirmed at the probe level below
+    hpp = np.full(points.shape[0], np.nan)
+    harmonic_numbers = level.problem.harmonic_numbers
+
+    def peaks(rows):
+        todo = rows[np.isnan(hpp[rows])]
+        if todo.size:
+            hpp[todo] = half_peak_to_peak(harmonic_numbers, z[todo])
+        return hpp[rows]
+
+    near_rest = np.flatnonzero(a1 < rest)
+    peaks(near_rest)
     # relative to max(measure, rest): an upper bound of each measure's own
-    # ratio (x / max(x, rest) grows with x)
-    m = np.maximum(a1, hpp)
+    # ratio (x / max(x, rest) grows with x); where a1 >= rest the ratio is
+    # 1 whatever the peak-to-peak value
+    m = a1.copy()
+    m[near_rest] = np.maximum(a1[near_rest], hpp[near_rest])
     with np.errstate(divide="ignore", invalid="ignore"):
         factor = np.where(m > 0.0, m / np.maximum(m, rest), 1.0)
     errors = np.where(np.isfinite(errors), errors * factor, errors)
@@ -386,7 +421,7 @@ def _confirm(problem, level, probe, points, errors, amplitude_scale, output=None
         with np.errstate(divide="ignore", invalid="ignore"):
             change = np.fmax(
                 np.abs(b1 - a1[rows]) / np.maximum(a1[rows], rest[rows]),
-                np.abs(bhpp - hpp[rows]) / np.maximum(hpp[rows], rest[rows]),
+                np.abs(bhpp - peaks(rows)) / np.maximum(hpp[rows], rest[rows]),
             )
         change = np.where(np.isnan(change), 0.0, change)
         errors[rows] = CHANGE_FACTOR * change
