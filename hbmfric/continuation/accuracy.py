@@ -42,7 +42,6 @@ from ..kernels.steps.newton import CONVERGED, rounding_floor
 from ..kernels.steps.truncation import (
     MAX_CONFIRMED,
     branch_truncation,
-    output_coefficients,
 )
 from ..results import CURVE_REST
 from .adaptive import (
@@ -312,15 +311,26 @@ BATCH = 32
 
 def _output_series(level, points: np.ndarray) -> np.ndarray:
     """Fourier coefficients of the watched output of ``level`` at ``points``
-    (its layout), shape (n_points, n_coef)."""
+    (its layout), shape (n_points, n_coef): the sums of
+    :func:`~hbmfric.kernels.steps.truncation.output_coefficients`, in its
+    order, for all points at once."""
     n_coef = level.n_coef
     w = level.output
     first = level.first_column
-    z = np.empty((points.shape[0], n_coef))
-    for i in range(points.shape[0]):
-        output_coefficients(
-            points[i], n_coef, w, level.rates, points[i, -1], first, z[i]
-        )
+    n_points = points.shape[0]
+    X = points[:, :-1].reshape(n_points, -1, n_coef)
+    omega = points[:, -1:]
+    cos, sin = slice(first, n_coef - 1, 2), slice(first + 1, n_coef, 2)
+    rates = level.rates[cos]
+    z = np.zeros((n_points, n_coef))
+    for d in np.flatnonzero((w[0] != 0.0) | (w[1] != 0.0)):
+        if w[0, d] != 0.0:
+            z += w[0, d] * X[:, d, :]
+        if w[1, d] != 0.0:
+            # (c, s) of harmonic h differentiates to h Ω (s, −c)
+            rate = w[1, d] * rates * omega
+            z[:, cos] += rate * X[:, d, sin]
+            z[:, sin] -= rate * X[:, d, cos]
     return z
 
 
