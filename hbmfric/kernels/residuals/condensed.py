@@ -733,7 +733,14 @@ def condensed_modal_recover(points, F, problem, shapes, X):
     c = problem.modal_damping
     q = problem.modal_load
     n_dof, n_modes = shapes.shape
-    eta = np.empty(n_modes, dtype=np.complex128)
+    # the modal sum as one update of every DOF per mode (contiguous rows
+    # of the transposed shapes, real and imaginary parts apart), which
+    # the compiler vectorises; the sum over modes in the same order
+    modes = np.ascontiguousarray(shapes.T)
+    eta_re = np.empty(n_modes)
+    eta_im = np.empty(n_modes)
+    s_re = np.empty(n_dof)
+    s_im = np.empty(n_dof)
     for i in range(points.shape[0]):
         omega = points[i, n]
         col = 0
@@ -748,14 +755,21 @@ def condensed_modal_recover(points, F, problem, shapes, X):
                     qr = q[r, col] + 0.0j
                 else:
                     qr = q[r, col] - 1j * q[r, col + 1]
-                eta[r] = (qr - phi[r] * f) / (w2[r] - w * w + 1j * w * c[r])
+                eta = (qr - phi[r] * f) / (w2[r] - w * w + 1j * w * c[r])
+                eta_re[r] = eta.real
+                eta_im[r] = eta.imag
+            s_re[:] = 0.0
+            s_im[:] = 0.0
+            for r in range(n_modes):
+                a = eta_re[r]
+                b = eta_im[r]
+                for j in range(n_dof):
+                    s_re[j] += modes[r, j] * a
+                    s_im[j] += modes[r, j] * b
             for j in range(n_dof):
-                s = 0.0j
-                for r in range(n_modes):
-                    s += shapes[j, r] * eta[r]
-                X[i, j, col] = s.real
+                X[i, j, col] = s_re[j]
                 if k != 0:
-                    X[i, j, col + 1] = -s.imag
+                    X[i, j, col + 1] = -s_im[j]
             col += 1 if k == 0 else 2
 
 
