@@ -15,6 +15,7 @@ level (``AdaptiveContinuation.join_levels``).
 import warnings
 
 import numpy as np
+import pytest
 
 import hbmfric as hf
 
@@ -86,16 +87,23 @@ def check_join(est: float, whole: float, tol: float) -> None:
     assert est <= 2.0 * max(whole, 0.5 * tol), (est, whole)
 
 
-def test_readme_several_contacts_no_false_curve_alarm():
-    """No curve warning on the README's example, and the estimate against
-    fixed-frequency solves (:func:`check_join`) on the level joins where
-    the alarm was (27.9-28.0 rad/s; every join: the stress row
-    tests/stress/test_stop31_level_joins.py)."""
+@pytest.fixture(scope="module")
+def readme_run() -> tuple[hf.LinearStructure, hf.Branch, list]:
+    """The README example's branch at defaults and its warnings."""
     system = readme_structure()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         b = hf.frf(system, 1.0, (5.0, 60.0))
-    curve = [str(w.message) for w in caught if "curve_tolerance" in str(w.message)]
+    return system, b, [str(w.message) for w in caught]
+
+
+def test_readme_several_contacts_no_false_curve_alarm(readme_run):
+    """No curve warning on the README's example, and the estimate against
+    fixed-frequency solves (:func:`check_join`) on the level joins where
+    the alarm was (27.9-28.0 rad/s; every join: the stress row
+    tests/stress/test_stop31_level_joins.py)."""
+    system, b, caught = readme_run
+    curve = [w for w in caught if "curve_tolerance" in w]
     assert not curve, curve
     est = b.curve_errors
     assert np.max(est) <= b.info["curve_tolerance"]
@@ -106,3 +114,35 @@ def test_readme_several_contacts_no_false_curve_alarm():
     for i in near:
         whole, _ = line_distances(system, b, int(i))
         check_join(est[i], whole, tol)
+
+
+def test_readme_several_contacts_fold_climbs(readme_run):
+    """The point at the fold near 45.02 rad/s (issue 18, stop 32). Its
+    estimate at H = 15 read 7.4e-3 (the normal DOF; a first-order change
+    at fixed Ω, singular at a fold) and the final pass could not solve it
+    with more harmonics: the higher levels' folds lie at lower Ω, so
+    Newton at its Ω had nothing to converge to, and ``frf`` warned. The
+    climb now corrects such a point normal to its tangent: no warning, and
+    the point's first harmonics on every DOF within the tolerance of a
+    fixed-frequency solve at H = 127 at its Ω (an independent, finer
+    discretisation; before the fix the H = 15 point was 1.7e-5 off the
+    H = 127 curve, normal to it)."""
+    system, b, caught = readme_run
+    assert not caught, caught
+    tol = b.info["harmonic_tolerance"]
+    # the fold: the first point after 44.9 rad/s that Ω turns back at
+    i = next(k for k in range(len(b) - 1) if 44.9 < b.omega[k] >= b.omega[k + 1])
+    assert 45.0210 < b.omega[i] < 45.0214
+    assert b.truncation_error[i] <= tol
+    point = b.point(i)
+    ref = hf.periodic_solution(
+        system,
+        1.0,
+        float(b.omega[i]),
+        127,
+        initial_guess=point,
+        on_failure="raise",
+    )
+    for d in range(4):
+        a, a_ref = point.amplitude(dof=d, harmonic=1), ref.amplitude(dof=d, harmonic=1)
+        assert abs(a - a_ref) <= tol * a_ref, (d, a, a_ref)

@@ -995,16 +995,37 @@ class AdaptiveContinuation:
         """Solve point ``i`` of a finished branch again at level ``h_new``
         (fixed Ω, Newton from its zero-padded self), in place in ``points``,
         ``levels`` and ``tangents`` (the new level's tangent, oriented by
-        the old one). False, nothing changed, if Newton fails."""
+        the old one). False, nothing changed, if Newton fails.
+
+        With ``tangents``, where Newton at fixed Ω fails the point is
+        corrected on the hyperplane through its zero-padded self normal
+        to its tangent (the continuation's own corrector, Ω free; kept
+        only inside the range). At a fold (a turning point in Ω) the
+        higher level's fold can lie at a lower Ω than the point: there is
+        no solution at its Ω nearby. The README's several-contacts example
+        had its point at the fold, 45.021259 rad/s, H = 15, left there
+        with an estimate of 7.4e-3 (bench/README.md "Issue 18, stop 32"):
+        on that hyperplane H = 21, 31, 63 and 127 have their solutions at
+        45.021229, 45.021202, 45.021206 and 45.021206 rad/s (3 Newton
+        iterations each), and the H = 15 point is within 1.7e-5 of the
+        H = 127 one on every DOF's first harmonic."""
         h = levels[i]
         dst = self._cont(h_new)
         guess = self.pad(points[i], h, h_new)
         y, status, _ = dst.solve_at(float(points[i][-1]), guess[:-1])
-        if status != _newton.CONVERGED or not np.all(np.isfinite(y)):
-            return False
+        old = None
         if tangents is not None:
             old = self.pad(tangents[i], h, h_new) / dst.scale
-            t = dst._tangent(old / float(np.linalg.norm(old)))
+            old = old / float(np.linalg.norm(old))
+        if status != _newton.CONVERGED and old is not None and np.all(np.isfinite(old)):
+            y = guess.copy()
+            status, _ = dst._correct(y, guess.copy(), old)
+            if not dst.low <= y[-1] <= dst.high:
+                return False
+        if status != _newton.CONVERGED or not np.all(np.isfinite(y)):
+            return False
+        if old is not None:
+            t = dst._tangent(old)
             t = t * dst.scale if np.all(np.isfinite(t)) else None
             tangents[i] = self.pad(tangents[i], h, h_new) if t is None else t
         points[i], levels[i] = y, h_new
