@@ -315,3 +315,38 @@ def test_probe_nonzeros_with_a_constant_term():
     assert np.array_equal(np.diff(st), np.bincount(rows, minlength=n))
     assert np.array_equal(co[: st[-1]], cols)
     assert np.array_equal(va[: st[-1]], J[rows, cols])
+
+
+def test_block_tangent_against_numpy(lap):
+    """Stop 32: the tangent outside the trace on the harmonic blocks
+    (``newton.block_tangent``, its own arrays): the unit solution of
+    ``[J diag(scale); previousᵀ] t = [0; 1]`` from ``numpy.linalg.solve``,
+    with none, some and every contact slipping, corrected or not for the
+    slipping coordinates; the dense ``tangent`` it falls back to against
+    the same reference."""
+    from hbmfric.kernels.steps.newton import block_tangent, tangent
+
+    c, points = lap
+    n_dof, n_coef = c.n_coordinates, c.n_coef
+    n = n_dof * n_coef
+    m = n + 1
+    rng = np.random.default_rng(23)
+    for y, J in points:
+        scale = np.abs(y) + 1e-9
+        previous = rng.standard_normal(m)
+        previous /= np.linalg.norm(previous)
+        M = J * scale[None, :]
+        M = M / np.abs(M).max(axis=1)[:, None]
+        ref = np.linalg.solve(np.vstack([M, previous]), np.eye(m)[-1])
+        ref /= np.linalg.norm(ref)
+        for n_slip, k_max in ((12, 40), (0, 60)):
+            A = np.full((m, m), np.nan)
+            out = np.full(m, np.nan)
+            ok = block_tangent(
+                J, previous, scale, A, n_dof, n_coef, 0, n_slip, k_max, 1e-10, out
+            )
+            assert ok
+            assert np.allclose(out, ref, rtol=0, atol=1e-8)
+            assert abs(np.linalg.norm(out) - 1.0) < 1e-14
+        A = np.empty((m, m))
+        assert np.allclose(tangent(J, previous, scale, A), ref, rtol=0, atol=1e-8)
