@@ -20,6 +20,7 @@ from hbmfric.kernels.linalg import blocks, krylov
 from hbmfric.kernels.linalg.pattern import (
     append_last_row,
     equilibrate_pattern,
+    pattern_nonzeros,
     pattern_size,
     pattern_term_sum,
 )
@@ -253,3 +254,99 @@ def test_block_solve_gathers_the_nonzeros_of_a_new_matrix(lap, monkeypatch):
         ref = np.linalg.solve(A2, b)
         assert np.allclose(x, ref, rtol=0, atol=1e-8 * np.abs(ref).max())
         assert solver[3][krylov.REUSE_NONZEROS] == 0.0
+
+
+def test_probe_nonzeros_and_solve_read_the_jacobian_on_its_pattern(lap):
+    """Stop 32: the truncation probe's system ``J[:, :n] x = b`` solved
+    from the Jacobian itself, no square copy (``pattern_nonzeros``,
+    ``gmres_pattern``): the nonzeros are ``sparse_rows`` of the copy bit
+    for bit, and GMRES takes the same steps as ``gmres_blocks`` on the
+    copy (the same solution bit for bit, the same products) and solves
+    the system against ``numpy.linalg.solve``; the last column of ``J``
+    (``dR/dΩ``) is never read (NaN there)."""
+    c, points = lap
+    n_dof, n_coef = c.n_coordinates, c.n_coef
+    n = n_dof * n_coef
+    rng = np.random.default_rng(17)
+    for _, J in points:
+        Jn = J.copy()
+        Jn[:, n] = np.nan
+        square = np.ascontiguousarray(J[:, :n])
+        starts, columns, values = krylov.sparse_rows(square)
+        room = pattern_size(n_dof, n_coef, 0) - 2 * n - 1
+        st = np.zeros(n + 1, dtype=np.int64)
+        co = np.zeros(room, dtype=np.int64)
+        va = np.zeros(room)
+        pattern_nonzeros(Jn, n_dof, n_coef, 0, st, co, va)
+        assert np.array_equal(st, starts)
+        assert np.array_equal(co[: st[-1]], columns)
+        assert np.array_equal(va[: st[-1]], values)
+        b = rng.standard_normal(n)
+        x1 = np.empty(n)
+        x2 = np.empty(n)
+        arrays = blocks.block_work(n_dof, n_coef, 0, n, 60)
+        s1, k1 = blocks.gmres_blocks(square, b, x1, n_dof, n_coef, 0, 1e-10, arrays)
+        arrays = blocks.block_work(n_dof, n_coef, 0, n, 60)
+        s2, k2 = blocks.gmres_pattern(Jn, b, x2, n_dof, n_coef, 0, 1e-10, arrays)
+        assert s1 == s2 == krylov.GMRES_CONVERGED and k1 == k2
+        assert np.array_equal(x1, x2)
+        ref = np.linalg.solve(square, b)
+        assert np.allclose(x2, ref, rtol=0, atol=1e-8 * np.abs(ref).max())
+
+
+def test_probe_nonzeros_with_a_constant_term():
+    """``pattern_nonzeros`` with ``first = 1`` on a matrix of the pattern
+    written out in NumPy, a zero inside the pattern left out: the nonzeros
+    of the leading square part, as NumPy lists them row by row."""
+    n_dof, n_coef, first = 4, 7, 1
+    n = n_dof * n_coef
+    mask = _pattern_mask(n_dof, n_coef, first)
+    rng = np.random.default_rng(19)
+    J = np.where(mask, rng.standard_normal(mask.shape), 0.0)
+    J[3, 5] = 0.0
+    room = pattern_size(n_dof, n_coef, first) - 2 * n - 1
+    assert room == mask[:, :n].sum()
+    st = np.zeros(n + 1, dtype=np.int64)
+    co = np.zeros(room, dtype=np.int64)
+    va = np.zeros(room)
+    pattern_nonzeros(J, n_dof, n_coef, first, st, co, va)
+    rows, cols = np.nonzero(J[:, :n])  # row-major: row by row, columns ascending
+    assert st[-1] == rows.size
+    assert np.array_equal(np.diff(st), np.bincount(rows, minlength=n))
+    assert np.array_equal(co[: st[-1]], cols)
+    assert np.array_equal(va[: st[-1]], J[rows, cols])
+
+
+def test_block_tangent_against_numpy(lap):
+    """Stop 32: the tangent outside the trace on the harmonic blocks
+    (``newton.block_tangent``, its own arrays): the unit solution of
+    ``[J diag(scale); previousᵀ] t = [0; 1]`` from ``numpy.linalg.solve``,
+    with none, some and every contact slipping, corrected or not for the
+    slipping coordinates; the dense ``tangent`` it falls back to against
+    the same reference."""
+    from hbmfric.kernels.steps.newton import block_tangent, tangent
+
+    c, points = lap
+    n_dof, n_coef = c.n_coordinates, c.n_coef
+    n = n_dof * n_coef
+    m = n + 1
+    rng = np.random.default_rng(23)
+    for y, J in points:
+        scale = np.abs(y) + 1e-9
+        previous = rng.standard_normal(m)
+        previous /= np.linalg.norm(previous)
+        M = J * scale[None, :]
+        M = M / np.abs(M).max(axis=1)[:, None]
+        ref = np.linalg.solve(np.vstack([M, previous]), np.eye(m)[-1])
+        ref /= np.linalg.norm(ref)
+        for n_slip, k_max in ((12, 40), (0, 60)):
+            A = np.full((m, m), np.nan)
+            out = np.full(m, np.nan)
+            ok = block_tangent(
+                J, previous, scale, A, n_dof, n_coef, 0, n_slip, k_max, 1e-10, out
+            )
+            assert ok
+            assert np.allclose(out, ref, rtol=0, atol=1e-8)
+            assert abs(np.linalg.norm(out) - 1.0) < 1e-14
+        A = np.empty((m, m))
+        assert np.allclose(tangent(J, previous, scale, A), ref, rtol=0, atol=1e-8)

@@ -234,8 +234,10 @@ SEVERAL_CONTACT_PATH = (
     "block_solve",
     "reuse_solve",
     "gmres_blocks",
+    "gmres_pattern",
     "equilibrate_pattern",
     "pattern_term_sum",
+    "pattern_nonzeros",
 )
 
 

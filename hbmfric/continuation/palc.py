@@ -38,6 +38,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..kernels.linalg.krylov import REUSE_MODE, REUSE_MODE_BLOCKS, REUSE_TOL
+from ..kernels.residuals.condensed import CondensedChainProblem
 from ..kernels.residuals.pointer import chain_problem, residual_address
 from ..kernels.steps import arclength as _arclength
 from ..kernels.steps import newton as _newton
@@ -590,7 +592,45 @@ class Continuation:
         return o.initial_step
 
     def _tangent(self, previous: np.ndarray) -> np.ndarray:
+        layout = self._block_layout()
+        if layout is not None:
+            out = np.empty(self._A.shape[0])
+            if _newton.block_tangent(
+                self._J, previous, self.scale, self._A, *layout, out
+            ):
+                return out
         return _newton.tangent(self._J, previous, self.scale, self._A)
+
+    def _block_layout(self) -> tuple | None:
+        """Arguments of :func:`hbmfric.kernels.steps.newton.block_tangent`
+        after the Jacobian (coordinates, coefficients per coordinate, column
+        of the first cosine, slipping coordinates corrected at most, GMRES
+        iterations at most, relative residual) for a problem condensed onto
+        several contact coordinates whose corrector solves on the harmonic
+        blocks (as it solves the tangents inside the trace; stop 32: the
+        dense LU of order 1345 cost 0.6 s per tangent on the lap joint at
+        N = 100); None for any other problem (the dense LU of
+        :func:`~hbmfric.kernels.steps.newton.tangent`)."""
+        kp = self._chain_problem()
+        if not isinstance(kp, CondensedChainProblem):
+            return None
+        solver = kp.solver
+        state = solver[3]
+        if (
+            solver[0].shape[0] != self._A.shape[0]
+            or state[REUSE_MODE] != REUSE_MODE_BLOCKS
+        ):
+            return None
+        hn = kp.harmonic_numbers
+        first = 1 if hn.size > 0 and hn[0] == 0 else 0
+        return (
+            int(kp.law_codes.size),
+            int(kp.inverse.shape[1]),
+            first,
+            int(solver[8][1].size),
+            int(solver[2].shape[0] - 1),
+            float(state[REUSE_TOL]),
+        )
 
     def step(self, state: ContinuationState) -> ContinuationState:
         """One predictor–corrector step (accepted or rejected)."""

@@ -57,6 +57,7 @@ from .krylov import (
     sparse_rows,
 )
 from .lu import lu_factor, lu_solve
+from .pattern import pattern_nonzeros, pattern_size
 
 
 @jit
@@ -272,6 +273,50 @@ def gmres_blocks(A, b, x, n_dof, n_coef, first, tol, arrays):
     starts, columns, values = sparse_rows(A)
     return gmres_prepared(
         A,
+        b,
+        x,
+        n_dof,
+        n_coef,
+        first,
+        tol,
+        blocks,
+        pivots,
+        border,
+        V,
+        work,
+        none,
+        starts,
+        columns,
+        values,
+    )
+
+
+@jit
+def gmres_pattern(J, b, x, n_dof, n_coef, first, tol, arrays):
+    """:func:`gmres_blocks` of the leading ``n × n`` part of a Jacobian
+    ``J`` (shape (n, >= n), ``n = n_dof n_coef``) with the nonzero pattern
+    of a residual on several contact coordinates (:mod:`.pattern`),
+    without copying it into a square matrix: the harmonic blocks are
+    factored from ``J`` and the nonzeros read at the pattern's places only
+    (:func:`~.pattern.pattern_nonzeros`), so the solve is that of
+    :func:`gmres_blocks` on ``J[:, :n]`` step for step, bit for bit (the
+    same blocks, the same nonzeros in the same order). The truncation
+    estimate's probe system (``b`` of shape (n,)); same arguments and
+    results as :func:`gmres_blocks`, ``J`` not modified."""
+    blocks, pivots, border, V, work = arrays
+    if not np.isfinite(_norm2(b)):
+        return GMRES_NOT_FINITE, 0
+    if not prepare_blocks(J, n_dof, n_coef, first, blocks, pivots, border, work):
+        return GMRES_NOT_CONVERGED, 0
+    none = capacitance_work(n_dof, n_coef, first, 0)
+    n = n_dof * n_coef
+    room = pattern_size(n_dof, n_coef, first) - 2 * n - 1
+    starts = np.empty(n + 1, dtype=np.int64)
+    columns = np.empty(room, dtype=np.int64)
+    values = np.empty(room)
+    pattern_nonzeros(J, n_dof, n_coef, first, starts, columns, values)
+    return gmres_prepared(
+        J,
         b,
         x,
         n_dof,

@@ -167,3 +167,40 @@ def append_last_row(A, starts, columns, values):
             values[e] = v
             e += 1
     starts[m] = e
+
+
+@jit
+def pattern_nonzeros(J, n_dof, n_coef, first, starts, columns, values):
+    """The nonzeros (CSR, column order) of the leading ``n × n`` part of a
+    Jacobian ``J`` (shape (n, >= n)) with the pattern of the module
+    docstring, read at its places only: :func:`~.krylov.sparse_rows` of
+    ``J[:, :n]``, the same entries in the same order (the places left out
+    hold exact zeros). The truncation estimate's probe system
+    (:func:`hbmfric.kernels.steps.truncation.probe_solve`) is that part,
+    unbordered and unscaled.
+
+    Parameters
+    ----------
+    J : ndarray, shape (n, >= n)
+        Jacobian, ``n = n_dof n_coef``; its columns from ``n`` on are not
+        read.
+    n_dof, n_coef, first : int
+        Layout of the unknowns (:mod:`.blocks`).
+    starts, columns, values : ndarray
+        Output: ``starts[0 .. n]`` and the nonzeros; room for
+        :func:`pattern_size` ``- 2 n - 1`` entries (int64, int64, float64).
+    """
+    n = n_dof * n_coef
+    places = np.empty(2 * n_dof + n_coef + 1, dtype=np.int64)
+    e = 0
+    for i in range(n):
+        k = _row_places(i, n_dof, n_coef, first, places) - 1  # not column n
+        starts[i] = e
+        for p in range(k):
+            j = places[p]
+            v = J[i, j]
+            if v != 0.0:
+                columns[e] = j
+                values[e] = v
+                e += 1
+    starts[n] = e

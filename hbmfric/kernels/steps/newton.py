@@ -11,8 +11,21 @@ from numba.extending import overload
 
 from ..._jit import jit, jit_inline
 from ..dlft.coulomb import COULOMB
-from ..linalg.blocks import block_solve
-from ..linalg.krylov import REUSE_MODE, REUSE_MODE_BLOCKS, reuse_solve
+from ..linalg.blocks import (
+    block_solve,
+    block_work,
+    factor_blocks,
+    gmres_prepared,
+    prepare_border,
+)
+from ..linalg.capacitance import capacitance_work, prepare_capacitance
+from ..linalg.krylov import (
+    GMRES_CONVERGED,
+    REUSE_MODE,
+    REUSE_MODE_BLOCKS,
+    reuse_solve,
+    sparse_rows,
+)
 from ..linalg.lu import lu_factor, lu_solve, solve_inplace
 from ..linalg.pattern import append_last_row, equilibrate_pattern, pattern_term_sum
 from ..residuals.dispatch import _is_condensed, _on_coordinates, rounding_level
@@ -732,6 +745,78 @@ def tangent(J, previous, scale, A):
         return b
     norm = np.sqrt(np.sum(b * b))
     return b / norm
+
+
+@jit
+def block_tangent(J, previous, scale, A, n_dof, n_coef, first, n_slip, k_max, tol, out):
+    """The unit tangent of :func:`tangent` solved by GMRES on the harmonic
+    blocks corrected for at most ``n_slip`` slipping coordinates
+    (:func:`hbmfric.kernels.linalg.blocks.gmres_prepared`, arrays of its
+    own: the corrector's kept preconditioner and counters are not
+    touched), for a Jacobian on ``n_dof`` contact coordinates
+    (:mod:`hbmfric.kernels.linalg.pattern`).
+
+    Parameters
+    ----------
+    J, previous, scale, A
+        As in :func:`tangent` (``A``: the bordered matrix on return).
+    n_dof, n_coef, first : int
+        Layout of the unknowns (:mod:`hbmfric.kernels.linalg.blocks`).
+    n_slip : int
+        Slipping coordinates corrected at most.
+    k_max : int
+        GMRES iterations at most.
+    tol : float
+        Relative residual (2-norm) of the bordered system.
+    out : ndarray, shape (n + 1,)
+        Output: the unit tangent in scaled variables.
+
+    Returns
+    -------
+    bool
+        False if a block or the bordered preconditioner is singular, GMRES
+        did not converge or the result is not finite (``out`` is then
+        meaningless; :func:`tangent` factors the matrix instead).
+    """
+    n = J.shape[0]
+    m = n + 1
+    b = np.zeros(m)
+    equilibrate_rows(J, scale, A, b)
+    for j in range(m):
+        A[n, j] = previous[j]
+        b[j] = 0.0
+    b[n] = 1.0
+    blocks, pivots, border, V, work = block_work(n_dof, n_coef, first, m, k_max)
+    if not factor_blocks(A, n_dof, n_coef, first, blocks, pivots):
+        return False
+    correction = capacitance_work(n_dof, n_coef, first, n_slip)
+    prepare_capacitance(A, n_dof, n_coef, first, blocks, pivots, correction, work)
+    if not prepare_border(
+        A, n_dof, n_coef, first, blocks, pivots, correction, border, work
+    ):
+        return False
+    starts, columns, values = sparse_rows(A)
+    status, _ = gmres_prepared(
+        A,
+        b,
+        out,
+        n_dof,
+        n_coef,
+        first,
+        tol,
+        blocks,
+        pivots,
+        border,
+        V,
+        work,
+        correction,
+        starts,
+        columns,
+        values,
+    )
+    if status != GMRES_CONVERGED:
+        return False
+    return _normalise(out)
 
 
 @jit

@@ -11,7 +11,7 @@ import numpy as np
 from numba.extending import overload
 
 from ..._jit import jit
-from ..linalg.blocks import block_work, gmres_blocks
+from ..linalg.blocks import block_work, gmres_pattern
 from ..linalg.krylov import (
     GMRES_CONVERGED,
     REUSE_FACTORISATIONS,
@@ -187,24 +187,36 @@ def probe_dense_solve(A, b):
     return np.isfinite(b).all()
 
 
-def probe_solve(problem, A, b, n_dof, n_coef, first):
-    """Solve the probe level's Newton system ``A x = b`` of
-    :func:`truncation_change` (``b`` holds ``x`` on return, ``A`` may be
-    overwritten); False if singular or not finite. Callable from jitted
-    code only.
+@jit
+def probe_square(J, A):
+    """``A = J[:, :n]`` (the probe system's matrix, shape (n, n), from the
+    residual's Jacobian, shape (n, n + 1))."""
+    n = A.shape[0]
+    for i in range(n):
+        for j in range(n):
+            A[i, j] = J[i, j]
+
+
+def probe_solve(problem, J, A, b, n_dof, n_coef, first):
+    """Solve the probe level's Newton system ``J[:, :n] x = b`` of
+    :func:`truncation_change` (``b`` holds ``x`` on return; ``J`` is not
+    modified, ``A``, shape (n, n), is work space and may be overwritten);
+    False if singular or not finite. Callable from jitted code only.
 
     Dispatched at compile time on the type of ``problem``: a condensed
     problem large enough to carry kept-factor work arrays (``solver``,
     several contacts, see :data:`hbmfric.condensation.REUSE_MIN_UNKNOWNS`)
-    solves by GMRES preconditioned by the harmonic blocks of ``A``
-    (:func:`hbmfric.kernels.linalg.blocks.gmres_blocks`: ``O(m²)`` per
-    iteration instead of the ``O(m³)`` LU, 9-20 iterations on the lap
-    joint), falling back to the dense LU if GMRES does not converge; its
-    counters (``problem.solver[3]``, :mod:`hbmfric.kernels.linalg.krylov`)
-    record GMRES solves, products, fallbacks and the dense factorisations
-    of the fallbacks, and its relative residual (2-norm) is
-    ``state[REUSE_TOL]``. Any
-    other problem factors ``A`` (:func:`probe_dense_solve`: the factors of
+    solves by GMRES preconditioned by the harmonic blocks
+    (:func:`hbmfric.kernels.linalg.blocks.gmres_pattern`: the blocks and
+    the nonzeros read from ``J`` at the places of its pattern, no dense
+    copy; ``O(m²)`` per iteration instead of the ``O(m³)`` LU, 9-20
+    iterations on the lap joint), falling back to the dense LU of ``J``'s
+    copy in ``A`` if GMRES does not converge; its counters
+    (``problem.solver[3]``, :mod:`hbmfric.kernels.linalg.krylov`) record
+    GMRES solves, products, fallbacks and the dense factorisations of the
+    fallbacks, and its relative residual (2-norm) is
+    ``state[REUSE_TOL]``. Any other problem factors the copy in ``A``
+    (:func:`probe_dense_solve`: the factors of
     :func:`~hbmfric.kernels.linalg.lu.solve_inplace` bit for bit, in about
     half its time at the probe orders).
     """
@@ -212,18 +224,18 @@ def probe_solve(problem, A, b, n_dof, n_coef, first):
 
 
 @overload(probe_solve, jit_options=JIT_OPTIONS)
-def _probe_solve(problem, A, b, n_dof, n_coef, first):
+def _probe_solve(problem, J, A, b, n_dof, n_coef, first):
     # one contact to ground carries no solver arrays (order 0): dense
     if _on_coordinates(problem):
 
-        def condensed(problem, A, b, n_dof, n_coef, first):
+        def condensed(problem, J, A, b, n_dof, n_coef, first):
             state = problem.solver[3]
-            if problem.solver[0].shape[0] > 0:
-                m = b.size
+            m = b.size
+            if problem.solver[0].shape[0] > 0 and n_dof * n_coef == m:
                 arrays = block_work(n_dof, n_coef, first, m, np.int64(PROBE_KRYLOV))
                 x = np.empty(m)
-                status, products = gmres_blocks(
-                    A, b, x, n_dof, n_coef, first, state[REUSE_TOL], arrays
+                status, products = gmres_pattern(
+                    J, b, x, n_dof, n_coef, first, state[REUSE_TOL], arrays
                 )
                 state[REUSE_PRODUCTS] += products
                 if status == GMRES_CONVERGED:
@@ -233,11 +245,13 @@ def _probe_solve(problem, A, b, n_dof, n_coef, first):
                     return True
                 state[REUSE_FALLBACKS] += 1.0
                 state[REUSE_FACTORISATIONS] += 1.0
+            probe_square(J, A)
             return solve_inplace(A, b)
 
         return condensed
 
-    def full(problem, A, b, n_dof, n_coef, first):
+    def full(problem, J, A, b, n_dof, n_coef, first):
+        probe_square(J, A)
         return probe_dense_solve(A, b)
 
     return full
@@ -503,9 +517,7 @@ def truncation_change(
         return np.inf
     for i in range(n):
         dX[i] = -R[i]
-        for j in range(n):
-            A[i, j] = J[i, j]
-    if not probe_solve(problem, A, dX, n_dof, n_coef, first):
+    if not probe_solve(problem, J, A, dX, n_dof, n_coef, first):
         return np.inf
     z = np.empty(n_coef)
     dz = np.empty(n_coef)
