@@ -333,17 +333,24 @@ def _rest_state(problem, omega: float, options) -> tuple:
     """Rest state of an unforced problem: ``(y, iterations, max|R|)``.
 
     Zero unless a contact carries a force at zero displacement; then the
-    static balance is solved by Newton from zero, to
+    static balance is solved by Newton on the means alone, from zero, to
     ``options.tol_residual`` relative to that force (the load is zero and
-    gives no scale). ``y`` is None when Newton does not get there.
+    gives no scale). The harmonics stay zero: a hysteretic law's force at
+    a constant displacement is not smooth in the amplitude of a vanishing
+    loop (an unsymmetric Dahl law: Newton on every coefficient wandered
+    off the rest state it had reached in one step). ``y`` is None when
+    Newton does not get there (or the basis has no mean).
     """
     n = problem.n_unknowns
     y = np.zeros(n + 1)
     y[-1] = omega
     R, J, aft = problem.residual(y)
-    res = float(np.max(np.abs(R))) if R.size else 0.0
+    res = float(np.max(np.abs(R))) if aft >= 0 else np.inf
     if res == 0.0:
         return y, 0, 0.0
+    if problem.harmonic_numbers[0] != 0:
+        return None, 0, res
+    means = np.arange(0, n, problem.n_coef)
     target = max(options.tol_residual * res, problem.rounding_level())
     for it in range(REST_ITERATIONS + 1):
         if aft >= 0 and np.all(np.isfinite(R)) and res <= target:
@@ -351,10 +358,10 @@ def _rest_state(problem, omega: float, options) -> tuple:
         if it == REST_ITERATIONS or aft < 0:
             break
         try:
-            dx = np.linalg.solve(J[:, :n], -R)
+            dx = np.linalg.solve(J[np.ix_(means, means)], -R[means])
         except np.linalg.LinAlgError:
             break
-        y[:n] += dx
+        y[means] += dx
         R, J, aft = problem.residual(y)
         res = float(np.max(np.abs(R))) if aft >= 0 else np.inf
     return None, REST_ITERATIONS, res

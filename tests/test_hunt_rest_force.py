@@ -72,3 +72,27 @@ def test_contact2d_preload_without_static_load():
     assert c[1, 0] == pytest.approx(-n0 / (ky + kn), rel=1e-9)
     assert np.max(np.abs(c[0])) < 1e-15
     assert np.max(np.abs(c[1, 1:])) < 1e-15
+
+
+@pytest.mark.parametrize("condense", [None, False, True])
+def test_unsymmetric_dahl_on_a_chain(condense):
+    a, b, d, e = 0.5, 2.0, 0.3, -0.5
+    law = hf.ModifiedDahl(beta=3.0, exponent=1.0, upper=(a, b), lower=(d, e))
+    K = np.array([[2.0, -1.0], [-1.0, 2.0]])
+    s = hf.LinearStructure(
+        np.eye(2),
+        K,
+        damping=0.01 * K,
+        load=np.array([0.0, 1.0]),
+        contacts=[hf.Contact(law, 1)],
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", hf.HbmfricWarning)
+        sol = hf.periodic_solution(s, 0.0, 1.3, harmonics=7, condense=condense)
+    assert sol.converged
+    # K x + e1 ((a + d) x1 + b + e) / 2 = 0
+    A = K.copy()
+    A[1, 1] += (a + d) / 2.0
+    rest = np.linalg.solve(A, [0.0, -(b + e) / 2.0])
+    np.testing.assert_allclose(sol.coefficients[:, 0], rest, rtol=1e-9)
+    assert np.max(np.abs(sol.coefficients[:, 1:])) < 1e-12
