@@ -99,7 +99,10 @@ def periodic_solution(
     system : Oscillator or compatible system
     force : float
         Amplitude ``F`` of the forcing ``F cos Ωt``, N. With ``F = 0`` (and
-        no static load) the zero solution is returned at once.
+        no static load) the rest state is returned at once: zero, or where a
+        contact carries a force at zero displacement (an unsymmetric
+        :class:`ModifiedDahl` law, a :class:`Contact2D` preload without a
+        static load) the static balance, solved by Newton.
     omega : float
         Forcing pulsation Ω, rad/s (> 0).
     harmonics : int or "auto", default "auto"
@@ -220,11 +223,35 @@ def periodic_solution(
         top=LADDER[-1] if auto else None,
     )
     if not np.any(problem.load):
-        # unforced and damped: the steady state is rest
-        rest = np.zeros(problem.n_unknowns + 1)
-        rest[-1] = omega
+        # unforced and damped: the steady state is rest, displaced where a
+        # contact carries a force at rest (an unsymmetric Dahl law's
+        # mid-envelope force, a 2D element's preload without a static load)
+        rest, iterations, residual = _rest_state(problem, omega, options)
+        converged = rest is not None
+        if not converged:
+            rest = np.zeros(problem.n_unknowns + 1)
+            rest[-1] = omega
+            message = (
+                f"periodic_solution did not find the rest state at omega = "
+                f"{omega:.6g} rad/s, force = 0 N: max|R| = {residual:.3e} N "
+                "(a contact carries a force at rest); the returned "
+                "coefficients are not a solution"
+            )
+            if on_failure == "raise":
+                raise ConvergenceError(message)
+            warnings.warn(message, ConvergenceWarning, stacklevel=2)
         state = STATE_NAMES[STUCK]
-        return _solution(system, problem, rest, True, 0, 0.0, start, ZERO_FORCE, state)
+        return _solution(
+            system,
+            problem,
+            rest,
+            converged,
+            iterations,
+            residual,
+            start,
+            ZERO_FORCE if converged else FAILED,
+            state,
+        )
     guess = None
     if initial_guess is not None:
         guess = _guess_vector(initial_guess, problem)
@@ -296,6 +323,48 @@ def _warn_truncation(problem, y: np.ndarray, tolerance: float) -> None:
             AccuracyWarning,
             stacklevel=3,
         )
+
+
+#: Newton iterations allowed for the rest state of an unforced system
+REST_ITERATIONS = 50
+
+
+def _rest_state(problem, omega: float, options) -> tuple:
+    """Rest state of an unforced problem: ``(y, iterations, max|R|)``.
+
+    Zero unless a contact carries a force at zero displacement; then the
+    static balance is solved by Newton on the means alone, from zero, to
+    ``options.tol_residual`` relative to that force (the load is zero and
+    gives no scale). The harmonics stay zero: a hysteretic law's force at
+    a constant displacement is not smooth in the amplitude of a vanishing
+    loop (an unsymmetric Dahl law: Newton on every coefficient wandered
+    off the rest state it had reached in one step). ``y`` is None when
+    Newton does not get there (or the basis has no mean).
+    """
+    n = problem.n_unknowns
+    y = np.zeros(n + 1)
+    y[-1] = omega
+    R, J, aft = problem.residual(y)
+    res = float(np.max(np.abs(R))) if aft >= 0 else np.inf
+    if res == 0.0:
+        return y, 0, 0.0
+    if problem.harmonic_numbers[0] != 0:
+        return None, 0, res
+    means = np.arange(0, n, problem.n_coef)
+    target = max(options.tol_residual * res, problem.rounding_level())
+    for it in range(REST_ITERATIONS + 1):
+        if aft >= 0 and np.all(np.isfinite(R)) and res <= target:
+            return y, it, res
+        if it == REST_ITERATIONS or aft < 0:
+            break
+        try:
+            dx = np.linalg.solve(J[np.ix_(means, means)], -R[means])
+        except np.linalg.LinAlgError:
+            break
+        y[means] += dx
+        R, J, aft = problem.residual(y)
+        res = float(np.max(np.abs(R))) if aft >= 0 else np.inf
+    return None, REST_ITERATIONS, res
 
 
 def _solution(
