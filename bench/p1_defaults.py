@@ -10,6 +10,11 @@ timed ``repeats`` times after a warm-up, least wall and CPU time (CPU:
 (15-110 Hz, excitation 2 N, ``bench.auto_cost``'s scene; ``--forces`` is
 then ignored).
 
+``--guard``: the default branch's CPU time over the fixed ``H = 15``
+branch's per force (interleaved, one process), against
+:data:`GUARD_RATIO`; exit status 1 if a ratio is over its bound (a
+tripwire for slowdowns that does not depend on the load).
+
 ``--compare A B [--rounds 5]``: interleaved before/after of two source
 trees (``PYTHONPATH`` set to each in turn, A, B, A, B, ...; each round a
 fresh process timing every force ``repeats`` times), least over all rounds,
@@ -86,6 +91,49 @@ def measure(forces, repeats: int, harmonics="auto", beam=False) -> list[dict]:
     return rows
 
 
+#: ``--guard``: the default branch's CPU time over the fixed ``H = 15``
+#: branch's, measured interleaved in one process, at most these: stop 32's
+#: ratios (0.50 / 1.51 / 2.34, twice each within 0.02, load 1.2-1.5) times
+#: 1.15. A tripwire that does not depend on the load: the final pass's
+#: peak-to-peak values of every point made P1 1.5-1.9 times slower at
+#: stop 30 and nobody saw it for two stops (bench/README.md, stop 32); that
+#: tree reads 0.62 / 1.99 / 2.72, over all three bounds
+GUARD_RATIO = {0.1: 0.58, 0.5: 1.74, 2.0: 2.69}
+
+
+def guard(forces, repeats: int) -> list[dict]:
+    """CPU time of the default (auto) branch over the fixed ``H = 15`` one
+    per force, least of ``repeats`` interleaved pairs, with the bound of
+    :data:`GUARD_RATIO`."""
+    import hbmfric as hf
+
+    rows = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.HbmfricWarning)
+        for label, system, force, omega in _cases(forces, False):
+            best = {"auto": float("inf"), 15: float("inf")}
+            for harmonics in best:
+                hf.frf(system, force, omega, harmonics)  # warm-up
+            for _ in range(repeats):
+                for harmonics in best:
+                    c = time.process_time()
+                    hf.frf(system, force, omega, harmonics)
+                    best[harmonics] = min(best[harmonics], time.process_time() - c)
+            ratio = best["auto"] / best[15]
+            bound = GUARD_RATIO.get(force)
+            rows.append(
+                {
+                    "force": label,
+                    "auto_ms": 1e3 * best["auto"],
+                    "h15_ms": 1e3 * best[15],
+                    "ratio": ratio,
+                    "bound": bound,
+                    "ok": bound is None or ratio <= bound,
+                }
+            )
+    return rows
+
+
 def compare(
     a: str, b: str, forces, repeats: int, rounds: int, harmonics, beam=False
 ) -> dict:
@@ -130,7 +178,22 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--rounds", type=int, default=5)
     p.add_argument("--beam", action="store_true")
     p.add_argument("--json", action="store_true", help=argparse.SUPPRESS)
+    p.add_argument(
+        "--guard",
+        action="store_true",
+        help="auto over fixed H = 15 per force against GUARD_RATIO; exit 1 if over",
+    )
     a = p.parse_args(argv)
+    if a.guard:
+        print(f"load: {os.getloadavg()}", flush=True)
+        rows = guard([float(f) for f in a.forces.split(",")], a.repeats)
+        for r in rows:
+            print(
+                f"F = {r['force']:g}: auto {r['auto_ms']:.2f} ms, H = 15 "
+                f"{r['h15_ms']:.2f} ms, ratio {r['ratio']:.2f} (bound "
+                f"{r['bound']}){'' if r['ok'] else '  OVER'}"
+            )
+        return 0 if all(r["ok"] for r in rows) else 1
     forces = [-1.0] if a.beam else [float(f) for f in a.forces.split(",")]
     harmonics = _harmonics(a.harmonics)
     if a.json:
