@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
 
 from .._validate import finite_array, finite_float
+from ..errors import AccuracyWarning
 from ..kernels.aft.dahl import DAHL_NOT_CONVERGED, dahl_periodic
 from ..kernels.laws import updates as _k
 from .base import ContactLaw
@@ -75,6 +77,54 @@ class ModifiedDahl(ContactLaw):
             )
         object.__setattr__(self, "upper", upper)
         object.__setattr__(self, "lower", lower)
+        reason = self.active_reason()
+        if reason is not None:
+            warnings.warn(
+                f"ModifiedDahl(beta={self.beta}, exponent={self.exponent}, "
+                f"upper={upper}, lower={lower}): {reason}, so the law gives "
+                "energy instead of dissipating it. Its steady responses can "
+                "be computed, but Hill's stability verdicts (Branch.stability) "
+                "leave out the law's memory and can call an unstable orbit "
+                "stable; check them with method='monodromy' or time "
+                "integration (docs/laws.md)",
+                AccuracyWarning,
+                stacklevel=3,
+            )
+
+    def active_reason(self) -> str | None:
+        """Why the law's loops give energy instead of dissipating it, or
+        None where that is not known to happen.
+
+        ``μ = 1``: the energy per cycle of a loop ``u = X cos θ`` is
+        ``2 (b − e − (a + d)/β)(X − tanh(βX)/β)``
+        (:meth:`energy_per_cycle`), of the sign of ``b − e − (a + d)/β`` at
+        every amplitude. ``μ > 1`` with equal slopes ``a = d ≥ 0``: large
+        loops follow the asymptotes ``h_u − (a/β)^(1/μ)`` and
+        ``h_l + (a/β)^(1/μ)``, which cross the wrong way when
+        ``b − e ≤ 2 (a/β)^(1/μ)``. Other laws are not checked. Stop 32: the
+        law ``β = 1``, ``(5, 1)``, ``(5, −1)`` on one DOF was called stable
+        above 4.27 rad/s where the monodromy reads multipliers 1.08-1.14
+        and time integration from the orbit grows to 140-197 times its
+        amplitude.
+        """
+        a, b = self.upper
+        d, e = self.lower
+        if self.exponent == 1.0:
+            limit = (a + d) / self.beta
+            if b - e <= limit:
+                return (
+                    f"b - e = {b - e:g} <= (a + d)/beta = {limit:g}: every loop "
+                    "has a negative energy per cycle"
+                )
+            return None
+        if a == d and a >= 0.0:
+            limit = 2.0 * (a / self.beta) ** (1.0 / self.exponent)
+            if b - e <= limit:
+                return (
+                    f"b - e = {b - e:g} <= 2 (a/beta)^(1/exponent) = {limit:g}: "
+                    "large loops have a negative energy per cycle"
+                )
+        return None
 
     @property
     def params(self) -> np.ndarray:
