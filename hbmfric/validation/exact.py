@@ -140,8 +140,6 @@ class _Phase:
         self.A = A
         lam, V = scipy.linalg.eig(A)
         self.lam = lam
-        #: largest free pulsation of the phase, rad/s
-        self.fastest = float(np.max(np.abs(lam.imag))) if lam.size else 0.0
         self.V = V
         self.Vinv = np.linalg.inv(V)
         self.omega = omega
