@@ -104,6 +104,10 @@ class StudyRun:
         Warnings raised while tracing (``"<Category>: <message>"``).
     elapsed : float
         Wall time of the run in its worker, s.
+    unread : tuple of str
+        Parameters ``build`` never looked at (the force aside, which the
+        study reads); :func:`study` warns when one (other than the normal
+        load, a tag for the criterion) is unread in every set.
     """
 
     index: int
@@ -112,6 +116,7 @@ class StudyRun:
     error: str | None = None
     warnings: list = field(default_factory=list)
     elapsed: float = 0.0
+    unread: tuple = ()
 
     @property
     def ok(self) -> bool:
@@ -136,7 +141,11 @@ def _run_locked(build, force_key, frf_options, index, parameters) -> StudyRun:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
-            system = build(dict(parameters))
+            seen = _ReadTracker(parameters)
+            system = build(seen)
+            run.unread = tuple(
+                k for k in parameters if k not in seen.read and k != force_key
+            )
             force = parameters[force_key]
             run.branch = frf(system, force, **frf_options)
         except Exception as exc:  # noqa: BLE001 - reported, never lost
@@ -146,6 +155,69 @@ def _run_locked(build, force_key, frf_options, index, parameters) -> StudyRun:
     run.warnings = [f"{w.category.__name__}: {w.message}" for w in caught]
     run.elapsed = time.perf_counter() - start
     return run
+
+
+class _ReadTracker(dict):
+    """The parameter set handed to ``build``, noting which keys it reads:
+    a key read one by one (``p["x"]``, ``p.get``, ``in``) or all at once
+    (iteration, ``keys``/``items``/``values``, ``dict(p)``, ``{**p}``,
+    ``copy``). A grid axis with a misspelt name is otherwise never read and
+    every set differing only in it traces the same system, quietly."""
+
+    def __init__(self, parameters) -> None:
+        super().__init__(parameters)
+        self.read: set = set()
+
+    def _all(self) -> None:
+        self.read.update(dict.keys(self))
+
+    def __getitem__(self, key):
+        self.read.add(key)
+        return super().__getitem__(key)
+
+    def get(self, key, default=None):
+        self.read.add(key)
+        return super().get(key, default)
+
+    def __contains__(self, key) -> bool:
+        self.read.add(key)
+        return super().__contains__(key)
+
+    def pop(self, key, *default):
+        self.read.add(key)
+        return super().pop(key, *default)
+
+    def setdefault(self, key, default=None):
+        self.read.add(key)
+        return super().setdefault(key, default)
+
+    def __iter__(self):
+        self._all()
+        return super().__iter__()
+
+    def keys(self):
+        self._all()
+        return super().keys()
+
+    def items(self):
+        self._all()
+        return super().items()
+
+    def values(self):
+        self._all()
+        return super().values()
+
+    def copy(self) -> dict:
+        self._all()
+        return dict(dict.items(self))
+
+    def __or__(self, other):
+        self._all()
+        return dict(dict.items(self)) | other
+
+    def __reduce__(self):  # pickled as a plain dict (a build that sends it on)
+        self._all()
+        return (dict, (dict(dict.items(self)),))
 
 
 class _Progress:
@@ -542,7 +614,33 @@ def study(
         runs, kind, time.perf_counter() - start, force_key, normal_load_key
     )
     _summarise(result)
+    _warn_unread(result)
     return result
+
+
+def _warn_unread(result: StudyResult) -> None:
+    """One :class:`StudyWarning` naming the parameters ``build`` read in
+    no set that it built (the force and normal-load keys are the study's
+    own): most often a misspelt grid axis, whose sets then trace the same
+    system."""
+    built = [r for r in result.runs if r.ok or r.unread]
+    if not built:
+        return
+    own = {result.force_key, result.normal_load_key}
+    unread = [
+        k
+        for k in built[0].parameters
+        if k not in own and all(k in r.unread for r in built)
+    ]
+    if unread:
+        names = ", ".join(repr(k) for k in unread)
+        warnings.warn(
+            f"build never read the parameter(s) {names} in any set: a misspelt "
+            "name? Sets that differ only in them trace the same system "
+            "(StudyRun.unread lists them per set)",
+            StudyWarning,
+            stacklevel=3,
+        )
 
 
 #: seconds to wait for a terminated worker process to exit

@@ -411,8 +411,19 @@ class LinearStructure:
                 "{dof: value}, "
                 f"got {type(load).__name__}"
             ) from None
+        if a.ndim == 0:
+            # a newcomer's `load=1.0`: the amplitude belongs to frf's force
+            raise ValueError(
+                f"{label} must be a vector of shape ({n},) (one entry per DOF) or "
+                f"a mapping {{dof: value}}, got the number {load!r}: for a unit "
+                f"load at DOF j give {label}={{j: 1.0}} (or a DOF name); the "
+                "forcing amplitude itself is the force of hf.frf"
+            )
         if a.shape != (n,):
-            raise ValueError(f"{label} must have shape ({n},) (n_dof), got {a.shape}")
+            raise ValueError(
+                f"{label} must have shape ({n},) (n_dof) or be a mapping "
+                f"{{dof: value}}, got shape {a.shape}"
+            )
         if not np.all(np.isfinite(a)):
             raise ValueError(f"{label} must contain only finite values (no NaN or inf)")
         return a
