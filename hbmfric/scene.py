@@ -92,6 +92,17 @@ def _unknown(keys, accepted) -> str:
     return ", ".join(out)
 
 
+def _unknown_tables(names) -> str:
+    """``[outptu] (did you mean [output]?), ...`` for unknown tables."""
+    import difflib
+
+    out = []
+    for name in names:
+        close = difflib.get_close_matches(str(name), TOP_LEVEL, n=1)
+        out.append(f"[{name}]" + (f" (did you mean [{close[0]}]?)" if close else ""))
+    return ", ".join(out)
+
+
 def _law_class(name: str):
     import hbmfric as hf
 
@@ -280,6 +291,12 @@ def build_system(scene: dict, name: str):
         t["load"] = {
             (int(k) if k.isdigit() else k): _complex(v) for k, v in t["load"].items()
         }
+    if "static_load" in t and isinstance(t["static_load"], dict):
+        # TOML keys are strings: `{ 80 = 5.0 }` is DOF 80, as for `load`
+        # (it was refused as an unknown DOF name '80')
+        t["static_load"] = {
+            (int(k) if k.isdigit() else k): v for k, v in t["static_load"].items()
+        }
     if "rayleigh" in t and isinstance(t["rayleigh"], list):
         t["rayleigh"] = tuple(t["rayleigh"])
     if contacts is not None:
@@ -442,7 +459,7 @@ def load_scene(path: str | Path) -> Scene:
     if unknown:
         raise _fail(
             name,
-            f"unknown table(s) {', '.join(f'[{u}]' for u in unknown)} (accepted: "
+            f"unknown table(s) {_unknown_tables(unknown)} (accepted: "
             f"{', '.join(f'[{t}]' for t in TOP_LEVEL)})",
         )
     out = data.get("output", {})
@@ -751,8 +768,11 @@ def run_scene(path: str | Path, out: str | Path | None = None, progress=print) -
             import matplotlib.pyplot as plt
 
             fig, ax = plt.subplots(figsize=(6, 4))
-            branch.plot(ax=ax, dof=output.get("dof"))
-            fig.savefig(directory / output["png"], dpi=120)
+            # the CSV's quantity: the first harmonic (the plot's default,
+            # half the peak-to-peak value, differed from the CSV beside it)
+            branch.plot(ax=ax, harmonic=1, dof=output.get("dof"))
+            _label_dof(ax, output.get("dof"))
+            fig.savefig(directory / output["png"], dpi=120, bbox_inches="tight")
             plt.close(fig)
             written.append(directory / output["png"])
         result = {"branch": branch}
@@ -792,6 +812,7 @@ def run_scene(path: str | Path, out: str | Path | None = None, progress=print) -
                 if r.ok:
                     r.branch.plot(
                         ax=ax,
+                        harmonic=1,
                         dof=dof,
                         label=", ".join(
                             f"{k}={v:g}"
@@ -800,7 +821,8 @@ def run_scene(path: str | Path, out: str | Path | None = None, progress=print) -
                         ),
                     )
             ax.legend(fontsize=6)
-            fig.savefig(directory / output["png"], dpi=120)
+            _label_dof(ax, dof)
+            fig.savefig(directory / output["png"], dpi=120, bbox_inches="tight")
             plt.close(fig)
             written.append(directory / output["png"])
         result = {"study": res}
@@ -808,6 +830,11 @@ def run_scene(path: str | Path, out: str | Path | None = None, progress=print) -
         progress(f"wrote {p}")
     result["written"] = written
     return result
+
+
+def _label_dof(ax, dof) -> None:
+    """Name the plotted DOF in the title (default: the contact DOF)."""
+    ax.set_title(f"DOF {dof!r}" if dof is not None else "contact DOF", fontsize=9)
 
 
 def _branch_csv(branch, path: Path, dof=None) -> Path:

@@ -65,3 +65,94 @@ def test_read_tracker_counts_bulk_reads():
     p = _ReadTracker({"a": 1, "b": 2})
     p.get("a")
     assert p.read == {"a"}
+
+
+SCENE = """
+[system]
+kind = "matrices"
+mass = "model.npz:M"
+stiffness = "model.npz:K"
+modal_damping = 0.02
+dof_names = {{ tip = 2 }}
+load = {{ 0 = 1.0 }}
+{extra}
+
+[contact]
+law = "jenkins"
+stiffness = 0.5
+slip_force = 2e-4
+
+[frf]
+force = 1e-4
+omega = [0.2, 1.5]
+harmonics = 3
+
+[output]
+csv = "out.csv"
+png = "out.png"
+dof = "tip"
+"""
+
+
+def _scene(tmp_path, extra="contact_dof = 2"):
+    m, k = _chain()
+    np.savez(tmp_path / "model.npz", M=m, K=k)
+    path = tmp_path / "s.toml"
+    path.write_text(SCENE.format(extra=extra))
+    return path
+
+
+def test_scene_static_load_takes_dof_indices(tmp_path):
+    # TOML keys are strings: `{ 1 = 0.3 }` is DOF 1, as for `load`
+    from hbmfric.scene import load_scene
+
+    scene = load_scene(_scene(tmp_path, "contact_dof = 2\nstatic_load = { 1 = 0.3 }"))
+    np.testing.assert_array_equal(scene.system({}).static_load(), [0.0, 0.3, 0.0])
+
+
+def test_scene_unknown_table_suggests_the_right_one(tmp_path):
+    from hbmfric.scene import SceneError, load_scene
+
+    path = _scene(tmp_path)
+    path.write_text(path.read_text().replace("[output]", "[outptu]"))
+    with pytest.raises(SceneError, match=r"\[outptu\] \(did you mean \[output\]\?\)"):
+        load_scene(path)
+
+
+def test_scene_png_draws_the_csv_amplitude_inside_the_figure(tmp_path, monkeypatch):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    from hbmfric.scene import run_scene
+
+    saved = []
+    original = Figure.savefig
+
+    def spy(fig, *args, **kwargs):
+        original(fig, *args, **kwargs)
+        renderer = fig.canvas.get_renderer()
+        left = 0.0  # pixels: the figure's edge
+        if kwargs.get("bbox_inches") == "tight":
+            left = fig.get_tightbbox(renderer).x0 * fig.dpi  # inches -> pixels
+        label = fig.axes[0].yaxis.label.get_window_extent(renderer).x0
+        saved.append((fig, label - left))
+
+    monkeypatch.setattr(Figure, "savefig", spy)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.HbmfricWarning)
+        out = run_scene(_scene(tmp_path), progress=lambda s: None)
+    (fig, inside) = saved[0]
+    # the y label (beside wide tick labels of metres) is inside the saved area
+    assert inside >= 0.0
+    ax = fig.axes[0]
+    csv = np.loadtxt(tmp_path / "out.csv", delimiter=",", skiprows=1)
+    # the curve drawn goes through the CSV's points (first harmonic of the
+    # tip), not half the peak-to-peak value
+    x, y = ax.lines[0].get_data()
+    np.testing.assert_allclose(np.interp(csv[:, 0], x, y), csv[:, 1], rtol=1e-9)
+    np.testing.assert_allclose(
+        csv[:, 1], out["branch"].amplitude(harmonic=1, dof="tip"), rtol=1e-10
+    )
+    assert "harmonic 1" in ax.get_ylabel() and "tip" in ax.get_title()
