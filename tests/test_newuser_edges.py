@@ -156,3 +156,22 @@ def test_scene_png_draws_the_csv_amplitude_inside_the_figure(tmp_path, monkeypat
         csv[:, 1], out["branch"].amplitude(harmonic=1, dof="tip"), rtol=1e-10
     )
     assert "harmonic 1" in ax.get_ylabel() and "tip" in ax.get_title()
+
+
+def test_python_dash_m_runs_the_command():
+    # `python -m hbmfric run scene.toml` said "No module named
+    # hbmfric.__main__"; the console script is not always on the PATH
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).parents[1]
+    done = subprocess.run(
+        [sys.executable, "-m", "hbmfric", "--version"],
+        cwd=root,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("hbmfric")
