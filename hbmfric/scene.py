@@ -64,7 +64,17 @@ from pathlib import Path
 import numpy as np
 
 SYSTEM_KINDS = ("oscillator", "beam", "tensioner", "matrices")
-LAWS = ("jenkins", "menq", "iwan", "coulomb", "dahl", "cubic", "roughness", "none")
+LAWS = (
+    "jenkins",
+    "menq",
+    "iwan",
+    "coulomb",
+    "dahl",
+    "cubic",
+    "roughness",
+    "contact2d",
+    "none",
+)
 TOP_LEVEL = ("system", "contact", "contacts", "frf", "output", "study")
 OUTPUT_KEYS = ("directory", "csv", "png", "npz", "dof")
 #: keys of a ``[[contacts]]`` entry besides the law and its arguments
@@ -114,6 +124,7 @@ def _law_class(name: str):
         "dahl": hf.ModifiedDahl,
         "cubic": hf.Cubic,
         "roughness": hf.Roughness,
+        "contact2d": hf.Contact2D,
     }[name]
 
 
@@ -143,9 +154,10 @@ def _tuple_values(d: dict, keys) -> dict:
     }
 
 
-def build_contact(table: dict | None, where: str):
+def build_contact(table: dict | None, where: str, normal: bool = False):
     """The contact law of a ``[contact]`` table (None for ``law = "none"``
-    or no table)."""
+    or no table); ``normal``: the entry names a normal DOF, which the 2D
+    element (``law = "contact2d"``) needs."""
     if table is None:
         return None
     if not isinstance(table, dict):
@@ -161,6 +173,14 @@ def build_contact(table: dict | None, where: str):
             raise _fail(where, f"law 'none' takes no other keys, got {sorted(t)}")
         return None
     cls = _law_class(law)
+    if law == "contact2d" and not normal:
+        raise _fail(
+            f"{where} law",
+            "the 2D element acts on a tangential and a normal DOF: give it as a "
+            "[[contacts]] entry of a kind = 'matrices' scene, with dof "
+            "(tangential) and normal, and hold its preload by a [system] "
+            "static_load on the normal DOF",
+        )
     if law == "roughness":
         base = t.pop("base", None)
         if not isinstance(base, dict):
@@ -196,7 +216,7 @@ def build_contacts(entries, where: str) -> list:
             raise _fail(here, "missing key 'dof' (the DOF the law acts on)")
         if t.get("law") == "none":
             raise _fail(f"{here} law", "a [[contacts]] entry needs a contact law")
-        law = build_contact(t, here)
+        law = build_contact(t, here, normal="normal" in place)
         dof = place.pop("dof")
         try:
             contacts.append(hf.Contact(law, dof, **place))

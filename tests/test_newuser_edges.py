@@ -175,3 +175,62 @@ def test_python_dash_m_runs_the_command():
     )
     assert done.returncode == 0, done.stderr
     assert done.stdout.startswith("hbmfric")
+
+
+SCENE_2D = """
+[system]
+kind = "matrices"
+mass = "model.npz:M"
+stiffness = "model.npz:K"
+damping = "model.npz:C"
+dof_names = { x_tip = 0, y_tip = 1 }
+load = { x_tip = 4.0, y_tip = 12.0 }
+static_load = { y_tip = 10.0 }
+
+[[contacts]]
+law = "contact2d"
+tangential_stiffness = 3e4
+normal_stiffness = 2e4
+friction_coefficient = 0.5
+preload = 10.0
+dof = "x_tip"
+normal = "y_tip"
+
+[frf]
+force = 1.0
+omega = [80.0, 90.0]
+harmonics = 4
+"""
+
+
+def test_scene_takes_the_2d_element(tmp_path):
+    # docs/laws.md's 2D example as a scene (the 2D element needed Python)
+    from hbmfric.scene import load_scene, run_scene
+
+    m, k, c = np.eye(2), np.diag([1e4, 1e4]), 6.0 * np.eye(2)
+    np.savez(tmp_path / "model.npz", M=m, K=k, C=c)
+    (tmp_path / "s.toml").write_text(SCENE_2D)
+    element = hf.Contact2D(3e4, 2e4, friction_coefficient=0.5, preload=10.0)
+    ref = hf.LinearStructure(
+        m,
+        k,
+        damping=c,
+        dof_names={"x_tip": 0, "y_tip": 1},
+        load={"x_tip": 4.0, "y_tip": 12.0},
+        static_load={"y_tip": 10.0},
+        contacts=[hf.Contact(element, "x_tip", normal="y_tip")],
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.HbmfricWarning)
+        out = run_scene(tmp_path / "s.toml", progress=lambda s: None)
+        b = hf.frf(ref, 1.0, (80.0, 90.0), harmonics=4)
+    np.testing.assert_array_equal(out["branch"].omega, b.omega)
+    np.testing.assert_array_equal(out["branch"].coefficients, b.coefficients)
+    # in [contact] (no normal DOF) it is refused, saying where it goes
+    (tmp_path / "t.toml").write_text(
+        SCENE_2D.replace("[[contacts]]", "[contact]")
+        .replace('dof = "x_tip"\nnormal = "y_tip"\n', "")
+        .replace("[system]\n", "[system]\ncontact_dof = 0\n")
+    )
+    with pytest.raises(ValueError, match=r"\[\[contacts\]\] entry.*normal"):
+        load_scene(tmp_path / "t.toml")
