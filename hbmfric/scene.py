@@ -14,6 +14,7 @@ in the file (``scene.toml: [contact] stiffness: ...``). Example::
     [contact]
     law = "jenkins"              # jenkins | menq | iwan | coulomb | dahl | cubic
     stiffness = 3.0              # | roughness | none; the law's own arguments
+                                 # (contact2d: a [[contacts]] entry with normal)
     slip_force = 1.0
 
     [frf]

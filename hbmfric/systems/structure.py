@@ -131,7 +131,9 @@ class LinearStructure:
         ``damping``, ``rayleigh`` and ``modal_damping``; none of them means
         no viscous damping.
     rayleigh : (float, float), optional
-        ``(α, β)`` of Rayleigh damping ``C = α M + β K``.
+        ``(α, β)`` of Rayleigh damping ``C = α M + β K`` (``K`` the
+        structure's, without the contacts), ``α`` in 1/s, ``β`` in s; mode
+        ``j`` gets the damping ratio ``α / (2 ω_j) + β ω_j / 2``.
     modal_damping : float or array_like, optional
         Damping ratio of every mode (one value) or of the first modes (one
         per mode, the rest undamped), a fraction of critical damping in
