@@ -234,3 +234,13 @@ def test_scene_takes_the_2d_element(tmp_path):
     )
     with pytest.raises(ValueError, match=r"\[\[contacts\]\] entry.*normal"):
         load_scene(tmp_path / "t.toml")
+
+
+def test_steady_state_warning_says_what_to_do():
+    osc = hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(stiffness=3.0, slip_force=1.0))
+    with pytest.warns(hf.ConvergenceWarning) as caught:
+        ref = hf.validation.steady_state(osc, 0.5, 1.2, max_periods=3)
+    assert not ref.converged
+    text = str(caught[0].message)
+    assert "max_periods = 3" in text and "tol = 1e-10" in text
+    assert "initial_state='linear'" in text
