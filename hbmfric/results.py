@@ -1032,6 +1032,36 @@ class Branch:
         return self._dense().error_estimate(k, harmonic)
 
     # ------------------------------------------------------------------
+    def to_csv(self, path: str | Path, dof=None) -> Path:
+        """Write one DOF's FRF as CSV, the columns of ``hbmfric run``'s:
+        ``omega`` (rad/s, path order), ``amplitude`` (first-harmonic
+        amplitude of ``dof``, index or name, default the contact DOF, m)
+        and ``truncation_error`` (the per-point estimate of the output the
+        harmonic control watches; empty estimates as ``nan``).
+
+        Warns (:class:`~hbmfric.AccuracyWarning`) as :meth:`plot` with
+        ``curve="polyline"`` does when ``dof`` is not the DOF the step
+        control watched and its straight lines stray beyond the curve
+        tolerance. Everything else of the branch: :meth:`save`."""
+        import csv
+
+        path = Path(path)
+        amp = self.amplitude(harmonic=1, dof=dof)
+        # the lines a reader draws through these points, for a DOF the step
+        # control did not watch
+        self._warn_unwatched(dof, stacklevel=3)
+        err = (
+            self.truncation_error
+            if self.truncation_error is not None
+            else np.full(len(self), np.nan)
+        )
+        with open(path, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["omega", "amplitude", "truncation_error"])
+            for om, a, e in zip(self.omega, amp, err, strict=True):
+                w.writerow([f"{om:.12g}", f"{a:.12g}", f"{e:.3g}"])
+        return path
+
     def save(self, path: str | Path) -> Path:
         """Write the branch to ``path`` (``.npz``, no pickle)."""
         path = Path(path)

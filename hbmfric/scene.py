@@ -62,8 +62,6 @@ import math
 import tomllib
 from pathlib import Path
 
-import numpy as np
-
 SYSTEM_KINDS = ("oscillator", "beam", "tensioner", "matrices")
 LAWS = (
     "jenkins",
@@ -861,21 +859,5 @@ def _label_dof(ax, dof) -> None:
 def _branch_csv(branch, path: Path, dof=None) -> Path:
     """``omega`` (rad/s), ``amplitude`` (first-harmonic amplitude of
     ``dof``, default the contact DOF, m) and ``truncation_error`` per
-    point."""
-    import csv
-
-    amp = branch.amplitude(harmonic=1, dof=dof)
-    # the lines a reader draws through these points, for a DOF the step
-    # control did not watch
-    branch._warn_unwatched(dof, stacklevel=2)
-    with open(path, "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["omega", "amplitude", "truncation_error"])
-        err = (
-            branch.truncation_error
-            if branch.truncation_error is not None
-            else np.full(len(branch), np.nan)
-        )
-        for om, a, e in zip(branch.omega, amp, err, strict=True):
-            w.writerow([f"{om:.12g}", f"{a:.12g}", f"{e:.3g}"])
-    return path
+    point: :meth:`hbmfric.Branch.to_csv`."""
+    return branch.to_csv(path, dof)

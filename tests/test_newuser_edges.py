@@ -244,3 +244,31 @@ def test_steady_state_warning_says_what_to_do():
     text = str(caught[0].message)
     assert "max_periods = 3" in text and "tol = 1e-10" in text
     assert "initial_state='linear'" in text
+
+
+def test_branch_to_csv_holds_the_first_harmonic_of_the_dof(tmp_path):
+    m, k = _chain()
+    s = hf.LinearStructure(
+        m,
+        k,
+        modal_damping=0.02,
+        dof_names={"tip": 2},
+        load={0: 1.0},
+        contact=hf.Jenkins(stiffness=0.5, slip_force=0.2),
+        contact_dof="tip",
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.AccuracyWarning)
+        b = hf.frf(s, 0.1, (0.6, 0.9), harmonics=3)
+        path = b.to_csv(tmp_path / "frf.csv", dof=0)
+    rows = path.read_text().splitlines()
+    assert rows[0] == "omega,amplitude,truncation_error" and len(rows) == len(b) + 1
+    data = np.loadtxt(path, delimiter=",", skiprows=1)
+    # DOF 0: [X0, Xc1, Xs1, ...], or [Xc1, Xs1, Xc3, ...] for odd harmonics
+    c = (
+        b.coefficients[:, 0, :]
+        if b.harmonic_numbers[0] == 0
+        else np.pad(b.coefficients[:, 0, :], ((0, 0), (1, 0)))
+    )
+    np.testing.assert_allclose(data[:, 0], b.omega, rtol=1e-11)
+    np.testing.assert_allclose(data[:, 1], np.hypot(c[:, 1], c[:, 2]), rtol=1e-11)
