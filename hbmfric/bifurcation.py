@@ -85,9 +85,12 @@ class SpecialPoint:
     index : int
         The point lies between branch points ``index - 1`` and ``index``.
     omega : float
-        Ω of the located point, rad/s.
+        Ω of the located point, rad/s: the branch's own ``omega``, so on a
+        branch of :func:`hbmfric.period_doubled_branch` the fundamental
+        ``Ω/2`` (the forcing pulsation is ``2 * omega`` there).
     harmonic_numbers : ndarray of int, shape (n_harmonics,)
-        Harmonics of ``coefficients`` (``0 … H``).
+        Harmonics of ``coefficients`` (``0 … H``; of ``Ω/2`` on a
+        period-doubled branch).
     coefficients : ndarray, shape (n_dof, n_coef)
         The periodic solution there, m.
     multiplier : complex or None

@@ -112,6 +112,18 @@ FORMAT = "hbmfric.NonlinearMode/1"
 #: issue-16 spring chain past its 3:1 internal resonance, 9 % and 59 %:
 #: 15 % and 4.4 times off, bench/README.md stop 28)
 HIGHER_SHARE_TOL = 0.02
+#: a resonance of :meth:`NonlinearMode.resonances` whose interpolated
+#: amplitude may be off by more than this (relative; the estimate of
+#: :func:`_crossing_spread`) is warned about: the balance bends sharply
+#: about the two points (a stick/slip change; a
+#: Jenkins contact slipping just past its onset at the peak read 3.4 % low
+#: with 241 points over 1e-6 to 1e-1, and without a word before stop 33)
+RESONANCE_SPREAD_TOL = 0.01
+#: ... a change of the balance over a neighbouring interval more than this
+#: factor from its change over the crossing one marks a kink there (smooth
+#: stretches: 0.78-1.34 at 8 points per decade; the onset of slip of a
+#: Jenkins contact: 34-840; an Iwan element's, 3.2)
+KINK_RATIO = 2.0
 #: Newton: relative size of the last correction below which a point counts
 #: as converged
 STEP_TOLERANCE = 1e-11
@@ -417,10 +429,11 @@ class NonlinearMode:
         g = needed - force
         s = np.log(self.amplitude)
         higher = self._higher_share()
-        omega, amp, in_gaps, shares = [], [], [], []
+        omega, amp, in_gaps, shares, spreads = [], [], [], [], []
         # no interpolation across the gap between two pieces (but a sign
         # change there is said: a resonance may lie in the gap)
-        last = {sl.stop - 1 for sl in self.piece_slices()}
+        slices = self.piece_slices()
+        last = {sl.stop - 1 for sl in slices}
         for i in np.flatnonzero(np.sign(g[1:]) != np.sign(g[:-1])):
             if not (np.isfinite(g[i]) and np.isfinite(g[i + 1])):
                 continue
@@ -431,6 +444,8 @@ class NonlinearMode:
             amp.append(float(np.exp(s[i] + u * (s[i + 1] - s[i]))))
             omega.append(float(self.omega[i] + u * (self.omega[i + 1] - self.omega[i])))
             shares.append(float(max(higher[i], higher[i + 1])))
+            piece = next(sl for sl in slices if sl.start <= i < sl.stop)
+            spreads.append(_crossing_spread(g, i, float(s[i + 1] - s[i]), piece))
         if in_gaps:
             where = ", ".join(f"{a0:.4g} to {a1:.4g}" for a0, a1 in in_gaps)
             warnings.warn(
@@ -455,6 +470,24 @@ class NonlinearMode:
                 f"(the forces balanced there: {span}); extend the amplitude "
                 "range of hf.nonlinear_mode",
                 CoverageWarning,
+                stacklevel=2,
+            )
+        if spreads and max(spreads) > RESONANCE_SPREAD_TOL:
+            worst = int(np.argmax(spreads))
+            k = int(np.searchsorted(self.amplitude, amp[worst]))
+            a0 = self.amplitude[max(k - 1, 0)]
+            a1 = self.amplitude[min(k, len(self) - 1)]
+            warnings.warn(
+                f"at force = {force:.6g} N the resonance at a = {amp[worst]:.4g} "
+                f"(Ω = {omega[worst]:.6g} rad/s) lies where the energy balance "
+                f"bends sharply between the mode's points a = {a0:.4g} and "
+                f"{a1:.4g} (a change of the contacts' stick/slip state near it, "
+                "or points too sparse for the bend): "
+                f"the interpolated amplitude may be off by up to {spreads[worst]:.1%} "
+                "(the whole interval at a kink of the balance); "
+                "give hf.nonlinear_mode more points there (or a narrower "
+                "amplitude range), or check it with hf.frf",
+                AccuracyWarning,
                 stacklevel=2,
             )
         if shares and max(shares) > HIGHER_SHARE_TOL:
@@ -658,6 +691,59 @@ class NonlinearMode:
             ):
                 writer.writerow([repr(float(v)) for v in row] + [int(piece[i])])
         return path
+
+
+def _crossing_spread(g: np.ndarray, i: int, width: float, piece: slice) -> float:
+    """Estimated error of the chord's zero of the balance ``g`` between
+    points ``i`` and ``i + 1``, in ``log a`` (about the relative error of
+    the amplitude).
+
+    Where the change of ``g`` over a neighbouring interval (``i − 1, i`` or
+    ``i + 1, i + 2``) differs from its change over the crossing interval by
+    more than a factor :data:`KINK_RATIO` (or in sign), the balance has a
+    kink about the interval (a contact starting to slip: no friction loss
+    below, a steep rise above) and the zero can lie anywhere in it: the
+    whole ``width`` is returned. (A kink in a neighbouring interval counts
+    too: four points cannot tell where it is.) Else the balance is taken as
+    smooth and the chord's error as twice that of a parabola,
+    ``u (1 − u) width · max|Δ²g| / |Δg|`` (``u`` the chord's zero within
+    the interval, ``Δ²g`` the second differences about it). 0 when the
+    piece has no neighbouring interval.
+
+    Parameters
+    ----------
+    g : ndarray, shape (n_points,)
+        The balance (needed minus applied force), N, on the mode's
+        log-spaced amplitudes.
+    i : int
+        The crossing interval.
+    width : float
+        ``log a[i + 1] − log a[i]``.
+    piece : slice
+        The points of the piece that holds the interval.
+
+    Returns
+    -------
+    float
+    """
+    change = g[i + 1] - g[i]
+    if not abs(change) > 0.0:
+        return 0.0
+    sides = [
+        g[j + 1] - g[j]
+        for j in (i - 1, i + 1)
+        if j >= piece.start and j + 1 < piece.stop and np.isfinite(g[j])
+    ]
+    sides = [d for d in sides if np.isfinite(d)]
+    if not sides:
+        return 0.0
+    for d in sides:
+        ratio = d / change
+        if not 1.0 / KINK_RATIO <= ratio <= KINK_RATIO:
+            return float(width)
+    u = g[i] / (g[i] - g[i + 1])
+    bend = max(abs(d - change) for d in sides)
+    return float(min(width, u * (1.0 - u) * width * bend / abs(change)))
 
 
 def _stuck_stiffness(problem: HBMProblem) -> np.ndarray:

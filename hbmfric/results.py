@@ -123,7 +123,8 @@ class PeriodicSolution:
             :func:`~hbmfric.periodic_solution` or the branch recorded.
         method : {"auto", "hill", "monodromy"}
             As in :meth:`Branch.stability` (``"auto"``: the time-domain
-            monodromy for a contact with memory on several DOFs).
+            monodromy for a contact with memory on several DOFs and for a
+            modified Dahl contact on one DOF).
 
         Returns
         -------
@@ -585,10 +586,12 @@ class Branch:
         method : {"auto", "hill", "monodromy"}
             ``"auto"``: Hill's method, except for a contact with memory
             (Jenkins, Dahl) on several DOFs, where Hill's linearisation of
-            the hysteretic law misreads slipping points (the paper beam)
-            and the time-domain monodromy is used (with ``exponents="auto"``
-            at a few points: Jenkins structures are stable by proof, others
-            are scheduled on Hill's signs and verdicts;
+            the hysteretic law misreads slipping points (the paper beam),
+            and for a modified Dahl contact on one DOF (Hill left out its
+            memory, docs/laws.md): the time-domain monodromy is used
+            (with ``exponents="auto"`` at a few points: Jenkins structures
+            are stable by proof, others are scheduled on Hill's signs and
+            verdicts; a Dahl contact at every point;
             :func:`hbmfric.stability.stability_of_points`).
 
         Returns

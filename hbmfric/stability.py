@@ -1281,16 +1281,18 @@ def stability_of_points(
         (:func:`hbmfric.validation.monodromy`: central differences of its
         period map, 2048 steps per period), exponents ``log(μ)/T``;
         contacts with a finite state only (Jenkins, modified Dahl, Cubic).
-        ``"auto"``: the monodromy for a contact with memory on a system
-        of several DOFs, else Hill. Why: Hill's linearisation of a
-        hysteretic law is exact only where an exponent crosses zero, and on
-        the paper beam (Jenkins tip, 39 DOFs) it reads every slipping point
-        unstable (|μ| 2.5-7.3) where the time-domain monodromy finds
-        0.69-0.94 and time integration settles on the solution
-        (``tests/test_stability_hysteretic.py``). On one DOF its verdicts
-        agree with the monodromy's (checked on Jenkins branches). Where the
-        monodromy cannot be formed (Menq, Iwan, the 2D element on several
-        DOFs) Hill is used with an :class:`~hbmfric.AccuracyWarning`.
+        ``"auto"``: the monodromy for a contact with memory on a system of
+        several DOFs and for a modified Dahl contact on one DOF (at every
+        point, :func:`_automatic_method`), else Hill. Why: Hill's linearisation
+        of a hysteretic law is exact only where an exponent crosses zero, and
+        on the paper beam (Jenkins tip, 39 DOFs) it reads every slipping point
+        unstable (|μ| 2.5-7.3) where the time-domain monodromy finds 0.69-0.94
+        and time integration settles on the solution
+        (``tests/test_stability_hysteretic.py``). On one DOF its verdicts agree
+        with the monodromy's on Jenkins branches (not on the modified Dahl
+        law's, ``tests/test_dahl_stability.py``). Where the monodromy cannot be
+        formed (Menq, Iwan, the 2D element on several DOFs) Hill is used with
+        an :class:`~hbmfric.AccuracyWarning`.
 
     Returns
     -------
@@ -1330,7 +1332,10 @@ def stability_of_points(
             point_harmonics,
             subharmonic,
             exponents=exponents,
-            flips=flips,
+            # Hill's flips leave out the memory of a Dahl law (its verdicts
+            # can be wrong, _automatic_method): no schedule on them, the
+            # monodromy at every point
+            flips=None if _has_dahl(system) else flips,
         )
     start = time.perf_counter()
     n_points = omega.size
@@ -1454,22 +1459,55 @@ def stability_of_points(
     )
 
 
+def _has_dahl(system) -> bool:
+    """Whether a contact of ``system`` is a modified Dahl law."""
+    from .kernels.laws.updates import DAHL
+    from .systems.protocol import check_system
+
+    return any(c[0].code == DAHL for c in check_system(system).contacts)
+
+
 def _automatic_method(system, n_dof: int) -> str:
-    """``"monodromy"`` for contacts with memory on several DOFs when the
-    time-domain monodromy can be formed, else ``"hill"`` (with an
+    """``"monodromy"`` for contacts with memory on several DOFs, and for a
+    modified Dahl law on any number of DOFs, when the time-domain
+    monodromy can be formed, else ``"hill"`` (with an
     :class:`~hbmfric.AccuracyWarning` when Hill's verdicts are then
-    approximate)."""
+    approximate).
+
+    Hill's ``λ``-independent ``∂F/∂X`` leaves out the memory of the law.
+    For Jenkins on one DOF its verdicts are those of the monodromy (by
+    proof where the branch is symmetric, ``docs/stability.md``); for the
+    modified Dahl law they were not (stop 33, m 1, c 0.01, k 1): with
+    ``ModifiedDahl(beta=1, upper=(5, 1), lower=(5, -1))``, whose loops give
+    energy, Hill called the 30 points of F = 0.5 above 3.9 rad/s stable
+    where the monodromy reads 1.08-1.14 and time integration from the orbit
+    leaves it 100-4000-fold; with the dissipating ``ModifiedDahl(beta=1,
+    exponent=2, upper=(4, 2.2), lower=(1, -1))`` Hill called F = 2,
+    4.6 rad/s stable (|μ| 0.993) where the monodromy reads 1.10 and time
+    integration from the orbit grows 7.7-fold in 1000 periods."""
     from .kernels.laws.updates import CUBIC, DAHL, JENKINS
     from .systems.protocol import check_system
 
-    if n_dof <= 1:
-        return "hill"
     contacts = check_system(system).contacts
+    dahl = any(c[0].code == DAHL for c in contacts)
+    if n_dof <= 1 and not dahl:
+        return "hill"
     memory = [c for c in contacts if c[3] >= 0 or c[0].code != CUBIC]
     if not memory:
         return "hill"
     if all(c[3] < 0 and c[0].code in (JENKINS, DAHL, CUBIC) for c in contacts):
         return "monodromy"
+    if dahl:
+        warnings.warn(
+            "Hill's stability with a modified Dahl law leaves out the law's "
+            "memory and can call an unstable orbit stable, and the time-domain "
+            "monodromy cannot be formed for this system (a law between two "
+            "DOFs, or beside Menq, Iwan, roughness or a 2D element); check a "
+            "verdict by time integration (hf.validation.steady_state)",
+            AccuracyWarning,
+            stacklevel=4,
+        )
+        return "hill"
     warnings.warn(
         "Hill's stability of a hysteretic contact (Menq, Iwan, roughness over "
         "them, the 2D element) on several DOFs is approximate: its linearisation "
@@ -1705,21 +1743,33 @@ def _monodromy_stability(
     start = time.perf_counter()
     n = omega.size
     rows: dict[int, np.ndarray] = {}
+    doubts: dict[int, str] = {}
 
     def solve(where) -> None:
         for i in (int(j) for j in where):
             if i not in rows:
-                rows[i] = np.asarray(
-                    monodromy_multipliers(
-                        system,
-                        force,
-                        harmonic_numbers,
-                        coefficients[i],
-                        float(omega[i]),
-                        subharmonic,
-                    ),
-                    dtype=complex,
-                )
+                # the monodromy's doubts about its start, gathered: one
+                # warning per call, not one per point
+                with warnings.catch_warnings(record=True) as caught:
+                    warnings.simplefilter("always", AccuracyWarning)
+                    rows[i] = np.asarray(
+                        monodromy_multipliers(
+                            system,
+                            force,
+                            harmonic_numbers,
+                            coefficients[i],
+                            float(omega[i]),
+                            subharmonic,
+                        ),
+                        dtype=complex,
+                    )
+                for w in caught:
+                    if issubclass(w.category, AccuracyWarning):
+                        doubts.setdefault(i, str(w.message))
+                    else:
+                        warnings.warn_explicit(
+                            w.message, w.category, w.filename, w.lineno
+                        )
 
     def stable_at(where) -> np.ndarray:
         solve(where)
@@ -1753,8 +1803,25 @@ def _monodromy_stability(
         computed = np.ones(n, dtype=bool)
         stable = stable_at(np.arange(n))
 
+    reported: set[int] = set()
+
+    def report() -> None:
+        fresh = sorted(set(doubts) - reported)
+        if not fresh:
+            return
+        reported.update(fresh)
+        w = omega[fresh]
+        warnings.warn(
+            f"the monodromy doubted its start at {len(fresh)} of the {n} points "
+            f"({w.min():g}-{w.max():g} rad/s); at {w[0]:g} rad/s: "
+            f"{doubts[fresh[0]]}",
+            AccuracyWarning,
+            stacklevel=5,
+        )
+
     def exponents_of(where: np.ndarray):
         solve(where)
+        report()
         mu = np.array([rows[int(i)] for i in where], dtype=complex)
         mu = mu.reshape(where.size, -1)
         w = omega[where]
@@ -1772,6 +1839,7 @@ def _monodromy_stability(
             np.take_along_axis(mu, order, axis=1),
         )
 
+    report()
     done = np.flatnonzero(computed)
     width = rows[int(done[0])].size if done.size else 0
     lam = np.full((n, width), np.nan + 0j)

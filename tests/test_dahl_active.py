@@ -26,6 +26,10 @@ LAWS = [
     (2.0, 1.0, (0.0, 1.0), (0.0, -1.0)),  # flat envelopes: passive
     (1.0, 2.0, (4.0, 1.0), (4.0, -1.0)),  # mu = 2, equal slopes: active
     (4.0, 2.0, (1.0, 1.5), (1.0, -1.5)),  # mu = 2, equal slopes: passive
+    (1.0, 2.0, (4.0, 1.0), (1.0, -1.0)),  # mu = 2, unequal slopes: active, 2 < 3
+    (1.0, 2.0, (4.0, 2.2), (1.0, -1.0)),  # mu = 2, unequal slopes: passive, 3.2 > 3
+    (2.0, 1.5, (3.0, 1.0), (0.5, 0.2)),  # mu = 1.5, unequal: active, 0.8 < 1.71
+    (2.0, 1.5, (3.0, 2.0), (0.5, 0.2)),  # mu = 1.5, unequal: passive, 1.8 > 1.71
 ]
 
 

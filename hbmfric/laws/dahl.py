@@ -83,10 +83,11 @@ class ModifiedDahl(ContactLaw):
                 f"ModifiedDahl(beta={self.beta}, exponent={self.exponent}, "
                 f"upper={upper}, lower={lower}): {reason}, so the law gives "
                 "energy instead of dissipating it. Its steady responses can "
-                "be computed, but Hill's stability verdicts (Branch.stability) "
-                "leave out the law's memory and can call an unstable orbit "
-                "stable; check them with method='monodromy' or time "
-                "integration (docs/laws.md)",
+                "be computed; Branch.stability() decides their stability by "
+                "the time-domain monodromy (Hill's verdicts leave out the "
+                "law's memory and can call an unstable orbit stable), and "
+                "where the monodromy cannot be formed (the law between two "
+                "DOFs) check them by time integration (docs/laws.md)",
                 AccuracyWarning,
                 stacklevel=3,
             )
@@ -98,14 +99,19 @@ class ModifiedDahl(ContactLaw):
         ``μ = 1``: the energy per cycle of a loop ``u = X cos θ`` is
         ``2 (b − e − (a + d)/β)(X − tanh(βX)/β)``
         (:meth:`energy_per_cycle`), of the sign of ``b − e − (a + d)/β`` at
-        every amplitude. ``μ > 1`` with equal slopes ``a = d ≥ 0``: large
+        every amplitude. ``μ > 1`` with slopes ``a, d ≥ 0``: large
         loops follow the asymptotes ``h_u − (a/β)^(1/μ)`` and
-        ``h_l + (a/β)^(1/μ)``, which cross the wrong way when
-        ``b − e ≤ 2 (a/β)^(1/μ)``. Other laws are not checked. Stop 32: the
-        law ``β = 1``, ``(5, 1)``, ``(5, −1)`` on one DOF was called stable
-        above 4.27 rad/s where the monodromy reads multipliers 1.08-1.14
-        and time integration from the orbit grows to 140-197 times its
-        amplitude.
+        ``h_l + (d/β)^(1/μ)`` (where ``df/du`` equals the envelope's
+        slope), so their energy per cycle tends to
+        ``2 X (b − e − (a/β)^(1/μ) − (d/β)^(1/μ))``: negative for large
+        ``X`` when ``b − e ≤ (a/β)^(1/μ) + (d/β)^(1/μ)`` (small loops may
+        still dissipate). Negative slopes at ``μ > 1`` are not checked.
+        Stop 32: the law ``β = 1``, ``(5, 1)``, ``(5, −1)`` on one DOF was
+        called stable above 4.27 rad/s where the monodromy reads
+        multipliers 1.08-1.14 and time integration from the orbit grows to
+        140-197 times its amplitude; the stability of such laws is now
+        decided by the monodromy
+        (:func:`hbmfric.stability.stability_of_points`).
         """
         a, b = self.upper
         d, e = self.lower
@@ -117,12 +123,14 @@ class ModifiedDahl(ContactLaw):
                     "has a negative energy per cycle"
                 )
             return None
-        if a == d and a >= 0.0:
-            limit = 2.0 * (a / self.beta) ** (1.0 / self.exponent)
+        if a >= 0.0 and d >= 0.0:
+            root = 1.0 / self.exponent
+            limit = (a / self.beta) ** root + (d / self.beta) ** root
             if b - e <= limit:
                 return (
-                    f"b - e = {b - e:g} <= 2 (a/beta)^(1/exponent) = {limit:g}: "
-                    "large loops have a negative energy per cycle"
+                    f"b - e = {b - e:g} <= (a/beta)^(1/exponent) + "
+                    f"(d/beta)^(1/exponent) = {limit:g}: large loops have a "
+                    "negative energy per cycle"
                 )
         return None
 
