@@ -19,7 +19,7 @@ from hbmfric.condensation import CondensedHBMProblem, solver_arrays
 from hbmfric.continuation.accuracy import truncation_errors
 from hbmfric.kernels.linalg import blocks, krylov
 from hbmfric.kernels.linalg.products import symmetric_matmul
-from hbmfric.kernels.residuals.condensed import _invert
+from hbmfric.kernels.residuals.condensed import _invert, _rounding_level
 
 HZ = 2.0 * math.pi
 
@@ -331,6 +331,29 @@ def test_inverse_of_a_permutation_and_loud_failures():
     G = base.copy()
     G[7, :] = G[2, :]
     assert not _invert(G, D, work)
+
+
+@pytest.mark.parametrize("size", [1.0, 1e-7, 1e200, 1e-170])
+def test_rounding_level_matches_numpy(size):
+    """The residual's rounding level ``eps max(‖G‖∞, g_scale) ‖D‖∞ max_a
+    Σ_b |D_ab| |e_b|`` against NumPy's moduli, at receptance size and at
+    sizes whose squares overflow (1e200 in ``G``; 1e-170 in ``G``, 1e170
+    in ``D``), where the kernel takes the moduli again by ``hypot``; with
+    ``g_scale`` below and above ``‖G‖∞``."""
+    rng = np.random.default_rng(11)
+    m = 12
+    G = size * (rng.standard_normal((m, m)) + 1j * rng.standard_normal((m, m)))
+    D = np.linalg.inv(G)
+    e = size * (rng.standard_normal(m) + 1j * rng.standard_normal(m))
+    g_norm = np.abs(G).sum(axis=1).max()
+    d_norm = np.abs(D).sum(axis=1).max()
+    worst = (np.abs(D) @ np.abs(e)).max()
+    eps = np.finfo(float).eps
+    for g_scale in (0.0, 3.0 * g_norm):
+        ref = eps * max(g_norm, g_scale) * d_norm * worst
+        level = _rounding_level(G, D, e, g_scale)
+        assert np.isfinite(level)
+        assert abs(level - ref) <= 1e-13 * ref
 
 
 @pytest.fixture(scope="module")
