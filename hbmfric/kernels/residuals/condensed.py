@@ -1026,59 +1026,85 @@ def _state_derivative(problem, r_lin, c, dc, rho, out, tmp):
 @jit
 def _invert(G, D, A):
     """``D = G⁻¹`` (complex, shape (m, m)) by Gauss-Jordan elimination
-    with partial pivoting; ``A`` is work of the same shape. False if a
-    pivot is zero or not finite.
+    in place with partial pivoting; ``A`` (complex, C-contiguous, shape
+    (m, m)) is work. False if a pivot is zero or not finite.
 
-    Only what can be nonzero is updated: the columns of ``A`` right of the
-    pivot (those left of it are eliminated and never read again), and the
-    columns of ``D`` where the rows pivoted so far had their unit entry
-    (the rest of each row of ``D`` is still zero): half the work of the
-    full updates, the same ``D`` (the skipped terms are exact zeros)."""
+    The elimination runs on the real and imaginary parts in separate
+    float64 rows (``A`` viewed as float64 of shape (m, 2m): row ``i``
+    holds the real parts of the eliminated row in its first ``m`` entries,
+    the imaginary parts in the last ``m``), with the scaled pivot row
+    copied apart, so that each row's update is one contiguous loop of
+    real products that the compiler vectorises (about 3 times faster at
+    order 84 than the loop on complex entries). In place: the column of
+    each pivot receives the inverse's column (``-f/p``), the rows swapped
+    for the pivots are undone as column swaps at the end. The pivot is the
+    entry of largest ``|Re| + |Im|`` (as BLAS's ``izamax``)."""
     m = G.shape[0]
+    V = A.view(np.float64)
     big_all = 0.0
     for i in range(m):
         for j in range(m):
-            A[i, j] = G[i, j]
-            D[i, j] = 1.0 if i == j else 0.0
-            a = abs(G[i, j])
+            g = G[i, j]
+            V[i, j] = g.real
+            V[i, m + j] = g.imag
+            a = abs(g.real) + abs(g.imag)
             if not a <= big_all:
                 big_all = a
     if not np.isfinite(big_all):
         return False
     tiny = 1e-300 + big_all * 1e-15
-    # origin[i]: the column of the unit entry row i of D started with
-    origin = np.arange(m)
+    piv = np.empty(m, dtype=np.int64)
+    row_re = np.empty(m)
+    row_im = np.empty(m)
     for k in range(m):
         p = k
-        big = abs(A[k, k])
+        big = abs(V[k, k]) + abs(V[k, m + k])
         for i in range(k + 1, m):
-            a = abs(A[i, k])
+            a = abs(V[i, k]) + abs(V[i, m + k])
             if a > big:
                 big = a
                 p = i
         if not big > tiny:
             return False
+        piv[k] = p
         if p != k:
-            for j in range(m):
-                A[k, j], A[p, j] = A[p, j], A[k, j]
-                D[k, j], D[p, j] = D[p, j], D[k, j]
-            origin[k], origin[p] = origin[p], origin[k]
-        inv = 1.0 / A[k, k]
-        for j in range(k + 1, m):
-            A[k, j] *= inv
-        # row k of D is nonzero in the columns origin[0..k] only
-        for t in range(k + 1):
-            D[k, origin[t]] *= inv
+            for j in range(2 * m):
+                V[k, j], V[p, j] = V[p, j], V[k, j]
+        inv = 1.0 / complex(V[k, k], V[k, m + k])
+        inv_re = inv.real
+        inv_im = inv.imag
+        V[k, k] = 1.0
+        V[k, m + k] = 0.0
+        for j in range(m):
+            a = V[k, j]
+            b = V[k, m + j]
+            row_re[j] = a * inv_re - b * inv_im
+            row_im[j] = a * inv_im + b * inv_re
+        for j in range(m):
+            V[k, j] = row_re[j]
+            V[k, m + j] = row_im[j]
         for i in range(m):
             if i == k:
                 continue
-            f = A[i, k]
-            if f != 0.0:
-                for j in range(k + 1, m):
-                    A[i, j] -= f * A[k, j]
-                for t in range(k + 1):
-                    j = origin[t]
-                    D[i, j] -= f * D[k, j]
+            f_re = V[i, k]
+            f_im = V[i, m + k]
+            if f_re == 0.0 and f_im == 0.0:
+                continue
+            V[i, k] = 0.0
+            V[i, m + k] = 0.0
+            for j in range(m):
+                a = row_re[j]
+                b = row_im[j]
+                V[i, j] -= f_re * a - f_im * b
+                V[i, m + j] -= f_re * b + f_im * a
+    for i in range(m):
+        for j in range(m):
+            D[i, j] = complex(V[i, j], V[i, m + j])
+    for k in range(m - 1, -1, -1):
+        p = piv[k]
+        if p != k:
+            for i in range(m):
+                D[i, k], D[i, p] = D[i, p], D[i, k]
     return True
 
 
@@ -1263,7 +1289,15 @@ def _rounding_level(G, D, e, g_scale=0.0):
     joint, ``hf.lap_joint(10)``: κ ≈ 1.7e4, jitter 2e-10 to 1e-9 N against
     the tolerance 7e-11 N of Fex = 0.72 N; the level is 1 to 30 times the
     jitter measured there). Below it the corrector cannot reduce ``max |R|``
-    and the continuation's steps collapsed (issue 15)."""
+    and the continuation's steps collapsed (issue 15).
+
+    The moduli are ``sqrt(re² + im²)``, which vectorises (``abs`` of a
+    complex is ``hypot``: 6 times slower at order 84); should a square
+    overflow (entries beyond 1e154: then the level is not finite), the
+    level is taken again with ``hypot`` (:func:`_rounding_level_hypot`).
+    A square that underflows (an entry below 1e-154) leaves out of its
+    row's sum an entry below 1e-154 of the matrix's largest (else the
+    inverse overflows, caught as above)."""
     m = G.shape[0]
     g_norm = 0.0
     d_norm = 0.0
@@ -1271,6 +1305,34 @@ def _rounding_level(G, D, e, g_scale=0.0):
     e_abs = np.empty(m)
     for b in range(m):
         e_abs[b] = abs(e[b])
+    for a in range(m):
+        sg = 0.0
+        sd = 0.0
+        se = 0.0
+        for b in range(m):
+            g = G[a, b]
+            d = D[a, b]
+            sg += np.sqrt(g.real * g.real + g.imag * g.imag)
+            d_abs = np.sqrt(d.real * d.real + d.imag * d.imag)
+            sd += d_abs
+            se += d_abs * e_abs[b]
+        g_norm = max(g_norm, sg, g_scale)
+        d_norm = max(d_norm, sd)
+        worst = max(worst, se)
+    level = 2.220446049250313e-16 * g_norm * d_norm * worst
+    if np.isfinite(level):
+        return level
+    return _rounding_level_hypot(G, D, e_abs, g_scale)
+
+
+@jit
+def _rounding_level_hypot(G, D, e_abs, g_scale):
+    """:func:`_rounding_level` with the moduli by ``hypot`` (no overflow
+    of the squares), ``e_abs`` the moduli of ``e``."""
+    m = G.shape[0]
+    g_norm = 0.0
+    d_norm = 0.0
+    worst = 0.0
     for a in range(m):
         sg = 0.0
         sd = 0.0
