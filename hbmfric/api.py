@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from . import _memory
 from ._validate import finite_float
 from .continuation import AdaptiveContinuation, Continuation, ContinuationOptions
 from .continuation.accuracy import watched_truncation_errors
@@ -438,6 +439,7 @@ def _frf_fixed(
         "harmonic_tolerance", tolerance, low=0.0, low_open=True, high=1.0
     )
     lo, hi = omega_range
+    _memory.check_fixed(problem, "frf")
     extra = {"omega_range": [lo, hi], "harmonic_tolerance": tolerance}
     if problem.subharmonic != 1:
         extra["subharmonic"] = problem.subharmonic
@@ -597,8 +599,17 @@ def _warn_truncation(branch: Branch, tolerance: float) -> None:
         return
     worst = int(np.argmax(errors))
     n_over = int(np.count_nonzero(errors > tolerance))
+    limit = branch.info.get("memory_limit")
     if branch.point_harmonics is None:
         advice = "use harmonics='auto'"
+    elif limit is not None and branch.harmonics_at(worst) >= limit["harmonics"]:
+        advice = (
+            f"the harmonic ladder stopped at H={limit['harmonics']}: the next "
+            f"level's dense matrices need about "
+            f"{_memory.gigabytes(limit['next_level_bytes'])} in all, more than "
+            "this machine has available; condense onto the contacts or reduce "
+            "the model (hf.craig_bampton) to go higher"
+        )
     elif branch.harmonics_at(worst) >= LADDER[-1]:
         advice = (
             f"the top of the harmonic ladder (H={LADDER[-1]}) cannot meet it "
@@ -846,6 +857,9 @@ def _frf_auto(
     )
     _plan_band(base, omega_range[1])
     problems = {LADDER[START]: base}
+    # the rungs whose dense matrices fit in memory (a large model solved in
+    # full: the ladder stops below what does not fit, said in the warnings)
+    ladder, memory_next = _memory.fitting_ladder(base, LADDER, START)
 
     def make_problem(h: int) -> HBMProblem:
         if h not in problems:
@@ -855,7 +869,13 @@ def _frf_auto(
     def trace(sweep: str) -> Branch:
         direction = 1 if sweep == "up" else -1
         cont = AdaptiveContinuation(
-            make_problem, omega_range, direction, options, amplitude_scale, tolerance
+            make_problem,
+            omega_range,
+            direction,
+            options,
+            amplitude_scale,
+            tolerance,
+            ladder=ladder,
         )
         state, points, levels, elapsed = cont.run()
         # a point solved again one rung higher takes that level's tangent
@@ -881,6 +901,11 @@ def _frf_auto(
         return branch
 
     branch = _covering(trace, sweep, retrace)
+    if memory_next is not None:
+        branch.info["memory_limit"] = {
+            "harmonics": int(ladder[-1]),
+            "next_level_bytes": float(memory_next),
+        }
     _warn_truncation(branch, tolerance)
     _warn_curve(branch, options.curve_tolerance)
     return branch

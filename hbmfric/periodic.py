@@ -35,6 +35,7 @@ import warnings
 
 import numpy as np
 
+from . import _memory
 from ._validate import finite_float
 from .continuation import Continuation, ContinuationOptions
 from .continuation.adaptive import LADDER, START
@@ -222,6 +223,8 @@ def periodic_solution(
         at=(omega, 0.5 * omega, 1.5 * omega),
         top=LADDER[-1] if auto else None,
     )
+    if not auto:
+        _memory.check_fixed(problem, "periodic_solution")
     if not np.any(problem.load):
         # unforced and damped: the steady state is rest, displaced where a
         # contact carries a force at rest (an unsymmetric Dahl law's
@@ -258,8 +261,9 @@ def periodic_solution(
     solver = _FixedOmega(problem, omega, options)
     y, method = solver.solve(guess, branch_side)
     if auto and y is not None:
+        ladder, needed = _memory.fitting_ladder(problem, LADDER, START)
         y, problem, solver = _climb(
-            system, problem, omega, options, y, solver, harmonic_tolerance
+            system, problem, omega, options, y, solver, harmonic_tolerance, ladder
         )
     converged = y is not None
     if not converged:
@@ -558,9 +562,10 @@ class _FixedOmega:
         return None
 
 
-def _climb(system, problem, omega, options, y, solver, tolerance):
-    """``harmonics="auto"``: up the ladder from the converged ``y`` of
-    ``problem`` until the amplitudes at the contact DOF settle.
+def _climb(system, problem, omega, options, y, solver, tolerance, ladder=LADDER):
+    """``harmonics="auto"``: up ``ladder`` from the converged ``y`` of
+    ``problem`` until the amplitudes at the contact DOF settle (``ladder``:
+    the rungs that fit in memory, :func:`hbmfric._memory.fitting_ladder`).
 
     Returns the finest converged ``(y, problem, solver)``; the solvers'
     iteration counts add up in the returned one.
@@ -588,8 +593,8 @@ def _climb(system, problem, omega, options, y, solver, tolerance):
 
     here = measures(problem, y)
     changes: list[float] = []
-    level = LADDER.index(problem.harmonics)
-    for h in LADDER[level + 1 :]:
+    level = ladder.index(problem.harmonics)
+    for h in ladder[level + 1 :]:
         finer = problem.with_harmonics(h)
         nxt = _FixedOmega(finer, omega, options)
         nxt.iterations = solver.iterations
@@ -617,11 +622,28 @@ def _climb(system, problem, omega, options, y, solver, tolerance):
         # (a single small change can be a crossing of the limit)
         if len(changes) >= 2 and SETTLE_FACTOR * max(changes[-2:]) <= tolerance:
             return y, problem, solver
+    if len(changes) < 2:
+        stopped = (
+            f"the change to H = {ladder[-1]} is {changes[-1]:.2e}"
+            if changes
+            else (f"no level above H = {ladder[-1]}")
+        )
+    else:
+        stopped = (
+            f"the amplitudes still change by {max(changes[-2:]):.2e} (relative) "
+            f"between H = {ladder[-3]}, {ladder[-2]} and {ladder[-1]}"
+        )
+    memory = ""
+    if len(ladder) < len(LADDER):
+        memory = (
+            f"; the ladder stopped at H = {ladder[-1]}: higher levels' dense "
+            "matrices need more memory than this machine has available "
+            "(condense onto the contacts or reduce the model to go higher)"
+        )
     warnings.warn(
-        f"periodic_solution(harmonics='auto'): the amplitudes still change by "
-        f"{max(changes[-2:]):.2e} (relative) between H = {LADDER[-3]}, "
-        f"{LADDER[-2]} and {LADDER[-1]} at omega = {omega:.6g} rad/s, above "
-        f"harmonic_tolerance / {SETTLE_FACTOR:g} = {tolerance / SETTLE_FACTOR:.2e}",
+        f"periodic_solution(harmonics='auto'): {stopped} at omega = {omega:.6g} "
+        f"rad/s, above harmonic_tolerance / {SETTLE_FACTOR:g} = "
+        f"{tolerance / SETTLE_FACTOR:.2e}{memory}",
         AccuracyWarning,
         stacklevel=3,
     )
