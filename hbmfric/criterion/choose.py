@@ -409,6 +409,17 @@ def choose_contact_model(
       the chance that Gaussian noise alone reaches it somewhere equals the
       chance of one point passing 3 (3.6 for 10 stretches, 3.8 for 20).
 
+    **Sparse samples.** The chords between a record's samples cut its
+    resonance peak by an amount the noise estimate does not see
+    (:func:`hbmfric.criterion.smoothing.interpolation_error`: the change
+    when every other sample is left out). It is a bound, not noise: each
+    distance above is first shrunk by it (step 1: the RMS of the pair's
+    summed errors, ``indicators["ratio_spread_chord_error"]``; stuck /
+    mostly stuck and the envelope test: counted against the claim,
+    pointwise), and an "undecided" it causes says to measure more
+    frequencies near the peaks. Before stop 34, curves at 15-40 uneven
+    frequencies each read the other law or roughness in 70 of 432 draws.
+
     The noise model is Gaussian in log amplitude. The magnitude of a noisy
     measurement is not: where the noise is a sizeable fraction of the
     signal its logarithm has a heavy lower tail (samples near zero). Such
