@@ -205,6 +205,13 @@ def test_macroslip_families(families, scene, rough):
     assert res.indicators["envelope_excess"] < 0.04
     for seed in (1, 2, 3):
         noisy = choose_contact_model(perturb(fam, seed))
+        if scene == "other" and noisy.model == "undecided":
+            # 1 % damping: 150 random frequencies straddle the peaks (half
+            # width 1.2 rad/s, mean spacing 1.06); the chords of the clean
+            # samples lie up to 81 % of a curve's peak off it (median 8.7 %,
+            # against a 10 % threshold), an error counted since stop 34
+            assert "chords" in noisy.explanation, noisy.explanation
+            continue
         assert (noisy.model, noisy.roughness) == ("macroslip", rough), noisy.explanation
 
 
@@ -216,6 +223,10 @@ def test_microslip_families(families, scene, rough):
     assert (res.model, res.roughness) == ("microslip", rough), res.explanation
     for seed in (1, 2, 3):
         noisy = choose_contact_model(perturb(fam, seed))
+        if scene == "other" and noisy.model == "undecided":
+            # the peaks straddled by 150 random frequencies (see above)
+            assert "chords" in noisy.explanation, noisy.explanation
+            continue
         assert (noisy.model, noisy.roughness) == ("microslip", rough), noisy.explanation
 
 
