@@ -4,9 +4,9 @@ receptance) and recovers the response of every DOF afterwards.
 
 One contact to ground is condensed onto its DOF; several contacts (or one
 between two DOFs) onto their contact coordinates ``q = B x``, one per 1D
-contact (its relative displacement, or its DOF against ground). The 2D
-element (:class:`~hbmfric.Contact2D`) is not condensed: a structure with one
-is solved by the full harmonic balance."""
+contact (its relative displacement, or its DOF against ground) and two per
+2D element (:class:`~hbmfric.Contact2D`: its tangential, then its normal
+relative displacement)."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from .hbm import HBMProblem
+from .hbm import HBMProblem, _stuck_stiffnesses
 from .kernels.dlft.coulomb import COULOMB
 from .kernels.linalg.krylov import N_REUSE, REUSE_MODE_BLOCKS, REUSE_MODE_FACTORS
 from .kernels.linalg.krylov import REUSE_BLOCKS_KEEP as REUSE_BLOCKS_KEEP_INDEX
@@ -25,11 +25,13 @@ from .kernels.linalg.krylov import REUSE_MODE as REUSE_MODE_INDEX
 from .kernels.linalg.krylov import REUSE_REFRESH as REUSE_REFRESH_INDEX
 from .kernels.linalg.krylov import REUSE_TOL as REUSE_TOL_INDEX
 from .kernels.linalg.pattern import pattern_size
+from .kernels.aft.contact2d import CONTACT2D
 from .kernels.residuals.condensed import (
     AFT_EVENTS,
     AFT_SAMPLES,
     CONDENSED_FAMILY_TYPES,
     CONDENSED_SINGLE_TYPES,
+    CONTACT2D_NORMAL,
     DIRECT,
     MODAL,
     STATE,
@@ -216,17 +218,18 @@ def can_condense(system) -> bool:
     One contact to ground may have any law, a rigid Coulomb contact
     included (the condensed residual runs the same DLFT scheme as the full
     one). Several contacts, or one between two DOFs, are condensed onto
-    their contact coordinates when every contact is a 1D law (no
-    :class:`~hbmfric.Contact2D` element) and the coordinates are
-    independent (``B`` of full row rank: no two contacts on the same pair
-    of DOFs, no closed loop of contacts).
+    their contact coordinates (one per 1D law, two per
+    :class:`~hbmfric.Contact2D` element) when there are fewer of them than
+    DOFs and they are independent (``B`` of full row rank: no two
+    coordinates on the same pair of DOFs, no closed loop of contacts).
     """
     if system.contact is None or int(system.n_dof) < 2:
         return False
     n_dof = int(system.n_dof)
     contacts = check_contacts(system, n_dof)
     if not _single(contacts) and (
-        len(contacts) >= n_dof or _coordinate_problem(contacts, n_dof) is not None
+        len(coordinate_rows(contacts)) >= n_dof
+        or _coordinate_problem(contacts, n_dof) is not None
     ):
         return False
     matrices = system.matrices()
@@ -263,12 +266,44 @@ def _single(contacts) -> bool:
     return len(contacts) == 1 and max(contacts[0][2:]) < 0
 
 
+def coordinate_rows(contacts) -> list[tuple[int, int, int, int]]:
+    """The contact coordinates of ``contacts`` (``(law, a, b, a_n, b_n)``
+    tuples), in order: ``(contact, direction, i, j)`` per coordinate
+    ``q = x_i - x_j`` (``j = -1``: against ground), ``direction`` 0 for a
+    1D law and for a 2D element's tangential coordinate, 1 for its normal
+    one (the coordinate right after its tangential one)."""
+    rows = []
+    for c, (law, a, b, a_n, b_n) in enumerate(contacts):
+        rows.append((c, 0, a, b))
+        if isinstance(law, Contact2D):
+            rows.append((c, 1, a_n, b_n))
+    return rows
+
+
+def coordinate_arrays(contacts) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The kernel arrays of the contact coordinates (:func:`coordinate_rows`):
+    ``(i, j)`` pairs (int64, shape (n_c, 2)), law codes (int64, shape
+    (n_c,); a 2D element's normal coordinate ``CONTACT2D_NORMAL``, its
+    tangential one ``CONTACT2D``) and parameters per coordinate (shape
+    (n_c, n_params), rows padded; a 2D element's on both its rows)."""
+    _, codes, law_rows = contact_arrays(contacts)
+    rows = coordinate_rows(contacts)
+    pairs = np.array([(i, j) for _, _, i, j in rows], dtype=np.int64).reshape(-1, 2)
+    out_codes = np.array(
+        [CONTACT2D_NORMAL if d == 1 else int(codes[c]) for c, d, _, _ in rows],
+        dtype=np.int64,
+    )
+    out_rows = np.ascontiguousarray(law_rows[[c for c, *_ in rows]])
+    return np.ascontiguousarray(pairs), out_codes, out_rows
+
+
 def selection_matrix(contacts, n_dof: int) -> np.ndarray:
-    """``B`` of the contact coordinates ``q = B x``, shape (n_c, n_dof):
-    row ``a`` has +1 at the DOF of contact ``a`` and -1 at its other DOF
-    (none for a contact to ground)."""
-    B = np.zeros((len(contacts), n_dof))
-    for a, (_, i, j, *_) in enumerate(contacts):
+    """``B`` of the contact coordinates ``q = B x`` (:func:`coordinate_rows`),
+    shape (n_c, n_dof): row ``a`` has +1 at the DOF of coordinate ``a``
+    and -1 at its other DOF (none against ground)."""
+    rows = coordinate_rows(contacts)
+    B = np.zeros((len(rows), n_dof))
+    for a, (_, _, i, j) in enumerate(rows):
         B[a, i] = 1.0
         if j >= 0:
             B[a, j] = -1.0
@@ -278,20 +313,27 @@ def selection_matrix(contacts, n_dof: int) -> np.ndarray:
 def _coordinate_problem(contacts, n_dof: int) -> str | None:
     """Why ``contacts`` cannot be condensed onto their coordinates, or
     None."""
-    for i, (law, *_) in enumerate(contacts):
+    for i, (law, _a, _b, a_n, _b_n) in enumerate(contacts):
         if isinstance(law, Contact2D):
-            return (
-                f"contacts[{i}] is a 2D element (hf.Contact2D): condensation "
-                "onto 2D elements is not available"
-            )
+            if law.code != CONTACT2D or a_n < 0:
+                return (
+                    f"contacts[{i}] is a 2D element (hf.Contact2D) without its "
+                    "normal DOF: it has no normal contact coordinate"
+                )
+            continue
         if law.code == COULOMB and len(contacts) > 1:
             return "a rigid hf.Coulomb contact is condensed only alone, to ground"
     B = selection_matrix(contacts, n_dof)
-    if np.linalg.matrix_rank(B) < len(contacts):
+    if B.shape[0] >= n_dof:
         return (
-            "the contact coordinates are not independent (two contacts on "
-            "the same pair of DOFs, or a closed loop of contacts): their "
-            "receptance matrix is singular"
+            f"{B.shape[0]} contact coordinates (one per 1D contact, two per 2D "
+            f"element) for {n_dof} DOFs: nothing left to condense"
+        )
+    if np.linalg.matrix_rank(B) < B.shape[0]:
+        return (
+            "the contact coordinates are not independent (two contacts, or "
+            "the two directions of 2D elements, on the same pair of DOFs, or "
+            "a closed loop of contacts): their receptance matrix is singular"
         )
     return None
 
@@ -546,7 +588,14 @@ class CondensedHBMProblem(HBMProblem):
         self._modal = modal if receptance == "modal" else None
         self.shapes = None if self._modal is None else np.ascontiguousarray(modal[1])
         self.structure = system
-        self.n_coordinates = len(self._contacts) if self.multi else 1
+        self.n_coordinates = (
+            len(coordinate_rows(self._contacts)) if self.multi else 1
+        )
+        #: a 2D element among the contacts: its two coordinates are coupled
+        #: in the contact Jacobian, which the corrector's harmonic-block
+        #: preconditioner does not model (it corrects 1D slipping
+        #: coordinates): such a problem factors every iteration
+        self.has_contact2d = any(isinstance(c[0], Contact2D) for c in self._contacts)
         self.selection = selection_matrix(self._contacts, self.n_dof)
         if self.multi:
             self.system = _CoordinateView(system, self.n_coordinates)
@@ -605,8 +654,7 @@ class CondensedHBMProblem(HBMProblem):
         law_code = int(codes[0])
         law_params = np.ascontiguousarray(rows[0])
         if self.multi:
-            pairs, law_codes, law_rows = contact_arrays(self._contacts)
-            pairs = np.ascontiguousarray(pairs[:, :2])
+            pairs, law_codes, law_rows = coordinate_arrays(self._contacts)
         else:
             pairs = np.zeros((0, 2), dtype=np.int64)
             law_codes = np.zeros(0, dtype=np.int64)
@@ -695,7 +743,7 @@ class CondensedHBMProblem(HBMProblem):
             np.zeros(1),
             solver_arrays(
                 self.n_coordinates * self.n_coef,
-                self.multi,
+                self.multi and not self.has_contact2d,
                 self.n_coordinates,
                 self.n_coef,
                 int(hn.size > 0 and hn[0] == 0),
@@ -867,7 +915,12 @@ class CondensedHBMProblem(HBMProblem):
             with np.errstate(divide="ignore", invalid="ignore"):
                 G, x = self.coordinate_receptance(w)
                 if contact == "stuck":
-                    ks = np.array([law.stuck_stiffness for law, *_ in self._contacts])
+                    ks = np.array(
+                        [
+                            _stuck_stiffnesses(self._contacts[c][0])[d]
+                            for c, d, _, _ in coordinate_rows(self._contacts)
+                        ]
+                    )
                     eye = np.eye(self.n_coordinates)
                     A = eye + G * ks[None, None, :]
                     x = np.linalg.solve(A, x[..., None])[..., 0]
