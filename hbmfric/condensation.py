@@ -15,6 +15,7 @@ import math
 import numpy as np
 
 from .hbm import HBMProblem, _stuck_stiffnesses
+from .kernels.aft.contact2d import CONTACT2D
 from .kernels.dlft.coulomb import COULOMB
 from .kernels.linalg.krylov import N_REUSE, REUSE_MODE_BLOCKS, REUSE_MODE_FACTORS
 from .kernels.linalg.krylov import REUSE_BLOCKS_KEEP as REUSE_BLOCKS_KEEP_INDEX
@@ -25,7 +26,6 @@ from .kernels.linalg.krylov import REUSE_MODE as REUSE_MODE_INDEX
 from .kernels.linalg.krylov import REUSE_REFRESH as REUSE_REFRESH_INDEX
 from .kernels.linalg.krylov import REUSE_TOL as REUSE_TOL_INDEX
 from .kernels.linalg.pattern import pattern_size
-from .kernels.aft.contact2d import CONTACT2D
 from .kernels.residuals.condensed import (
     AFT_EVENTS,
     AFT_SAMPLES,
@@ -324,11 +324,6 @@ def _coordinate_problem(contacts, n_dof: int) -> str | None:
         if law.code == COULOMB and len(contacts) > 1:
             return "a rigid hf.Coulomb contact is condensed only alone, to ground"
     B = selection_matrix(contacts, n_dof)
-    if B.shape[0] >= n_dof:
-        return (
-            f"{B.shape[0]} contact coordinates (one per 1D contact, two per 2D "
-            f"element) for {n_dof} DOFs: nothing left to condense"
-        )
     if np.linalg.matrix_rank(B) < B.shape[0]:
         return (
             "the contact coordinates are not independent (two contacts, or "
@@ -588,9 +583,7 @@ class CondensedHBMProblem(HBMProblem):
         self._modal = modal if receptance == "modal" else None
         self.shapes = None if self._modal is None else np.ascontiguousarray(modal[1])
         self.structure = system
-        self.n_coordinates = (
-            len(coordinate_rows(self._contacts)) if self.multi else 1
-        )
+        self.n_coordinates = len(coordinate_rows(self._contacts)) if self.multi else 1
         #: a 2D element among the contacts: its two coordinates are coupled
         #: in the contact Jacobian, which the corrector's harmonic-block
         #: preconditioner does not model (it corrects 1D slipping
@@ -958,7 +951,8 @@ class CondensedHBMProblem(HBMProblem):
         """Contact-force coefficients (N) at condensed solutions ``points``
         (shape (n_points, n_unknowns + 1)), shape (n_points, n_coef);
         several contacts: shape (n_points, n_c, n_coef), the force ``f_a``
-        of each contact (``+f_a`` on its DOF, ``-f_a`` on its other)."""
+        on each contact coordinate (``+f_a`` on its DOF, ``-f_a`` on its
+        other; a 2D element's tangential and normal forces on its two)."""
         points = np.ascontiguousarray(np.atleast_2d(points), dtype=np.float64)
         F = np.empty((points.shape[0], self.n_unknowns))
         condensed_contact_forces(points, self.kernel_problem, F)

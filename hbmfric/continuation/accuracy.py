@@ -237,9 +237,7 @@ def normal_outputs(problem) -> list[np.ndarray]:
         from ..condensation import coordinate_rows
 
         out = []
-        for a, (_c, direction, _i, _j) in enumerate(
-            coordinate_rows(problem._contacts)
-        ):
+        for a, (_c, direction, _i, _j) in enumerate(coordinate_rows(problem._contacts)):
             if direction == 1:
                 w = np.zeros((2, problem.n_coordinates))
                 w[0, a] = 1.0

@@ -74,8 +74,15 @@ direct: one LU of ``Z`` per harmonic, ``Z_c = Z⁻¹ Bᵀ`` (``n_c`` solves),
 ``G = B Z_c``, ``dG/dΩ = -Z_cᵀ Z' Z_c``, ``dp/dΩ = -Z_cᵀ Z' Z⁻¹ P̂``. Every
 contact's force is the AFT of its law on its own coordinate (the dispatch
 of the full residual, :func:`hbmfric.kernels.residuals.hbm.contact_aft`), so
-``df/dq`` is block diagonal. The single contact to ground keeps the path above
-(``law_codes`` empty); any other set of contacts fills ``law_codes``.
+``df/dq`` is block diagonal; a 2D element (:class:`~hbmfric.Contact2D`)
+has two coordinates, its tangential one (code ``CONTACT2D``) and right
+after it its normal one (``CONTACT2D_NORMAL``), and its AFT
+(:func:`hbmfric.kernels.aft.contact2d.aft_contact2d`) on the pair gives a
+2x2 block of ``n_coef`` blocks (compiled into the general type only,
+:func:`coordinate_contact2d`). Its preload acts on the mean: harmonic 0 is
+solved through the static receptance ``B K⁻¹ Bᵀ``. The single contact to
+ground keeps the path above (``law_codes`` empty); any other set of
+contacts fills ``law_codes``.
 
 Complex modes (``method == STATE``, any damping): with the decomposition
 ``Z(ω)⁻¹ = X diag(1/(iω - λ_r)) Y`` of
@@ -1384,8 +1391,13 @@ def _coordinates_residual(y, problem, R, J):
                 X2[0, j] = y[base + j]
                 X2[1, j] = y[base + n_coef + j]
             s_a = coordinate_contact2d(
-                problem, problem.law_rows[a], X2, problem.inverse, problem.forward,
-                F2, dF2,
+                problem,
+                problem.law_rows[a],
+                X2,
+                problem.inverse,
+                problem.forward,
+                F2,
+                dF2,
             )
             if s_a < 0:
                 return s_a
@@ -1395,9 +1407,9 @@ def _coordinates_residual(y, problem, R, J):
                     R[base + row * n_coef + i] += F2[row, i]
                     for col in range(2):
                         for j in range(n_coef):
-                            J[base + row * n_coef + i, base + col * n_coef + j] += (
-                                dF2[row * n_coef + i, col * n_coef + j]
-                            )
+                            J[base + row * n_coef + i, base + col * n_coef + j] += dF2[
+                                row * n_coef + i, col * n_coef + j
+                            ]
             continue
         for j in range(n_coef):
             x[j] = y[base + j]
@@ -1449,8 +1461,13 @@ def _coordinate_forces(points, problem, F):
                     X2[0, j] = points[i, base + j]
                     X2[1, j] = points[i, base + n_coef + j]
                 status = coordinate_contact2d(
-                    problem, problem.law_rows[a], X2, problem.inverse,
-                    problem.forward, F2, dF2,
+                    problem,
+                    problem.law_rows[a],
+                    X2,
+                    problem.inverse,
+                    problem.forward,
+                    F2,
+                    dF2,
                 )
                 if status < worst:
                     worst = status
