@@ -235,7 +235,7 @@ def can_condense(system) -> bool:
     matrices = system.matrices()
     if not _symmetric(matrices):
         return False
-    return not _singular(matrices[2])
+    return coordinate_shift(contacts, np.asarray(matrices[2], dtype=float)) is not None
 
 
 def condensed_by_default(system) -> bool:
@@ -254,8 +254,17 @@ def condensed_by_default(system) -> bool:
     full."""
     if not can_condense(system):
         return False
-    if _single(check_contacts(system, int(system.n_dof))):
+    contacts = check_contacts(system, int(system.n_dof))
+    if _single(contacts):
         return True
+    matrices = system.matrices()
+    shift = coordinate_shift(contacts, np.asarray(matrices[2], dtype=float))
+    if np.any(shift):
+        shifted = receptance_matrices(contacts, matrices, shift)
+        return (
+            _modal_damping_of(*shifted) is not None
+            or state_space_modes(*shifted) is not None
+        )
     if modal_damping(system) is not None:
         return True
     return state_space_modes(*system.matrices()) is not None
@@ -331,6 +340,23 @@ def _coordinate_problem(contacts, n_dof: int) -> str | None:
             "a closed loop of contacts): their receptance matrix is singular"
         )
     return None
+
+
+def _modal_damping_of(M, C, K):
+    """:func:`modal_damping` of the matrices (modes by ``eigh``)."""
+    from scipy.linalg import eigh  # lazy: keeps import hbmfric light
+
+    w2, shapes = eigh(K, M)
+    omega = np.sqrt(np.maximum(w2, 0.0))
+    if not np.all(w2 > 0.0):
+        return None
+    modal_c = shapes.T @ C @ shapes
+    diag = np.diag(modal_c).copy()
+    off = modal_c - np.diag(diag)
+    scale = max(float(np.max(np.abs(diag))), 1e-300)
+    if float(np.max(np.abs(off))) > _CLASSICAL_TOL * scale:
+        return None
+    return omega, shapes, diag
 
 
 def modal_damping(system) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
@@ -458,6 +484,48 @@ def _symmetric(matrices) -> bool:
     return True
 
 
+def coordinate_shift(contacts, stiffness) -> np.ndarray | None:
+    """Stiffnesses ``K_s`` (N/m, shape (n_c,)) added to the structure on
+    its contact coordinates, ``K + Bᵀ K_s B``, when ``stiffness`` is
+    singular and a 2D element is among several ``contacts``; zeros when
+    ``K`` is regular; None when no shift applies (no 2D element) or the
+    shifted stiffness stays singular.
+
+    A structure held by its 2D elements (the lap joint's Contact2D variant:
+    the beams' axial rigid-body modes) has no static receptance, and a 2D
+    element solves the mean (its preload). The shift moves the elements'
+    stiffnesses (tangential and normal) into the linear structure, whose
+    receptance then exists at harmonic 0, and out of the contact force
+    (``f - K_s q``): the same equations. Each 1D contact's coordinate is
+    shifted by its stuck stiffness too."""
+    if not _singular(stiffness):
+        return np.zeros(len(coordinate_rows(contacts)))
+    if _single(contacts) or not any(isinstance(c[0], Contact2D) for c in contacts):
+        return None
+    shift = []
+    for c, d, _, _ in coordinate_rows(contacts):
+        law = contacts[c][0]
+        if isinstance(law, Contact2D):
+            shift.append(law.normal_stiffness if d else law.tangential_stiffness)
+        else:
+            shift.append(float(getattr(law, "stuck_stiffness", 0.0)))
+    shift = np.array(shift, dtype=float)
+    B = selection_matrix(contacts, np.asarray(stiffness).shape[0])
+    if _singular(stiffness + B.T @ (shift[:, None] * B)):
+        return None
+    return shift
+
+
+def receptance_matrices(contacts, matrices, shift) -> tuple:
+    """``(M, C, K + Bᵀ K_s B)``: the structure whose receptance a problem
+    condensed onto ``contacts`` uses (:func:`coordinate_shift`)."""
+    M, C, K = (np.asarray(a, dtype=float) for a in matrices)
+    if shift is None or not np.any(shift):
+        return M, C, K
+    B = selection_matrix(contacts, K.shape[0])
+    return M, C, K + B.T @ (shift[:, None] * B)
+
+
 class CondensedHBMProblem(HBMProblem):
     """HBM with the unknowns at the contact DOF only.
 
@@ -536,16 +604,33 @@ class CondensedHBMProblem(HBMProblem):
                 "condensation needs symmetric mass, damping and stiffness "
                 "matrices; use condense=False for this system"
             )
+        n_c = len(coordinate_rows(self._contacts)) if self.multi else 1
+        shift = np.zeros(n_c)
         if self.harmonic_numbers[0] == 0 and _singular(self._matrices[2]):
-            raise ValueError(
-                "condensation needs a regular stiffness matrix when harmonic 0 "
-                "is solved (the structure without its contact has a rigid-body "
-                "mode, so no static receptance); use condense=False for this "
-                "system"
-            )
-        modal = modal_damping(system)
+            shift = coordinate_shift(self._contacts, self._matrices[2])
+            if shift is None:
+                raise ValueError(
+                    "condensation needs a regular stiffness matrix when harmonic "
+                    "0 is solved (the structure without its contact has a "
+                    "rigid-body mode, so no static receptance; with a 2D "
+                    "element, also once the contacts' stiffnesses are added); "
+                    "use condense=False for this system"
+                )
+        #: stiffnesses (N/m) per contact coordinate moved from the contact
+        #: forces into the linear structure (:func:`coordinate_shift`;
+        #: zeros unless ``K`` is singular with a 2D element)
+        self.shift = shift
+        #: (M, C, K + Bᵀ K_s B): the structure of the receptance
+        self._receptance_matrices = receptance_matrices(
+            self._contacts, self._matrices, shift
+        )
+        shifted = bool(np.any(shift))
+        modal = _modal_damping_of(*self._receptance_matrices) if shifted else None
+        if not shifted:
+            modal = modal_damping(system)
         #: (ω_r, Φ, c_r) of the structure without contacts (classical
-        #: damping), whatever the receptance: :meth:`pole_distance`
+        #: damping; shifted, :attr:`shift`), whatever the receptance:
+        #: :meth:`pole_distance`
         self._free_modes = modal
         if receptance == "modal" and modal is None:
             raise ValueError(
@@ -563,7 +648,7 @@ class CondensedHBMProblem(HBMProblem):
                     "two DOFs); use condense='direct' in hf.frf "
                     "(receptance='direct' here)"
                 )
-            state = state_space_modes(*self._matrices)
+            state = state_space_modes(*self._receptance_matrices)
             if state is None and receptance == "state":
                 raise ValueError(
                     "the complex modes do not reproduce the direct receptance "
@@ -641,7 +726,7 @@ class CondensedHBMProblem(HBMProblem):
         harmonics."""
         self.full_kernel_problem = full = self.kernel_problem
         hn = full[0]
-        mass, damping, stiffness = self._matrices
+        mass, damping, stiffness = self._receptance_matrices
         codes, rows, aft_code = full[6:9]
         # one contact to ground: its code and parameters
         law_code = int(codes[0])
@@ -742,6 +827,7 @@ class CondensedHBMProblem(HBMProblem):
                 int(hn.size > 0 and hn[0] == 0),
             ),
             self._kept_inverse(n_c, method),
+            np.ascontiguousarray(self.shift if self.multi else np.zeros(0)),
         )
         self.n_unknowns = self.n_coordinates * self.n_coef
 
@@ -823,7 +909,7 @@ class CondensedHBMProblem(HBMProblem):
     def _direct_response(self, omega: np.ndarray, rhs: np.ndarray) -> np.ndarray:
         """``Z(ω)⁻¹ rhs`` for pulsations ``omega`` (shape (m,)) and right-hand
         sides ``rhs`` (shape (m, n_dof)), complex, shape (m, n_dof)."""
-        M, C, K = self._matrices
+        M, C, K = self._receptance_matrices
         Z = K - omega[:, None, None] ** 2 * M + 1j * omega[:, None, None] * C
         return np.linalg.solve(Z, rhs[..., None])[..., 0]
 
@@ -866,7 +952,7 @@ class CondensedHBMProblem(HBMProblem):
             x = (psi[None, :, :] / d[:, None, :]) @ (shapes.T @ load)
             return G, x
         rhs = np.concatenate([B.T, load[:, None]], axis=1)
-        M, C, K = self._matrices
+        M, C, K = self._receptance_matrices
         Z = K - w[:, None, None] ** 2 * M + 1j * w[:, None, None] * C
         sol = B @ np.linalg.solve(Z, np.broadcast_to(rhs, Z.shape[:1] + rhs.shape))
         return sol[:, :, :-1], sol[:, :, -1]
@@ -914,6 +1000,7 @@ class CondensedHBMProblem(HBMProblem):
                             for c, d, _, _ in coordinate_rows(self._contacts)
                         ]
                     )
+                    ks = ks - self.shift  # the shift is in G already
                     eye = np.eye(self.n_coordinates)
                     A = eye + G * ks[None, None, :]
                     x = np.linalg.solve(A, x[..., None])[..., 0]
@@ -954,10 +1041,18 @@ class CondensedHBMProblem(HBMProblem):
         on each contact coordinate (``+f_a`` on its DOF, ``-f_a`` on its
         other; a 2D element's tangential and normal forces on its two)."""
         points = np.ascontiguousarray(np.atleast_2d(points), dtype=np.float64)
+        F = self._shifted_forces(points)
+        if self.multi:
+            F = F.reshape(points.shape[0], self.n_coordinates, self.n_coef)
+            q = points[:, : self.n_unknowns].reshape(F.shape)
+            return F + self.shift[None, :, None] * q
+        return F
+
+    def _shifted_forces(self, points: np.ndarray) -> np.ndarray:
+        """The kernel's contact forces ``f - K_s q`` (:attr:`shift`), shape
+        (n_points, n_unknowns)."""
         F = np.empty((points.shape[0], self.n_unknowns))
         condensed_contact_forces(points, self.kernel_problem, F)
-        if self.multi:
-            return F.reshape(points.shape[0], self.n_coordinates, self.n_coef)
         return F
 
     def full_coefficients(self, points: np.ndarray) -> np.ndarray:
@@ -974,9 +1069,12 @@ class CondensedHBMProblem(HBMProblem):
         ndarray, shape (n_points, n_dof, n_coef), m
         """
         points = np.ascontiguousarray(np.atleast_2d(points), dtype=np.float64)
-        F = self.contact_forces(points)
         if self.multi:
+            # the receptance's structure carries the shift: its forces too
+            F = self._shifted_forces(points)
+            F = F.reshape(points.shape[0], self.n_coordinates, self.n_coef)
             return self._coordinate_recover(points, F)
+        F = self.contact_forces(points)
         out = np.empty((points.shape[0], self.n_dof, self.n_coef))
         if self.receptance_method == "modal":
             condensed_modal_recover(points, F, self.kernel_problem, self.shapes, out)

@@ -18,7 +18,11 @@ import numpy as np
 import pytest
 
 import hbmfric as hf
-from hbmfric.condensation import CondensedHBMProblem, can_condense
+from hbmfric.condensation import (
+    CondensedHBMProblem,
+    can_condense,
+    condensed_by_default,
+)
 from hbmfric.continuation.accuracy import normal_outputs, watched_truncation_errors
 from hbmfric.hbm import HBMProblem
 
@@ -51,10 +55,13 @@ CASES = {
 OMEGAS = (0.2, 0.5, 0.8, 1.1, 1.5, 2.2)
 
 
-def _matrices(n_dof=N_DOF):
-    """A clamped-free chain with unequal masses and springs."""
+def _matrices(n_dof=N_DOF, clamped=True):
+    """A clamped-free chain with unequal masses and springs (free-free,
+    with a rigid-body mode, when not ``clamped``)."""
     m = 1.0 + 0.1 * np.arange(n_dof)
     k = 1.0 + 0.3 * np.cos(np.arange(n_dof))
+    if not clamped:
+        k[0] = 0.0
     K = np.zeros((n_dof, n_dof))
     for i in range(n_dof):
         K[i, i] += k[i]
@@ -64,8 +71,8 @@ def _matrices(n_dof=N_DOF):
     return np.diag(m), K
 
 
-def _structure(contacts, receptance="modal", n_dof=N_DOF):
-    M, K = _matrices(n_dof)
+def _structure(contacts, receptance="modal", n_dof=N_DOF, clamped=True):
+    M, K = _matrices(n_dof, clamped)
     damping = (
         {"rayleigh": (0.01, 0.02)}
         if receptance == "modal"
@@ -118,6 +125,31 @@ def test_condensed_matches_the_full_solve_at_fixed_pulsations(name, receptance):
             b = hf.periodic_solution(s, 0.1, omega, harmonics=7, condense=False)
             assert a.converged and b.converged
             assert a.harmonic_numbers[0] == 0
+            scale = np.max(np.abs(b.coefficients))
+            err = np.max(np.abs(a.coefficients - b.coefficients))
+            assert err < 1e-8 * scale, (omega, err / scale)
+            low, high = _normal_force_range(b, pair)
+            assert low < 0.0 < high, omega
+
+
+@pytest.mark.parametrize("receptance", ["state", "direct"])
+def test_free_free_chain_held_by_the_element(receptance):
+    """A free-free chain (singular stiffness: no static receptance) held by
+    the 2D element and a Jenkins contact, the mean solved: condensed with
+    the contacts' stiffnesses moved into the structure
+    (``CondensedHBMProblem.shift``), against the full solve to 1e-8 of the
+    largest coefficient at 6 pulsations, the element separating."""
+    contacts, pair = CASES["to ground beside Jenkins"]
+    s = _structure(contacts, receptance, clamped=False)
+    assert can_condense(s)
+    p = CondensedHBMProblem(s, 0.1, harmonics=5, receptance=receptance)
+    np.testing.assert_array_equal(p.shift, [1.0, KN, 1.0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.AccuracyWarning)
+        for omega in OMEGAS:
+            a = hf.periodic_solution(s, 0.1, omega, harmonics=7, condense=receptance)
+            b = hf.periodic_solution(s, 0.1, omega, harmonics=7, condense=False)
+            assert a.converged and b.converged
             scale = np.max(np.abs(b.coefficients))
             err = np.max(np.abs(a.coefficients - b.coefficients))
             assert err < 1e-8 * scale, (omega, err / scale)
@@ -261,3 +293,28 @@ def test_what_is_not_condensed_is_refused_or_solved_in_full():
     assert sol.converged
     with pytest.raises(ValueError, match="needs its normal DOF"):
         _structure([hf.Contact(ELEMENT, 2)])
+
+
+@pytest.mark.slow
+def test_lap_joint_contact2d_condensed_is_full():
+    """The lap joint's Contact2D variant (``n_pairs = 4``, 96 DOFs; its
+    stiffness singular: the beams' axial rigid-body modes, held by the
+    elements): condensed by default onto its elements' coordinates,
+    shifted by their stiffnesses, against the full solve at 3 pulsations
+    around the first bending resonance, to 1e-8 of the largest coefficient
+    (measured 3e-11)."""
+    joint = hf.LapJoint(n_pairs=4)
+    s = joint.structure("contact2d")
+    assert condensed_by_default(s)
+    p = CondensedHBMProblem(s, 36.0, harmonics=5)
+    assert np.all(p.shift > 0.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.AccuracyWarning)
+        for f in (150.0, 162.0, 175.0):
+            omega = 2.0 * np.pi * f
+            a = hf.periodic_solution(s, 36.0, omega, harmonics=5)
+            b = hf.periodic_solution(s, 36.0, omega, harmonics=5, condense=False)
+            assert a.converged and b.converged
+            scale = np.max(np.abs(b.coefficients))
+            err = np.max(np.abs(a.coefficients - b.coefficients))
+            assert err < 1e-8 * scale, (f, err / scale)

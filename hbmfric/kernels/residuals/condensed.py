@@ -203,6 +203,11 @@ CondensedProblem = namedtuple(
         # entry [n_harmonics, 0, 0] = Ω + 1j while they are valid, for the
         # recovery of the drawn DOF at the same Ω (:func:`_drawn_harmonic`)
         "kept_inverse",
+        # several contacts: stiffness K_s per coordinate, N/m, float64
+        # (n_c,), in the receptance's structure K + Bᵀ K_s B and taken off
+        # the contact forces (f - K_s q); zeros unless K is singular
+        # (hbmfric.condensation.coordinate_shift); (0,) for one contact
+        "coordinate_shift",
     ],
 )
 CondensedProblem.__doc__ = """Flat data of the condensed HBM residual (see the
@@ -1433,7 +1438,24 @@ def _coordinates_residual(y, problem, R, J):
             R[base + i] += F[i]
             for j in range(n_coef):
                 J[base + i, base + j] += dF[i, j]
+    _unshift(y, problem, R, J)
     return status
+
+
+@jit
+def _unshift(y, problem, R, J):
+    """Take the shift ``K_s q`` (``problem.coordinate_shift``) off the
+    contact forces in ``R`` and ``J``."""
+    n_coef = problem.inverse.shape[1]
+    shift = problem.coordinate_shift
+    for a in range(shift.size):
+        s = shift[a]
+        if s == 0.0:
+            continue
+        base = a * n_coef
+        for j in range(n_coef):
+            R[base + j] -= s * y[base + j]
+            J[base + j, base + j] -= s
 
 
 @jit
@@ -1494,6 +1516,11 @@ def _coordinate_forces(points, problem, F):
                 worst = status
             for j in range(n_coef):
                 F[i, base + j] = f[j]
+        shift = problem.coordinate_shift
+        for a in range(shift.size):
+            base = a * n_coef
+            for j in range(n_coef):
+                F[i, base + j] -= shift[a] * points[i, base + j]
     return worst
 
 
