@@ -138,7 +138,7 @@ def test_free_free_chain_held_by_the_element(receptance):
     the 2D element and a Jenkins contact, the mean solved: condensed with
     the contacts' stiffnesses moved into the structure
     (``CondensedHBMProblem.shift``), against the full solve to 1e-8 of the
-    largest coefficient at 6 pulsations, the element separating."""
+    largest coefficient at 3 pulsations, the element separating."""
     contacts, pair = CASES["to ground beside Jenkins"]
     s = _structure(contacts, receptance, clamped=False)
     assert can_condense(s)
@@ -146,7 +146,7 @@ def test_free_free_chain_held_by_the_element(receptance):
     np.testing.assert_array_equal(p.shift, [1.0, KN, 1.0])
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", hf.AccuracyWarning)
-        for omega in OMEGAS:
+        for omega in OMEGAS[::2]:
             a = hf.periodic_solution(s, 0.1, omega, harmonics=7, condense=receptance)
             b = hf.periodic_solution(s, 0.1, omega, harmonics=7, condense=False)
             assert a.converged and b.converged
