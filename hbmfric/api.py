@@ -259,13 +259,14 @@ def frf(
     condense : bool or {"modal", "state", "direct"}, optional
         Solve the HBM on the contact DOF only (linear DOFs eliminated per
         harmonic by the dynamic receptance, every DOF recovered at the
-        end); several 1D contacts: on their contact coordinates (relative
-        displacements), through the receptance matrix per harmonic
+        end); several contacts: on their contact coordinates (relative
+        displacements; two per 2D element, tangential and normal),
+        through the receptance matrix per harmonic
         (:mod:`hbmfric.condensation`). Default: one contact to ground
         on a system with several DOFs, symmetric matrices and a regular
         ``K`` (:func:`~hbmfric.condensation.condensed_by_default`).
         Several contacts (fewer independent contact coordinates than
-        DOFs, no 2D element) are condensed by default when their
+        DOFs) are condensed by default when their
         receptance comes from modal sums or complex modes; the curve rule
         of the condensed continuation draws the contact DOF recovered from
         the coordinates.

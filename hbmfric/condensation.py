@@ -4,9 +4,9 @@ receptance) and recovers the response of every DOF afterwards.
 
 One contact to ground is condensed onto its DOF; several contacts (or one
 between two DOFs) onto their contact coordinates ``q = B x``, one per 1D
-contact (its relative displacement, or its DOF against ground). The 2D
-element (:class:`~hbmfric.Contact2D`) is not condensed: a structure with one
-is solved by the full harmonic balance."""
+contact (its relative displacement, or its DOF against ground) and two per
+2D element (:class:`~hbmfric.Contact2D`: its tangential, then its normal
+relative displacement)."""
 
 from __future__ import annotations
 
@@ -14,7 +14,8 @@ import math
 
 import numpy as np
 
-from .hbm import HBMProblem
+from .hbm import HBMProblem, _stuck_stiffnesses
+from .kernels.aft.contact2d import CONTACT2D
 from .kernels.dlft.coulomb import COULOMB
 from .kernels.linalg.krylov import N_REUSE, REUSE_MODE_BLOCKS, REUSE_MODE_FACTORS
 from .kernels.linalg.krylov import REUSE_BLOCKS_KEEP as REUSE_BLOCKS_KEEP_INDEX
@@ -30,6 +31,7 @@ from .kernels.residuals.condensed import (
     AFT_SAMPLES,
     CONDENSED_FAMILY_TYPES,
     CONDENSED_SINGLE_TYPES,
+    CONTACT2D_NORMAL,
     DIRECT,
     MODAL,
     STATE,
@@ -216,23 +218,24 @@ def can_condense(system) -> bool:
     One contact to ground may have any law, a rigid Coulomb contact
     included (the condensed residual runs the same DLFT scheme as the full
     one). Several contacts, or one between two DOFs, are condensed onto
-    their contact coordinates when every contact is a 1D law (no
-    :class:`~hbmfric.Contact2D` element) and the coordinates are
-    independent (``B`` of full row rank: no two contacts on the same pair
-    of DOFs, no closed loop of contacts).
+    their contact coordinates (one per 1D law, two per
+    :class:`~hbmfric.Contact2D` element) when there are fewer of them than
+    DOFs and they are independent (``B`` of full row rank: no two
+    coordinates on the same pair of DOFs, no closed loop of contacts).
     """
     if system.contact is None or int(system.n_dof) < 2:
         return False
     n_dof = int(system.n_dof)
     contacts = check_contacts(system, n_dof)
     if not _single(contacts) and (
-        len(contacts) >= n_dof or _coordinate_problem(contacts, n_dof) is not None
+        len(coordinate_rows(contacts)) >= n_dof
+        or _coordinate_problem(contacts, n_dof) is not None
     ):
         return False
     matrices = system.matrices()
     if not _symmetric(matrices):
         return False
-    return not _singular(matrices[2])
+    return coordinate_shift(contacts, np.asarray(matrices[2], dtype=float)) is not None
 
 
 def condensed_by_default(system) -> bool:
@@ -251,8 +254,17 @@ def condensed_by_default(system) -> bool:
     full."""
     if not can_condense(system):
         return False
-    if _single(check_contacts(system, int(system.n_dof))):
+    contacts = check_contacts(system, int(system.n_dof))
+    if _single(contacts):
         return True
+    matrices = system.matrices()
+    shift = coordinate_shift(contacts, np.asarray(matrices[2], dtype=float))
+    if np.any(shift):
+        shifted = receptance_matrices(contacts, matrices, shift)
+        return (
+            _modal_damping_of(*shifted) is not None
+            or state_space_modes(*shifted) is not None
+        )
     if modal_damping(system) is not None:
         return True
     return state_space_modes(*system.matrices()) is not None
@@ -263,12 +275,44 @@ def _single(contacts) -> bool:
     return len(contacts) == 1 and max(contacts[0][2:]) < 0
 
 
+def coordinate_rows(contacts) -> list[tuple[int, int, int, int]]:
+    """The contact coordinates of ``contacts`` (``(law, a, b, a_n, b_n)``
+    tuples), in order: ``(contact, direction, i, j)`` per coordinate
+    ``q = x_i - x_j`` (``j = -1``: against ground), ``direction`` 0 for a
+    1D law and for a 2D element's tangential coordinate, 1 for its normal
+    one (the coordinate right after its tangential one)."""
+    rows = []
+    for c, (law, a, b, a_n, b_n) in enumerate(contacts):
+        rows.append((c, 0, a, b))
+        if isinstance(law, Contact2D):
+            rows.append((c, 1, a_n, b_n))
+    return rows
+
+
+def coordinate_arrays(contacts) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The kernel arrays of the contact coordinates (:func:`coordinate_rows`):
+    ``(i, j)`` pairs (int64, shape (n_c, 2)), law codes (int64, shape
+    (n_c,); a 2D element's normal coordinate ``CONTACT2D_NORMAL``, its
+    tangential one ``CONTACT2D``) and parameters per coordinate (shape
+    (n_c, n_params), rows padded; a 2D element's on both its rows)."""
+    _, codes, law_rows = contact_arrays(contacts)
+    rows = coordinate_rows(contacts)
+    pairs = np.array([(i, j) for _, _, i, j in rows], dtype=np.int64).reshape(-1, 2)
+    out_codes = np.array(
+        [CONTACT2D_NORMAL if d == 1 else int(codes[c]) for c, d, _, _ in rows],
+        dtype=np.int64,
+    )
+    out_rows = np.ascontiguousarray(law_rows[[c for c, *_ in rows]])
+    return np.ascontiguousarray(pairs), out_codes, out_rows
+
+
 def selection_matrix(contacts, n_dof: int) -> np.ndarray:
-    """``B`` of the contact coordinates ``q = B x``, shape (n_c, n_dof):
-    row ``a`` has +1 at the DOF of contact ``a`` and -1 at its other DOF
-    (none for a contact to ground)."""
-    B = np.zeros((len(contacts), n_dof))
-    for a, (_, i, j, *_) in enumerate(contacts):
+    """``B`` of the contact coordinates ``q = B x`` (:func:`coordinate_rows`),
+    shape (n_c, n_dof): row ``a`` has +1 at the DOF of coordinate ``a``
+    and -1 at its other DOF (none against ground)."""
+    rows = coordinate_rows(contacts)
+    B = np.zeros((len(rows), n_dof))
+    for a, (_, _, i, j) in enumerate(rows):
         B[a, i] = 1.0
         if j >= 0:
             B[a, j] = -1.0
@@ -278,22 +322,41 @@ def selection_matrix(contacts, n_dof: int) -> np.ndarray:
 def _coordinate_problem(contacts, n_dof: int) -> str | None:
     """Why ``contacts`` cannot be condensed onto their coordinates, or
     None."""
-    for i, (law, *_) in enumerate(contacts):
+    for i, (law, _a, _b, a_n, _b_n) in enumerate(contacts):
         if isinstance(law, Contact2D):
-            return (
-                f"contacts[{i}] is a 2D element (hf.Contact2D): condensation "
-                "onto 2D elements is not available"
-            )
+            if law.code != CONTACT2D or a_n < 0:
+                return (
+                    f"contacts[{i}] is a 2D element (hf.Contact2D) without its "
+                    "normal DOF: it has no normal contact coordinate"
+                )
+            continue
         if law.code == COULOMB and len(contacts) > 1:
             return "a rigid hf.Coulomb contact is condensed only alone, to ground"
     B = selection_matrix(contacts, n_dof)
-    if np.linalg.matrix_rank(B) < len(contacts):
+    if np.linalg.matrix_rank(B) < B.shape[0]:
         return (
-            "the contact coordinates are not independent (two contacts on "
-            "the same pair of DOFs, or a closed loop of contacts): their "
-            "receptance matrix is singular"
+            "the contact coordinates are not independent (two contacts, or "
+            "the two directions of 2D elements, on the same pair of DOFs, or "
+            "a closed loop of contacts): their receptance matrix is singular"
         )
     return None
+
+
+def _modal_damping_of(M, C, K):
+    """:func:`modal_damping` of the matrices (modes by ``eigh``)."""
+    from scipy.linalg import eigh  # lazy: keeps import hbmfric light
+
+    w2, shapes = eigh(K, M)
+    omega = np.sqrt(np.maximum(w2, 0.0))
+    if not np.all(w2 > 0.0):
+        return None
+    modal_c = shapes.T @ C @ shapes
+    diag = np.diag(modal_c).copy()
+    off = modal_c - np.diag(diag)
+    scale = max(float(np.max(np.abs(diag))), 1e-300)
+    if float(np.max(np.abs(off))) > _CLASSICAL_TOL * scale:
+        return None
+    return omega, shapes, diag
 
 
 def modal_damping(system) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
@@ -421,6 +484,48 @@ def _symmetric(matrices) -> bool:
     return True
 
 
+def coordinate_shift(contacts, stiffness) -> np.ndarray | None:
+    """Stiffnesses ``K_s`` (N/m, shape (n_c,)) added to the structure on
+    its contact coordinates, ``K + Bᵀ K_s B``, when ``stiffness`` is
+    singular and a 2D element is among several ``contacts``; zeros when
+    ``K`` is regular; None when no shift applies (no 2D element) or the
+    shifted stiffness stays singular.
+
+    A structure held by its 2D elements (the lap joint's Contact2D variant:
+    the beams' axial rigid-body modes) has no static receptance, and a 2D
+    element solves the mean (its preload). The shift moves the elements'
+    stiffnesses (tangential and normal) into the linear structure, whose
+    receptance then exists at harmonic 0, and out of the contact force
+    (``f - K_s q``): the same equations. Each 1D contact's coordinate is
+    shifted by its stuck stiffness too."""
+    if not _singular(stiffness):
+        return np.zeros(len(coordinate_rows(contacts)))
+    if _single(contacts) or not any(isinstance(c[0], Contact2D) for c in contacts):
+        return None
+    shift = []
+    for c, d, _, _ in coordinate_rows(contacts):
+        law = contacts[c][0]
+        if isinstance(law, Contact2D):
+            shift.append(law.normal_stiffness if d else law.tangential_stiffness)
+        else:
+            shift.append(float(getattr(law, "stuck_stiffness", 0.0)))
+    shift = np.array(shift, dtype=float)
+    B = selection_matrix(contacts, np.asarray(stiffness).shape[0])
+    if _singular(stiffness + B.T @ (shift[:, None] * B)):
+        return None
+    return shift
+
+
+def receptance_matrices(contacts, matrices, shift) -> tuple:
+    """``(M, C, K + Bᵀ K_s B)``: the structure whose receptance a problem
+    condensed onto ``contacts`` uses (:func:`coordinate_shift`)."""
+    M, C, K = (np.asarray(a, dtype=float) for a in matrices)
+    if shift is None or not np.any(shift):
+        return M, C, K
+    B = selection_matrix(contacts, K.shape[0])
+    return M, C, K + B.T @ (shift[:, None] * B)
+
+
 class CondensedHBMProblem(HBMProblem):
     """HBM with the unknowns at the contact DOF only.
 
@@ -499,16 +604,33 @@ class CondensedHBMProblem(HBMProblem):
                 "condensation needs symmetric mass, damping and stiffness "
                 "matrices; use condense=False for this system"
             )
+        n_c = len(coordinate_rows(self._contacts)) if self.multi else 1
+        shift = np.zeros(n_c)
         if self.harmonic_numbers[0] == 0 and _singular(self._matrices[2]):
-            raise ValueError(
-                "condensation needs a regular stiffness matrix when harmonic 0 "
-                "is solved (the structure without its contact has a rigid-body "
-                "mode, so no static receptance); use condense=False for this "
-                "system"
-            )
-        modal = modal_damping(system)
+            shift = coordinate_shift(self._contacts, self._matrices[2])
+            if shift is None:
+                raise ValueError(
+                    "condensation needs a regular stiffness matrix when harmonic "
+                    "0 is solved (the structure without its contact has a "
+                    "rigid-body mode, so no static receptance; with a 2D "
+                    "element, also once the contacts' stiffnesses are added); "
+                    "use condense=False for this system"
+                )
+        #: stiffnesses (N/m) per contact coordinate moved from the contact
+        #: forces into the linear structure (:func:`coordinate_shift`;
+        #: zeros unless ``K`` is singular with a 2D element)
+        self.shift = shift
+        #: (M, C, K + Bᵀ K_s B): the structure of the receptance
+        self._receptance_matrices = receptance_matrices(
+            self._contacts, self._matrices, shift
+        )
+        shifted = bool(np.any(shift))
+        modal = _modal_damping_of(*self._receptance_matrices) if shifted else None
+        if not shifted:
+            modal = modal_damping(system)
         #: (ω_r, Φ, c_r) of the structure without contacts (classical
-        #: damping), whatever the receptance: :meth:`pole_distance`
+        #: damping; shifted, :attr:`shift`), whatever the receptance:
+        #: :meth:`pole_distance`
         self._free_modes = modal
         if receptance == "modal" and modal is None:
             raise ValueError(
@@ -526,7 +648,7 @@ class CondensedHBMProblem(HBMProblem):
                     "two DOFs); use condense='direct' in hf.frf "
                     "(receptance='direct' here)"
                 )
-            state = state_space_modes(*self._matrices)
+            state = state_space_modes(*self._receptance_matrices)
             if state is None and receptance == "state":
                 raise ValueError(
                     "the complex modes do not reproduce the direct receptance "
@@ -546,7 +668,12 @@ class CondensedHBMProblem(HBMProblem):
         self._modal = modal if receptance == "modal" else None
         self.shapes = None if self._modal is None else np.ascontiguousarray(modal[1])
         self.structure = system
-        self.n_coordinates = len(self._contacts) if self.multi else 1
+        self.n_coordinates = len(coordinate_rows(self._contacts)) if self.multi else 1
+        #: a 2D element among the contacts: its two coordinates are coupled
+        #: in the contact Jacobian, which the corrector's harmonic-block
+        #: preconditioner does not model (it corrects 1D slipping
+        #: coordinates): such a problem factors every iteration
+        self.has_contact2d = any(isinstance(c[0], Contact2D) for c in self._contacts)
         self.selection = selection_matrix(self._contacts, self.n_dof)
         if self.multi:
             self.system = _CoordinateView(system, self.n_coordinates)
@@ -599,14 +726,13 @@ class CondensedHBMProblem(HBMProblem):
         harmonics."""
         self.full_kernel_problem = full = self.kernel_problem
         hn = full[0]
-        mass, damping, stiffness = self._matrices
+        mass, damping, stiffness = self._receptance_matrices
         codes, rows, aft_code = full[6:9]
         # one contact to ground: its code and parameters
         law_code = int(codes[0])
         law_params = np.ascontiguousarray(rows[0])
         if self.multi:
-            pairs, law_codes, law_rows = contact_arrays(self._contacts)
-            pairs = np.ascontiguousarray(pairs[:, :2])
+            pairs, law_codes, law_rows = coordinate_arrays(self._contacts)
         else:
             pairs = np.zeros((0, 2), dtype=np.int64)
             law_codes = np.zeros(0, dtype=np.int64)
@@ -695,12 +821,13 @@ class CondensedHBMProblem(HBMProblem):
             np.zeros(1),
             solver_arrays(
                 self.n_coordinates * self.n_coef,
-                self.multi,
+                self.multi and not self.has_contact2d,
                 self.n_coordinates,
                 self.n_coef,
                 int(hn.size > 0 and hn[0] == 0),
             ),
             self._kept_inverse(n_c, method),
+            np.ascontiguousarray(self.shift if self.multi else np.zeros(0)),
         )
         self.n_unknowns = self.n_coordinates * self.n_coef
 
@@ -782,7 +909,7 @@ class CondensedHBMProblem(HBMProblem):
     def _direct_response(self, omega: np.ndarray, rhs: np.ndarray) -> np.ndarray:
         """``Z(ω)⁻¹ rhs`` for pulsations ``omega`` (shape (m,)) and right-hand
         sides ``rhs`` (shape (m, n_dof)), complex, shape (m, n_dof)."""
-        M, C, K = self._matrices
+        M, C, K = self._receptance_matrices
         Z = K - omega[:, None, None] ** 2 * M + 1j * omega[:, None, None] * C
         return np.linalg.solve(Z, rhs[..., None])[..., 0]
 
@@ -825,7 +952,7 @@ class CondensedHBMProblem(HBMProblem):
             x = (psi[None, :, :] / d[:, None, :]) @ (shapes.T @ load)
             return G, x
         rhs = np.concatenate([B.T, load[:, None]], axis=1)
-        M, C, K = self._matrices
+        M, C, K = self._receptance_matrices
         Z = K - w[:, None, None] ** 2 * M + 1j * w[:, None, None] * C
         sol = B @ np.linalg.solve(Z, np.broadcast_to(rhs, Z.shape[:1] + rhs.shape))
         return sol[:, :, :-1], sol[:, :, -1]
@@ -867,7 +994,13 @@ class CondensedHBMProblem(HBMProblem):
             with np.errstate(divide="ignore", invalid="ignore"):
                 G, x = self.coordinate_receptance(w)
                 if contact == "stuck":
-                    ks = np.array([law.stuck_stiffness for law, *_ in self._contacts])
+                    ks = np.array(
+                        [
+                            _stuck_stiffnesses(self._contacts[c][0])[d]
+                            for c, d, _, _ in coordinate_rows(self._contacts)
+                        ]
+                    )
+                    ks = ks - self.shift  # the shift is in G already
                     eye = np.eye(self.n_coordinates)
                     A = eye + G * ks[None, None, :]
                     x = np.linalg.solve(A, x[..., None])[..., 0]
@@ -905,12 +1038,21 @@ class CondensedHBMProblem(HBMProblem):
         """Contact-force coefficients (N) at condensed solutions ``points``
         (shape (n_points, n_unknowns + 1)), shape (n_points, n_coef);
         several contacts: shape (n_points, n_c, n_coef), the force ``f_a``
-        of each contact (``+f_a`` on its DOF, ``-f_a`` on its other)."""
+        on each contact coordinate (``+f_a`` on its DOF, ``-f_a`` on its
+        other; a 2D element's tangential and normal forces on its two)."""
         points = np.ascontiguousarray(np.atleast_2d(points), dtype=np.float64)
+        F = self._shifted_forces(points)
+        if self.multi:
+            F = F.reshape(points.shape[0], self.n_coordinates, self.n_coef)
+            q = points[:, : self.n_unknowns].reshape(F.shape)
+            return F + self.shift[None, :, None] * q
+        return F
+
+    def _shifted_forces(self, points: np.ndarray) -> np.ndarray:
+        """The kernel's contact forces ``f - K_s q`` (:attr:`shift`), shape
+        (n_points, n_unknowns)."""
         F = np.empty((points.shape[0], self.n_unknowns))
         condensed_contact_forces(points, self.kernel_problem, F)
-        if self.multi:
-            return F.reshape(points.shape[0], self.n_coordinates, self.n_coef)
         return F
 
     def full_coefficients(self, points: np.ndarray) -> np.ndarray:
@@ -927,9 +1069,12 @@ class CondensedHBMProblem(HBMProblem):
         ndarray, shape (n_points, n_dof, n_coef), m
         """
         points = np.ascontiguousarray(np.atleast_2d(points), dtype=np.float64)
-        F = self.contact_forces(points)
         if self.multi:
+            # the receptance's structure carries the shift: its forces too
+            F = self._shifted_forces(points)
+            F = F.reshape(points.shape[0], self.n_coordinates, self.n_coef)
             return self._coordinate_recover(points, F)
+        F = self.contact_forces(points)
         out = np.empty((points.shape[0], self.n_dof, self.n_coef))
         if self.receptance_method == "modal":
             condensed_modal_recover(points, F, self.kernel_problem, self.shapes, out)

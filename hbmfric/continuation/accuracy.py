@@ -224,13 +224,25 @@ def _own_cache(problem) -> dict:
 
 
 def normal_outputs(problem) -> list[np.ndarray]:
-    """Output weights (shape (2, n_dof)) of the normal relative displacement
-    of each 2D element (:class:`~hbmfric.Contact2D`) of a full problem;
-    empty for a problem without one (or condensed, which has none)."""
+    """Output weights of the normal relative displacement of each 2D
+    element (:class:`~hbmfric.Contact2D`): shape (2, n_dof) for a full
+    problem; for one condensed onto contact coordinates shape (2, n_c), the
+    element's normal coordinate (the unknowns' own layout); empty for a
+    problem without one."""
     from ..laws import Contact2D
 
     if getattr(problem, "condensed", False):
-        return []
+        if not getattr(problem, "multi", False):
+            return []
+        from ..condensation import coordinate_rows
+
+        out = []
+        for a, (_c, direction, _i, _j) in enumerate(coordinate_rows(problem._contacts)):
+            if direction == 1:
+                w = np.zeros((2, problem.n_coordinates))
+                w[0, a] = 1.0
+                out.append(w)
+        return out
     out = []
     for law, _a, _b, a_n, b_n in getattr(problem, "_contacts", ()):
         if isinstance(law, Contact2D) and a_n >= 0:

@@ -74,8 +74,15 @@ direct: one LU of ``Z`` per harmonic, ``Z_c = Z⁻¹ Bᵀ`` (``n_c`` solves),
 ``G = B Z_c``, ``dG/dΩ = -Z_cᵀ Z' Z_c``, ``dp/dΩ = -Z_cᵀ Z' Z⁻¹ P̂``. Every
 contact's force is the AFT of its law on its own coordinate (the dispatch
 of the full residual, :func:`hbmfric.kernels.residuals.hbm.contact_aft`), so
-``df/dq`` is block diagonal. The single contact to ground keeps the path above
-(``law_codes`` empty); any other set of contacts fills ``law_codes``.
+``df/dq`` is block diagonal; a 2D element (:class:`~hbmfric.Contact2D`)
+has two coordinates, its tangential one (code ``CONTACT2D``) and right
+after it its normal one (``CONTACT2D_NORMAL``), and its AFT
+(:func:`hbmfric.kernels.aft.contact2d.aft_contact2d`) on the pair gives a
+2x2 block of ``n_coef`` blocks (compiled into the general type only,
+:func:`coordinate_contact2d`). Its preload acts on the mean: harmonic 0 is
+solved through the static receptance ``B K⁻¹ Bᵀ``. The single contact to
+ground keeps the path above (``law_codes`` empty); any other set of
+contacts fills ``law_codes``.
 
 Complex modes (``method == STATE``, any damping): with the decomposition
 ``Z(ω)⁻¹ = X diag(1/(iω - λ_r)) Y`` of
@@ -101,6 +108,8 @@ from numba import types
 from numba.extending import overload
 
 from ..._jit import jit
+from ..aft.contact2d import CONTACT2D, MAX_PASSES, aft_contact2d
+from ..aft.schemes import GROSS_SLIP, STUCK
 from ..dlft.coulomb import COULOMB, dlft_contact, dlft_located
 from ..dlft.tail import contact_receptance, dlft_tail
 from ..linalg.lu import lu_factor, lu_solve, solve_inplace
@@ -112,9 +121,11 @@ from .hbm import (
     JIT_OPTIONS,
     MASING_FAMILY,
     NOT_A_COULOMB_PROBLEM,
+    NOT_COMPILED_FOR_LAW,
     _combined_state,
     contact_aft,
     is_coulomb_problem,
+    problem_family,
 )
 
 #: AFT scheme codes (same values as :mod:`hbmfric.kernels.residuals.hbm`)
@@ -127,6 +138,11 @@ DIRECT = 1
 STATE = 2
 #: status returned when a direct solve meets a singular dynamic stiffness
 SINGULAR_RECEPTANCE = -100
+#: code in ``law_codes`` of the normal coordinate of a 2D element
+#: (:class:`~hbmfric.Contact2D`): its element is the ``CONTACT2D`` entry of
+#: the coordinate just before (its tangential one), which carries the
+#: parameters; the residual evaluates the element's AFT once on the pair
+CONTACT2D_NORMAL = 201
 
 CondensedProblem = namedtuple(
     "CondensedProblem",
@@ -187,6 +203,11 @@ CondensedProblem = namedtuple(
         # entry [n_harmonics, 0, 0] = Ω + 1j while they are valid, for the
         # recovery of the drawn DOF at the same Ω (:func:`_drawn_harmonic`)
         "kept_inverse",
+        # several contacts: stiffness K_s per coordinate, N/m, float64
+        # (n_c,), in the receptance's structure K + Bᵀ K_s B and taken off
+        # the contact forces (f - K_s q); zeros unless K is singular
+        # (hbmfric.condensation.coordinate_shift); (0,) for one contact
+        "coordinate_shift",
     ],
 )
 CondensedProblem.__doc__ = """Flat data of the condensed HBM residual (see the
@@ -1352,8 +1373,9 @@ def _rounding_level_hypot(G, D, e_abs, g_scale):
 def _coordinates_residual(y, problem, R, J):
     """The condensed residual on several contact coordinates (module
     docstring): linear part plus every contact's AFT force on its own
-    coordinate. Same contract as :func:`condensed_residual` with
-    ``y`` of shape (n_c * n_coef + 1,)."""
+    coordinate (a 2D element's on its pair of coordinates, tangential then
+    normal: :func:`coordinate_contact2d`). Same contract as
+    :func:`condensed_residual` with ``y`` of shape (n_c * n_coef + 1,)."""
     status = _coordinates_linear(y, problem, R, J)
     if status < 0:
         return status
@@ -1361,13 +1383,44 @@ def _coordinates_residual(y, problem, R, J):
     F = np.empty(n_coef)
     dF = np.empty((n_coef, n_coef))
     x = np.empty(n_coef)
+    F2 = np.empty((2, n_coef))
+    dF2 = np.empty((2 * n_coef, 2 * n_coef))
+    X2 = np.empty((2, n_coef))
     for a in range(problem.law_codes.size):
+        code = problem.law_codes[a]
+        if code == CONTACT2D_NORMAL:
+            continue  # evaluated with its tangential coordinate, a - 1
         base = a * n_coef
+        if code == CONTACT2D:
+            for j in range(n_coef):
+                X2[0, j] = y[base + j]
+                X2[1, j] = y[base + n_coef + j]
+            s_a = coordinate_contact2d(
+                problem,
+                problem.law_rows[a],
+                X2,
+                problem.inverse,
+                problem.forward,
+                F2,
+                dF2,
+            )
+            if s_a < 0:
+                return s_a
+            status = s_a if a == 0 else _combined_state(status, s_a)
+            for row in range(2):
+                for i in range(n_coef):
+                    R[base + row * n_coef + i] += F2[row, i]
+                    for col in range(2):
+                        for j in range(n_coef):
+                            J[base + row * n_coef + i, base + col * n_coef + j] += dF2[
+                                row * n_coef + i, col * n_coef + j
+                            ]
+            continue
         for j in range(n_coef):
             x[j] = y[base + j]
         s_a = contact_aft(
             problem,
-            problem.law_codes[a],
+            code,
             problem.law_rows[a],
             problem.aft_scheme,
             problem.harmonic_numbers,
@@ -1385,27 +1438,70 @@ def _coordinates_residual(y, problem, R, J):
             R[base + i] += F[i]
             for j in range(n_coef):
                 J[base + i, base + j] += dF[i, j]
+    _unshift(y, problem, R, J)
     return status
+
+
+@jit
+def _unshift(y, problem, R, J):
+    """Take the shift ``K_s q`` (``problem.coordinate_shift``) off the
+    contact forces in ``R`` and ``J``."""
+    n_coef = problem.inverse.shape[1]
+    shift = problem.coordinate_shift
+    for a in range(shift.size):
+        s = shift[a]
+        if s == 0.0:
+            continue
+        base = a * n_coef
+        for j in range(n_coef):
+            R[base + j] -= s * y[base + j]
+            J[base + j, base + j] -= s
 
 
 @jit
 def _coordinate_forces(points, problem, F):
     """Contact forces of :func:`condensed_contact_forces` for several
     contacts: ``F[i, a * n_coef + j]``, the AFT of contact ``a`` at its
-    coordinate."""
+    coordinate (of a 2D element: its tangential force on its tangential
+    coordinate, its normal force on its normal one)."""
     n_coef = problem.inverse.shape[1]
     f = np.empty(n_coef)
     dF = np.empty((n_coef, n_coef))
     x = np.empty(n_coef)
+    F2 = np.empty((2, n_coef))
+    dF2 = np.empty((2 * n_coef, 2 * n_coef))
+    X2 = np.empty((2, n_coef))
     worst = 1 << 30
     for i in range(points.shape[0]):
         for a in range(problem.law_codes.size):
+            code = problem.law_codes[a]
+            if code == CONTACT2D_NORMAL:
+                continue
             base = a * n_coef
+            if code == CONTACT2D:
+                for j in range(n_coef):
+                    X2[0, j] = points[i, base + j]
+                    X2[1, j] = points[i, base + n_coef + j]
+                status = coordinate_contact2d(
+                    problem,
+                    problem.law_rows[a],
+                    X2,
+                    problem.inverse,
+                    problem.forward,
+                    F2,
+                    dF2,
+                )
+                if status < worst:
+                    worst = status
+                for row in range(2):
+                    for j in range(n_coef):
+                        F[i, base + row * n_coef + j] = F2[row, j]
+                continue
             for j in range(n_coef):
                 x[j] = points[i, base + j]
             status = contact_aft(
                 problem,
-                problem.law_codes[a],
+                code,
                 problem.law_rows[a],
                 problem.aft_scheme,
                 problem.harmonic_numbers,
@@ -1420,7 +1516,45 @@ def _coordinate_forces(points, problem, F):
                 worst = status
             for j in range(n_coef):
                 F[i, base + j] = f[j]
+        shift = problem.coordinate_shift
+        for a in range(shift.size):
+            base = a * n_coef
+            for j in range(n_coef):
+                F[i, base + j] -= shift[a] * points[i, base + j]
     return worst
+
+
+def coordinate_contact2d(problem, params, X, inverse, forward, F, dF):
+    """The 2D element's AFT (:func:`hbmfric.kernels.aft.contact2d.
+    aft_contact2d`) on its coordinates ``X`` (shape (2, n_coef): tangential,
+    normal) into ``F`` (2, n_coef) and ``dF`` (2 n_coef, 2 n_coef); its
+    state code as the full residual counts it (``STUCK`` or
+    ``GROSS_SLIP``: an element that opens counts as slipping), negative on
+    failure. Compiled only into the general condensed type
+    (:class:`CondensedProblem`): in the types of an AFT family or of a
+    rigid Coulomb contact it is ``return NOT_COMPILED_FOR_LAW``. Inlined;
+    callable from jitted code only."""
+    raise NotImplementedError("coordinate_contact2d is for jit code")
+
+
+def _with_coordinate_contact2d(problem, params, X, inverse, forward, F, dF):
+    status = aft_contact2d(params, X, inverse, forward, F, dF, MAX_PASSES)
+    if status < 0:
+        return status
+    return np.int64(STUCK) if status == STUCK else np.int64(GROSS_SLIP)
+
+
+def _without_coordinate_contact2d(problem, params, X, inverse, forward, F, dF):
+    # not the bare constant (a literal type would compile the caller's
+    # _combined_state once more)
+    return np.int64(NOT_COMPILED_FOR_LAW)
+
+
+@overload(coordinate_contact2d, jit_options=JIT_OPTIONS, inline="always")
+def _coordinate_contact2d_overload(problem, params, X, inverse, forward, F, dF):
+    if problem_family(problem) is None and not is_coulomb_problem(problem):
+        return _with_coordinate_contact2d
+    return _without_coordinate_contact2d
 
 
 def coordinates_residual(y, problem, R, J):
