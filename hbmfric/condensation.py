@@ -347,9 +347,14 @@ def _modal_damping_of(M, C, K):
     from scipy.linalg import eigh  # lazy: keeps import hbmfric light
 
     w2, shapes = eigh(K, M)
-    omega = np.sqrt(np.maximum(w2, 0.0))
     if not np.all(w2 > 0.0):
         return None
+    return _classical(np.sqrt(w2), shapes, C)
+
+
+def _classical(omega, shapes, C):
+    """``(ω_r, Φ, c_r)`` when ``Φᵀ C Φ`` is diagonal (to ``_CLASSICAL_TOL``
+    of its largest diagonal entry), else None."""
     modal_c = shapes.T @ C @ shapes
     diag = np.diag(modal_c).copy()
     off = modal_c - np.diag(diag)
@@ -366,13 +371,7 @@ def modal_damping(system) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     omega, shapes = system_modes(system)
     if not np.all(omega > 0.0):
         return None
-    modal_c = shapes.T @ C @ shapes
-    diag = np.diag(modal_c).copy()
-    off = modal_c - np.diag(diag)
-    scale = max(float(np.max(np.abs(diag))), 1e-300)
-    if float(np.max(np.abs(off))) > _CLASSICAL_TOL * scale:
-        return None
-    return omega, shapes, diag
+    return _classical(omega, shapes, C)
 
 
 def state_space_modes(mass, damping, stiffness):
