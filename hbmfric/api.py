@@ -638,14 +638,20 @@ def _warn_truncation(branch: Branch, tolerance: float) -> None:
     )
 
 
-def _warn_curve(branch: Branch, tolerance: float | None) -> None:
+_UNKNOWN = object()
+
+
+def _warn_curve(branch: Branch, tolerance: float | None, errors=_UNKNOWN) -> None:
     """An :class:`~hbmfric.errors.AccuracyWarning` when the estimated
     error of the straight lines between the points
     (:attr:`Branch.curve_errors`) exceeds ``curve_tolerance`` (a corner
-    taken below the step floor, a seam the rule could not resolve)."""
+    taken below the step floor, a seam the rule could not resolve).
+    ``errors``: :attr:`Branch.curve_errors` of ``branch`` when the caller
+    has just computed them (ndarray of shape (n_points - 1,) or None)."""
     if not tolerance:
         return
-    errors = branch.curve_errors
+    if errors is _UNKNOWN:
+        errors = branch.curve_errors
     if errors is None or errors.size == 0 or not np.max(errors) > tolerance:
         return
     worst = int(np.argmax(errors))
@@ -867,6 +873,10 @@ def _frf_auto(
             problems[h] = base.with_harmonics(h)
         return problems[h]
 
+    # the last traced branch whose curve estimates the join rounds computed
+    # (the warning below reads them again when that branch is the result)
+    chords_of: dict = {}
+
     def trace(sweep: str) -> Branch:
         direction = 1 if sweep == "up" else -1
         cont = AdaptiveContinuation(
@@ -889,6 +899,8 @@ def _frf_auto(
             # chords over the tolerance between two levels: their lower end
             # solved again at the higher one (AdaptiveContinuation.join_levels)
             chords = branch.curve_errors
+            chords_of.clear()
+            chords_of[id(branch)] = (branch, chords)
             if chords is None:
                 break
             joins = np.flatnonzero(
@@ -908,5 +920,9 @@ def _frf_auto(
             "next_level_bytes": float(memory_next),
         }
     _warn_truncation(branch, tolerance)
-    _warn_curve(branch, options.curve_tolerance)
+    known = chords_of.get(id(branch))
+    if known is not None and known[0] is branch:
+        _warn_curve(branch, options.curve_tolerance, known[1])
+    else:
+        _warn_curve(branch, options.curve_tolerance)
     return branch

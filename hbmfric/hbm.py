@@ -4,7 +4,6 @@ problem tuple that the kernels see."""
 
 from __future__ import annotations
 
-import copy
 import math
 
 import numpy as np
@@ -226,7 +225,10 @@ class HBMProblem:
         depend on the harmonics with ``self`` (the adaptive-harmonics run
         builds one problem per level this way).
         """
-        new = copy.copy(self)
+        # ``copy.copy`` of a plain instance (no slots, no copy hooks) without
+        # its reduce protocol: the same shallow copy, a third of the time
+        new = object.__new__(type(self))
+        new.__dict__.update(self.__dict__)
         new._discretise(harmonics, None)
         return new
 
@@ -275,7 +277,17 @@ class HBMProblem:
             mu, n_tail = self._tail(system.contact, mass, aft)
             params = [np.append(self._dlft_params, [mu, n_tail])]
             self._coulomb_params = params[0]
-        pairs, codes, law_params = contact_arrays(self._contacts, params)
+        if params is None:
+            # the laws' own parameters: the same arrays at every level (a
+            # copy made by ``with_harmonics`` shares them, as it shares the
+            # matrices; the kernels only read them)
+            arrays = self.__dict__.get("_contact_arrays")
+            if arrays is None or arrays[0] is not self._contacts:
+                arrays = (self._contacts, *contact_arrays(self._contacts))
+                self._contact_arrays = arrays
+            pairs, codes, law_params = arrays[1:]
+        else:
+            pairs, codes, law_params = contact_arrays(self._contacts, params)
         aft_scheme = np.int64(AFT_EVENTS if aft == "events" else AFT_SAMPLES)
         # a rigid Coulomb contact gets its own problem type, whose residual
         # alone compiles the DLFT kernels; contacts of one AFT family get
