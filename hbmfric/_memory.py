@@ -34,10 +34,16 @@ def available_memory() -> int | None:
     system does not say (``MemAvailable`` of ``/proc/meminfo`` on Linux,
     else the free physical pages)."""
     try:
-        with open("/proc/meminfo", encoding="ascii") as f:
-            for line in f:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
+        # one raw read (a text file object and its line loop cost several
+        # times the kernel's own work, on every frf call)
+        fd = os.open("/proc/meminfo", os.O_RDONLY)
+        try:
+            text = b"\n" + os.read(fd, 1 << 16)
+        finally:
+            os.close(fd)
+        at = text.find(b"\nMemAvailable:")
+        if at >= 0:
+            return int(text[at + 14 : text.index(b"\n", at + 1)].split()[0]) * 1024
     except (OSError, ValueError, IndexError):
         pass
     try:

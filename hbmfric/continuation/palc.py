@@ -204,6 +204,7 @@ class Continuation:
         self._settings = self._settings_array()
         self._no_watch = np.zeros(_arclength.N_WATCH)
         self._no_calibration = None  # built on first use
+        self._views = None  # (kernel problem, its chain view, address)
         #: how the last compiled trace ended (``kernels.steps.arclength`` codes)
         self.trace_outcome = 0
         self.trace_estimates = np.zeros(0)
@@ -989,17 +990,27 @@ class Continuation:
                 return True
         return False
 
+    def _kernel_views(self) -> tuple:
+        """``(kernel problem, chain problem, residual address)`` of the
+        problem's current kernel problem, formed again only when the
+        problem holds another one (``plan_band`` replaces it)."""
+        kp = self.problem.kernel_problem
+        views = self._views
+        if views is None or views[0] is not kp:
+            views = self._views = (kp, chain_problem(kp), residual_address(kp))
+        return views
+
     def _residual_at(self) -> int:
         """Address of the compiled residual of the problem's kernel problem
         (:func:`hbmfric.kernels.residuals.pointer.residual_address`), which
         the continuation kernels call."""
-        return residual_address(self.problem.kernel_problem)
+        return self._kernel_views()[2]
 
     def _chain_problem(self):
         """The problem's kernel problem as the continuation kernels take it
         (:func:`hbmfric.kernels.residuals.pointer.chain_problem`: one type
         for every law family)."""
-        return chain_problem(self.problem.kernel_problem)
+        return self._kernel_views()[1]
 
     def _placeholder_calibration(self) -> tuple:
         """A calibration argument of the right types for a trace without
@@ -1016,11 +1027,15 @@ class Continuation:
         (k, n + 1)) and their corner and fold marks."""
         first = len(state.points)
         marks = flags[: points.shape[0]]
-        corners = np.flatnonzero(marks & _arclength.CORNER)
-        state.corners.extend((first + corners).tolist())
-        state.folds.extend((first + np.flatnonzero(marks & _arclength.FOLD)).tolist())
+        if np.any(marks & (_arclength.CORNER | _arclength.FOLD)):
+            corners = np.flatnonzero(marks & _arclength.CORNER)
+            state.corners.extend((first + corners).tolist())
+            folds = np.flatnonzero(marks & _arclength.FOLD)
+            state.folds.extend((first + folds).tolist())
         state.points.extend(points)
-        state.tangents.extend(tangents.copy())
+        # every caller passes arrays of its own (a trace's fresh buffers):
+        # the rows are kept as they are, as the points' are
+        state.tangents.extend(tangents)
         state.tangents_omega.extend((tangents[:, -1] / omega_scale).tolist())
         state.n_steps += points.shape[0]
 
