@@ -346,6 +346,29 @@ def _output_series(level, points: np.ndarray) -> np.ndarray:
     return z
 
 
+def _output_first(level, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The first-harmonic columns ``(cos, sin)`` of :func:`_output_series`
+    (each shape (n_points,)), by the same sums in the same order (the same
+    values bit for bit) without the other columns."""
+    n_coef = level.n_coef
+    w = level.output
+    first = level.first_column
+    n_points = points.shape[0]
+    X = points[:, :-1].reshape(n_points, -1, n_coef)
+    zc = np.zeros(n_points)
+    zs = np.zeros(n_points)
+    rates = level.rates[first : first + 1]
+    for d in np.flatnonzero((w[0] != 0.0) | (w[1] != 0.0)):
+        if w[0, d] != 0.0:
+            zc += w[0, d] * X[:, d, first]
+            zs += w[0, d] * X[:, d, first + 1]
+        if w[1, d] != 0.0:
+            rate = (w[1, d] * rates * points[:, -1:])[:, 0]
+            zc += rate * X[:, d, first + 1]
+            zs -= rate * X[:, d, first]
+    return zc, zs
+
+
 def _rest_floor(level, n_points: int, rest_scale: float) -> np.ndarray:
     """The rest floor of the watched output of ``level`` (``CURVE_REST``
     times the output's scale: the displacement scale ``rest_scale`` for an
@@ -383,10 +406,20 @@ def _confirm(problem, level, probe, points, errors, amplitude_scale, output=None
     :func:`truncation_errors`, ``amplitude_scale``)."""
     from ..signals import half_peak_to_peak
 
-    z = _output_series(level, points)
     first = level.first_column
-    a1 = np.hypot(z[:, first], z[:, first + 1])
+    c, s = _output_first(level, points)
+    a1 = np.hypot(c, s)
     rest = _rest_floor(level, points.shape[0], amplitude_scale)
+    near_rest = np.flatnonzero(a1 < rest)
+    if near_rest.size == 0 and not np.any(a1 == np.inf):
+        # the ratio below is exactly 1 at every point (m = a1 >= rest, finite
+        # or NaN; or a1 = 0 = rest): the estimates as they are unless one is
+        # to be confirmed (the rest of this function, with the same values)
+        ok = np.isfinite(errors)
+        if probe is None or not np.any(ok & (errors > CHANGE_FACTOR * CONFIRM_ABOVE)):
+            return errors.copy()
+    # the output's whole series, only where something reads it
+    z = _output_series(level, points)
     # half the peak-to-peak value, computed only where it is read (its
     # extremes cost a grid and Newton steps per point: at P1's final pass
     # more than the branch itself): where the first harmonic is below the
@@ -400,7 +433,6 @@ def _confirm(problem, level, probe, points, errors, amplitude_scale, output=None
             hpp[todo] = half_peak_to_peak(harmonic_numbers, z[todo])
         return hpp[rows]
 
-    near_rest = np.flatnonzero(a1 < rest)
     peaks(near_rest)
     # relative to max(measure, rest): an upper bound of each measure's own
     # ratio (x / max(x, rest) grows with x); where a1 >= rest the ratio is
