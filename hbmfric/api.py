@@ -789,13 +789,13 @@ def _assemble_levels(
     for h in np.unique(levels_array):
         idx = np.flatnonzero(levels_array == h)
         p = make_problem(int(h))
-        pts = np.array([points[i] for i in idx])
+        pts = np.array([points[i] for i in idx.tolist()])
         omegas[idx] = pts[:, -1]
         coefficients[idx, :, : p.n_coef] = p.full_coefficients(pts)
         tangents[idx] = _branch_tangents(
             p,
             pts,
-            np.array([state.tangents[i] for i in idx]),
+            np.array([state.tangents[i] for i in idx.tolist()]),
             scale,
             omega_range[1] - omega_range[0],
             top.n_coef,

@@ -965,7 +965,7 @@ class AdaptiveContinuation:
             idx = np.flatnonzero(levels_array == h)
             errors[idx] = estimate(
                 self._level(int(h)).problem,
-                np.array([points[i] for i in idx]),
+                np.array([points[i] for i in idx.tolist()]),
                 tol,
                 stretch[idx],
                 len(idx),
