@@ -38,17 +38,30 @@ def available_memory() -> int | None:
         # times the kernel's own work, on every frf call)
         fd = os.open("/proc/meminfo", os.O_RDONLY)
         try:
-            text = b"\n" + os.read(fd, 1 << 16)
+            available = mem_available(os.read(fd, 1 << 16))
         finally:
             os.close(fd)
-        at = text.find(b"\nMemAvailable:")
-        if at >= 0:
-            return int(text[at + 14 : text.index(b"\n", at + 1)].split()[0]) * 1024
-    except (OSError, ValueError, IndexError):
+        if available is not None:
+            return available
+    except OSError:
         pass
     try:
         return int(os.sysconf("SC_AVPHYS_PAGES")) * int(os.sysconf("SC_PAGE_SIZE"))
     except (AttributeError, ValueError, OSError):
+        return None
+
+
+def mem_available(meminfo: bytes) -> int | None:
+    """Bytes of the ``MemAvailable:`` line (kB) of the text of
+    ``/proc/meminfo``, None when it has no such line or it does not read."""
+    text = b"\n" + meminfo
+    at = text.find(b"\nMemAvailable:")
+    if at < 0:
+        return None
+    end = text.find(b"\n", at + 1)
+    try:
+        return int(text[at + 14 : None if end < 0 else end].split()[0]) * 1024
+    except (ValueError, IndexError):
         return None
 
 

@@ -112,3 +112,14 @@ def test_available_memory_is_read():
     available = _memory.available_memory()
     assert available is None or available > 0
     assert _memory.budget() > 0.0
+
+
+def test_mem_available_reads_its_line_wherever_it_is():
+    # /proc/meminfo's text: the line first, inside, last without a newline
+    rest = b"MemTotal:       32000000 kB\nMemFree:         1000 kB\n"
+    line = b"MemAvailable:   21400432 kB"
+    for text in (line + b"\n" + rest, rest + line + b"\nCached: 5 kB\n", rest + line):
+        assert _memory.mem_available(text) == 21400432 * 1024
+    assert _memory.mem_available(rest) is None
+    assert _memory.mem_available(b"MemAvailable: many kB\n") is None
+    assert _memory.mem_available(b"MemAvailable:\n") is None

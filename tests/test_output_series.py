@@ -1,13 +1,15 @@
 """The watched output's coefficients of many points at once
 (``continuation.accuracy._output_series``) equal the compiled per-point
-kernel's (``kernels.steps.truncation.output_coefficients``) bit for bit."""
+kernel's (``kernels.steps.truncation.output_coefficients``) bit for bit, and
+its first-harmonic columns alone (``_output_first``, what the final pass
+reads at every point) equal both."""
 
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
-from hbmfric.continuation.accuracy import _output_series
+from hbmfric.continuation.accuracy import _output_first, _output_series
 from hbmfric.kernels.steps.truncation import output_coefficients
 
 
@@ -35,3 +37,6 @@ def test_output_series_equals_the_kernel(first, velocity):
             points[i], n_coef, weights, rates, points[i, -1], first, expected[i]
         )
     assert np.array_equal(_output_series(level, points), expected)
+    c, s = _output_first(level, points)
+    assert np.array_equal(c, expected[:, first])
+    assert np.array_equal(s, expected[:, first + 1])
