@@ -406,7 +406,6 @@ def _confirm(problem, level, probe, points, errors, amplitude_scale, output=None
     :func:`truncation_errors`, ``amplitude_scale``)."""
     from ..signals import half_peak_to_peak
 
-    first = level.first_column
     c, s = _output_first(level, points)
     a1 = np.hypot(c, s)
     rest = _rest_floor(level, points.shape[0], amplitude_scale)
