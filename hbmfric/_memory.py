@@ -75,10 +75,14 @@ def budget() -> float:
 def unknowns(n_dof: int, harmonics: int, odd: bool) -> int:
     """Unknowns of a harmonic level: ``n_dof`` times the Fourier
     coefficients of harmonics ``0 … H`` (``1, 3, … H`` when ``odd``)."""
-    from .hbm import select_harmonics
+    h = int(harmonics)
+    if h < 1:
+        from .hbm import select_harmonics
 
-    hn = select_harmonics(int(harmonics), bool(odd))
-    n_coef = 2 * hn.size - (1 if hn[0] == 0 else 0)
+        select_harmonics(h, bool(odd))  # raises its ValueError
+    # harmonics 1, 3, … <= H: a cosine and a sine each; 0 … H: the constant
+    # and a pair per harmonic (the layout of select_harmonics)
+    n_coef = 2 * ((h + 1) // 2) if odd else 2 * h + 1
     return int(n_dof) * n_coef
 
 

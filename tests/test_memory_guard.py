@@ -123,3 +123,15 @@ def test_mem_available_reads_its_line_wherever_it_is():
     assert _memory.mem_available(rest) is None
     assert _memory.mem_available(b"MemAvailable: many kB\n") is None
     assert _memory.mem_available(b"MemAvailable:\n") is None
+
+
+def test_unknowns_follow_the_layout_of_the_harmonics():
+    from hbmfric.hbm import select_harmonics
+
+    for odd in (True, False):
+        for h in range(1, 130):
+            hn = select_harmonics(h, odd)
+            n_coef = 2 * hn.size - (1 if hn[0] == 0 else 0)
+            assert _memory.unknowns(3, h, odd) == 3 * n_coef
+    with pytest.raises(ValueError, match="harmonics"):
+        _memory.unknowns(1, 0, True)
