@@ -57,6 +57,24 @@ def _fourier_matrices(harmonic_numbers: np.ndarray, odd: bool, n_time: int):
     return _DFT_CACHE[key]
 
 
+#: :func:`~hbmfric.signals.coefficient_columns` per ``(H, first harmonic)``
+#: of :func:`select_harmonics` (read, never changed, by ``_discretise``)
+_COLUMNS_CACHE: dict = {}
+
+
+def _columns(harmonic_numbers: np.ndarray) -> dict[int, int]:
+    """:func:`~hbmfric.signals.coefficient_columns` of harmonic numbers of
+    :func:`select_harmonics` (``0 … H`` or ``1, 3, … H``), built once per
+    layout (the caller must not change it)."""
+    key = (int(harmonic_numbers[-1]), int(harmonic_numbers[0]), harmonic_numbers.size)
+    columns = _COLUMNS_CACHE.get(key)
+    if columns is None:
+        if len(_COLUMNS_CACHE) >= 256:
+            _COLUMNS_CACHE.clear()
+        columns = _COLUMNS_CACHE[key] = coefficient_columns(harmonic_numbers)
+    return columns
+
+
 def select_harmonics(harmonics: int, odd: bool) -> np.ndarray:
     """Harmonic numbers ``0 … H`` or, for a symmetric scene, ``1, 3, … ≤ H``."""
     harmonics = positive_int("harmonics", harmonics, low=1)
@@ -264,7 +282,7 @@ class HBMProblem:
         self.n_unknowns = self.n_dof * self.n_coef
         mass, damping, stiffness = self._matrices
         load = np.zeros((self.n_dof, self.n_coef))
-        columns = coefficient_columns(self.harmonic_numbers)
+        columns = _columns(self.harmonic_numbers)
         col1 = columns[self.subharmonic]
         # Re(q e^{iΩt}) = Re(q) cos Ωt - Im(q) sin Ωt
         load[:, col1] = self._amplitude.real
