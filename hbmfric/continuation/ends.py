@@ -250,7 +250,7 @@ def budget_note(branch: Branch) -> str | None:
     or None. Says where each stopped, and whether its amplitude was still
     climbing (its last amplitude over :data:`CLIMB_RATIO` times the largest
     in the first half of its points: a resonance nothing bounds)."""
-    amplitude = branch.amplitude(harmonic=1) if branch.omega.size else None
+    amplitude = None  # read only where a piece spent its budget
     notes = []
     slices = branch.piece_slices()
     reasons = [p.get("stop_reason", "") for p in branch.info.get("pieces", [])]
@@ -259,6 +259,8 @@ def budget_note(branch: Branch) -> str | None:
     for piece, reason in zip(slices, reasons, strict=True):
         if not reason.startswith(MAX_STEPS) or piece.stop - piece.start < 2:
             continue
+        if amplitude is None:
+            amplitude = branch.amplitude(harmonic=1)
         a = amplitude[piece]
         # a second piece is stored reversed: its last traced point is first
         end = 0 if piece.start > 0 else -1
