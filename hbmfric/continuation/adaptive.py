@@ -311,6 +311,25 @@ def level_for(estimate: float, current: int, goal: float, ladder, decay=DECAY) -
     return ladder[-1]
 
 
+#: thinned synthesis matrices of :meth:`_Level.work`, keyed by the ``id``
+#: of the synthesis matrix they thin (which the entry keeps alive; the
+#: matrices are shared by every problem of one discretisation,
+#: ``hbm._fourier_matrices``): ``id -> (matrix, every, thinned)``
+_THINNED: dict = {}
+
+
+def _thinned(inverse: np.ndarray, every: int) -> np.ndarray:
+    """``inverse[::every]`` as a C-contiguous copy, made once per matrix
+    and step (the kernels only read it)."""
+    entry = _THINNED.get(id(inverse))
+    if entry is None or entry[0] is not inverse or entry[1] != every:
+        if len(_THINNED) >= 16:
+            _THINNED.clear()
+        entry = (inverse, every, np.ascontiguousarray(inverse[::every]))
+        _THINNED[id(inverse)] = entry
+    return entry[2]
+
+
 class _Level:
     """One harmonic level: its problem, its continuation (built on first
     use) and the flat indices the free measure reads.
@@ -406,7 +425,7 @@ class _Level:
             self._work = (
                 chain_problem(self.problem.kernel_problem),
                 residual_address(self.problem.kernel_problem),
-                np.ascontiguousarray(inverse[::every]),
+                _thinned(inverse, every),
                 self.output,
                 self.rates,
                 np.empty(n + 1),
