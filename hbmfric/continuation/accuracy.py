@@ -70,6 +70,7 @@ def truncation_errors(
     probe=None,
     amplitude_scale: float | None = None,
     output: np.ndarray | None = None,
+    level=None,
 ) -> np.ndarray:
     """Estimated relative truncation error of each point of a branch.
 
@@ -119,6 +120,11 @@ def truncation_errors(
         b_d ẋ_d``; a full problem only) instead of the problem's watched
         one: :func:`watched_truncation_errors` measures the normal DOF of
         a 2D element with it. Not with ``probe`` or ``known``.
+    level : optional
+        The problem's own level as the adaptive run built it
+        (:class:`~hbmfric.continuation.adaptive._Level` of ``problem``;
+        ignored for another problem or with ``output``): its columns and
+        output are read instead of a level built again.
 
     Returns
     -------
@@ -146,7 +152,8 @@ def truncation_errors(
     else:
         cache = _own_cache(problem)
         if cache["watched"] is None:
-            cache["watched"] = _levels(problem, probe is None)
+            own_level = level if getattr(level, "problem", None) is problem else None
+            cache["watched"] = _levels(problem, probe is None, level=own_level)
         level, own, columns, weights = cache["watched"]
         if probe is None:
             if own is None and columns is not None:
@@ -264,11 +271,12 @@ def watched_truncation_errors(
     every: int | None = None,
     probe=None,
     amplitude_scale: float | None = None,
+    level=None,
 ) -> np.ndarray:
     """:func:`truncation_errors` of the watched output and, for a problem
     with 2D elements, the larger of it and the estimate of each element's
     normal displacement (the same arguments; ``known`` and ``probe`` are
-    the watched output's and serve it alone).
+    the watched output's and serve it alone; so does ``level``).
 
     The normal force of a 2D element has a kink where the contact opens
     and closes, so the normal DOF's harmonics decay slowly while the
@@ -287,6 +295,7 @@ def watched_truncation_errors(
         every,
         probe,
         amplitude_scale=amplitude_scale,
+        level=level,
     )
     for w in normal_outputs(problem):
         normal = truncation_errors(
@@ -537,12 +546,15 @@ def _solved(problem, cont, y: np.ndarray, status: int) -> bool:
     return float(np.max(np.abs(R))) <= max(cont.tol_residual, floor)
 
 
-def _levels(problem, with_probe: bool = True, output=None) -> tuple:
+def _levels(problem, with_probe: bool = True, output=None, level=None) -> tuple:
     """The problem's own level, its probe level (None for ``H = 1`` or
     when not ``with_probe``) and the column and weight arguments of
     :func:`~hbmfric.kernels.steps.truncation.branch_truncation` (None for
-    ``H = 1``); ``output``: weights of another output to measure."""
-    level = _Level(problem, None)
+    ``H = 1``); ``output``: weights of another output to measure;
+    ``level``: the problem's level already built (the adaptive run's; not
+    with ``output``)."""
+    if level is None or output is not None:
+        level = _Level(problem, None)
     if output is not None:
         level.output = output
     if not level.top:

@@ -932,7 +932,7 @@ class AdaptiveContinuation:
 
         Between calibrations the run decides on a carried estimate; the
         final estimate (``estimate(problem, points, tolerance, stretch,
-        max_confirmed, known, every, probe, amplitude_scale=...)``,
+        max_confirmed, known, every, probe, amplitude_scale=..., level=...)``,
         :func:`hbmfric.continuation.accuracy.truncation_errors`, relative to
         at least ``CURVE_REST`` of the run's amplitude scale, with its
         implausible first-order changes confirmed by probe solves: a stuck
@@ -992,6 +992,7 @@ class AdaptiveContinuation:
                 SETTLE_EVERY,
                 self._probe(int(h)),
                 amplitude_scale=self.amplitude_scale,
+                level=self._level(int(h)),
             )
         self._climb_failing(
             [int(i) for i in np.flatnonzero(errors > tol)],
@@ -1074,6 +1075,7 @@ class AdaptiveContinuation:
                 None,
                 self._probe(h_new),
                 amplitude_scale=self.amplitude_scale,
+                level=self._level(h_new),
             )
             failing += [i for i in idx if errors[i] > self.tolerance]
         return failing
