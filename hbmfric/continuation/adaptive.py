@@ -96,6 +96,7 @@ level compiles anything. ``bench/README.md``
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from collections.abc import Callable
@@ -236,6 +237,16 @@ def probe_level(harmonics: int, ladder=LADDER) -> int:
     """Level whose basis calibrates the estimate at ``harmonics``:
     ``PROBE_STEPS`` rungs up (:func:`next_level`)."""
     h = int(harmonics)
+    try:
+        return _probe_level(h, ladder)
+    except TypeError:  # a ladder that is no tuple
+        return _probe_level(h, tuple(int(k) for k in ladder))
+
+
+@functools.lru_cache(maxsize=512)
+def _probe_level(h: int, ladder: tuple) -> int:
+    """:func:`probe_level` of an int and a tuple (read many times per run:
+    every rung of the memory plan and every level's probe)."""
     for _ in range(PROBE_STEPS):
         h = next_level(h, ladder)
     return h
