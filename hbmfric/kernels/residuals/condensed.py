@@ -107,7 +107,7 @@ import numpy as np
 from numba import types
 from numba.extending import overload
 
-from ..._jit import jit
+from ..._jit import jit, jit_inline
 from ..aft.contact2d import CONTACT2D, MAX_PASSES, aft_contact2d
 from ..aft.schemes import GROSS_SLIP, STUCK
 from ..dlft.coulomb import COULOMB, dlft_contact, dlft_located
@@ -904,18 +904,21 @@ def _direct_coordinate_receptance(k, omega, col, problem, G, dG, p, dp, work):
 
 
 @jit
-def _state_coordinate_receptance(k, omega, col, problem, G, p, c, dc, rho):
+def _state_coordinate_receptance(k, omega, col, problem, G, p, c, dc, rho, left_t):
     """``G_k`` and ``p_k`` from the complex modes of the first-order form
     (``method == STATE``): ``G = L diag(c) R``, ``p = L (c ⊙ ρ)`` with
     ``c_r = 1/(ikΩ - λ_r)``, ``ρ`` the modal load of harmonic ``k``. Fills
     ``c``, ``dc = dc/dΩ = -ik c²`` and ``ρ`` (shape (n_states,)) for
     :func:`_state_derivative`; ``G`` (n_c, n_c), ``p`` (n_c,) complex.
+    ``left_t``: ``Lᵀ`` (shape (n_states, n_c), :func:`_state_magnitudes`),
+    so that ``p`` is summed pole by pole over contiguous rows (a loop the
+    compiler vectorises; each ``p_a`` is the same sum in the same order as
+    the row-by-row dot product, bit for bit).
     Cost ``O(n_states n_c²)``: one complex matrix product (fewer poles with
     a series, :func:`state_matrix`), no factorisation."""
-    left = problem.state_left
     poles = problem.state_poles
     load = problem.state_load
-    n_c, n_s = left.shape
+    n_s, n_c = left_t.shape
     s = 1j * (k * omega)
     for r in range(n_s):
         cr = 1.0 / (s - poles[r])
@@ -926,10 +929,12 @@ def _state_coordinate_receptance(k, omega, col, problem, G, p, c, dc, rho):
         else:
             rho[r] = load[r, col] - 1j * load[r, col + 1]
     for a in range(n_c):
-        pa = 0.0j
-        for r in range(n_s):
-            pa += left[a, r] * c[r] * rho[r]
-        p[a] = pa
+        p[a] = 0.0j
+    for r in range(n_s):
+        cr = c[r]
+        rr = rho[r]
+        for a in range(n_c):
+            p[a] += left_t[r, a] * cr * rr
     state_matrix(problem, k * omega, c, G)
 
 
@@ -1012,36 +1017,78 @@ def state_matrix(problem, w, c, G):
             odd[j // 2] = sign * power
         power *= rho
     for a in range(n_c):
-        for b in range(a, n_c):
+        b = a
+        # four entries at a time: four independent sums per loop (each the
+        # same sum in the same order as alone, bit for bit)
+        while b + 3 < n_c:
+            r0 = 0.0
+            r1 = 0.0
+            r2 = 0.0
+            r3 = 0.0
+            for j in range(n_even):
+                f = even[j]
+                r0 += f * series[a, b, 2 * j]
+                r1 += f * series[a, b + 1, 2 * j]
+                r2 += f * series[a, b + 2, 2 * j]
+                r3 += f * series[a, b + 3, 2 * j]
+            i0 = 0.0
+            i1 = 0.0
+            i2 = 0.0
+            i3 = 0.0
+            for j in range(n_odd):
+                f = odd[j]
+                i0 += f * series[a, b, 2 * j + 1]
+                i1 += f * series[a, b + 1, 2 * j + 1]
+                i2 += f * series[a, b + 2, 2 * j + 1]
+                i3 += f * series[a, b + 3, 2 * j + 1]
+            _add_mirrored(G, a, b, r0, i0)
+            _add_mirrored(G, a, b + 1, r1, i1)
+            _add_mirrored(G, a, b + 2, r2, i2)
+            _add_mirrored(G, a, b + 3, r3, i3)
+            b += 4
+        while b < n_c:
             re = 0.0
             im = 0.0
             for j in range(n_even):
                 re += even[j] * series[a, b, 2 * j]
             for j in range(n_odd):
                 im += odd[j] * series[a, b, 2 * j + 1]
-            g = G[a, b] + (re + 1j * im)
-            G[a, b] = g
-            G[b, a] = g
+            _add_mirrored(G, a, b, re, im)
+            b += 1
+
+
+@jit_inline
+def _add_mirrored(G, a, b, re, im):
+    """``G[a, b] += re + i im`` and ``G[b, a]`` the same value."""
+    g = G[a, b] + (re + 1j * im)
+    G[a, b] = g
+    G[b, a] = g
 
 
 @jit
-def _state_derivative(problem, r_lin, c, dc, rho, out, tmp):
+def _state_derivative(left_t, right_t, r_lin, dc, rho, out, tmp):
     """``(dG/dΩ) r + dp/dΩ = L (dc ⊙ (R r + ρ))`` for the complex modes
     (``O(n_states n_c)``, ``dG/dΩ`` never formed) into ``out`` (n_c,);
-    ``tmp``: work, (n_states,)."""
-    left = problem.state_left
-    right = problem.state_right
-    n_c, n_s = left.shape
+    ``left_t``, ``right_t``: ``Lᵀ`` (n_states, n_c) and ``Rᵀ`` (n_c,
+    n_states) (:func:`_state_magnitudes`): both products run over
+    contiguous rows, one column of the sum at a time (loops the compiler
+    vectorises), every entry the same sum in the same order as the dot
+    products of rows, bit for bit; ``tmp``: work, (n_states,)."""
+    n_s, n_c = left_t.shape
     for r in range(n_s):
-        v = rho[r]
-        for b in range(n_c):
-            v += right[r, b] * r_lin[b]
-        tmp[r] = dc[r] * v
-    for a in range(n_c):
-        v = 0.0j
+        tmp[r] = rho[r]
+    for b in range(n_c):
+        x = r_lin[b]
         for r in range(n_s):
-            v += left[a, r] * tmp[r]
-        out[a] = v
+            tmp[r] += right_t[b, r] * x
+    for r in range(n_s):
+        tmp[r] = dc[r] * tmp[r]
+    for a in range(n_c):
+        out[a] = 0.0j
+    for r in range(n_s):
+        t = tmp[r]
+        for a in range(n_c):
+            out[a] += left_t[r, a] * t
 
 
 @jit
@@ -1185,7 +1232,8 @@ def _coordinates_linear(y, problem, R, J):
     r_lin = np.empty(n_c, dtype=np.complex128)
     v = np.empty(n_c, dtype=np.complex128)
     level = 0.0
-    left_abs, right_sums = _state_magnitudes(problem)
+    left_abs_t, right_sums, left_t, right_t = _state_magnitudes(problem)
+    rows = np.empty(n_c)
     kept = problem.kept_inverse
     keep = problem.method == STATE and kept.shape[0] == hn.size + 1
     if keep:
@@ -1198,7 +1246,9 @@ def _coordinates_linear(y, problem, R, J):
             ):
                 return SINGULAR_RECEPTANCE
         elif problem.method == STATE:
-            _state_coordinate_receptance(k, omega, col, problem, G, p, c, dc, rho)
+            _state_coordinate_receptance(
+                k, omega, col, problem, G, p, c, dc, rho, left_t
+            )
         else:
             _modal_coordinate_receptance(
                 k, omega, col, problem, G, dG, p, dp, inv_d, dinv
@@ -1212,7 +1262,7 @@ def _coordinates_linear(y, problem, R, J):
             e[a] = (y[i] + 0.0j if k == 0 else y[i] - 1j * y[i + 1]) - p[a]
         g_scale = 0.0
         if problem.method == STATE:
-            g_scale = _state_sum_norm(left_abs, right_sums, c)
+            g_scale = _state_sum_norm(left_abs_t, right_sums, c, rows)
         level = max(level, _rounding_level(G, D, e, g_scale))
         for a in range(n_c):
             s = 0.0j
@@ -1221,7 +1271,7 @@ def _coordinates_linear(y, problem, R, J):
             r_lin[a] = s
         # v = dG r + dp
         if problem.method == STATE:
-            _state_derivative(problem, r_lin, c, dc, rho, v, tmp)
+            _state_derivative(left_t, right_t, r_lin, dc, rho, v, tmp)
         else:
             for a in range(n_c):
                 s = dp[a]
@@ -1256,14 +1306,19 @@ def _coordinates_linear(y, problem, R, J):
 
 @jit
 def _state_magnitudes(problem):
-    """``|L|`` (shape (n_c, n_states)) and the row sums of ``|R|`` (shape
-    (n_states,)) of the complex modes, the constant parts of
-    :func:`_state_sum_norm`, once per residual (not per harmonic: each
-    complex magnitude is a square root)."""
+    """The constant parts of the complex modes' sums, once per residual
+    (not per harmonic): ``|L|ᵀ`` (shape (n_states, n_c)) and the row sums
+    of ``|R|`` (shape (n_states,)) for :func:`_state_sum_norm` (each
+    complex magnitude is a square root), and the transposes ``Lᵀ``
+    (n_states, n_c) and ``Rᵀ`` (n_c, n_states) for
+    :func:`_state_coordinate_receptance` and :func:`_state_derivative`
+    (their sums then run over contiguous rows)."""
     left = problem.state_left
     right = problem.state_right
     n_c, n_s = left.shape
-    left_abs = np.empty((n_c, n_s))
+    left_abs_t = np.empty((n_s, n_c))
+    left_t = np.empty((n_s, n_c), dtype=np.complex128)
+    right_t = np.empty((n_c, n_s), dtype=np.complex128)
     right_sums = np.empty(n_s)
     for r in range(n_s):
         s = 0.0
@@ -1272,27 +1327,34 @@ def _state_magnitudes(problem):
         right_sums[r] = s
     for a in range(n_c):
         for r in range(n_s):
-            left_abs[a, r] = abs(left[a, r])
-    return left_abs, right_sums
+            v = left[a, r]
+            left_t[r, a] = v
+            left_abs_t[r, a] = abs(v)
+    for r in range(n_s):
+        for b in range(n_c):
+            right_t[b, r] = right[r, b]
+    return left_abs_t, right_sums, left_t, right_t
 
 
 @jit
-def _state_sum_norm(left_abs, right_sums, c):
+def _state_sum_norm(left_abs_t, right_sums, c, rows):
     """``‖ |L| diag|c| |R| ‖∞``: the ∞-norm of the sum of the absolute
     terms of ``G = L diag(c) R`` (complex modes), the scale of its
-    rounding, from :func:`_state_magnitudes`. On the lap joint 80 times
-    ``‖G‖∞`` (its relative coordinates are small differences of the modes'
-    terms)."""
-    n_c, n_s = left_abs.shape
-    weight = np.empty(n_s)
+    rounding, from :func:`_state_magnitudes` (``left_abs_t = |L|ᵀ``, the
+    row sums summed pole by pole over contiguous rows of it into ``rows``,
+    shape (n_c,): each the same sum in the same order as a row's dot
+    product, bit for bit). On the lap joint 80 times ``‖G‖∞`` (its
+    relative coordinates are small differences of the modes' terms)."""
+    n_s, n_c = left_abs_t.shape
+    for a in range(n_c):
+        rows[a] = 0.0
     for r in range(n_s):
-        weight[r] = abs(c[r]) * right_sums[r]
+        w = abs(c[r]) * right_sums[r]
+        for a in range(n_c):
+            rows[a] += left_abs_t[r, a] * w
     worst = 0.0
     for a in range(n_c):
-        row = 0.0
-        for r in range(n_s):
-            row += left_abs[a, r] * weight[r]
-        worst = max(worst, row)
+        worst = max(worst, rows[a])
     return worst
 
 
