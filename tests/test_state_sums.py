@@ -92,12 +92,7 @@ def test_receptance_and_load_against_numpy(joint, k):
     """``G_k`` and ``p_k = L (c ⊙ ρ)`` with ``c``, ``dc``, ``ρ`` against
     NumPy at 162 Hz (the constant, the first and the top harmonic)."""
     kp = joint.kernel_problem
-    L, R, poles, load = (
-        kp.state_left,
-        kp.state_right,
-        kp.state_poles,
-        kp.state_load,
-    )
+    L, poles, load = kp.state_left, kp.state_poles, kp.state_load
     n_c, n_s = L.shape
     omega = HZ * 162.0
     col = 0 if k == 0 else 2 * k - 1
