@@ -1109,13 +1109,21 @@ def _invert(G, D, A):
     The elimination runs on the real and imaginary parts in separate
     float64 rows (``A`` viewed as float64 of shape (m, 2m): row ``i``
     holds the real parts of the eliminated row in its first ``m`` entries,
-    the imaginary parts in the last ``m``), with the scaled pivot row
+    the imaginary parts in the last ``m``), with the scaled pivot rows
     copied apart, so that each row's update is one contiguous loop of
     real products that the compiler vectorises (about 3 times faster at
     order 84 than the loop on complex entries). In place: the column of
     each pivot receives the inverse's column (``-f/p``), the rows swapped
     for the pivots are undone as column swaps at the end. The pivot is the
-    entry of largest ``|Re| + |Im|`` (as BLAS's ``izamax``)."""
+    entry of largest ``|Re| + |Im|`` (as BLAS's ``izamax``).
+
+    Pivots are taken two at a time (stop 34): the second pivot is chosen
+    on its column as the first one's update leaves it, its row updated
+    and scaled, and every other row then updated by both pivot rows in
+    one pass (:func:`_eliminate_two`), each entry by the same two
+    operations in the same order as two passes: the result is that of
+    one pivot at a time bit for bit, with half the passes over the rows
+    (order 84: 0.135 against 0.198 ms)."""
     m = G.shape[0]
     V = A.view(np.float64)
     big_all = 0.0
@@ -1131,9 +1139,15 @@ def _invert(G, D, A):
         return False
     tiny = 1e-300 + big_all * 1e-15
     piv = np.empty(m, dtype=np.int64)
-    row_re = np.empty(m)
-    row_im = np.empty(m)
-    for k in range(m):
+    r1_re = np.empty(m)
+    r1_im = np.empty(m)
+    r2_re = np.empty(m)
+    r2_im = np.empty(m)
+    c_re = np.empty(m)
+    c_im = np.empty(m)
+    k = 0
+    while k < m:
+        # first pivot: column k
         p = k
         big = abs(V[k, k]) + abs(V[k, m + k])
         for i in range(k + 1, m):
@@ -1147,33 +1161,92 @@ def _invert(G, D, A):
         if p != k:
             for j in range(2 * m):
                 V[k, j], V[p, j] = V[p, j], V[k, j]
-        inv = 1.0 / complex(V[k, k], V[k, m + k])
-        inv_re = inv.real
-        inv_im = inv.imag
-        V[k, k] = 1.0
-        V[k, m + k] = 0.0
-        for j in range(m):
-            a = V[k, j]
-            b = V[k, m + j]
-            row_re[j] = a * inv_re - b * inv_im
-            row_im[j] = a * inv_im + b * inv_re
-        for j in range(m):
-            V[k, j] = row_re[j]
-            V[k, m + j] = row_im[j]
-        for i in range(m):
-            if i == k:
-                continue
+        _scale_pivot_row(V, k, r1_re, r1_im)
+        if k + 1 == m:
+            for i in range(m - 1):
+                f_re = V[i, k]
+                f_im = V[i, m + k]
+                if f_re == 0.0 and f_im == 0.0:
+                    continue
+                V[i, k] = 0.0
+                V[i, m + k] = 0.0
+                _eliminate_one(V, i, f_re, f_im, r1_re, r1_im)
+            break
+        # second pivot: column q as the first pivot's update leaves it
+        q = k + 1
+        a1 = r1_re[q]
+        b1 = r1_im[q]
+        for i in range(q, m):
             f_re = V[i, k]
             f_im = V[i, m + k]
-            if f_re == 0.0 and f_im == 0.0:
+            x = V[i, q]
+            y = V[i, m + q]
+            if not (f_re == 0.0 and f_im == 0.0):
+                x -= f_re * a1 - f_im * b1
+                y -= f_re * b1 + f_im * a1
+            c_re[i] = x
+            c_im[i] = y
+        p = q
+        big = abs(c_re[q]) + abs(c_im[q])
+        for i in range(q + 1, m):
+            a = abs(c_re[i]) + abs(c_im[i])
+            if a > big:
+                big = a
+                p = i
+        if not big > tiny:
+            return False
+        piv[q] = p
+        if p != q:
+            for j in range(2 * m):
+                V[q, j], V[p, j] = V[p, j], V[q, j]
+        # row q: the first pivot's update, then its own scaling
+        f_re = V[q, k]
+        f_im = V[q, m + k]
+        if not (f_re == 0.0 and f_im == 0.0):
+            V[q, k] = 0.0
+            V[q, m + k] = 0.0
+            _eliminate_one(V, q, f_re, f_im, r1_re, r1_im)
+        _scale_pivot_row(V, q, r2_re, r2_im)
+        # row k: the second pivot's update
+        f_re = V[k, q]
+        f_im = V[k, m + q]
+        if not (f_re == 0.0 and f_im == 0.0):
+            V[k, q] = 0.0
+            V[k, m + q] = 0.0
+            _eliminate_one(V, k, f_re, f_im, r2_re, r2_im)
+        # every other row: both updates, in one pass where both apply
+        for i in range(m):
+            if i == k or i == q:
                 continue
-            V[i, k] = 0.0
-            V[i, m + k] = 0.0
-            for j in range(m):
-                a = row_re[j]
-                b = row_im[j]
-                V[i, j] -= f_re * a - f_im * b
-                V[i, m + j] -= f_re * b + f_im * a
+            f1_re = V[i, k]
+            f1_im = V[i, m + k]
+            one = not (f1_re == 0.0 and f1_im == 0.0)
+            f2_re = V[i, q]
+            f2_im = V[i, m + q]
+            if one:
+                f2_re -= f1_re * a1 - f1_im * b1
+                f2_im -= f1_re * b1 + f1_im * a1
+            two = not (f2_re == 0.0 and f2_im == 0.0)
+            if one and two:
+                V[i, k] = 0.0
+                V[i, m + k] = 0.0
+                _eliminate_two(
+                    V, i, f1_re, f1_im, r1_re, r1_im, f2_re, f2_im, r2_re, r2_im
+                )
+                # column q was zeroed for the second pivot: its update only
+                c = r2_re[q]
+                d = r2_im[q]
+                V[i, q] = 0.0 - (f2_re * c - f2_im * d)
+                V[i, m + q] = 0.0 - (f2_re * d + f2_im * c)
+            elif one:
+                V[i, k] = 0.0
+                V[i, m + k] = 0.0
+                _eliminate_one(V, i, f1_re, f1_im, r1_re, r1_im)
+            elif two:
+                V[i, q] = 0.0
+                V[i, m + q] = 0.0
+                _eliminate_one(V, i, f2_re, f2_im, r2_re, r2_im)
+        k += 2
     for i in range(m):
         for j in range(m):
             D[i, j] = complex(V[i, j], V[i, m + j])
@@ -1183,6 +1256,57 @@ def _invert(G, D, A):
             for i in range(m):
                 D[i, k], D[i, p] = D[i, p], D[i, k]
     return True
+
+
+@jit_inline
+def _scale_pivot_row(V, k, row_re, row_im):
+    """Row ``k`` of the split work array ``V`` (float64, shape (m, 2m),
+    :func:`_invert`) divided by its pivot ``V[k, k]`` (its own entry set to
+    1 first: it receives the pivot's inverse), into ``row_re``,
+    ``row_im`` (shape (m,)) and back into ``V``."""
+    m = row_re.size
+    inv = 1.0 / complex(V[k, k], V[k, m + k])
+    inv_re = inv.real
+    inv_im = inv.imag
+    V[k, k] = 1.0
+    V[k, m + k] = 0.0
+    for j in range(m):
+        a = V[k, j]
+        b = V[k, m + j]
+        row_re[j] = a * inv_re - b * inv_im
+        row_im[j] = a * inv_im + b * inv_re
+    for j in range(m):
+        V[k, j] = row_re[j]
+        V[k, m + j] = row_im[j]
+
+
+@jit_inline
+def _eliminate_one(V, i, f_re, f_im, r_re, r_im):
+    """Row ``i`` of the split work array ``V`` (:func:`_invert`) minus
+    ``f`` times the scaled pivot row ``r``."""
+    m = r_re.size
+    for j in range(m):
+        a = r_re[j]
+        b = r_im[j]
+        V[i, j] -= f_re * a - f_im * b
+        V[i, m + j] -= f_re * b + f_im * a
+
+
+@jit_inline
+def _eliminate_two(V, i, f1_re, f1_im, r1_re, r1_im, f2_re, f2_im, r2_re, r2_im):
+    """Row ``i`` of the split work array ``V`` (:func:`_invert`) minus
+    ``f1 r1``, then minus ``f2 r2``, in one pass: each entry the same two
+    operations in the same order as :func:`_eliminate_one` twice."""
+    m = r1_re.size
+    for j in range(m):
+        a = r1_re[j]
+        b = r1_im[j]
+        c = r2_re[j]
+        d = r2_im[j]
+        x = V[i, j] - (f1_re * a - f1_im * b)
+        y = V[i, m + j] - (f1_re * b + f1_im * a)
+        V[i, j] = x - (f2_re * c - f2_im * d)
+        V[i, m + j] = y - (f2_re * d + f2_im * c)
 
 
 @jit
