@@ -40,6 +40,7 @@ from .kernels.residuals.condensed import (
     condensed_contact_forces,
     condensed_modal_recover,
     condensed_residual,
+    state_magnitudes,
 )
 from .kernels.residuals.hbm import aft_family
 from .laws import Contact2D
@@ -752,18 +753,28 @@ class CondensedHBMProblem(HBMProblem):
             np.zeros((n_c, n_c, 0)),
             0.0,
         )
+        # Lᵀ, Rᵀ, |L|ᵀ and the row sums of |R| (complex modes only)
+        magnitude_parts = (
+            np.zeros((0, n_c), dtype=complex),
+            np.zeros((n_c, 0), dtype=complex),
+            np.zeros((0, n_c)),
+            np.zeros(0),
+        )
         method = MODAL if modal is not None else DIRECT
         if self._state is not None:
             poles, X, Y, _ = self._state
             B = self.selection
+            left = np.ascontiguousarray(B @ X)
+            right = np.ascontiguousarray(Y @ B.T)
             state_parts = (
-                np.ascontiguousarray(B @ X),
-                np.ascontiguousarray(Y @ B.T),
+                left,
+                right,
                 np.ascontiguousarray(poles),
                 np.ascontiguousarray(Y @ load),
                 np.ascontiguousarray(X[self.contact_dof]),
                 *self._series_parts(B @ X, Y @ B.T, poles),
             )
+            magnitude_parts = state_magnitudes(left, right)
             method = STATE
         if modal is not None:
             omega, shapes, modal_c = modal
@@ -827,6 +838,7 @@ class CondensedHBMProblem(HBMProblem):
             ),
             self._kept_inverse(n_c, method),
             np.ascontiguousarray(self.shift if self.multi else np.zeros(0)),
+            *magnitude_parts,
         )
         self.n_unknowns = self.n_coordinates * self.n_coef
 

@@ -23,6 +23,7 @@ from hbmfric.kernels.linalg.pattern import (
     pattern_nonzeros,
     pattern_size,
     pattern_term_sum,
+    scatter_pattern,
 )
 from hbmfric.kernels.steps.newton import (
     ROUNDING_EPS,
@@ -126,7 +127,12 @@ def test_pattern_rows_equal_the_dense_passes_bit_for_bit(lap):
         nnz = st[-1]
         assert np.array_equal(co[:nnz], columns)
         assert np.array_equal(va[:nnz], values)
-        # the places of the pattern hold the dense matrix's entries
+        # only the last column (the border) is written at once
+        assert np.array_equal(B[:n, n], A[:n, n])
+        assert np.isnan(B[:n, :n]).all()
+        # the other places of the pattern from the nonzeros, when the block
+        # solver factors: the dense matrix's entries, zeros included
+        scatter_pattern(B, n_dof, n_coef, 0, st, co, va)
         assert np.array_equal(B[:n][mask], A[:n][mask])
         assert np.isnan(B[:n][~mask]).all()  # nothing written off them
         floor = ROUNDING_EPS * 2.220446049250313e-16
@@ -224,6 +230,15 @@ def test_block_solve_on_built_nonzeros_ignores_the_rest_of_the_matrix(lap, monke
             if k_max is not None:
                 assert state[krylov.REUSE_FALLBACKS] == 1
                 assert state[krylov.REUSE_FACTORISATIONS] == 1
+            elif J is points[1][1]:
+                # some contacts slip: solved on the blocks factored from
+                # B's places of the pattern, written from the nonzeros (NaN
+                # before), no dense factorisation (every contact slipping,
+                # the next point, needs more than the Krylov basis, as on
+                # main)
+                assert state[krylov.REUSE_BLOCK_BUILDS] == 1
+                assert state[krylov.REUSE_FALLBACKS] == 0
+                assert state[krylov.REUSE_FACTORISATIONS] == 0
 
 
 def test_block_solve_gathers_the_nonzeros_of_a_new_matrix(lap, monkeypatch):

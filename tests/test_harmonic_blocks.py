@@ -305,6 +305,63 @@ def test_inverse_of_order_up_to_84_matches_numpy(order):
         assert np.abs(DG - np.eye(order)).max() <= bound
 
 
+def _gauss_jordan_one_pivot(G):
+    """Plain-NumPy Gauss-Jordan inverse in the kernel's split form, one
+    pivot at a time (the kernel before stop 34), the same operations on
+    every entry: pivot by ``|Re| + |Im|``, the scaled pivot row, each
+    other row with a nonzero factor minus the factor times it."""
+    m = G.shape[0]
+    re = G.real.copy()
+    im = G.imag.copy()
+    piv = np.empty(m, dtype=int)
+    for k in range(m):
+        size = np.abs(re[k:, k]) + np.abs(im[k:, k])
+        p = k + int(np.argmax(size))  # the first of the largest
+        piv[k] = p
+        re[[k, p]] = re[[p, k]]
+        im[[k, p]] = im[[p, k]]
+        inv = 1.0 / complex(re[k, k], im[k, k])
+        re[k, k], im[k, k] = 1.0, 0.0
+        a, b = re[k].copy(), im[k].copy()
+        re[k] = a * inv.real - b * inv.imag
+        im[k] = a * inv.imag + b * inv.real
+        for i in range(m):
+            f_re, f_im = re[i, k], im[i, k]
+            if i == k or (f_re == 0.0 and f_im == 0.0):
+                continue
+            re[i, k] = im[i, k] = 0.0
+            re[i] -= f_re * re[k] - f_im * im[k]
+            im[i] -= f_re * im[k] + f_im * re[k]
+    D = re + 1j * im
+    for k in range(m - 1, -1, -1):
+        D[:, [k, piv[k]]] = D[:, [piv[k], k]]
+    return D
+
+
+@pytest.mark.parametrize("order", [1, 2, 3, 7, 34, 84, 85])
+def test_inverse_two_pivots_at_a_time_is_one_at_a_time_bit_for_bit(order):
+    """Stop 34: the kernel takes its pivots two at a time; its inverse is
+    that of one pivot at a time (plain NumPy, the same operations) bit for
+    bit: complex symmetric with zero diagonal entries (swaps), and a block
+    diagonal one whose zero factors take every branch of the two-pivot
+    update (both, the first only, the second only, neither)."""
+    rng = np.random.default_rng(order + 40)
+    A = rng.standard_normal((order, order)) + 1j * rng.standard_normal((order, order))
+    symmetric = 1e-7 * (A + A.T)
+    symmetric[np.arange(0, order, 3), np.arange(0, order, 3)] = 0.0
+    blocky = A.copy()
+    blocky[(np.arange(order)[:, None] // 3) != (np.arange(order)[None, :] // 3)] = 0
+    blocky[np.arange(0, order, 2), np.arange(0, order, 2)] = 0.0
+    blocky[np.arange(1, order, 4), np.arange(0, order - 1, 4)] = 2.0  # below
+    for G in (symmetric, blocky):
+        if np.linalg.matrix_rank(G) < order:
+            continue
+        D = np.empty_like(G)
+        work = np.empty_like(G)
+        assert _invert(G, D, work)
+        assert np.array_equal(D, _gauss_jordan_one_pivot(G))
+
+
 def test_inverse_of_a_permutation_and_loud_failures():
     """Every pivot a swap: the inverse of a (complex-scaled) permutation is
     its exact transpose; a NaN, an inf, a zero row or two equal rows give

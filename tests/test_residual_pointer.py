@@ -238,6 +238,7 @@ SEVERAL_CONTACT_PATH = (
     "equilibrate_pattern",
     "pattern_term_sum",
     "pattern_nonzeros",
+    "scatter_pattern",
 )
 
 

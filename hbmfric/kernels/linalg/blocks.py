@@ -57,7 +57,7 @@ from .krylov import (
     sparse_rows,
 )
 from .lu import lu_factor, lu_solve
-from .pattern import pattern_nonzeros, pattern_size
+from .pattern import pattern_nonzeros, pattern_size, scatter_pattern
 
 
 @jit
@@ -489,11 +489,13 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0, built=False
         The solver's ``nonzeros`` hold those of ``A``
         (:func:`~.pattern.equilibrate_pattern` and
         :func:`~.pattern.append_last_row`): GMRES multiplies with them and
-        ``A`` is read only at its harmonic blocks, the slipping
-        coordinates' blocks and its last row and column (its other entries
-        may hold anything). False (default): the nonzeros are gathered
-        from the whole of ``A`` (:func:`~.krylov.sparse_rows`), unless
-        ``again`` follows a call that had them built.
+        ``A`` is read only at its last row and column (its other entries
+        may hold anything); before its harmonic blocks and the slipping
+        coordinates' blocks are factored, its places of the pattern are
+        written from the nonzeros (:func:`~.pattern.scatter_pattern`).
+        False (default): the nonzeros are gathered from the whole of ``A``
+        (:func:`~.krylov.sparse_rows`), unless ``again`` follows a call
+        that had them built.
 
     Returns
     -------
@@ -511,6 +513,9 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0, built=False
         lu_solve(F, fpiv, b)
         return np.isfinite(b).all()
     fresh = False
+    # built nonzeros: A's places of the pattern are written from them only
+    # before its blocks are factored (equilibrate_pattern leaves them)
+    written = False
     if ready != PREPARED_BLOCKS:
         keep = (
             state[REUSE_PREPARED] == PREPARED_BLOCKS
@@ -520,6 +525,9 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0, built=False
         )
         state[REUSE_PREPARED] = PREPARED_NONE
         if keep and state[REUSE_CAPACITANCE_EVERY] != 0.0:
+            if kept:
+                scatter_pattern(A, n_dof, n_coef, first, starts, columns, values)
+                written = True
             state[REUSE_CAPACITANCE_BUILDS] += 1.0
             prepare_capacitance(
                 A, n_dof, n_coef, first, blocks, pivots, correction, work
@@ -530,6 +538,9 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0, built=False
             state[REUSE_PREPARED] = PREPARED_BLOCKS
         else:
             fresh = True
+            if kept and not written:
+                scatter_pattern(A, n_dof, n_coef, first, starts, columns, values)
+                written = True
             if _prepare_corrected(A, n_dof, n_coef, first, solver):
                 state[REUSE_PREPARED] = PREPARED_BLOCKS
     x = np.empty(m)
@@ -573,6 +584,9 @@ def block_solve(A, b, solver, n_dof, n_coef, first, again, tol=-1.0, built=False
         # kept blocks of an earlier matrix: once more on those of A
         fresh = True
         state[REUSE_PREPARED] = PREPARED_NONE
+        if kept and not written:
+            scatter_pattern(A, n_dof, n_coef, first, starts, columns, values)
+            written = True
         if _prepare_corrected(A, n_dof, n_coef, first, solver):
             state[REUSE_PREPARED] = PREPARED_BLOCKS
     if state[REUSE_PREPARED] == PREPARED_BLOCKS:

@@ -107,7 +107,7 @@ import numpy as np
 from numba import types
 from numba.extending import overload
 
-from ..._jit import jit
+from ..._jit import jit, jit_inline
 from ..aft.contact2d import CONTACT2D, MAX_PASSES, aft_contact2d
 from ..aft.schemes import GROSS_SLIP, STUCK
 from ..dlft.coulomb import COULOMB, dlft_contact, dlft_located
@@ -208,6 +208,15 @@ CondensedProblem = namedtuple(
         # the contact forces (f - K_s q); zeros unless K is singular
         # (hbmfric.condensation.coordinate_shift); (0,) for one contact
         "coordinate_shift",
+        # constant parts of the complex modes' sums, from state_left and
+        # state_right (:func:`state_magnitudes`, once per problem; empty
+        # without complex modes): Lᵀ complex128 (n_states, n_c), Rᵀ
+        # complex128 (n_c, n_states), |L|ᵀ float64 (n_states, n_c), the row
+        # sums of |R| float64 (n_states,)
+        "state_left_t",
+        "state_right_t",
+        "state_left_abs_t",
+        "state_right_sums",
     ],
 )
 CondensedProblem.__doc__ = """Flat data of the condensed HBM residual (see the
@@ -904,18 +913,21 @@ def _direct_coordinate_receptance(k, omega, col, problem, G, dG, p, dp, work):
 
 
 @jit
-def _state_coordinate_receptance(k, omega, col, problem, G, p, c, dc, rho):
+def _state_coordinate_receptance(k, omega, col, problem, G, p, c, dc, rho, left_t):
     """``G_k`` and ``p_k`` from the complex modes of the first-order form
     (``method == STATE``): ``G = L diag(c) R``, ``p = L (c ⊙ ρ)`` with
     ``c_r = 1/(ikΩ - λ_r)``, ``ρ`` the modal load of harmonic ``k``. Fills
     ``c``, ``dc = dc/dΩ = -ik c²`` and ``ρ`` (shape (n_states,)) for
     :func:`_state_derivative`; ``G`` (n_c, n_c), ``p`` (n_c,) complex.
+    ``left_t``: ``Lᵀ`` (shape (n_states, n_c), :func:`state_magnitudes`),
+    so that ``p`` is summed pole by pole over contiguous rows (a loop the
+    compiler vectorises; each ``p_a`` is the same sum in the same order as
+    the row-by-row dot product, bit for bit).
     Cost ``O(n_states n_c²)``: one complex matrix product (fewer poles with
     a series, :func:`state_matrix`), no factorisation."""
-    left = problem.state_left
     poles = problem.state_poles
     load = problem.state_load
-    n_c, n_s = left.shape
+    n_s, n_c = left_t.shape
     s = 1j * (k * omega)
     for r in range(n_s):
         cr = 1.0 / (s - poles[r])
@@ -926,10 +938,12 @@ def _state_coordinate_receptance(k, omega, col, problem, G, p, c, dc, rho):
         else:
             rho[r] = load[r, col] - 1j * load[r, col + 1]
     for a in range(n_c):
-        pa = 0.0j
-        for r in range(n_s):
-            pa += left[a, r] * c[r] * rho[r]
-        p[a] = pa
+        p[a] = 0.0j
+    for r in range(n_s):
+        cr = c[r]
+        rr = rho[r]
+        for a in range(n_c):
+            p[a] += left_t[r, a] * cr * rr
     state_matrix(problem, k * omega, c, G)
 
 
@@ -1012,36 +1026,78 @@ def state_matrix(problem, w, c, G):
             odd[j // 2] = sign * power
         power *= rho
     for a in range(n_c):
-        for b in range(a, n_c):
+        b = a
+        # four entries at a time: four independent sums per loop (each the
+        # same sum in the same order as alone, bit for bit)
+        while b + 3 < n_c:
+            r0 = 0.0
+            r1 = 0.0
+            r2 = 0.0
+            r3 = 0.0
+            for j in range(n_even):
+                f = even[j]
+                r0 += f * series[a, b, 2 * j]
+                r1 += f * series[a, b + 1, 2 * j]
+                r2 += f * series[a, b + 2, 2 * j]
+                r3 += f * series[a, b + 3, 2 * j]
+            i0 = 0.0
+            i1 = 0.0
+            i2 = 0.0
+            i3 = 0.0
+            for j in range(n_odd):
+                f = odd[j]
+                i0 += f * series[a, b, 2 * j + 1]
+                i1 += f * series[a, b + 1, 2 * j + 1]
+                i2 += f * series[a, b + 2, 2 * j + 1]
+                i3 += f * series[a, b + 3, 2 * j + 1]
+            _add_mirrored(G, a, b, r0, i0)
+            _add_mirrored(G, a, b + 1, r1, i1)
+            _add_mirrored(G, a, b + 2, r2, i2)
+            _add_mirrored(G, a, b + 3, r3, i3)
+            b += 4
+        while b < n_c:
             re = 0.0
             im = 0.0
             for j in range(n_even):
                 re += even[j] * series[a, b, 2 * j]
             for j in range(n_odd):
                 im += odd[j] * series[a, b, 2 * j + 1]
-            g = G[a, b] + (re + 1j * im)
-            G[a, b] = g
-            G[b, a] = g
+            _add_mirrored(G, a, b, re, im)
+            b += 1
+
+
+@jit_inline
+def _add_mirrored(G, a, b, re, im):
+    """``G[a, b] += re + i im`` and ``G[b, a]`` the same value."""
+    g = G[a, b] + (re + 1j * im)
+    G[a, b] = g
+    G[b, a] = g
 
 
 @jit
-def _state_derivative(problem, r_lin, c, dc, rho, out, tmp):
+def _state_derivative(left_t, right_t, r_lin, dc, rho, out, tmp):
     """``(dG/dΩ) r + dp/dΩ = L (dc ⊙ (R r + ρ))`` for the complex modes
     (``O(n_states n_c)``, ``dG/dΩ`` never formed) into ``out`` (n_c,);
-    ``tmp``: work, (n_states,)."""
-    left = problem.state_left
-    right = problem.state_right
-    n_c, n_s = left.shape
+    ``left_t``, ``right_t``: ``Lᵀ`` (n_states, n_c) and ``Rᵀ`` (n_c,
+    n_states) (:func:`state_magnitudes`): both products run over
+    contiguous rows, one column of the sum at a time (loops the compiler
+    vectorises), every entry the same sum in the same order as the dot
+    products of rows, bit for bit; ``tmp``: work, (n_states,)."""
+    n_s, n_c = left_t.shape
     for r in range(n_s):
-        v = rho[r]
-        for b in range(n_c):
-            v += right[r, b] * r_lin[b]
-        tmp[r] = dc[r] * v
-    for a in range(n_c):
-        v = 0.0j
+        tmp[r] = rho[r]
+    for b in range(n_c):
+        x = r_lin[b]
         for r in range(n_s):
-            v += left[a, r] * tmp[r]
-        out[a] = v
+            tmp[r] += right_t[b, r] * x
+    for r in range(n_s):
+        tmp[r] = dc[r] * tmp[r]
+    for a in range(n_c):
+        out[a] = 0.0j
+    for r in range(n_s):
+        t = tmp[r]
+        for a in range(n_c):
+            out[a] += left_t[r, a] * t
 
 
 @jit
@@ -1053,13 +1109,21 @@ def _invert(G, D, A):
     The elimination runs on the real and imaginary parts in separate
     float64 rows (``A`` viewed as float64 of shape (m, 2m): row ``i``
     holds the real parts of the eliminated row in its first ``m`` entries,
-    the imaginary parts in the last ``m``), with the scaled pivot row
+    the imaginary parts in the last ``m``), with the scaled pivot rows
     copied apart, so that each row's update is one contiguous loop of
     real products that the compiler vectorises (about 3 times faster at
     order 84 than the loop on complex entries). In place: the column of
     each pivot receives the inverse's column (``-f/p``), the rows swapped
     for the pivots are undone as column swaps at the end. The pivot is the
-    entry of largest ``|Re| + |Im|`` (as BLAS's ``izamax``)."""
+    entry of largest ``|Re| + |Im|`` (as BLAS's ``izamax``).
+
+    Pivots are taken two at a time (stop 34): the second pivot is chosen
+    on its column as the first one's update leaves it, its row updated
+    and scaled, and every other row then updated by both pivot rows in
+    one pass (:func:`_eliminate_two`), each entry by the same two
+    operations in the same order as two passes: the result is that of
+    one pivot at a time bit for bit, with half the passes over the rows
+    (order 84: 0.135 against 0.198 ms)."""
     m = G.shape[0]
     V = A.view(np.float64)
     big_all = 0.0
@@ -1075,9 +1139,15 @@ def _invert(G, D, A):
         return False
     tiny = 1e-300 + big_all * 1e-15
     piv = np.empty(m, dtype=np.int64)
-    row_re = np.empty(m)
-    row_im = np.empty(m)
-    for k in range(m):
+    r1_re = np.empty(m)
+    r1_im = np.empty(m)
+    r2_re = np.empty(m)
+    r2_im = np.empty(m)
+    c_re = np.empty(m)
+    c_im = np.empty(m)
+    k = 0
+    while k < m:
+        # first pivot: column k
         p = k
         big = abs(V[k, k]) + abs(V[k, m + k])
         for i in range(k + 1, m):
@@ -1091,33 +1161,92 @@ def _invert(G, D, A):
         if p != k:
             for j in range(2 * m):
                 V[k, j], V[p, j] = V[p, j], V[k, j]
-        inv = 1.0 / complex(V[k, k], V[k, m + k])
-        inv_re = inv.real
-        inv_im = inv.imag
-        V[k, k] = 1.0
-        V[k, m + k] = 0.0
-        for j in range(m):
-            a = V[k, j]
-            b = V[k, m + j]
-            row_re[j] = a * inv_re - b * inv_im
-            row_im[j] = a * inv_im + b * inv_re
-        for j in range(m):
-            V[k, j] = row_re[j]
-            V[k, m + j] = row_im[j]
-        for i in range(m):
-            if i == k:
-                continue
+        _scale_pivot_row(V, k, r1_re, r1_im)
+        if k + 1 == m:
+            for i in range(m - 1):
+                f_re = V[i, k]
+                f_im = V[i, m + k]
+                if f_re == 0.0 and f_im == 0.0:
+                    continue
+                V[i, k] = 0.0
+                V[i, m + k] = 0.0
+                _eliminate_one(V, i, f_re, f_im, r1_re, r1_im)
+            break
+        # second pivot: column q as the first pivot's update leaves it
+        q = k + 1
+        a1 = r1_re[q]
+        b1 = r1_im[q]
+        for i in range(q, m):
             f_re = V[i, k]
             f_im = V[i, m + k]
-            if f_re == 0.0 and f_im == 0.0:
+            x = V[i, q]
+            y = V[i, m + q]
+            if not (f_re == 0.0 and f_im == 0.0):
+                x -= f_re * a1 - f_im * b1
+                y -= f_re * b1 + f_im * a1
+            c_re[i] = x
+            c_im[i] = y
+        p = q
+        big = abs(c_re[q]) + abs(c_im[q])
+        for i in range(q + 1, m):
+            a = abs(c_re[i]) + abs(c_im[i])
+            if a > big:
+                big = a
+                p = i
+        if not big > tiny:
+            return False
+        piv[q] = p
+        if p != q:
+            for j in range(2 * m):
+                V[q, j], V[p, j] = V[p, j], V[q, j]
+        # row q: the first pivot's update, then its own scaling
+        f_re = V[q, k]
+        f_im = V[q, m + k]
+        if not (f_re == 0.0 and f_im == 0.0):
+            V[q, k] = 0.0
+            V[q, m + k] = 0.0
+            _eliminate_one(V, q, f_re, f_im, r1_re, r1_im)
+        _scale_pivot_row(V, q, r2_re, r2_im)
+        # row k: the second pivot's update
+        f_re = V[k, q]
+        f_im = V[k, m + q]
+        if not (f_re == 0.0 and f_im == 0.0):
+            V[k, q] = 0.0
+            V[k, m + q] = 0.0
+            _eliminate_one(V, k, f_re, f_im, r2_re, r2_im)
+        # every other row: both updates, in one pass where both apply
+        for i in range(m):
+            if i == k or i == q:
                 continue
-            V[i, k] = 0.0
-            V[i, m + k] = 0.0
-            for j in range(m):
-                a = row_re[j]
-                b = row_im[j]
-                V[i, j] -= f_re * a - f_im * b
-                V[i, m + j] -= f_re * b + f_im * a
+            f1_re = V[i, k]
+            f1_im = V[i, m + k]
+            one = not (f1_re == 0.0 and f1_im == 0.0)
+            f2_re = V[i, q]
+            f2_im = V[i, m + q]
+            if one:
+                f2_re -= f1_re * a1 - f1_im * b1
+                f2_im -= f1_re * b1 + f1_im * a1
+            two = not (f2_re == 0.0 and f2_im == 0.0)
+            if one and two:
+                V[i, k] = 0.0
+                V[i, m + k] = 0.0
+                _eliminate_two(
+                    V, i, f1_re, f1_im, r1_re, r1_im, f2_re, f2_im, r2_re, r2_im
+                )
+                # column q was zeroed for the second pivot: its update only
+                c = r2_re[q]
+                d = r2_im[q]
+                V[i, q] = 0.0 - (f2_re * c - f2_im * d)
+                V[i, m + q] = 0.0 - (f2_re * d + f2_im * c)
+            elif one:
+                V[i, k] = 0.0
+                V[i, m + k] = 0.0
+                _eliminate_one(V, i, f1_re, f1_im, r1_re, r1_im)
+            elif two:
+                V[i, q] = 0.0
+                V[i, m + q] = 0.0
+                _eliminate_one(V, i, f2_re, f2_im, r2_re, r2_im)
+        k += 2
     for i in range(m):
         for j in range(m):
             D[i, j] = complex(V[i, j], V[i, m + j])
@@ -1127,6 +1256,57 @@ def _invert(G, D, A):
             for i in range(m):
                 D[i, k], D[i, p] = D[i, p], D[i, k]
     return True
+
+
+@jit_inline
+def _scale_pivot_row(V, k, row_re, row_im):
+    """Row ``k`` of the split work array ``V`` (float64, shape (m, 2m),
+    :func:`_invert`) divided by its pivot ``V[k, k]`` (its own entry set to
+    1 first: it receives the pivot's inverse), into ``row_re``,
+    ``row_im`` (shape (m,)) and back into ``V``."""
+    m = row_re.size
+    inv = 1.0 / complex(V[k, k], V[k, m + k])
+    inv_re = inv.real
+    inv_im = inv.imag
+    V[k, k] = 1.0
+    V[k, m + k] = 0.0
+    for j in range(m):
+        a = V[k, j]
+        b = V[k, m + j]
+        row_re[j] = a * inv_re - b * inv_im
+        row_im[j] = a * inv_im + b * inv_re
+    for j in range(m):
+        V[k, j] = row_re[j]
+        V[k, m + j] = row_im[j]
+
+
+@jit_inline
+def _eliminate_one(V, i, f_re, f_im, r_re, r_im):
+    """Row ``i`` of the split work array ``V`` (:func:`_invert`) minus
+    ``f`` times the scaled pivot row ``r``."""
+    m = r_re.size
+    for j in range(m):
+        a = r_re[j]
+        b = r_im[j]
+        V[i, j] -= f_re * a - f_im * b
+        V[i, m + j] -= f_re * b + f_im * a
+
+
+@jit_inline
+def _eliminate_two(V, i, f1_re, f1_im, r1_re, r1_im, f2_re, f2_im, r2_re, r2_im):
+    """Row ``i`` of the split work array ``V`` (:func:`_invert`) minus
+    ``f1 r1``, then minus ``f2 r2``, in one pass: each entry the same two
+    operations in the same order as :func:`_eliminate_one` twice."""
+    m = r1_re.size
+    for j in range(m):
+        a = r1_re[j]
+        b = r1_im[j]
+        c = r2_re[j]
+        d = r2_im[j]
+        x = V[i, j] - (f1_re * a - f1_im * b)
+        y = V[i, m + j] - (f1_re * b + f1_im * a)
+        V[i, j] = x - (f2_re * c - f2_im * d)
+        V[i, m + j] = y - (f2_re * d + f2_im * c)
 
 
 @jit
@@ -1185,7 +1365,11 @@ def _coordinates_linear(y, problem, R, J):
     r_lin = np.empty(n_c, dtype=np.complex128)
     v = np.empty(n_c, dtype=np.complex128)
     level = 0.0
-    left_abs, right_sums = _state_magnitudes(problem)
+    left_t = problem.state_left_t
+    right_t = problem.state_right_t
+    left_abs_t = problem.state_left_abs_t
+    right_sums = problem.state_right_sums
+    rows = np.empty(n_c)
     kept = problem.kept_inverse
     keep = problem.method == STATE and kept.shape[0] == hn.size + 1
     if keep:
@@ -1198,7 +1382,9 @@ def _coordinates_linear(y, problem, R, J):
             ):
                 return SINGULAR_RECEPTANCE
         elif problem.method == STATE:
-            _state_coordinate_receptance(k, omega, col, problem, G, p, c, dc, rho)
+            _state_coordinate_receptance(
+                k, omega, col, problem, G, p, c, dc, rho, left_t
+            )
         else:
             _modal_coordinate_receptance(
                 k, omega, col, problem, G, dG, p, dp, inv_d, dinv
@@ -1212,7 +1398,7 @@ def _coordinates_linear(y, problem, R, J):
             e[a] = (y[i] + 0.0j if k == 0 else y[i] - 1j * y[i + 1]) - p[a]
         g_scale = 0.0
         if problem.method == STATE:
-            g_scale = _state_sum_norm(left_abs, right_sums, c)
+            g_scale = _state_sum_norm(left_abs_t, right_sums, c, rows)
         level = max(level, _rounding_level(G, D, e, g_scale))
         for a in range(n_c):
             s = 0.0j
@@ -1221,7 +1407,7 @@ def _coordinates_linear(y, problem, R, J):
             r_lin[a] = s
         # v = dG r + dp
         if problem.method == STATE:
-            _state_derivative(problem, r_lin, c, dc, rho, v, tmp)
+            _state_derivative(left_t, right_t, r_lin, dc, rho, v, tmp)
         else:
             for a in range(n_c):
                 s = dp[a]
@@ -1255,15 +1441,21 @@ def _coordinates_linear(y, problem, R, J):
 
 
 @jit
-def _state_magnitudes(problem):
-    """``|L|`` (shape (n_c, n_states)) and the row sums of ``|R|`` (shape
-    (n_states,)) of the complex modes, the constant parts of
-    :func:`_state_sum_norm`, once per residual (not per harmonic: each
-    complex magnitude is a square root)."""
-    left = problem.state_left
-    right = problem.state_right
+def state_magnitudes(left, right):
+    """The constant parts of the complex modes' sums, once per problem
+    (:class:`hbmfric.condensation.CondensedHBMProblem` stores them in the
+    kernel problem's ``state_*_t`` fields), from ``L`` (complex, shape
+    (n_c, n_states)) and ``R`` (complex, shape (n_states, n_c)):
+    ``Lᵀ`` (n_states, n_c) and ``Rᵀ`` (n_c, n_states) for
+    :func:`_state_coordinate_receptance` and :func:`_state_derivative`
+    (their sums then run over contiguous rows), ``|L|ᵀ`` (n_states, n_c)
+    and the row sums of ``|R|`` (n_states,) for :func:`_state_sum_norm`
+    (each complex magnitude a square root: 0.28 ms per residual at
+    ``N = 100`` when they were taken at every residual)."""
     n_c, n_s = left.shape
-    left_abs = np.empty((n_c, n_s))
+    left_abs_t = np.empty((n_s, n_c))
+    left_t = np.empty((n_s, n_c), dtype=np.complex128)
+    right_t = np.empty((n_c, n_s), dtype=np.complex128)
     right_sums = np.empty(n_s)
     for r in range(n_s):
         s = 0.0
@@ -1272,27 +1464,34 @@ def _state_magnitudes(problem):
         right_sums[r] = s
     for a in range(n_c):
         for r in range(n_s):
-            left_abs[a, r] = abs(left[a, r])
-    return left_abs, right_sums
+            v = left[a, r]
+            left_t[r, a] = v
+            left_abs_t[r, a] = abs(v)
+    for r in range(n_s):
+        for b in range(n_c):
+            right_t[b, r] = right[r, b]
+    return left_t, right_t, left_abs_t, right_sums
 
 
 @jit
-def _state_sum_norm(left_abs, right_sums, c):
+def _state_sum_norm(left_abs_t, right_sums, c, rows):
     """``‖ |L| diag|c| |R| ‖∞``: the ∞-norm of the sum of the absolute
     terms of ``G = L diag(c) R`` (complex modes), the scale of its
-    rounding, from :func:`_state_magnitudes`. On the lap joint 80 times
-    ``‖G‖∞`` (its relative coordinates are small differences of the modes'
-    terms)."""
-    n_c, n_s = left_abs.shape
-    weight = np.empty(n_s)
+    rounding, from :func:`state_magnitudes` (``left_abs_t = |L|ᵀ``, the
+    row sums summed pole by pole over contiguous rows of it into ``rows``,
+    shape (n_c,): each the same sum in the same order as a row's dot
+    product, bit for bit). On the lap joint 80 times ``‖G‖∞`` (its
+    relative coordinates are small differences of the modes' terms)."""
+    n_s, n_c = left_abs_t.shape
+    for a in range(n_c):
+        rows[a] = 0.0
     for r in range(n_s):
-        weight[r] = abs(c[r]) * right_sums[r]
+        w = abs(c[r]) * right_sums[r]
+        for a in range(n_c):
+            rows[a] += left_abs_t[r, a] * w
     worst = 0.0
     for a in range(n_c):
-        row = 0.0
-        for r in range(n_s):
-            row += left_abs[a, r] * weight[r]
-        worst = max(worst, row)
+        worst = max(worst, rows[a])
     return worst
 
 
