@@ -42,6 +42,14 @@ _RATE_WINDOW = 16
 LOOPS = 2
 
 
+def scheme_pulsation(omega: float, steps: int) -> float:
+    """``Ω̃ = (2/h) tan(Ωh/2)``, ``h = 2π/(NΩ)``: the pulsation at which
+    the trapezoidal rule's periodic response is the exact linear one,
+    rad/s."""
+    h = 2.0 * np.pi / (omega * steps)
+    return float((2.0 / h) * np.tan(0.5 * omega * h))
+
+
 @dataclass(frozen=True)
 class _Run:
     """Outcome of one integration to the steady state."""
@@ -99,6 +107,48 @@ class _TimeProblem:
         samples = np.stack((np.cos(phase), np.sin(phase)))
         cos_sum = np.ascontiguousarray(samples[:, :-1] + samples[:, 1:])
         return A_t, B_t, q, q0, extra, cos_sum, 2.0 / h
+
+    def scheme_error(self, omega: float, steps: int) -> tuple[float, int]:
+        """A priori error of the scheme on the stuck linearisation.
+
+        The trapezoidal rule's periodic response to ``Re(p e^{iΩt})`` is the
+        linear FRF at ``Ω̃ = (2/h) tan(Ωh/2)`` instead of ``Ω``
+        (:meth:`linear_steady_state`); near a lightly damped resonance the
+        relative change ``(Ω̃ - Ω)/Ω ≈ (Ωh)²/12`` is amplified by about
+        ``1/(2ζ)``.
+
+        Returns
+        -------
+        error : float
+            ``max_d |X̃_d - X_d| / max(|X_d|, CURVE_REST max|X|)``, the
+            stuck structure's first-harmonic response at ``Ω̃`` against ``Ω``
+            (0 where the structure is singular at either: the
+            integration says so itself).
+        dof : int
+            The DOF of the largest error.
+        """
+        from ..results import CURVE_REST
+
+        omega_h = scheme_pulsation(omega, steps)
+        k = self.stuck_stiffness_matrix()
+        out = []
+        for w in (omega, omega_h):
+            try:
+                out.append(
+                    np.linalg.solve(
+                        k - w**2 * self.mass + 1j * w * self.damping, self.load
+                    )
+                )
+            except np.linalg.LinAlgError:
+                return 0.0, 0
+        X, X_h = out
+        size = np.abs(X)
+        scale = float(np.max(size))
+        if not (scale > 0.0 and np.all(np.isfinite(X_h))):
+            return 0.0, 0
+        rel = np.abs(X_h - X) / np.maximum(size, CURVE_REST * scale)
+        d = int(np.argmax(rel))
+        return float(rel[d]), d
 
     def initial_state(
         self, state, omega: float, steps: int
@@ -262,11 +312,8 @@ class SingleContact(_TimeProblem):
         ``v_k = Re(iΩ̃ X e^{iΩ t_k})`` with ``Ω̃ = (2/h) tan(Ωh/2)``, so its
         periodic response is the linear FRF at the modified pulsation.
         """
-        h = 2.0 * np.pi / (omega * steps)
-        omega_h = (2.0 / h) * np.tan(0.5 * omega * h)
-        k = self.stiffness.astype(complex)
-        c = self.contact_dof
-        k[c, c] += self.stuck_stiffness
+        omega_h = scheme_pulsation(omega, steps)
+        k = self.stuck_stiffness_matrix()
         dynamic = k - omega_h**2 * self.mass + 1j * omega_h * self.damping
         try:
             X = np.linalg.solve(dynamic, self.load)
@@ -276,6 +323,13 @@ class SingleContact(_TimeProblem):
                 f"omega={omega} (undamped resonance); give (x0, v0) instead"
             ) from None
         return np.ascontiguousarray(X.real), np.ascontiguousarray(-omega_h * X.imag)
+
+    def stuck_stiffness_matrix(self) -> np.ndarray:
+        """``K`` with the contact held by its stuck stiffness, N/m."""
+        k = np.array(self.stiffness, dtype=float)
+        c = self.contact_dof
+        k[c, c] += self.stuck_stiffness
+        return k
 
     def initial_law_state(self, x: np.ndarray) -> np.ndarray:
         """Virgin contact-law state at 0 moved to ``x[c]`` (``[0]`` the
@@ -435,10 +489,9 @@ class SeveralContacts(_TimeProblem):
         """As :meth:`SingleContact.linear_steady_state` with every coordinate
         held by its law's stuck stiffness (a 2D element's tangential and
         normal stiffness when preloaded, none when open at rest)."""
-        h = 2.0 * np.pi / (omega * steps)
-        omega_h = (2.0 / h) * np.tan(0.5 * omega * h)
+        omega_h = scheme_pulsation(omega, steps)
         B = self.reader()
-        k = self.stiffness + B.T @ (self.coordinate_stiffness[:, None] * B)
+        k = self.stuck_stiffness_matrix()
         dynamic = k - omega_h**2 * self.mass + 1j * omega_h * self.damping
         try:
             X = np.linalg.solve(dynamic, self.load)
@@ -455,6 +508,12 @@ class SeveralContacts(_TimeProblem):
                 self.static_load - B.T @ self._rest_forces(),
             )
         return x0, v0
+
+    def stuck_stiffness_matrix(self) -> np.ndarray:
+        """``K`` with every coordinate held by its law's stuck stiffness
+        (as :meth:`linear_steady_state`), N/m."""
+        B = self.reader()
+        return self.stiffness + B.T @ (self.coordinate_stiffness[:, None] * B)
 
     def _rest_forces(self) -> np.ndarray:
         """Coordinate forces at ``x = 0`` (a 2D element's preload)."""
