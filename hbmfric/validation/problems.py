@@ -20,7 +20,7 @@ import numpy as np
 from .._validate import finite_float
 from ..kernels.aft.contact2d import contact2d_step
 from ..kernels.dlft.coulomb import COULOMB
-from ..kernels.laws.updates import law_init, state_size
+from ..kernels.laws.updates import DAHL, law_init, state_size
 from ..systems.protocol import check_load, check_system
 from .integrator import NO_CONTACT, OK, newmark_periods, record_period
 from .multi_integrator import (
@@ -129,6 +129,11 @@ class _TimeProblem:
         """
         from ..results import CURVE_REST
 
+        if self.has_dahl():
+            # a modified Dahl law has no stuck state: its small-loop tangent
+            # is not a structure the motion rests in (and the tensioner's
+            # references are checked against shooting instead)
+            return 0.0, 0
         omega_h = scheme_pulsation(omega, steps)
         k = self.stuck_stiffness_matrix()
         out = []
@@ -324,6 +329,10 @@ class SingleContact(_TimeProblem):
             ) from None
         return np.ascontiguousarray(X.real), np.ascontiguousarray(-omega_h * X.imag)
 
+    def has_dahl(self) -> bool:
+        """The contact is a modified Dahl law."""
+        return self.law_code == DAHL
+
     def stuck_stiffness_matrix(self) -> np.ndarray:
         """``K`` with the contact held by its stuck stiffness, N/m."""
         k = np.array(self.stiffness, dtype=float)
@@ -508,6 +517,10 @@ class SeveralContacts(_TimeProblem):
                 self.static_load - B.T @ self._rest_forces(),
             )
         return x0, v0
+
+    def has_dahl(self) -> bool:
+        """Some 1D contact is a modified Dahl law."""
+        return bool(np.any((self.kinds == LAW_1D) & (self.codes == DAHL)))
 
     def stuck_stiffness_matrix(self) -> np.ndarray:
         """``K`` with every coordinate held by its law's stuck stiffness

@@ -106,7 +106,8 @@ class SteadyState:
         the result's error; it grows as ``1/ζ`` on the flanks of a lightly
         damped resonance. Above ``SCHEME_TOLERANCE`` = 1e-4 the call warns
         (``hf.AccuracyWarning``). It does not see the errors of slip phases
-        and stick onsets: ``check_halving=True`` measures those.
+        and stick onsets: ``check_halving=True`` measures those. 0 with a
+        modified Dahl law (no stuck state).
     """
 
     omega: float
@@ -313,8 +314,8 @@ def steady_state(
             f"rule's pulsation (2/h) tan(Ωh/2) moves the stuck structure's "
             f"first harmonic (amplitude and phase) by {scheme_error:.2g} "
             f"(relative, DOF {scheme_dof}) at "
-            f"{steps_per_period} steps per period (a lightly damped "
-            f"resonance nearby); the result carries an error of that order. "
+            f"{steps_per_period} steps per period (too coarse for a lightly "
+            f"damped resonance nearby); the result carries an error of that order. "
             f"steps_per_period >= {int(math.ceil(needed / 256.0)) * 256} brings "
             f"it below {SCHEME_TOLERANCE:g}",
             AccuracyWarning,
