@@ -55,7 +55,8 @@ class SteadyState:
         Displacements at the step instants ``t_k = k T / N`` of the last
         period (``T = 2π/Ω``, ``t = 0`` a forcing-phase origin), m.
     contact_force : ndarray, shape (steps_per_period,)
-        Contact force at the same instants, N (zeros without contact).
+        Contact force at the same instants, N (zeros without contact; with
+        several contacts the first contact's, on its first coordinate).
     periods : int
         Periods integrated (the recorded last one included).
     steps : int
