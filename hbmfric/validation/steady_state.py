@@ -99,16 +99,17 @@ class SteadyState:
         contact laws' state, ``law_state[0]`` a force in N): where
         :func:`~hbmfric.validation.monodromy` starts.
     scheme_error : float
-        A priori error of the scheme on the stuck linearisation: the
+        Error of the scheme where the motion is the stuck structure's: the
         largest relative change of a DOF's first harmonic when the stuck
         structure is forced at the scheme's pulsation ``Ω̃ = (2/h)
         tan(Ωh/2)`` instead of ``Ω`` (the trapezoidal rule's periodic
-        response is the exact one at ``Ω̃``). Where the contact sticks it is
-        the result's error; it grows as ``1/ζ`` on the flanks of a lightly
-        damped resonance. Above ``SCHEME_TOLERANCE`` = 1e-4 the call warns
-        (``hf.AccuracyWarning``). It does not see the errors of slip phases
-        and stick onsets: ``check_halving=True`` measures those. 0 with a
-        modified Dahl law (no stuck state).
+        response is the exact one at ``Ω̃``); it grows as ``1/ζ`` on the
+        flanks of a lightly damped resonance. Above ``SCHEME_TOLERANCE`` =
+        1e-4 the call warns (``hf.AccuracyWarning``). NaN where the motion
+        is not the stuck structure's (its first harmonic more than 5 % off
+        it: a contact slips), with a modified Dahl law (no stuck state) or
+        after a failed integration; ``check_halving=True`` measures the
+        errors of slip phases and stick onsets.
     """
 
     omega: float
@@ -306,14 +307,22 @@ def steady_state(
     if not isinstance(check_halving, bool | np.bool_):
         raise ValueError(f"check_halving must be True or False, got {check_halving!r}")
     problem = SingleContact.build(system, force)
-    scheme_error, scheme_dof = problem.scheme_error(omega, steps_per_period)
-    if scheme_error > SCHEME_TOLERANCE:
+    x, v = problem.initial_state(initial_state, omega, steps_per_period)
+    f = problem.initial_law_state(x)
+
+    run = problem.integrate(omega, steps_per_period, tol, max_periods, x, v, f)
+    coefficients = _fourier_coefficients(run.samples, harmonics)
+    scheme_error, scheme_dof = problem.scheme_error(
+        omega, steps_per_period, coefficients[:, 1] - 1j * coefficients[:, 2]
+    )
+    if run.status == OK and scheme_error > SCHEME_TOLERANCE:
         # the error goes as h²: the steps that bring it to half the tolerance
         needed = steps_per_period * math.sqrt(2.0 * scheme_error / SCHEME_TOLERANCE)
         warnings.warn(
-            f"time integration at Ω = {omega:.6g} rad/s: the trapezoidal "
-            f"rule's pulsation (2/h) tan(Ωh/2) moves the stuck structure's "
-            f"first harmonic (amplitude and phase) by {scheme_error:.2g} "
+            f"time integration at Ω = {omega:.6g} rad/s: the motion is the "
+            f"stuck structure's, and the trapezoidal rule's pulsation "
+            f"(2/h) tan(Ωh/2) moves its first harmonic (amplitude and phase) "
+            f"by {scheme_error:.2g} "
             f"(relative, DOF {scheme_dof}) at "
             f"{steps_per_period} steps per period (too coarse for a lightly "
             f"damped resonance nearby); the result carries an error of that order. "
@@ -322,11 +331,6 @@ def steady_state(
             AccuracyWarning,
             stacklevel=2,
         )
-    x, v = problem.initial_state(initial_state, omega, steps_per_period)
-    f = problem.initial_law_state(x)
-
-    run = problem.integrate(omega, steps_per_period, tol, max_periods, x, v, f)
-    coefficients = _fourier_coefficients(run.samples, harmonics)
     final_state = (x.copy(), v.copy(), f.copy())
 
     error_estimate = math.nan
