@@ -18,14 +18,21 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .._validate import finite_float, positive_int
-from ..errors import ConvergenceError, ConvergenceWarning
-from ..results import _resolve_dof
+from ..errors import AccuracyWarning, ConvergenceError, ConvergenceWarning
+from ..results import CURVE_REST, _resolve_dof
 from ..signals import harmonic_amplitude, sampled_peak_to_peak
 from .integrator import MESSAGES, OK
 from .problems import SingleContact, _Run
 
 if TYPE_CHECKING:
     from ..systems import Oscillator
+
+
+#: largest a priori scheme error (:attr:`SteadyState.scheme_error`) that
+#: passes without an :class:`~hbmfric.AccuracyWarning`: at 2048 steps per
+#: period a stuck structure with 1 % damping stays below it (4e-5 on the
+#: flanks of its resonance), one with 0.1 % does not (3.9e-4, stop 34)
+SCHEME_TOLERANCE = 1e-4
 
 
 @dataclass
@@ -48,7 +55,8 @@ class SteadyState:
         Displacements at the step instants ``t_k = k T / N`` of the last
         period (``T = 2π/Ω``, ``t = 0`` a forcing-phase origin), m.
     contact_force : ndarray, shape (steps_per_period,)
-        Contact force at the same instants, N (zeros without contact).
+        Contact force at the same instants, N (zeros without contact; with
+        several contacts the first contact's, on its first coordinate).
     periods : int
         Periods integrated (the recorded last one included).
     steps : int
@@ -65,11 +73,16 @@ class SteadyState:
     steps_per_period : int
         ``N``.
     error_estimate : float
-        From step halving (``check_halving=True``): change of the
-        first-harmonic amplitude when the step is halved, relative to the
-        largest first-harmonic amplitude of all DOFs (for one DOF simply
-        ``|a₁(N) / a₁(2N) - 1|``). For the second-order scheme the error of
-        this result is about 4/3 of it. NaN if not computed.
+        From step halving (``check_halving=True``): the largest change of
+        a DOF's first-harmonic amplitude when the step is halved, relative
+        to that DOF's own amplitude (``max_d |a₁d(N) / a₁d(2N) - 1|``; a DOF
+        below ``CURVE_REST`` = 1e-4 of the largest amplitude relative to
+        that floor), so that it bounds what ``amplitude(1, dof=d)`` reads
+        for any ``d``. For the second-order scheme the error of this result
+        is about 4/3 of it. NaN if not computed. Before stop 34 it was
+        relative to the largest amplitude of all DOFs: on a 3-DOF chain
+        whose contact DOF moved 10 times less than the forced one it read
+        7.1e-5 where the contact DOF's amplitude was 9.5e-4 off.
     halving_periods : int
         Periods integrated with the halved step (0 if not computed).
     elapsed : float
@@ -85,6 +98,18 @@ class SteadyState:
         ``(x, v, law_state)`` at the end of the last period (m, m/s and the
         contact laws' state, ``law_state[0]`` a force in N): where
         :func:`~hbmfric.validation.monodromy` starts.
+    scheme_error : float
+        Error of the scheme where the motion is the stuck structure's: the
+        largest relative change of a DOF's first harmonic when the stuck
+        structure is forced at the scheme's pulsation ``Ω̃ = (2/h)
+        tan(Ωh/2)`` instead of ``Ω`` (the trapezoidal rule's periodic
+        response is the exact one at ``Ω̃``); it grows as ``1/ζ`` on the
+        flanks of a lightly damped resonance. Above ``SCHEME_TOLERANCE`` =
+        1e-4 the call warns (``hf.AccuracyWarning``). NaN where the motion
+        is not the stuck structure's (its first harmonic more than 5 % off
+        it: a contact slips), with a modified Dahl law (no stuck state) or
+        after a failed integration; ``check_halving=True`` measures the
+        errors of slip phases and stick onsets.
     """
 
     omega: float
@@ -106,6 +131,7 @@ class SteadyState:
     message: str
     dof_names: dict = field(default_factory=dict)
     final_state: tuple | None = field(default=None, repr=False)
+    scheme_error: float = math.nan
 
     @property
     def n_dof(self) -> int:
@@ -286,6 +312,25 @@ def steady_state(
 
     run = problem.integrate(omega, steps_per_period, tol, max_periods, x, v, f)
     coefficients = _fourier_coefficients(run.samples, harmonics)
+    scheme_error, scheme_dof = problem.scheme_error(
+        omega, steps_per_period, coefficients[:, 1] - 1j * coefficients[:, 2]
+    )
+    if run.status == OK and scheme_error > SCHEME_TOLERANCE:
+        # the error goes as h²: the steps that bring it to half the tolerance
+        needed = steps_per_period * math.sqrt(2.0 * scheme_error / SCHEME_TOLERANCE)
+        warnings.warn(
+            f"time integration at Ω = {omega:.6g} rad/s: the motion is the "
+            f"stuck structure's, and the trapezoidal rule's pulsation "
+            f"(2/h) tan(Ωh/2) moves its first harmonic (amplitude and phase) "
+            f"by {scheme_error:.2g} "
+            f"(relative, DOF {scheme_dof}) at "
+            f"{steps_per_period} steps per period (too coarse for a lightly "
+            f"damped resonance nearby); the result carries an error of that order. "
+            f"steps_per_period >= {int(math.ceil(needed / 256.0)) * 256} brings "
+            f"it below {SCHEME_TOLERANCE:g}",
+            AccuracyWarning,
+            stacklevel=2,
+        )
     final_state = (x.copy(), v.copy(), f.copy())
 
     error_estimate = math.nan
@@ -297,10 +342,7 @@ def steady_state(
             a_coarse = np.hypot(coefficients[:, 1], coefficients[:, 2])
             fine_coefficients = _fourier_coefficients(fine.samples, 1)
             a_fine = np.hypot(fine_coefficients[:, 1], fine_coefficients[:, 2])
-            scale = float(np.max(a_fine))
-            error_estimate = (
-                float(np.max(np.abs(a_coarse - a_fine)) / scale) if scale > 0 else 0.0
-            )
+            error_estimate = halving_change(a_coarse, a_fine)
 
     result = SteadyState(
         omega=omega,
@@ -322,6 +364,7 @@ def steady_state(
         message=_message(run, tol, max_periods),
         dof_names=dict(getattr(system, "dof_names", {})),
         final_state=final_state,
+        scheme_error=scheme_error,
     )
     if not result.converged:
         text = (
@@ -332,6 +375,28 @@ def steady_state(
             raise ConvergenceError(text)
         warnings.warn(text, ConvergenceWarning, stacklevel=2)
     return result
+
+
+def halving_change(a_coarse: np.ndarray, a_fine: np.ndarray) -> float:
+    """Largest relative change of the DOFs' amplitudes between two step
+    sizes (:attr:`SteadyState.error_estimate`).
+
+    Parameters
+    ----------
+    a_coarse, a_fine : ndarray, shape (n_dof,)
+        First-harmonic amplitudes with ``N`` and ``2 N`` steps per period, m.
+
+    Returns
+    -------
+    float
+        ``max_d |a_coarse[d] - a_fine[d]| / max(a_fine[d], floor)`` with the
+        floor ``CURVE_REST`` times the largest ``a_fine`` (0 when all are 0).
+    """
+    scale = float(np.max(a_fine))
+    if not scale > 0.0:
+        return 0.0
+    own = np.maximum(a_fine, CURVE_REST * scale)
+    return float(np.max(np.abs(a_coarse - a_fine) / own))
 
 
 def _message(run: _Run, tol: float, max_periods: int | None = None) -> str:
