@@ -44,6 +44,12 @@ class StudyWarning(HbmfricWarning):
     kept (:attr:`hbmfric.study.StudyResult.failures` and ``.warned``)."""
 
 
+class DataWarning(HbmfricWarning):
+    """Input data read from a file look misread (for example decimal commas
+    in a comma-separated file); the values returned are what the file says
+    under the documented format, which may not be what was meant."""
+
+
 class ConvergenceError(RuntimeError):
     """Raised instead of :class:`ConvergenceWarning` where the user asked
     for an exception (``on_failure="raise"``)."""
@@ -55,6 +61,7 @@ __all__ = [
     "ConvergenceError",
     "ConvergenceWarning",
     "CoverageWarning",
+    "DataWarning",
     "HbmfricWarning",
     "StudyWarning",
 ]

@@ -6,12 +6,15 @@ from __future__ import annotations
 import codecs
 import csv
 import math
+import re
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from .._validate import finite_float
+from ..errors import DataWarning
 
 #: accepted CSV column names (first match wins), lower case
 COLUMNS = {
@@ -257,6 +260,13 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
         In order of first appearance in the file, with ``omega_unit`` as
         the column name states it (else None).
 
+    Warns
+    -----
+    DataWarning
+        A column of whole numbers followed, on every row, by a column of
+        digits that nothing reads: decimal commas hidden by a spare column
+        (``2,300,50,1,5e-3`` under a header with a fifth column).
+
     Raises
     ------
     ValueError
@@ -301,10 +311,12 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
     numeric = ("force", "normal_load", "omega", "amplitude")
     needed = max(index.values()) + 1
     curves: dict[str, dict] = {}
+    rows: list[tuple[int, list[str]]] = []
     for lineno, line in numbered[1:]:
         row = next(csv.reader([line], delimiter=delimiter), [])
         if not any(c.strip() for c in row):
             continue
+        rows.append((lineno, row))
         if len(row) < needed:
             raise ValueError(
                 f"{path}: line {lineno}: {len(row)} field(s), but the header has "
@@ -359,6 +371,8 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
         c["a"].append(vals["amplitude"])
     if not curves:
         raise ValueError(f"{path}: no data rows")
+    if delimiter == ",":
+        _warn_hidden_decimal_commas(path, header, index, numeric, rows)
     records = []
     for key, c in curves.items():
         try:
@@ -375,6 +389,45 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
         except ValueError as err:
             raise ValueError(f"{path}: curve {key!r}: {err}") from None
     return records
+
+
+_INTEGER = re.compile(r"[-+]?\d+")
+_FRACTION_DIGITS = re.compile(r"\d+([eE][-+]?\d+)?")
+
+
+def _warn_hidden_decimal_commas(path, header, index, numeric, rows) -> None:
+    """Decimal commas in a comma-separated file whose header has a spare
+    column: ``2,300,50,1,5e-3`` under ``force,normal_load,frequency_Hz,
+    amplitude,note`` has as many fields as the header and reads as amplitude
+    1 with "5e-3" as the note. Said (a :class:`~hbmfric.DataWarning`) when a
+    numeric column holds whole numbers only and the column after it, which
+    nothing reads, holds digits (a fraction's digits, with an optional
+    exponent) on every row. (A decimal comma further left shifts the
+    frequencies into a column that repeats on every row of a curve, which
+    the record refuses.) A warning, not an error: a whole-number load
+    followed by a run number looks the same."""
+    used = set(index.values())
+    for key in numeric:
+        j = index[key]
+        if j + 1 >= len(header) or j + 1 in used:
+            continue
+        cells = [(n, r[j].strip(), r[j + 1].strip()) for n, r in rows if len(r) > j + 1]
+        if len(cells) < len(rows) or not cells:
+            continue
+        if all(
+            _INTEGER.fullmatch(a) and _FRACTION_DIGITS.fullmatch(b) for _, a, b in cells
+        ):
+            n, a, b = cells[0]
+            warnings.warn(
+                f"{path}: column {header[j]!r} holds whole numbers only and the "
+                f"column after it, {header[j + 1]!r}, which is not read, digits on "
+                f"every row (line {n}: {a!r} then {b!r}): decimal commas in a "
+                f"comma-separated file ({a},{b} read as {a})? Numbers must use a "
+                "decimal point.",
+                DataWarning,
+                stacklevel=3,
+            )
+            return
 
 
 def write_frfs(path: str | Path, records) -> Path:

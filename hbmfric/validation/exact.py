@@ -859,9 +859,14 @@ def exact_periodic_solution(
         # mode) can leave the HBM start outside Newton's basin: start from
         # time integration instead
         seed = _time_integration_guess(system, force, omega)
-        again = _shoot(system, force, omega, seed, tol, max_iterations, common)
-        if again.residual < sol.residual:
-            sol = again
+        for guess, recentre in ((seed, True), (seed, False), (initial_guess, False)):
+            again = _shoot(
+                system, force, omega, guess, tol, max_iterations, common, recentre
+            )
+            if again.residual < sol.residual:
+                sol = again
+            if sol.residual <= tol:
+                break
     sol.elapsed = time.perf_counter() - start
     if not sol.residual <= tol:
         _fail(sol, tol, on_failure)
@@ -891,7 +896,9 @@ def _period_residual(model, t0, y0, scale, jacobian=False):
     return (res if np.isfinite(res) else math.inf), segments, y1, J
 
 
-def _shoot(system, force, omega, guess, tol, max_iterations, common) -> ExactSolution:
+def _shoot(
+    system, force, omega, guess, tol, max_iterations, common, recentre=True
+) -> ExactSolution:
     """Newton on the period map from ``guess``, with backtracking on the
     residual; the result carries its residual (no warning here)."""
     model = _Model(system, force, omega)
@@ -921,7 +928,13 @@ def _shoot(system, force, omega, guess, tol, max_iterations, common) -> ExactSol
         else:
             break  # no decrease along the Newton direction
         y0 = y_try
-        if it <= 3 or not abs(y0[-1]) < 0.9 * model.delta:
+        if res_try <= tol:
+            # converged: keep this start (re-centring it moves the state by
+            # a propagation whose rounding can cost the digits just won)
+            res, segments = res_try, seg_try
+            break
+        t_kept = t0
+        if recentre and (it <= 3 or not abs(y0[-1]) < 0.9 * model.delta):
             # re-centre t_0 in the middle of the longest stick phase
             tm = _stick_middle(seg_try)
             if tm is not None:
@@ -930,6 +943,12 @@ def _shoot(system, force, omega, guess, tol, max_iterations, common) -> ExactSol
                 y0 = model.phases[seg.mode].propagate(seg.ta, seg.c, tw)
                 t0 = math.fmod(tw, model.period)
         res, segments, y1, J = _period_residual(model, t0, y0, floor, jacobian=True)
+        if t0 != t_kept and not res <= 10.0 * res_try:
+            # the re-centred start lost what the step won (a stick phase a
+            # fraction of a percent of the period long, events resolved
+            # differently from the new start): keep the step's own start
+            t0, y0 = t_kept, y_try
+            res, segments, y1, J = _period_residual(model, t0, y0, floor, jacobian=True)
     if segments is None:
         return ExactSolution(
             kind="failed", residual=math.inf, newton_iterations=it, events=0,
