@@ -58,9 +58,14 @@ def test_paper_beam_scene_builds_the_paper_beam():
     for fn in (40.0, 0.5):
         mine = scene.system({"contact.normal_load": fn})
         ref = paper_beam(fn)
+        # the scene file holds the calibrated tip mass and stiffness as
+        # written on one machine; the calibration solves for them on the
+        # first eigenfrequency of the FE matrices, whose rounding (eps times
+        # their condition) leaves a residual of about 5e-9 Hz: on another
+        # CPU they come out up to 4e-9 apart (stop 34), so 1e-8, not 1e-12
         for a, b in zip(mine.matrices(), ref.matrices(), strict=True):
-            np.testing.assert_allclose(a, b, rtol=1e-12)
-        assert mine.contact.stiffness == pytest.approx(ref.contact.stiffness, rel=1e-12)
+            np.testing.assert_allclose(a, b, rtol=1e-8)
+        assert mine.contact.stiffness == pytest.approx(ref.contact.stiffness, rel=1e-8)
         assert mine.contact.slip_force == pytest.approx(
             ref.contact.slip_force, rel=1e-12
         )
