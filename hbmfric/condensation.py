@@ -570,6 +570,36 @@ def receptance_matrices(contacts, matrices, shift) -> tuple:
     return M, C, K + B.T @ (shift[:, None] * B)
 
 
+#: bytes of the stacked dynamic stiffness matrices ``Z(ω)`` a direct
+#: recovery or receptance holds at once (:func:`direct_solves`)
+DIRECT_CHUNK_BYTES = 1 << 25
+
+
+def direct_solves(matrices, omega, rhs) -> np.ndarray:
+    """``Z(ω_i)⁻¹ rhs_i`` with ``Z(ω) = K - ω² M + iω C`` for pulsations
+    ``omega`` (rad/s, shape (m,)) and right-hand sides ``rhs`` (shape (m,
+    n_dof, r)), complex, shape (m, n_dof, r).
+
+    The pulsations are solved in chunks whose stacked ``Z`` (``16 n_dof²``
+    bytes each) stay under :data:`DIRECT_CHUNK_BYTES`. Stacked over every
+    point at once (before stop 34) the recovery of a condensed branch with
+    direct receptances held ``n_points × n_dof²`` complex terms, twice
+    (the solve copies them): 472 MB for 500 points of a 200-DOF chain, 32
+    GB for 2000 points of 1000 DOFs, which the memory guard
+    (:mod:`hbmfric._memory`, condensed unknowns only) did not count: the
+    process killed after the whole trace."""
+    M, C, K = matrices
+    omega = np.asarray(omega, dtype=float)
+    n = K.shape[0]
+    out = np.empty(np.shape(rhs), dtype=complex)
+    step = max(1, int(DIRECT_CHUNK_BYTES // (16 * n * n)))
+    for a in range(0, omega.size, step):
+        w = omega[a : a + step, None, None]
+        Z = K - w**2 * M + 1j * w * C
+        out[a : a + step] = np.linalg.solve(Z, rhs[a : a + step])
+    return out
+
+
 class CondensedHBMProblem(HBMProblem):
     """HBM with the unknowns at the contact DOF only.
 
@@ -992,10 +1022,14 @@ class CondensedHBMProblem(HBMProblem):
 
     def _direct_response(self, omega: np.ndarray, rhs: np.ndarray) -> np.ndarray:
         """``Z(ω)⁻¹ rhs`` for pulsations ``omega`` (shape (m,)) and right-hand
-        sides ``rhs`` (shape (m, n_dof)), complex, shape (m, n_dof)."""
-        M, C, K = self._receptance_matrices
-        Z = K - omega[:, None, None] ** 2 * M + 1j * omega[:, None, None] * C
-        return np.linalg.solve(Z, rhs[..., None])[..., 0]
+        sides ``rhs`` (shape (m, n_dof) or (m, n_dof, r)), complex, shaped
+        as ``rhs``; solved in chunks of pulsations (:func:`direct_solves`)."""
+        rhs = np.asarray(rhs)
+        if rhs.ndim == 2:
+            return direct_solves(self._receptance_matrices, omega, rhs[..., None])[
+                ..., 0
+            ]
+        return direct_solves(self._receptance_matrices, omega, rhs)
 
     def receptance(self, omega) -> tuple[np.ndarray, np.ndarray]:
         """Contact receptance ``G_cc(ω)`` (m/N) and the contact response to
@@ -1036,9 +1070,7 @@ class CondensedHBMProblem(HBMProblem):
             x = (psi[None, :, :] / d[:, None, :]) @ (shapes.T @ load)
             return G, x
         rhs = np.concatenate([B.T, load[:, None]], axis=1)
-        M, C, K = self._receptance_matrices
-        Z = K - w[:, None, None] ** 2 * M + 1j * w[:, None, None] * C
-        sol = B @ np.linalg.solve(Z, np.broadcast_to(rhs, Z.shape[:1] + rhs.shape))
+        sol = B @ self._direct_response(w, np.broadcast_to(rhs, (w.size,) + rhs.shape))
         return sol[:, :, :-1], sol[:, :, -1]
 
     def linear_response(self, omega, contact: str = "stuck") -> np.ndarray:
