@@ -261,15 +261,16 @@ def _own_cache(problem) -> dict:
     return cache
 
 
-def normal_outputs(problem) -> list[np.ndarray]:
+def normal_outputs(problem, dofs: bool = False) -> list[np.ndarray]:
     """Output weights of the normal relative displacement of each 2D
     element (:class:`~hbmfric.Contact2D`): shape (2, n_dof) for a full
     problem; for one condensed onto contact coordinates shape (2, n_c), the
-    element's normal coordinate (the unknowns' own layout); empty for a
-    problem without one."""
+    element's normal coordinate (the unknowns' own layout), or with
+    ``dofs`` shape (2, n_dof), on the recovered DOFs; empty for a problem
+    without one."""
     from ..laws import Contact2D
 
-    if getattr(problem, "condensed", False):
+    if getattr(problem, "condensed", False) and not dofs:
         if not getattr(problem, "multi", False):
             return []
         from ..condensation import coordinate_rows
