@@ -710,10 +710,17 @@ class CondensedHBMProblem(HBMProblem):
         #: :meth:`pole_distance`
         self._free_modes = modal
         if receptance == "modal" and modal is None:
+            why = (
+                " (here the contacts' stiffnesses are moved into a structure "
+                "held by its contacts or by a soft spring, which breaks its "
+                "classical damping: CondensedHBMProblem.shift)"
+                if shifted
+                else ""
+            )
             raise ValueError(
                 "receptance='modal' needs classical (modal or Rayleigh) damping and "
-                "no rigid-body mode; use condense='direct' in hf.frf "
-                "(receptance='direct' here)"
+                f"no rigid-body mode{why}; use condense='state' or 'direct' in "
+                "hf.frf (receptance='state' or 'direct' here)"
             )
         state = None
         if receptance == "state" or (
