@@ -496,15 +496,18 @@ def _symmetric(matrices) -> bool:
 STATIC_ROUNDING = 1e-11
 
 
-def static_rounding(contacts, stiffness, load, shift=None) -> float:
+def static_rounding(contacts, stiffness, load, shift=None, forces=None) -> float:
     """Rounding level (N) of the condensed residual's static (harmonic 0)
     linear part on several contact coordinates, ``eps κ(G₀) max_a Σ_b
     |D₀,ab| |p_b|`` with ``G₀ = B K⁻¹ Bᵀ``, ``D₀ = G₀⁻¹`` and ``p = B K⁻¹
     P₀`` the static response of the coordinates to the constant load
     ``load`` (shape (n_dof,), N): the kernel's
     :func:`~hbmfric.kernels.residuals.condensed._rounding_level` at ``q =
-    0``, in plain NumPy. ``shift``: with ``K + Bᵀ K_s B``. inf when ``K``
-    (shifted) is singular."""
+    0``, in plain NumPy. ``shift``: with ``K + Bᵀ K_s B``. ``forces``
+    (N, shape (n_c,)): contact forces at rest (a 2D element's preload on
+    its normal coordinate), whose static response ``G₀ f`` adds to ``p``
+    (``q - p = -G f`` at a solution). inf when ``K`` (shifted) is
+    singular."""
     K = np.asarray(stiffness, dtype=float)
     B = selection_matrix(contacts, K.shape[0])
     if shift is not None and np.any(shift):
@@ -516,8 +519,11 @@ def static_rounding(contacts, stiffness, load, shift=None) -> float:
         D = np.linalg.inv(G)
     except np.linalg.LinAlgError:
         return math.inf
+    e = np.abs(p)
+    if forces is not None:
+        e = e + np.abs(G @ np.asarray(forces, dtype=float))
     kappa = np.linalg.norm(G, np.inf) * np.linalg.norm(D, np.inf)
-    level = np.finfo(float).eps * kappa * float(np.max(np.abs(D) @ np.abs(p)))
+    level = np.finfo(float).eps * kappa * float(np.max(np.abs(D) @ e))
     return level if np.isfinite(level) else math.inf
 
 
@@ -776,12 +782,21 @@ class CondensedHBMProblem(HBMProblem):
         if not scale > 0.0:
             return zeros
         static = self.load.reshape(self.n_dof, self.n_coef)[:, 0]
-        level = static_rounding(self._contacts, K, static)
+        rest = np.array(
+            [
+                max(self._contacts[c][0].preload, 0.0)
+                if d == 1 and isinstance(self._contacts[c][0], Contact2D)
+                else 0.0
+                for c, d, _, _ in coordinate_rows(self._contacts)
+            ]
+        )
+        scale = max(scale, float(np.max(rest)))
+        level = static_rounding(self._contacts, K, static, forces=rest)
         if level <= STATIC_ROUNDING * scale:
             return zeros
         shift = coordinate_shift(self._contacts, K, soft=True)
         if shift is not None:
-            shifted = static_rounding(self._contacts, K, static, shift)
+            shifted = static_rounding(self._contacts, K, static, shift, rest)
             if shifted < level:
                 return shift
         if level > 1e-8 * scale:
