@@ -725,8 +725,8 @@ class CondensedHBMProblem(HBMProblem):
             )
             raise ValueError(
                 "receptance='modal' needs classical (modal or Rayleigh) damping and "
-                f"no rigid-body mode{why}; use condense='state' or 'direct' in "
-                "hf.frf (receptance='state' or 'direct' here)"
+                f"no rigid-body mode{why}; use condense='direct' (or 'state') in "
+                "hf.frf (receptance='direct' or 'state' here)"
             )
         state = None
         if receptance == "state" or (
