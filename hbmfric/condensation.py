@@ -484,7 +484,51 @@ def _symmetric(matrices) -> bool:
     return True
 
 
-def coordinate_shift(contacts, stiffness) -> np.ndarray | None:
+#: the static receptance of several contact coordinates is used as it is
+#: while its rounding level (:func:`static_rounding`) stays below this
+#: fraction of the largest load term; above it the contacts' stiffnesses
+#: are moved into the structure (:func:`coordinate_shift` with
+#: ``soft=True``). A 6-DOF chain held by a soft spring ``s`` (relative to
+#: its others) and a 2D element, with a static load: rounding level / load
+#: 2.5e-12, 2.5e-8, 2.5e-4, 2.5 at s = 1e-3, 1e-5, 1e-7, 1e-9, and the
+#: condensed solution's relative error against the full solve 8e-12,
+#: 6e-8, 4e-4, 4.8 (stop 34; the corrector accepts a residual at the
+#: rounding level as converged, so the answer was quietly wrong)
+STATIC_ROUNDING = 1e-11
+
+
+def static_rounding(contacts, stiffness, load, shift=None, forces=None) -> float:
+    """Rounding level (N) of the condensed residual's static (harmonic 0)
+    linear part on several contact coordinates, ``eps κ(G₀) max_a Σ_b
+    |D₀,ab| |p_b|`` with ``G₀ = B K⁻¹ Bᵀ``, ``D₀ = G₀⁻¹`` and ``p = B K⁻¹
+    P₀`` the static response of the coordinates to the constant load
+    ``load`` (shape (n_dof,), N): the kernel's
+    :func:`~hbmfric.kernels.residuals.condensed._rounding_level` at ``q =
+    0``, in plain NumPy. ``shift``: with ``K + Bᵀ K_s B``. ``forces``
+    (N, shape (n_c,)): contact forces at rest (a 2D element's preload on
+    its normal coordinate), whose static response ``G₀ f`` adds to ``p``
+    (``q - p = -G f`` at a solution). inf when ``K`` (shifted) is
+    singular."""
+    K = np.asarray(stiffness, dtype=float)
+    B = selection_matrix(contacts, K.shape[0])
+    if shift is not None and np.any(shift):
+        K = K + B.T @ (np.asarray(shift, dtype=float)[:, None] * B)
+    try:
+        sol = np.linalg.solve(K, np.column_stack([B.T, load]))
+        G = B @ sol[:, :-1]
+        p = B @ sol[:, -1]
+        D = np.linalg.inv(G)
+    except np.linalg.LinAlgError:
+        return math.inf
+    e = np.abs(p)
+    if forces is not None:
+        e = e + np.abs(G @ np.asarray(forces, dtype=float))
+    kappa = np.linalg.norm(G, np.inf) * np.linalg.norm(D, np.inf)
+    level = np.finfo(float).eps * kappa * float(np.max(np.abs(D) @ e))
+    return level if np.isfinite(level) else math.inf
+
+
+def coordinate_shift(contacts, stiffness, soft: bool = False) -> np.ndarray | None:
     """Stiffnesses ``K_s`` (N/m, shape (n_c,)) added to the structure on
     its contact coordinates, ``K + Bᵀ K_s B``, when ``stiffness`` is
     singular and a 2D element is among several ``contacts``; zeros when
@@ -497,10 +541,17 @@ def coordinate_shift(contacts, stiffness) -> np.ndarray | None:
     stiffnesses (tangential and normal) into the linear structure, whose
     receptance then exists at harmonic 0, and out of the contact force
     (``f - K_s q``): the same equations. Each 1D contact's coordinate is
-    shifted by its stuck stiffness too."""
-    if not _singular(stiffness):
+    shifted by its stuck stiffness too.
+
+    ``soft=True``: the shift of a regular ``K`` whose static receptance
+    rounds too coarsely (:data:`STATIC_ROUNDING`; a structure held by a
+    soft spring), for any laws on several coordinates; None when the
+    shifted stiffness is no better (the contacts carry no stiffness)."""
+    if not soft and not _singular(stiffness):
         return np.zeros(len(coordinate_rows(contacts)))
-    if _single(contacts) or not any(isinstance(c[0], Contact2D) for c in contacts):
+    if _single(contacts) or (
+        not soft and not any(isinstance(c[0], Contact2D) for c in contacts)
+    ):
         return None
     shift = []
     for c, d, _, _ in coordinate_rows(contacts):
@@ -511,7 +562,7 @@ def coordinate_shift(contacts, stiffness) -> np.ndarray | None:
             shift.append(float(getattr(law, "stuck_stiffness", 0.0)))
     shift = np.array(shift, dtype=float)
     B = selection_matrix(contacts, np.asarray(stiffness).shape[0])
-    if _singular(stiffness + B.T @ (shift[:, None] * B)):
+    if not np.any(shift) or _singular(stiffness + B.T @ (shift[:, None] * B)):
         return None
     return shift
 
@@ -524,6 +575,36 @@ def receptance_matrices(contacts, matrices, shift) -> tuple:
         return M, C, K
     B = selection_matrix(contacts, K.shape[0])
     return M, C, K + B.T @ (shift[:, None] * B)
+
+
+#: bytes of the stacked dynamic stiffness matrices ``Z(ω)`` a direct
+#: recovery or receptance holds at once (:func:`direct_solves`)
+DIRECT_CHUNK_BYTES = 1 << 25
+
+
+def direct_solves(matrices, omega, rhs) -> np.ndarray:
+    """``Z(ω_i)⁻¹ rhs_i`` with ``Z(ω) = K - ω² M + iω C`` for pulsations
+    ``omega`` (rad/s, shape (m,)) and right-hand sides ``rhs`` (shape (m,
+    n_dof, r)), complex, shape (m, n_dof, r).
+
+    The pulsations are solved in chunks whose stacked ``Z`` (``16 n_dof²``
+    bytes each) stay under :data:`DIRECT_CHUNK_BYTES`. Stacked over every
+    point at once (before stop 34) the recovery of a condensed branch with
+    direct receptances held ``n_points × n_dof²`` complex terms, twice
+    (the solve copies them): 472 MB for 500 points of a 200-DOF chain, 32
+    GB for 2000 points of 1000 DOFs, which the memory guard
+    (:mod:`hbmfric._memory`, condensed unknowns only) did not count: the
+    process killed after the whole trace."""
+    M, C, K = matrices
+    omega = np.asarray(omega, dtype=float)
+    n = K.shape[0]
+    out = np.empty(np.shape(rhs), dtype=complex)
+    step = max(1, int(DIRECT_CHUNK_BYTES // (16 * n * n)))
+    for a in range(0, omega.size, step):
+        w = omega[a : a + step, None, None]
+        Z = K - w**2 * M + 1j * w * C
+        out[a : a + step] = np.linalg.solve(Z, rhs[a : a + step])
+    return out
 
 
 class CondensedHBMProblem(HBMProblem):
@@ -616,9 +697,12 @@ class CondensedHBMProblem(HBMProblem):
                     "element, also once the contacts' stiffnesses are added); "
                     "use condense=False for this system"
                 )
+        elif self.harmonic_numbers[0] == 0 and self.multi:
+            shift = self._soft_shift(shift)
         #: stiffnesses (N/m) per contact coordinate moved from the contact
         #: forces into the linear structure (:func:`coordinate_shift`;
-        #: zeros unless ``K`` is singular with a 2D element)
+        #: zeros unless ``K`` is singular with a 2D element, or its static
+        #: receptance rounds too coarsely: :meth:`_soft_shift`)
         self.shift = shift
         #: (M, C, K + Bᵀ K_s B): the structure of the receptance
         self._receptance_matrices = receptance_matrices(
@@ -633,10 +717,17 @@ class CondensedHBMProblem(HBMProblem):
         #: :meth:`pole_distance`
         self._free_modes = modal
         if receptance == "modal" and modal is None:
+            why = (
+                " (here the contacts' stiffnesses are moved into a structure "
+                "held by its contacts or by a soft spring, which breaks its "
+                "classical damping: CondensedHBMProblem.shift)"
+                if shifted
+                else ""
+            )
             raise ValueError(
                 "receptance='modal' needs classical (modal or Rayleigh) damping and "
-                "no rigid-body mode; use condense='direct' in hf.frf "
-                "(receptance='direct' here)"
+                f"no rigid-body mode{why}; use condense='direct' (or 'state') in "
+                "hf.frf (receptance='direct' or 'state' here)"
             )
         state = None
         if receptance == "state" or (
@@ -678,6 +769,52 @@ class CondensedHBMProblem(HBMProblem):
         if self.multi:
             self.system = _CoordinateView(system, self.n_coordinates)
         self._condense()
+
+    def _soft_shift(self, zeros: np.ndarray) -> np.ndarray:
+        """The shift of a structure whose static receptance on the contact
+        coordinates rounds above :data:`STATIC_ROUNDING` of the load
+        (:func:`static_rounding`: a soft spring holding it, the static load
+        driving a nearly rigid mode), when the shifted one rounds less;
+        ``zeros`` otherwise (an :class:`~hbmfric.errors.AccuracyWarning`
+        when the level is beyond ``1e-8`` of the load: the condensed
+        solution is then only as good as it)."""
+        K = self._matrices[2]
+        scale = float(np.max(np.abs(self.load)))
+        if not scale > 0.0:
+            return zeros
+        static = self.load.reshape(self.n_dof, self.n_coef)[:, 0]
+        rest = np.array(
+            [
+                max(self._contacts[c][0].preload, 0.0)
+                if d == 1 and isinstance(self._contacts[c][0], Contact2D)
+                else 0.0
+                for c, d, _, _ in coordinate_rows(self._contacts)
+            ]
+        )
+        scale = max(scale, float(np.max(rest)))
+        level = static_rounding(self._contacts, K, static, forces=rest)
+        if level <= STATIC_ROUNDING * scale:
+            return zeros
+        shift = coordinate_shift(self._contacts, K, soft=True)
+        if shift is not None:
+            shifted = static_rounding(self._contacts, K, static, shift, rest)
+            if shifted < level:
+                return shift
+        if level > 1e-8 * scale:
+            import warnings
+
+            from .errors import AccuracyWarning
+
+            warnings.warn(
+                "the static receptance of the contact coordinates rounds at "
+                f"{level:.2g} N against loads of {scale:.2g} N (a structure "
+                "held by a soft spring) and the contacts' stiffnesses cannot "
+                "regularise it: the condensed solution is only that "
+                "accurate; use condense=False",
+                AccuracyWarning,
+                stacklevel=4,
+            )
+        return zeros
 
     def pole_distance(
         self, omega: float, top: int | None = None
@@ -919,10 +1056,14 @@ class CondensedHBMProblem(HBMProblem):
 
     def _direct_response(self, omega: np.ndarray, rhs: np.ndarray) -> np.ndarray:
         """``Z(ω)⁻¹ rhs`` for pulsations ``omega`` (shape (m,)) and right-hand
-        sides ``rhs`` (shape (m, n_dof)), complex, shape (m, n_dof)."""
-        M, C, K = self._receptance_matrices
-        Z = K - omega[:, None, None] ** 2 * M + 1j * omega[:, None, None] * C
-        return np.linalg.solve(Z, rhs[..., None])[..., 0]
+        sides ``rhs`` (shape (m, n_dof) or (m, n_dof, r)), complex, shaped
+        as ``rhs``; solved in chunks of pulsations (:func:`direct_solves`)."""
+        rhs = np.asarray(rhs)
+        if rhs.ndim == 2:
+            return direct_solves(self._receptance_matrices, omega, rhs[..., None])[
+                ..., 0
+            ]
+        return direct_solves(self._receptance_matrices, omega, rhs)
 
     def receptance(self, omega) -> tuple[np.ndarray, np.ndarray]:
         """Contact receptance ``G_cc(ω)`` (m/N) and the contact response to
@@ -963,9 +1104,7 @@ class CondensedHBMProblem(HBMProblem):
             x = (psi[None, :, :] / d[:, None, :]) @ (shapes.T @ load)
             return G, x
         rhs = np.concatenate([B.T, load[:, None]], axis=1)
-        M, C, K = self._receptance_matrices
-        Z = K - w[:, None, None] ** 2 * M + 1j * w[:, None, None] * C
-        sol = B @ np.linalg.solve(Z, np.broadcast_to(rhs, Z.shape[:1] + rhs.shape))
+        sol = B @ self._direct_response(w, np.broadcast_to(rhs, (w.size,) + rhs.shape))
         return sol[:, :, :-1], sol[:, :, -1]
 
     def linear_response(self, omega, contact: str = "stuck") -> np.ndarray:

@@ -101,6 +101,43 @@ from .systems.protocol import check_load, check_system
 
 #: the truncation estimate's basis: ``PROBE_FACTOR * H + 1``
 PROBE_FACTOR = 2
+#: dense matrices of order ``n`` (the unknowns of a level) an EPMC level
+#: holds at once (:meth:`_EPMC.equations`: the HBM Jacobian, the EPMC
+#: Jacobian, two temporaries of its block, ``md`` and the solve's copy);
+#: a 60-DOF chain with a 2D element at ``H = 7`` peaked at 143 MB above
+#: its start, 5.2 matrices of its probe level's order (stop 34)
+EPMC_MATRICES = 6
+
+
+def _check_memory(epmc, probe: bool) -> None:
+    """A ``MemoryError`` before any work when the levels of a nonlinear
+    mode (``epmc``'s and, with ``probe``, the truncation estimate's at
+    ``2H + 1``) need more than :func:`hbmfric._memory.budget` for their
+    dense matrices (:data:`EPMC_MATRICES` each). Before stop 34 nothing
+    was checked: a model too large was killed by the operating system
+    after its continuation, when the probe level was built."""
+    from . import _memory
+
+    p = epmc.problem
+    need = _memory.dense_bytes(epmc.n + 2, EPMC_MATRICES)
+    if probe:
+        h = PROBE_FACTOR * int(p.harmonics) + 1
+        n_probe = _memory.unknowns(epmc.n_dof, h, p.odd)
+        need += _memory.dense_bytes(n_probe + 2, EPMC_MATRICES)
+    room = _memory.budget()
+    if need > room:
+        raise MemoryError(
+            f"nonlinear_mode ({epmc.n} unknowns at H = {int(p.harmonics)}"
+            f"{', its truncation estimate at H = ' + str(h) if probe else ''}) "
+            f"needs about {_memory.gigabytes(need)} for its dense matrices, "
+            f"more than the {_memory.gigabytes(room / _memory.MEMORY_SHARE)} "
+            f"this machine can give it ({_memory.MEMORY_SHARE:.0%} of the memory "
+            "available now). Reduce the model (hf.craig_bampton, keeping the "
+            "contact DOFs), use fewer harmonics, or skip the estimate "
+            "(harmonic_tolerance=None)"
+        )
+
+
 #: format tag of :meth:`NonlinearMode.save` files
 FORMAT = "hbmfric.NonlinearMode/1"
 #: :meth:`NonlinearMode.resonances`: largest share of the harmonics above
@@ -1581,6 +1618,7 @@ def nonlinear_mode(
             "harmonic_tolerance", harmonic_tolerance, low=0.0, low_open=True
         )
     epmc = _EPMC(system, mode, harmonics, n_time, aft, bool(structural_damping))
+    _check_memory(epmc, harmonic_tolerance is not None)
     warn_above_cutoff(
         system,
         epmc.linear_omega,

@@ -578,7 +578,10 @@ def _climb(system, problem, omega, options, y, solver, tolerance, ladder=LADDER)
     # kinks where the contact opens (stop 31: loaded normally only, the
     # contact DOF at rest settled at once while the normal DOF was 8e-4
     # off at H = 7)
-    normals = [w[0] for w in normal_outputs(problem)]
+    # (weights of the DOFs the solution carries, also when condensed: on
+    # the coordinates' weights a condensed problem raised a shape error
+    # before stop 34, hunt35)
+    normals = [w[0] for w in normal_outputs(problem, dofs=True)]
 
     def measures(p, v):
         sol = _solution(system, p, v, True, 0, 0.0, 0.0, "", "")

@@ -508,12 +508,25 @@ def _pencil_exponents(J, mass, damping, harmonic_numbers, w, groups) -> np.ndarr
     :func:`_pencil_blocks`)."""
     if not isinstance(groups[0], tuple):
         groups = _pencil_blocks(mass, damping, harmonic_numbers, groups)
-    eigs = []
-    for idx, d1_damp, d1_mass, d2, mi in groups:
-        d1 = d1_damp[None] + w[:, None, None] * d1_mass[None]
-        Jg = J if idx.size == J.shape[1] else J[:, idx][:, :, idx]
-        eigs.append(_companion_eigenvalues(Jg, d1, d2, mi))
-    return select_exponents(np.concatenate(eigs, axis=1), 2 * mass.shape[0], w)
+    # the companion matrices (order 2 m: four times a Jacobian's terms)
+    # of at most _CHUNK_BYTES at once
+    m = max(g[0].size for g in groups)
+    step = max(1, _CHUNK_BYTES // (32 * m * m))
+    out = []
+    for a in range(0, J.shape[0], step):
+        part = slice(a, a + step)
+        eigs = []
+        for idx, d1_damp, d1_mass, d2, mi in groups:
+            d1 = d1_damp[None] + w[part, None, None] * d1_mass[None]
+            Jp = J[part]
+            Jg = Jp if idx.size == J.shape[1] else Jp[:, idx][:, :, idx]
+            eigs.append(_companion_eigenvalues(Jg, d1, d2, mi))
+        out.append(
+            select_exponents(np.concatenate(eigs, axis=1), 2 * mass.shape[0], w[part])
+        )
+    if not out:
+        return np.zeros((0, 2 * mass.shape[0]), dtype=complex)
+    return np.concatenate(out, axis=0)
 
 
 def _stability_problem(system, force, harmonics, n_time, aft, subharmonic):

@@ -34,6 +34,7 @@ arrays) are built once per problem.
 
 from __future__ import annotations
 
+import copy
 import weakref
 
 import numpy as np
@@ -119,7 +120,8 @@ def truncation_errors(
         Weights ``(a, b)`` of another output to measure (``Σ a_d x_d +
         b_d ẋ_d``; a full problem only) instead of the problem's watched
         one: :func:`watched_truncation_errors` measures the normal DOF of
-        a 2D element with it. Not with ``probe`` or ``known``.
+        a 2D element with it. Not with ``known``; calibrated on ``probe``
+        (or the problem's own probe level) with its work arrays.
     level : optional
         The problem's own level as the adaptive run built it
         (:class:`~hbmfric.continuation.adaptive._Level` of ``problem``;
@@ -141,25 +143,27 @@ def truncation_errors(
     if n_points == 0:
         return errors
     if output is not None:
-        if probe is not None or known is not None:
-            raise ValueError("output cannot be given with probe or known")
+        if known is not None:
+            raise ValueError("output cannot be given with known")
         output = np.ascontiguousarray(output, dtype=np.float64)
         by_output = _own_cache(problem)["by_output"]
         key = output.tobytes()
         if key not in by_output:
-            by_output[key] = _levels(problem, True, output)
-        level, probe, columns, weights = by_output[key]
+            # no probe level of its own: it borrows the watched output's
+            by_output[key] = _levels(problem, False, output)
+        level, _, columns, weights = by_output[key]
+        if columns is not None:
+            probe = _output_probe(
+                _own_probe(problem) if probe is None else probe, output
+            )
     else:
         cache = _own_cache(problem)
         if cache["watched"] is None:
             own_level = level if getattr(level, "problem", None) is problem else None
             cache["watched"] = _levels(problem, probe is None, level=own_level)
-        level, own, columns, weights = cache["watched"]
         if probe is None:
-            if own is None and columns is not None:
-                own = _levels(problem, True)[1]
-                cache["watched"] = (level, own, columns, weights)
-            probe = own
+            probe = _own_probe(problem)
+        level, _, columns, weights = cache["watched"]
     if probe is None or columns is None:
         errors[:] = np.inf
         return errors
@@ -208,6 +212,40 @@ def truncation_errors(
     return errors
 
 
+def _own_probe(problem):
+    """The probe level of ``problem``'s own estimates (None for ``H = 1``),
+    built once and kept in :func:`_own_cache`."""
+    cache = _own_cache(problem)
+    if cache["watched"] is None:
+        cache["watched"] = _levels(problem, True)
+    level, own, columns, weights = cache["watched"]
+    if own is None and columns is not None:
+        own = _levels(problem, True)[1]
+        cache["watched"] = (level, own, columns, weights)
+    return own
+
+
+def _output_probe(probe, output: np.ndarray):
+    """``probe`` measuring another ``output``: the same problem and the same
+    work arrays (order ``n`` of the probe level: its residual's Jacobian
+    and the factored copy), only the output weights differ.
+
+    Each output had a probe level of its own before stop 34 (its own
+    problem and work arrays), all kept in the problem's cache: a full
+    problem with ``e`` 2D elements held ``2 (e + 1)`` dense matrices of
+    the probe level's order where the memory guard
+    (:mod:`hbmfric._memory`) plans 2. A 60-DOF chain at ``H = 15`` with
+    four elements peaked 1.17 GB above its start where the guard planned
+    0.34 GB (eight: 2.0 GB), bench/README.md "Issue 15, stop 34"."""
+    if probe is None:
+        return None
+    view = copy.copy(probe)
+    view.output = output
+    work = probe.work()
+    view._work = work[:3] + (output,) + work[4:]
+    return view
+
+
 def _own_cache(problem) -> dict:
     """The levels :func:`truncation_errors` built for ``problem``
     (``"watched"``: the watched output's ``_levels`` tuple or None;
@@ -230,15 +268,16 @@ def _own_cache(problem) -> dict:
     return cache
 
 
-def normal_outputs(problem) -> list[np.ndarray]:
+def normal_outputs(problem, dofs: bool = False) -> list[np.ndarray]:
     """Output weights of the normal relative displacement of each 2D
     element (:class:`~hbmfric.Contact2D`): shape (2, n_dof) for a full
     problem; for one condensed onto contact coordinates shape (2, n_c), the
-    element's normal coordinate (the unknowns' own layout); empty for a
-    problem without one."""
+    element's normal coordinate (the unknowns' own layout), or with
+    ``dofs`` shape (2, n_dof), on the recovered DOFs; empty for a problem
+    without one."""
     from ..laws import Contact2D
 
-    if getattr(problem, "condensed", False):
+    if getattr(problem, "condensed", False) and not dofs:
         if not getattr(problem, "multi", False):
             return []
         from ..condensation import coordinate_rows
@@ -275,8 +314,10 @@ def watched_truncation_errors(
 ) -> np.ndarray:
     """:func:`truncation_errors` of the watched output and, for a problem
     with 2D elements, the larger of it and the estimate of each element's
-    normal displacement (the same arguments; ``known`` and ``probe`` are
-    the watched output's and serve it alone; so does ``level``).
+    normal displacement (the same arguments; ``known`` is the watched
+    output's and serves it alone, and so does ``level``; every output is
+    calibrated on the same probe level, ``probe`` or the problem's own, with
+    the same work arrays: :func:`_output_probe`).
 
     The normal force of a 2D element has a kink where the contact opens
     and closes, so the normal DOF's harmonics decay slowly while the
@@ -306,7 +347,7 @@ def watched_truncation_errors(
             max_confirmed,
             None,
             every,
-            None,
+            probe,
             amplitude_scale=amplitude_scale,
             output=w,
         )
