@@ -12,7 +12,7 @@ import numpy as np
 from . import _memory
 from ._validate import finite_float
 from .continuation import AdaptiveContinuation, Continuation, ContinuationOptions
-from .continuation.accuracy import watched_truncation_errors
+from .continuation.accuracy import fold_estimates, watched_truncation_errors
 from .continuation.adaptive import JOIN_ROUNDS, LADDER, START
 from .continuation.ends import (
     budget_note,
@@ -892,6 +892,7 @@ def _frf_auto(
         # a point solved again one rung higher takes that level's tangent
         # the final estimates watch the normal DOF of a 2D element too
         errors = cont.settle(points, levels, watched_truncation_errors, state.tangents)
+        fold_estimates(cont, points, levels, errors, state.tangents)
         args = (system, make_problem, cont, state, points, levels, errors)
         branch = _assemble_levels(*args, elapsed, omega_range, sweep, tolerance)
         curve = options.curve_tolerance
@@ -910,6 +911,7 @@ def _frf_auto(
                 joins, points, levels, errors, watched_truncation_errors, state.tangents
             ):
                 break
+            fold_estimates(cont, points, levels, errors, state.tangents)
             branch = _assemble_levels(*args, elapsed, omega_range, sweep, tolerance)
         return branch
 

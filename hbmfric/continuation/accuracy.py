@@ -612,4 +612,95 @@ def _levels(problem, with_probe: bool = True, output=None, level=None) -> tuple:
     return level, probe, columns, weights
 
 
+#: a point whose unit tangent (the continuation's scaled coordinates) has an
+#: Ω component below this is at a fold: there the first-order change at
+#: fixed Ω (the estimate) is singular, and the change to the probe level is
+#: taken normal to the tangent instead (:func:`fold_estimates`)
+FOLD_SLOPE = 0.05
+
+
+def fold_estimates(cont, points, levels, errors, tangents) -> int:
+    """Estimates of the points at a fold that the ladder's top leaves over
+    the tolerance, taken again normal to the branch.
+
+    The estimate is a first-order change at fixed Ω (one Newton step in the
+    larger basis, or a solve at the probe level at the point's Ω): at a
+    fold its matrix is singular, the larger basis's fold lies at a slightly
+    different Ω, and the change read there is the distance between two
+    curves measured along a line that touches them. Which value it takes
+    depends on how near the fold the point lies, to the rounding: the
+    README's several-contacts example (stop 34, a new machine) left its fold
+    point at 45.0212 rad/s with 4.8e-4 at H = 63, the top, and warned,
+    where earlier machines read under 1e-4 at H = 21-63. For such a point
+    (at the top, over the tolerance, unit tangent's Ω component below
+    :data:`FOLD_SLOPE`) the point is solved at its probe level on the
+    hyperplane through it normal to its tangent (the continuation's own
+    corrector, Ω free), and the estimate is ``CHANGE_FACTOR`` times the
+    largest relative change of the first-harmonic amplitude and of half the
+    peak-to-peak value of the watched output and of each 2D element's
+    normal displacement: the distance between the two curves across them.
+    In place in ``errors``; returns the number of points estimated again
+    (a point whose normal solve fails keeps its estimate)."""
+    if tangents is None:
+        return 0
+    top = cont.ladder[-1]
+    again = 0
+    for i in np.flatnonzero(np.asarray(errors) > cont.requested):
+        i = int(i)
+        if levels[i] != top or not np.all(np.isfinite(tangents[i])):
+            continue
+        level = cont._level(top)
+        t = tangents[i] / level.cont.scale
+        norm = float(np.linalg.norm(t))
+        if not (norm > 0.0 and abs(t[-1]) < FOLD_SLOPE * norm):
+            continue
+        change = _normal_change(level, cont._probe(top), points[i], tangents[i])
+        if change is not None:
+            errors[i] = CHANGE_FACTOR * change
+            again += 1
+    return again
+
+
+def _normal_change(level, probe, point, tangent) -> float | None:
+    """Largest relative change of the watched output's and each 2D
+    element's normal displacement's first harmonic and half peak-to-peak
+    value from ``point`` (``level``'s layout) to its solve at ``probe`` on
+    the hyperplane normal to ``tangent`` (unscaled, ``level``'s layout);
+    None if that solve fails."""
+    from ..signals import half_peak_to_peak
+
+    n_dof, small, large = level.n_dof, level.n_coef, probe.n_coef
+
+    def pad(v):
+        out = np.zeros(probe.n + 1)
+        out[:-1].reshape(n_dof, large)[:, :small] = v[:-1].reshape(n_dof, small)
+        out[-1] = v[-1]
+        return out
+
+    pc = probe.cont
+    guess = pad(point)
+    t = pad(tangent) / pc.scale
+    t /= float(np.linalg.norm(t))
+    y = guess.copy()
+    status, _ = pc._correct(y, guess.copy(), t)
+    if not _solved(probe.problem, pc, y, status):
+        return None
+    worst = 0.0
+    for w in [level.output, *normal_outputs(level.problem)]:
+        measures = []
+        for lv, x in ((level, point), (probe, y)):
+            view = copy.copy(lv)
+            view.output = w
+            z = _output_series(view, x[None, :])
+            f = lv.first_column
+            a1 = float(np.hypot(z[0, f], z[0, f + 1]))
+            hpp = float(half_peak_to_peak(lv.problem.harmonic_numbers, z)[0])
+            measures.append((a1, hpp))
+        (a, p), (b, q) = measures
+        for old, new in ((a, b), (p, q)):
+            if old > 0.0:
+                worst = max(worst, abs(new - old) / old)
+    return worst
+
+
 __all__ = ["truncation_errors", "watched_truncation_errors", "next_level"]
