@@ -64,7 +64,9 @@ def test_paper_beam_scene_builds_the_paper_beam():
         # their condition) leaves a residual of about 5e-9 Hz: on another
         # CPU they come out up to 4e-9 apart (stop 34), so 1e-8, not 1e-12
         for a, b in zip(mine.matrices(), ref.matrices(), strict=True):
-            np.testing.assert_allclose(a, b, rtol=1e-8)
+            # (relative to the matrix: entries at its rounding, as the
+            # modal damping's off-diagonal ones, move with the digits too)
+            np.testing.assert_allclose(a, b, rtol=1e-8, atol=1e-8 * np.max(np.abs(b)))
         assert mine.contact.stiffness == pytest.approx(ref.contact.stiffness, rel=1e-8)
         assert mine.contact.slip_force == pytest.approx(
             ref.contact.slip_force, rel=1e-12
