@@ -84,7 +84,7 @@ def measure(forces, repeats: int, harmonics="auto", beam=False) -> list[dict]:
                     "points": len(b),
                     "evaluations": int(b.newton_iterations),
                     "rejected": int(b.n_rejected),
-                    "curve_error": float(b.curve_error),
+                    "curve_error": float(getattr(b, "curve_error", float("nan"))),
                     "source": os.path.dirname(os.path.dirname(hf.__file__)),
                 }
             )
