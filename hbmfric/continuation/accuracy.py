@@ -612,13 +612,6 @@ def _levels(problem, with_probe: bool = True, output=None, level=None) -> tuple:
     return level, probe, columns, weights
 
 
-#: a point whose unit tangent (the continuation's scaled coordinates) has an
-#: Ω component below this is at a fold: there the first-order change at
-#: fixed Ω (the estimate) is singular, and the change to the probe level is
-#: taken normal to the tangent instead (:func:`fold_estimates`)
-FOLD_SLOPE = 0.05
-
-
 def fold_estimates(cont, points, levels, errors, tangents) -> int:
     """Estimates of the points at a fold that the ladder's top leaves over
     the tolerance, taken again normal to the branch.
@@ -632,8 +625,10 @@ def fold_estimates(cont, points, levels, errors, tangents) -> int:
     README's several-contacts example (stop 34, a new machine) left its fold
     point at 45.0212 rad/s with 4.8e-4 at H = 63, the top, and warned,
     where earlier machines read under 1e-4 at H = 21-63. For such a point
-    (at the top, over the tolerance, unit tangent's Ω component below
-    :data:`FOLD_SLOPE`) the point is solved at its probe level on the
+    (at the top, over the tolerance, at a turning point in Ω: the
+    tangents' Ω components before and after it of opposite signs, or its
+    own zero; a steep stretch where Ω keeps its direction is not one, its
+    fixed-Ω estimate is well posed) the point is solved at its probe level on the
     hyperplane through it normal to its tangent (the continuation's own
     corrector, Ω free), and the estimate is ``CHANGE_FACTOR`` times the
     largest relative change of the first-harmonic amplitude and of half the
@@ -649,16 +644,23 @@ def fold_estimates(cont, points, levels, errors, tangents) -> int:
         i = int(i)
         if levels[i] != top or not np.all(np.isfinite(tangents[i])):
             continue
-        level = cont._level(top)
-        t = tangents[i] / level.cont.scale
-        norm = float(np.linalg.norm(t))
-        if not (norm > 0.0 and abs(t[-1]) < FOLD_SLOPE * norm):
+        if not _at_fold(tangents, i):
             continue
+        level = cont._level(top)
         change = _normal_change(level, cont._probe(top), points[i], tangents[i])
         if change is not None:
             errors[i] = CHANGE_FACTOR * change
             again += 1
     return again
+
+
+def _at_fold(tangents, i: int) -> bool:
+    """Whether point ``i`` of a path is a turning point in Ω: the Ω
+    components of the tangents before and after it have opposite signs, or
+    its own is zero."""
+    before = tangents[max(i - 1, 0)][-1]
+    after = tangents[min(i + 1, len(tangents) - 1)][-1]
+    return tangents[i][-1] == 0.0 or (before > 0.0) != (after > 0.0)
 
 
 def _normal_change(level, probe, point, tangent) -> float | None:
