@@ -578,7 +578,16 @@ class _Level:
     point are computed too (:meth:`determinant_signs`)."""
 
     def __init__(
-        self, problem, idx, points, harmonic_numbers, keep, split, signs, reflect=False
+        self,
+        problem,
+        idx,
+        points,
+        harmonic_numbers,
+        keep,
+        split,
+        signs,
+        reflect=False,
+        kept_before: float = 0.0,
     ):
         self.problem = problem
         self.reflect = reflect  # measure the symmetry of Δ0 (one DOF)
@@ -597,6 +606,12 @@ class _Level:
         candidates = [whole]
         if split and harmonic_numbers.size > 1:
             candidates = list(_parity_blocks(harmonic_numbers, self.n_dof))
+        # refused before any Jacobian when even the blocks asked for do not
+        # fit (checked again below if the split is refused)
+        h_level = int(problem.harmonic_numbers[-1])
+        self.kept_bytes = check_hill_memory(
+            kept_before, n, [c.size for c in candidates], idx.size, h_level, self.n_dof
+        )
         # the Jacobians of all points while the computation runs, when
         # they fit in one chunk (dropped by release()), and the signs of
         # the candidate blocks computed with them
@@ -637,6 +652,12 @@ class _Level:
         self.groups = self._decide_groups(candidates)
         if self._signs is not None and len(self.groups) != len(candidates):
             self._signs = None  # the split was refused: signs of the whole
+        if len(self.groups) != len(candidates):
+            self.kept_bytes = check_hill_memory(
+                kept_before, n, [n], idx.size, h_level, self.n_dof
+            )
+        if self._all is not None:
+            self.kept_bytes += self._all.nbytes  # held until release()
         self.blocks = _pencil_blocks(
             self.mass, self.damping, harmonic_numbers, self.groups
         )
@@ -1068,6 +1089,75 @@ def _block_table(groups: list, keep) -> tuple[np.ndarray, np.ndarray]:
 
 #: bytes of Jacobians held at once (larger sets are processed in chunks)
 _CHUNK_BYTES = 1 << 25
+#: dense float64 matrices of a Hill block's order ``g`` kept per block
+#: while a level's eigenvalues are computed (``Δ1``'s two parts, ``Δ2`` and
+#: its inverse, :func:`_pencil_blocks`)
+BLOCK_MATRICES = 4
+#: ... and held by one block's eigenvalue solve, per point solved at once:
+#: its companion matrix (order ``2 g``: 4) and what ``numpy.linalg.eigvals``
+#: holds beside it (measured peaks: 7 at orders 930 and 1860, 9 kept as a
+#: margin; ``tests/test_stability_memory.py``)
+SOLVE_MATRICES = 9
+
+
+def hill_bytes(n: int, block_orders, n_points: int) -> tuple[float, float]:
+    """Bytes of Hill's problem on one harmonic level: ``(kept, working)``.
+
+    Parameters
+    ----------
+    n : int
+        Order of a point's Jacobian (the level's unknowns kept in the
+        perturbation basis).
+    block_orders : sequence of int
+        Orders of Hill's blocks (``n`` alone, or the odd and even blocks).
+    n_points : int
+        Points of the level.
+
+    Returns
+    -------
+    kept : float
+        The blocks' matrices, kept until the stability is returned.
+    working : float
+        The Jacobians of one chunk and one eigenvalue solve of the largest
+        block, held while a chunk is solved.
+    """
+    n_points = max(1, int(n_points))
+    kept = 8.0 * BLOCK_MATRICES * sum(float(g) ** 2 for g in block_orders)
+    jac_chunk = min(n_points, max(1, _CHUNK_BYTES // (8 * n * n)))
+    g = float(max(block_orders))
+    solve_chunk = min(n_points, max(1, int(_CHUNK_BYTES // (32.0 * g * g))))
+    working = 8.0 * n * n * jac_chunk + 8.0 * SOLVE_MATRICES * g * g * solve_chunk
+    return kept, working
+
+
+def check_hill_memory(
+    kept_before: float, n: int, block_orders, n_points: int, h: int, n_dof: int
+) -> float:
+    """Raise :class:`MemoryError` before any eigenvalue work when Hill's
+    problem of a level (:func:`hill_bytes`), with what the levels before it
+    keep (``kept_before``, bytes), does not fit in
+    :func:`hbmfric._memory.budget`; return the bytes kept with this level.
+    """
+    from . import _memory
+
+    kept, working = hill_bytes(n, block_orders, n_points)
+    need = kept_before + kept + working
+    room = _memory.budget()
+    if need <= room:
+        return kept_before + kept
+    available = room / _memory.MEMORY_SHARE
+    raise MemoryError(
+        f"Hill's stability at H = {h} ({n} unknowns per point, {n_points} "
+        f"points) needs about {_memory.gigabytes(need)} for its dense matrices, "
+        f"more than the {_memory.gigabytes(available)} this machine can give "
+        f"it ({_memory.MEMORY_SHARE:.0%} of the memory available now). Use "
+        'method="monodromy" (the time-domain monodromy: matrices of order '
+        f"2 x {n_dof} DOFs per point), a smaller perturbation_harmonics (the "
+        "cost grows like its square; docs/stability.md), or a reduced model "
+        "(hf.craig_bampton)"
+    )
+
+
 #: ``exponents="auto"`` computes Hill's eigenvalues at every
 #: ``ANCHOR_SPACING``-th point at least (see :func:`stability_of_points`)
 ANCHOR_SPACING = 64
@@ -1195,8 +1285,19 @@ def _build_levels(
         used[idx] = hn[-1]
         level_of[idx] = len(levels)
         local_of[idx] = np.arange(idx.size)
+        kept = levels[-1].kept_bytes if levels else 0.0
         levels.append(
-            _Level(problem, idx, points, hn, keep, symmetric, signs, reflect=reflect)
+            _Level(
+                problem,
+                idx,
+                points,
+                hn,
+                keep,
+                symmetric,
+                signs,
+                reflect=reflect,
+                kept_before=kept,
+            )
         )
     return levels, level_of, local_of, used
 
