@@ -50,6 +50,12 @@ class DataWarning(HbmfricWarning):
     under the documented format, which may not be what was meant."""
 
 
+class CostWarning(HbmfricWarning):
+    """A call is about to take long (minutes): issued before the work, with
+    the estimated time and a cheaper way, so that a long computation is not
+    mistaken for a hang."""
+
+
 class ConvergenceError(RuntimeError):
     """Raised instead of :class:`ConvergenceWarning` where the user asked
     for an exception (``on_failure="raise"``)."""
@@ -58,6 +64,7 @@ class ConvergenceError(RuntimeError):
 __all__ = [
     "AccuracyWarning",
     "CacheWarning",
+    "CostWarning",
     "ConvergenceError",
     "ConvergenceWarning",
     "CoverageWarning",

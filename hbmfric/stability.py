@@ -98,7 +98,7 @@ import warnings
 
 import numpy as np
 
-from .errors import AccuracyWarning
+from .errors import AccuracyWarning, CostWarning
 
 #: relative size (to the Jacobian's largest entry) below which the
 #: odd-even coupling of a symmetric solution counts as zero
@@ -1550,6 +1550,7 @@ def stability_of_points(
         computed = solved
     else:
         computed = np.ones(n_points, dtype=bool)
+        _warn_cost(levels, n_dof, perturbation_harmonics)
         if n_points:
             exps[:] = exponents_at(np.arange(n_points))
         stable = exps.real.max(axis=1) < 0.0 if n_points else np.zeros(0, bool)
@@ -1571,6 +1572,72 @@ def stability_of_points(
         computed=computed,
         fill=fill,
     )
+
+
+#: seconds per cubed order of one eigenvalue solve of a companion matrix
+#: (``numpy.linalg.eigvals``, one thread: 0.3-1.8 ns on the project's
+#: machines for orders 256-2032), for :func:`hill_seconds`
+EIGVALS_SECONDS = 1e-9
+#: estimated seconds above which Hill's stability warns before its work
+#: (:class:`~hbmfric.CostWarning`)
+COST_WARNING_SECONDS = 60.0
+
+
+def hill_seconds(point_orders) -> float:
+    """Rough CPU seconds of Hill's eigenvalue solves: ``point_orders`` is an
+    iterable of ``(points, block_orders)`` pairs (a level's points and the
+    orders of its Hill blocks); each block costs one eigenvalue solve of its
+    companion matrix (order ``2 g``) per point."""
+    return float(
+        sum(
+            k * sum(EIGVALS_SECONDS * (2.0 * g) ** 3 for g in orders)
+            for k, orders in point_orders
+        )
+    )
+
+
+def _warn_cost(levels: list, n_dof: int, perturbation_harmonics) -> None:
+    """Warn (:class:`~hbmfric.CostWarning`) before Hill's eigenvalues at
+    every point of ``levels`` when they would take more than
+    :data:`COST_WARNING_SECONDS`, with the time a smaller perturbation
+    basis would take."""
+    seconds = hill_seconds((lv.idx.size, [g.size for g in lv.groups]) for lv in levels)
+    if seconds <= COST_WARNING_SECONDS:
+        return
+    n_points = sum(lv.idx.size for lv in levels)
+    order = max(lv.n for lv in levels)
+    h_top = max(int(lv.harmonic_numbers[-1]) for lv in levels)
+    cheaper = ["the points you need only (hbmfric.stability.stability_of_points)"]
+    for hp in (31, 15, 7):
+        if hp >= h_top or (perturbation_harmonics or h_top) <= hp:
+            continue
+        seconds_hp = hill_seconds(
+            (lv.idx.size, [n_dof * (2 * min(hp, int(lv.harmonic_numbers[-1])) + 1)])
+            for lv in levels
+        )
+        if seconds_hp <= 2.0 * COST_WARNING_SECONDS or hp == 7:
+            cheaper.insert(
+                0,
+                f"perturbation_harmonics={hp} (about {_duration(seconds_hp)}; a "
+                "truncated perturbation basis, less accurate: docs/stability.md)",
+            )
+            break
+    warnings.warn(
+        f"Hill's stability at {n_points} points, Jacobians of order up to "
+        f"{order} ({n_dof} DOFs, H up to {h_top}): about {_duration(seconds)} "
+        f"of eigenvalue solves (a rough estimate). Cheaper: {', or '.join(cheaper)}",
+        CostWarning,
+        stacklevel=3,
+    )
+
+
+def _duration(seconds: float) -> str:
+    """``seconds`` as a rounded duration for a message."""
+    if seconds < 90.0:
+        return f"{seconds:.0f} s"
+    if seconds < 5400.0:
+        return f"{seconds / 60.0:.0f} minutes"
+    return f"{seconds / 3600.0:.1f} hours"
 
 
 def _has_dahl(system) -> bool:

@@ -56,6 +56,11 @@ def test_plan_covers_the_measured_peak():
     system = _chain(n_dof)
     omegas = np.array([0.1, 0.11, 0.12])
     hn, coef = _points(system, omegas, h)
+    # compiled (or loaded from the cache) before the measure: Numba's own
+    # allocations are not the problem's
+    stability_of_points(
+        system, 1.0, omegas[:1], hn, coef[:1], np.full(1, h), method="hill"
+    )
     tracemalloc.start()
     try:
         stability_of_points(
@@ -133,4 +138,40 @@ def test_branch_stability_refuses_and_the_monodromy_still_answers(monkeypatch):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         st = branch.stability(method="monodromy")
+    assert st.stable.all()
+
+
+def test_a_long_hill_call_warns_before_its_eigenvalues(monkeypatch):
+    # the 8-DOF chain of stop 34's hunt (Jenkins + relative Menq, H up to
+    # 63, 505 points) ran Branch.stability() for 20-40 minutes without a
+    # word; the estimate is checked here on a small chain with the
+    # threshold lowered, before any eigenvalue solve
+    n_dof, h = 6, 15
+    system = _chain(n_dof)
+    omegas = np.array([0.1, 0.12])
+    hn, coef = _points(system, omegas, h)
+    seconds = _stability.hill_seconds([(2, [n_dof * (2 * h + 1)])])
+    monkeypatch.setattr(_stability, "COST_WARNING_SECONDS", 0.5 * seconds)
+
+    def no_eigenvalues(*args, **kwargs):
+        raise AssertionError("eigenvalues computed before the warning")
+
+    with monkeypatch.context() as m:
+        m.setattr(_stability, "_companion_eigenvalues", no_eigenvalues)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", hf.CostWarning)
+            with pytest.raises(hf.CostWarning, match="Hill's stability at 2 points"):
+                stability_of_points(
+                    system, 1.0, omegas, hn, coef, np.full(2, h), method="hill"
+                )
+    # the hint: a smaller perturbation basis, below the top H and cheaper
+    with pytest.warns(hf.CostWarning, match=r"perturbation_harmonics=7 \(about"):
+        stability_of_points(system, 1.0, omegas, hn, coef, np.full(2, h), method="hill")
+    # under the threshold: no word
+    monkeypatch.setattr(_stability, "COST_WARNING_SECONDS", 2.0 * seconds)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", hf.CostWarning)
+        st = stability_of_points(
+            system, 1.0, omegas, hn, coef, np.full(2, h), method="hill"
+        )
     assert st.stable.all()

@@ -58,6 +58,11 @@ def test_hill_peak_within_its_plan(n_dof, harmonics, n_points, symmetric):
         ]
     coef = np.stack([p.coefficients for p in sols])
     hn = sols[0].harmonic_numbers
+    # compiled or loaded before the measure (Numba's allocations are not
+    # the problem's)
+    stability_of_points(
+        system, 1.0, omegas[:1], hn, coef[:1], np.full(1, harmonics), method="hill"
+    )
     tracemalloc.start()
     try:
         st = stability_of_points(
