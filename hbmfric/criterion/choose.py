@@ -49,7 +49,7 @@ TRIM_KEEP = 0.8
 #: step 1's local test: two curves at equal ratio that the (trimmed) spread
 #: finds equal must not differ anywhere both are resolved by more than this
 #: multiple of the spread threshold, beyond the noise and the chord error
-LOCAL_FACTOR = 2.0
+LOCAL_FACTOR = 3.0
 #: the ratio-invariance threshold is at least this multiple of the noise
 NOISE_SPREAD_FACTOR = 2.5
 #: mostly stuck curves have Fex/Fn at most this fraction of the flattest
