@@ -26,7 +26,6 @@ import pytest
 
 import hbmfric as hf
 from hbmfric.criterion import FRFRecord, choose_contact_model
-from hbmfric.criterion.smoothing import smoothing_bias
 from tests.test_criterion import perturb, synthesise
 
 _CACHE: dict = {}
@@ -135,7 +134,7 @@ def test_smoothing_bias_sees_a_peak_narrower_than_the_window():
     width 20 is not."""
     grid = np.linspace(-50.0, 50.0, 1001)
     w = np.linspace(-50.0, 50.0, 401)
-    from hbmfric.criterion.smoothing import smooth_grid
+    from hbmfric.criterion.smoothing import smooth_grid, smoothing_bias
 
     for gamma, flat in ((1.0, True), (20.0, False)):
         y = -np.log1p((w / gamma) ** 2)

@@ -629,7 +629,16 @@ def choose_contact_model(
        points left out, so that a sharp peak missed by a coarse grid does not
        count) is the *spread*. Above the threshold (``spread_threshold``, at
        least 2.5 × the estimated noise) the FRFs are not a function of
-       ``Fex/Fn`` alone: roughness effects matter.
+       ``Fex/Fn`` alone: roughness effects matter — unless a uniform factor
+       per pair (its median log difference, a gain or calibration error)
+       explains it: then "undecided" with an ``hf.DataWarning``. Below the
+       threshold, a *local test* looks for a pair that differs, where both
+       curves are resolved (:func:`hbmfric.criterion.smoothing.smoothing_bias`
+       below the threshold), by more than ``LOCAL_FACTOR`` (3) times the
+       threshold past the chord error and the noise, the margin raised for
+       the stretches searched (a curve of another law swapped in differs
+       near its resonance only, inside the 20 % left out): "undecided" with
+       an ``hf.DataWarning`` naming the pair.
     2. **Mostly stuck peaks.** One curve per ratio: the mean of the group's
        curves without roughness, the curve at the highest normal load with
        roughness (step 3: asperities crushed). The *stuck reference* is
@@ -702,7 +711,9 @@ def choose_contact_model(
         The family cannot answer a step, and the explanation says what is
         missing (no records, a single ratio, no two normal loads at the same
         ratio, no mostly stuck curve, a stuck resonance outside the measured
-        band, curves leaving the envelope above the stuck resonance).
+        band, curves leaving the envelope above the stuck resonance), or
+        the curves at one ratio are inconsistent in a way that is not
+        roughness (a uniform factor, a local difference; step 1 above).
     ``"undecided"``, ``indicators["undecided_reason"] == "noise"``
         The data cannot tell: some margin is inside ±3 noise units (or the
         stuck resonance does not stand out of the noise); the explanation
@@ -766,7 +777,13 @@ def choose_contact_model(
         noise units of step 1 and of the largest excess, ``stuck_rise`` the
         reference's rise (log amplitude), ``unclear_stuck_ratios`` the
         curves left out as neither stuck nor mostly stuck, and
-        ``undecided_reason`` None, "data" or "noise".
+        ``undecided_reason`` None, "data" or "noise". After step 1:
+        ``gain_ratio_by_pair`` and ``ratio_spread_shape`` (with
+        ``margin["ratio_spread_shape"]``, the spread with each pair's
+        uniform factor removed) when it read roughness;
+        ``local_difference`` (log amplitude), ``local_difference_frequency``,
+        ``margin["local_difference"]`` and ``margin_z_local`` (the margin
+        the local test needs) when it did not.
 
     Raises
     ------
