@@ -507,30 +507,34 @@ def _check_gain(
     ind["margin"]["ratio_spread_shape"] = m_shape
     if m_shape >= MARGIN_Z:
         return
-    # a gain only if the curves also coincide locally once it is removed (a
-    # curve of another law differs near its resonance only: a swapped Menq
-    # curve of the 1 % damped scene read as a gain without this)
-    kept = list(gains)
-    local, n_stretch = _local_search(
-        grid,
-        smoothed,
-        sd,
-        chord,
-        bias,
-        kept,
-        LOCAL_FACTOR * threshold,
-        corr,
-        [gains[k] for k in kept],
-    )
-    ind["margin"]["local_difference_without_gain"] = local[0]
-    if local[0] >= _z_local(n_stretch):
-        return
     big = sorted(gains.items(), key=lambda kv: -abs(kv[1]))[:3]
     listed = "; ".join(
         f"{_pair_name(recs, ia, ib)}: factor {math.exp(c):.4g}"
         for (_, ia, ib), c in big
     )
     if m_shape <= -MARGIN_Z:
+        # a gain only if the curves also coincide locally once it is removed
+        # (a curve of another law differs near its resonance only); if they
+        # do not, the local test's answer, as when the spread reads no
+        # roughness
+        kept = list(gains)
+        if _check_local(
+            ind,
+            text,
+            missing,
+            recs,
+            grid,
+            smoothed,
+            sd,
+            chord,
+            bias,
+            kept,
+            threshold,
+            corr,
+            offsets=[gains[k] for k in kept],
+            gain_text=listed,
+        ):
+            return
         reason = (
             "the curves at equal Fex/Fn differ by a uniform factor across the "
             f"band ({listed}); with that factor removed they coincide (spread "
@@ -567,28 +571,40 @@ def _check_local(
     pairs,
     threshold,
     corr,
-) -> None:
+    offsets=None,
+    gain_text=None,
+) -> bool:
     """Step 1 found the curves at every ratio equal (the trimmed spread
     leaves out the worst 20 % of the band): do two of them differ
     somewhere beyond ``LOCAL_FACTOR`` times the threshold, past their
     noise and chord error, where both are resolved? The margin needed
     is raised for the number of independent stretches searched, as for
     microslip's envelope test. Adds the reason to ``missing`` (undecided,
-    ``"data"``) and warns."""
+    ``"data"``), warns and returns True when one does. With ``offsets``
+    (each pair's log gain, removed first; ``gain_text`` lists the factors),
+    the spread was a uniform factor's."""
     level = LOCAL_FACTOR * threshold
-    best, n_stretch = _local_search(grid, smoothed, sd, chord, bias, pairs, level, corr)
+    best, n_stretch = _local_search(
+        grid, smoothed, sd, chord, bias, pairs, level, corr, offsets
+    )
     if best is None:
-        return
+        return False
     z_local = _z_local(n_stretch)
     ind["local_difference"] = best[2] if math.isfinite(best[0]) else None
     ind["local_difference_frequency"] = best[1]
     ind["margin"]["local_difference"] = best[0]
     ind["margin_z_local"] = z_local
     if best[0] < z_local:
-        return
+        return False
     z, w, d, ia, ib = best
     reason = (
-        f"the curves at {_pair_name(recs, ia, ib)} coincide over most of the "
+        (
+            f"the curves at equal Fex/Fn differ by a uniform factor ({gain_text}) "
+            "and, with it removed, "
+            if gain_text
+            else ""
+        )
+        + f"the curves at {_pair_name(recs, ia, ib)} coincide over most of the "
         f"band but differ by {d:.3g} (log amplitude) at {w:.5g}, {z:.3g} noise "
         f"units beyond {level:.3g} where both are resolved ({z_local:.2g} "
         "needed): ratio invariance fails there only. Step 1 leaves out the "
@@ -599,6 +615,7 @@ def _check_local(
     missing.append(reason)
     warnings.warn("choose_contact_model: " + reason, DataWarning, stacklevel=3)
     text[-1] += " But one pair differs locally (see below)."
+    return True
 
 
 def choose_contact_model(
@@ -625,7 +642,7 @@ def choose_contact_model(
 
     1. **Ratio invariance.** Curves whose ``Fex/Fn`` agree to ``ratio_rtol``
        but whose normal loads differ are compared: the RMS difference of
-       their log amplitudes over the common band (the worst 5 % of grid
+       their log amplitudes over the common band (the worst 20 % of grid
        points left out, so that a sharp peak missed by a coarse grid does not
        count) is the *spread*. Above the threshold (``spread_threshold``, at
        least 2.5 × the estimated noise) the FRFs are not a function of
