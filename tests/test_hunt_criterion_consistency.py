@@ -84,10 +84,21 @@ def test_a_curve_of_another_law_is_not_read_as_ratio_invariant(base, k):
     )
 
 
-@pytest.mark.parametrize("seed", [1, 2])
+@pytest.mark.parametrize("seed", [1, 2, 3])
 def test_a_noisy_swapped_family_gets_no_verdict_without_roughness(seed):
-    res = choose_contact_model(perturb(swapped("macroslip", 2), seed))
+    """150 random frequencies, 2 % noise; the Menq curve at Fex = 1 N,
+    Fex/Fn = 0.1 in the Jenkins family (main: "macroslip without
+    roughness" for seeds 1-3)."""
+    res = choose_contact_model(perturb(swapped("macroslip", 3), seed))
     assert not res.verdict.endswith("without roughness"), res.explanation
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+@pytest.mark.parametrize("model", ["macroslip", "microslip"])
+def test_a_noisy_uniform_gain_is_not_read_as_roughness(model, seed):
+    """150 random frequencies, 2 % noise (main: "… with roughness")."""
+    res = choose_contact_model(perturb(with_gain(family(model), 1.08, 1000.0), seed))
+    assert res.verdict in (f"{model} without roughness", "undecided"), res.explanation
 
 
 @pytest.mark.parametrize("model", ["macroslip", "microslip"])
