@@ -46,6 +46,10 @@ AUTO_MAX_WIDTH = 0.05
 #: difference confined to that 20 % is caught by the local test,
 #: :data:`LOCAL_FACTOR`)
 TRIM_KEEP = 0.8
+#: step 2's gain check: below this fraction of the stuck resonance a mostly
+#: stuck curve is still stuck (linear) and equals the stuck reference; a
+#: uniform factor between them there is a gain (calibration) difference
+LOW_STRETCH = 0.6
 #: step 1's local test: two curves at equal ratio that the (trimmed) spread
 #: finds equal must not differ anywhere both are resolved by more than this
 #: multiple of the spread threshold, beyond the noise and the chord error
@@ -800,7 +804,12 @@ def choose_contact_model(
         uniform factor removed) when it read roughness;
         ``local_difference`` (log amplitude), ``local_difference_frequency``,
         ``margin["local_difference"]`` and ``margin_z_local`` (the margin
-        the local test needs) when it did not.
+        the local test needs) when it did not. Step 2:
+        ``stuck_stretch_gain`` (each mostly stuck curve's factor to the
+        stuck reference below ``LOW_STRETCH`` (0.6) times the stuck
+        resonance, where both are stuck) and ``verdict_without_gains``
+        (whether the verdict holds with the factors that stand out of the
+        noise removed; if not, "undecided" with an ``hf.DataWarning``).
 
     Raises
     ------
@@ -1198,6 +1207,12 @@ def choose_contact_model(
     # needs grows with the number of independent stretches searched
     stretches = {"below": 0.0, "above": 0.0}
     evidence["mostly_stuck"] = []
+    # step 2's gain check: the margins once each mostly stuck curve's gain
+    # relative to the reference (read on the stuck stretch) is removed
+    ind["stuck_stretch_gain"] = {}
+    gains_seen: list[tuple[float, float]] = []
+    margin_g = {"below": -math.inf, "above": -math.inf}
+    out_gain = {"below": -math.inf, "above": -math.inf}
     for c in mostly if w_ref is not None else []:
         y = c["curve"]
         ok = np.isfinite(y) & np.isfinite(ref)
@@ -1220,6 +1235,42 @@ def choose_contact_model(
         ratio_m[ok] = (excess[ok] + bound[ok] - excess_threshold) / unit[ok]
         out_m = np.full(grid.shape, -np.inf)
         out_m[ok] = (excess[ok] - bound[ok] - excess_threshold) / unit[ok]
+        # the same margins with the curve's gain relative to the reference
+        # removed, the gain read far below the resonance where both are stuck
+        ratio_g, out_g = ratio_m, out_m
+        low = ok & (grid < LOW_STRETCH * w_ref)
+        n_low = np.count_nonzero(low) * (grid[1] - grid[0]) / corr
+        if n_low >= 1.0:
+            g_log = float(np.median(y[low] - ref[low]))
+            g_unit = float(np.median(np.hypot(c["sd"][low], ref_sd[low])))
+            ind["stuck_stretch_gain"][c["ratio"]] = math.exp(g_log)
+            if abs(g_log) > MARGIN_Z * g_unit / math.sqrt(n_low):
+                gains_seen.append((c["ratio"], math.exp(g_log)))
+                yg = y - g_log
+                excess_g = np.full(grid.shape, -np.inf)
+                excess_g[ok] = (np.exp(yg[ok]) - np.exp(ref[ok])) / math.exp(
+                    top - g_log
+                )
+                unit_g = np.full(grid.shape, np.inf)
+                unit_g[ok] = np.hypot(
+                    np.exp(yg[ok]) * c["sd"][ok], np.exp(ref[ok]) * ref_sd[ok]
+                ) / math.exp(top - g_log)
+                bound_g = np.zeros(grid.shape)
+                bound_g[ok] = (
+                    np.exp(yg[ok]) * c["chord"][ok] + np.exp(ref[ok]) * ref_chord[ok]
+                ) / math.exp(top - g_log)
+                ratio_g = np.full(grid.shape, -np.inf)
+                ratio_g[ok] = (excess_g[ok] + bound_g[ok] - excess_threshold) / unit_g[
+                    ok
+                ]
+                out_g = np.full(grid.shape, -np.inf)
+                out_g[ok] = (excess_g[ok] - bound_g[ok] - excess_threshold) / unit_g[ok]
+        for side, mask in (("below", grid < w_ref), ("above", grid >= w_ref)):
+            if np.any(mask & ok):
+                m = float(np.max(np.where(mask & ok, ratio_g, -np.inf)))
+                margin_g[side] = max(margin_g[side], m)
+                m = float(np.max(np.where(mask & ok, out_g, -np.inf)))
+                out_gain[side] = max(out_gain[side], m)
         for side, mask in (("below", grid < w_ref), ("above", grid >= w_ref)):
             if not np.any(mask & ok):
                 continue
@@ -1343,6 +1394,29 @@ def choose_contact_model(
                     "cannot tell whether the mostly stuck peaks leave the stuck "
                     "envelope"
                 )
+    if model != "undecided" and gains_seen:
+        # a verdict must not hang on a gain between the mostly stuck curves
+        # and the stuck reference: read again with the gains removed
+        if model == "microslip":
+            holds = out_gain["below"] >= z_leave["below"]
+        else:
+            holds = (
+                margin_g["below"] <= -MARGIN_Z
+                and margin_g["above"] <= -MARGIN_Z
+                and out_gain["above"] < z_leave["above"]
+            )
+        ind["verdict_without_gains"] = holds
+        if not holds:
+            listed = ", ".join(f"{g:.4g} at Fex/Fn = {r:.3g}" for r, g in gains_seen)
+            reason = (
+                "the mostly stuck curves differ from the stuck reference by a "
+                f"uniform factor below {LOW_STRETCH:g} times the stuck resonance, "
+                f"where both are stuck ({listed}): a gain (calibration) "
+                f"difference, and with it removed step 2 does not read {model}; "
+                "check the calibration of force and response"
+            )
+            missing.append(reason)
+            warnings.warn("choose_contact_model: " + reason, DataWarning, stacklevel=2)
     if model == "undecided" and not missing and not unclear:
         # no verdict leaves without its reason (stop 31: a stuck_frequency
         # below the band ended in "Verdict: undecided" and no reason)
