@@ -14,6 +14,12 @@ ways the trimmed ratio spread does not read right (stop 35, crit37).
   must match the one applied (an independent reference), and a
   ``DataWarning``.
 
+* A gain between the mostly stuck curves and the stuck reference moves
+  step 2's envelope excess (main: a Jenkins family whose stuck curves read
+  15 % low is "microslip"). Now the factor is read on the stuck stretch
+  (below 0.6 times the stuck resonance) and a verdict that does not hold
+  without it is "undecided".
+
 Families: HBM FRFs of the paper's SDOF (``tests/test_criterion.py``).
 """
 
@@ -159,3 +165,44 @@ def test_smoothing_bias_sees_a_peak_narrower_than_the_window():
             assert 0.3 * np.max(true) < np.max(bias) <= 1.5 * np.max(true)
         else:
             assert np.max(true) < 0.01 and np.max(bias) < 0.01
+
+
+def with_reference_gain(records, factor: float) -> list[FRFRecord]:
+    """The stuck curves (Fex/Fn = 0.001, both forces: step 1 unchanged)
+    divided by ``factor``: the stuck reference reads ``factor`` low."""
+    return [
+        FRFRecord(
+            r.force,
+            r.normal_load,
+            r.omega,
+            r.amplitude / (factor if r.ratio < 0.01 else 1.0),
+        )
+        for r in records
+    ]
+
+
+@pytest.mark.parametrize("rough", [False, True])
+def test_a_gain_on_the_stuck_reference_does_not_decide_step_2(rough):
+    """Jenkins family, stuck reference 15 % low: the mostly stuck curves
+    rise above its envelope by the gain alone (main: "microslip …"). Their
+    factor to the reference on the stuck stretch is the one applied."""
+    with pytest.warns(hf.DataWarning, match="mostly stuck curves differ"):
+        res = choose_contact_model(
+            with_reference_gain(family("macroslip", rough), 1.15)
+        )
+    assert res.model == "undecided", res.explanation
+    assert res.indicators["undecided_reason"] == "data"
+    gains = res.indicators["stuck_stretch_gain"]
+    assert set(gains) == {0.1, 0.2}
+    for g in gains.values():
+        assert g == pytest.approx(1.15, rel=1e-6)
+
+
+def test_a_gain_the_verdict_survives_keeps_the_verdict():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", hf.DataWarning)
+        res = choose_contact_model(with_reference_gain(family("macroslip"), 1.1))
+    assert res.verdict == "macroslip without roughness", res.explanation
+    assert res.indicators["verdict_without_gains"] is True
+    for g in res.indicators["stuck_stretch_gain"].values():
+        assert g == pytest.approx(1.1, rel=1e-6)
