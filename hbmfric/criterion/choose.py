@@ -596,7 +596,8 @@ def _check_local(
     z_local = _z_local(n_stretch)
     ind["local_difference"] = best[2] if math.isfinite(best[0]) else None
     ind["local_difference_frequency"] = best[1]
-    ind["margin"]["local_difference"] = best[0]
+    # None when no point of any pair is resolved (JSON has no infinity)
+    ind["margin"]["local_difference"] = best[0] if math.isfinite(best[0]) else None
     ind["margin_z_local"] = z_local
     if best[0] < z_local:
         return False
@@ -803,8 +804,9 @@ def choose_contact_model(
         ``margin["ratio_spread_shape"]``, the spread with each pair's
         uniform factor removed) when it read roughness;
         ``local_difference`` (log amplitude), ``local_difference_frequency``,
-        ``margin["local_difference"]`` and ``margin_z_local`` (the margin
-        the local test needs) when it did not. Step 2:
+        ``margin["local_difference"]`` (None when no point is resolved)
+        and ``margin_z_local`` (the margin the local test needs) when it
+        did not. Step 2:
         ``stuck_stretch_gain`` (each mostly stuck curve's factor to the
         stuck reference below ``LOW_STRETCH`` (0.6) times the stuck
         resonance, where both are stuck) and ``verdict_without_gains``
