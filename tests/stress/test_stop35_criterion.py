@@ -10,7 +10,7 @@ multiplicative noise (``perturb``).
   (Fex, Fex/Fn), at the ratios where the laws differ (paper 0.5 / 0.2 /
   0.1, other 0.25 / 0.1 / 0.05). The two curves at that ratio differ near
   the resonance only; before stop 35 every clean paper swap (12 rows) read
-  "… without roughness" (one of them *microslip* for a Jenkins family):
+  "… without roughness" (two of them *microslip* for a Jenkins family):
   the spread leaves out the worst 20 % of the band. A verdict "without
   roughness" is wrong here; "with roughness" (step 1 sees the difference)
   and "undecided" (the local test names the pair) are not.
