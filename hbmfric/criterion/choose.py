@@ -6,14 +6,17 @@ from __future__ import annotations
 import json
 import math
 import time
+import warnings
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from statistics import NormalDist
 
 import numpy as np
+from scipy.ndimage import maximum_filter1d
 
 from .._validate import finite_float, positive_int
+from ..errors import DataWarning
 from .records import FRFRecord
 from .smoothing import (
     interp_log,
@@ -23,6 +26,7 @@ from .smoothing import (
     peak,
     smooth_grid,
     smoothed_noise,
+    smoothing_bias,
     without_dips,
 )
 
@@ -37,9 +41,19 @@ AUTO_NOISE_FLOOR = 0.002
 AUTO_WIDTH_FACTOR = 0.5
 #: largest smoothing half width, fraction of the band
 AUTO_MAX_WIDTH = 0.05
-#: fraction of the band kept in the ratio-invariance RMS (the worst 5 % of
-#: grid points, a sharp peak missed by a coarse grid, are left out)
+#: fraction of the band kept in the ratio-invariance RMS (the worst 20 % of
+#: grid points, a sharp peak missed by a coarse grid, are left out; a
+#: difference confined to that 20 % is caught by the local test,
+#: :data:`LOCAL_FACTOR`)
 TRIM_KEEP = 0.8
+#: step 2's gain check: below this fraction of the stuck resonance a mostly
+#: stuck curve is still stuck (linear) and equals the stuck reference; a
+#: uniform factor between them there is a gain (calibration) difference
+LOW_STRETCH = 0.6
+#: step 1's local test: two curves at equal ratio that the (trimmed) spread
+#: finds equal must not differ anywhere both are resolved by more than this
+#: multiple of the spread threshold, beyond the noise and the chord error
+LOCAL_FACTOR = 3.0
 #: the ratio-invariance threshold is at least this multiple of the noise
 NOISE_SPREAD_FACTOR = 2.5
 #: mostly stuck curves have Fex/Fn at most this fraction of the flattest
@@ -328,6 +342,105 @@ def _chord_rms(smoothed, chord, ia, ib) -> float:
     return float(np.sqrt(np.mean(np.where(np.isfinite(e), e, 0.0) ** 2)))
 
 
+def _gain_offset(a: np.ndarray, b: np.ndarray) -> float:
+    """Median of the log difference ``a - b`` over their common band: the
+    log of a uniform factor (a gain) between two curves."""
+    ok = np.isfinite(a) & np.isfinite(b)
+    if not np.any(ok):
+        return 0.0
+    return float(np.median(a[ok] - b[ok]))
+
+
+def _local_difference(grid, a, b, sd_a, sd_b, bound, bias_a, bias_b, level, corr):
+    """Step 1's local test for two smoothed curves ``a`` and ``b`` (log
+    amplitudes on ``grid``): the largest ``(|a - b| - bound - level) /
+    noise`` over the grid points where both are *resolved* (their
+    smoothing bias, :func:`hbmfric.criterion.smoothing.smoothing_bias`,
+    stays below ``level / LOCAL_FACTOR`` within one correlation length
+    ``corr``; a peak narrower than the smoothing window is flattened
+    differently by every sampling of it, and its samples on the flanks are
+    dropped as dips, so two noisy copies of one sharp peak differ there by
+    up to 0.8 in log amplitude at 2 % noise).
+
+    Parameters
+    ----------
+    grid : ndarray, shape (n_grid,)
+    a, b, sd_a, sd_b, bias_a, bias_b : ndarray, shape (n_grid,)
+        The curves, their noise (standard deviation) and smoothing bias.
+    bound : ndarray, shape (n_grid,)
+        Their summed chord error.
+    level : float
+        Difference (log amplitude) the test looks for.
+    corr : float
+        Correlation length of the smoothed noise (unit of ``grid``).
+
+    Returns
+    -------
+    z : float
+        The largest margin (-inf when no point is resolved).
+    omega : float
+        Where it lies.
+    difference : float
+        ``|a - b|`` there (log amplitude).
+    stretches : float
+        Independent stretches (length ``corr``) of the resolved band.
+    """
+    dx = grid[1] - grid[0]
+    half = max(int(round(corr / dx)), 1)
+
+    def resolved(bias):
+        bias = np.where(np.isfinite(bias), bias, np.inf)
+        widest = maximum_filter1d(bias, 2 * half + 1, mode="nearest")
+        return widest < level / LOCAL_FACTOR
+
+    d = a - b
+    ok = np.isfinite(d) & resolved(bias_a) & resolved(bias_b)
+    if not np.any(ok):
+        return -math.inf, math.nan, math.nan, 0.0
+    with np.errstate(invalid="ignore"):
+        z = np.where(ok, (np.abs(d) - bound - level) / np.hypot(sd_a, sd_b), -np.inf)
+    z = np.where(np.isnan(z), -np.inf, z)
+    k = int(np.argmax(z))
+    return (
+        float(z[k]),
+        float(grid[k]),
+        float(abs(d[k])),
+        max(np.count_nonzero(ok) * dx / corr, 1.0),
+    )
+
+
+def _local_search(grid, smoothed, sd, chord, bias, pairs, level, corr, offsets=None):
+    """:func:`_local_difference` over ``pairs`` of curve indices, each with
+    its log gain ``offsets[j]`` taken from the first curve: the largest
+    margin as ``(z, omega, difference, ia, ib)`` (None without pairs) and
+    the independent stretches searched."""
+    best = None
+    n_stretch = 0.0
+    for j, (_, ia, ib) in enumerate(pairs):
+        z, w, d, n = _local_difference(
+            grid,
+            smoothed[ia] - (0.0 if offsets is None else offsets[j]),
+            smoothed[ib],
+            sd[ia],
+            sd[ib],
+            chord[ia] + chord[ib],
+            bias[ia],
+            bias[ib],
+            level,
+            corr,
+        )
+        n_stretch += n
+        if best is None or z > best[0]:
+            best = (z, w, d, ia, ib)
+    return best, n_stretch
+
+
+def _z_local(n_stretch: float) -> float:
+    """Margin a local difference needs when ``n_stretch`` independent
+    stretches were searched (as microslip's ``margin_z_leave``)."""
+    return max(MARGIN_Z, -NormalDist().inv_cdf(MARGIN_TAIL / max(n_stretch, 1.0)))
+
+
 def _rms(a: np.ndarray, b: np.ndarray, min_points: int) -> float | None:
     ok = np.isfinite(a) & np.isfinite(b)
     if np.count_nonzero(ok) < min_points:
@@ -335,6 +448,179 @@ def _rms(a: np.ndarray, b: np.ndarray, min_points: int) -> float | None:
     d2 = np.sort((a[ok] - b[ok]) ** 2)
     keep = d2[: max(1, int(math.ceil(TRIM_KEEP * d2.size)))]
     return float(np.sqrt(np.mean(keep)))
+
+
+def _pair_name(recs, ia, ib) -> str:
+    a, b = recs[ia], recs[ib]
+    return (
+        f"Fex/Fn = {a.ratio:.3g} (Fex = {a.force:.3g}, Fn = {a.normal_load:.3g}; "
+        f"Fex = {b.force:.3g}, Fn = {b.normal_load:.3g})"
+    )
+
+
+def _check_gain(
+    ind,
+    text,
+    missing,
+    unclear,
+    recs,
+    grid,
+    smoothed,
+    sd,
+    chord,
+    bias,
+    pairs,
+    threshold,
+    corr,
+    min_overlap,
+) -> None:
+    """Step 1 found the curves at some ratio different: is it only a
+    uniform factor? Each pair's log difference less its median (the log of
+    the pair's gain ratio) is measured as the spread is; when no pair
+    differs once its uniform factor is removed, the curves differ by a
+    gain (a calibration of force or response), not by roughness, which
+    changes the contact's stiffness and so the shape of the FRF near the
+    resonances (a uniform factor holds on the stuck stretch, the resonance
+    and the mass line alike, which no contact law does). Adds the reason
+    to ``missing`` (undecided, ``"data"``) and warns, or to ``unclear``
+    when the shape's spread is inside the noise."""
+    gains = {}
+    worst = None
+    for gr, ia, ib in pairs:
+        c = _gain_offset(smoothed[ia], smoothed[ib])
+        s = _rms(smoothed[ia] - c, smoothed[ib], min_overlap)
+        if s is None:
+            continue
+        key = (gr, ia, ib)
+        gains[key] = c
+        if worst is None or s > worst[0]:
+            worst = (
+                s,
+                key,
+                _spread_noise(grid, smoothed, sd, ia, ib, corr),
+                _chord_rms(smoothed, chord, ia, ib),
+            )
+    if worst is None:
+        return
+    ind["gain_ratio_by_pair"] = {
+        f"{recs[ia].name} / {recs[ib].name}": math.exp(c)
+        for (_, ia, ib), c in gains.items()
+    }
+    m_shape = _shrunk(worst[0] - threshold, worst[3]) / worst[2]
+    ind["ratio_spread_shape"] = worst[0]
+    ind["margin"]["ratio_spread_shape"] = m_shape
+    if m_shape >= MARGIN_Z:
+        return
+    big = sorted(gains.items(), key=lambda kv: -abs(kv[1]))[:3]
+    listed = "; ".join(
+        f"{_pair_name(recs, ia, ib)}: factor {math.exp(c):.4g}"
+        for (_, ia, ib), c in big
+    )
+    if m_shape <= -MARGIN_Z:
+        # a gain only if the curves also coincide locally once it is removed
+        # (a curve of another law differs near its resonance only); if they
+        # do not, the local test's answer, as when the spread reads no
+        # roughness
+        kept = list(gains)
+        if _check_local(
+            ind,
+            text,
+            missing,
+            recs,
+            grid,
+            smoothed,
+            sd,
+            chord,
+            bias,
+            kept,
+            threshold,
+            corr,
+            offsets=[gains[k] for k in kept],
+            gain_text=listed,
+        ):
+            return
+        reason = (
+            "the curves at equal Fex/Fn differ by a uniform factor across the "
+            f"band ({listed}); with that factor removed they coincide (spread "
+            f"{worst[0]:.3g}, margin {m_shape:+.3g} noise units). A factor "
+            "uniform over the stuck stretch, the resonance and the mass line "
+            "is a gain (calibration) difference between the measurements, not "
+            "roughness, which changes the FRF's shape near the resonances: "
+            "check the calibration of force and response"
+        )
+        missing.append(reason)
+        warnings.warn("choose_contact_model: " + reason, DataWarning, stacklevel=3)
+        text[-1] += (
+            " But the difference is a uniform factor, a gain: roughness is not shown."
+        )
+    else:
+        unclear.append(
+            "step 1's difference is mostly a uniform factor (a gain: "
+            f"{listed}); with it removed, the spread lies {m_shape:+.2g} noise "
+            "units from its threshold, so whether roughness or a calibration "
+            "error separates the curves cannot be told"
+        )
+
+
+def _check_local(
+    ind,
+    text,
+    missing,
+    recs,
+    grid,
+    smoothed,
+    sd,
+    chord,
+    bias,
+    pairs,
+    threshold,
+    corr,
+    offsets=None,
+    gain_text=None,
+) -> bool:
+    """Step 1 found the curves at every ratio equal (the trimmed spread
+    leaves out the worst 20 % of the band): do two of them differ
+    somewhere beyond ``LOCAL_FACTOR`` times the threshold, past their
+    noise and chord error, where both are resolved? The margin needed
+    is raised for the number of independent stretches searched, as for
+    microslip's envelope test. Adds the reason to ``missing`` (undecided,
+    ``"data"``), warns and returns True when one does. With ``offsets``
+    (each pair's log gain, removed first; ``gain_text`` lists the factors),
+    the spread was a uniform factor's."""
+    level = LOCAL_FACTOR * threshold
+    best, n_stretch = _local_search(
+        grid, smoothed, sd, chord, bias, pairs, level, corr, offsets
+    )
+    if best is None:
+        return False
+    z_local = _z_local(n_stretch)
+    ind["local_difference"] = best[2] if math.isfinite(best[0]) else None
+    ind["local_difference_frequency"] = best[1]
+    # None when no point of any pair is resolved (JSON has no infinity)
+    ind["margin"]["local_difference"] = best[0] if math.isfinite(best[0]) else None
+    ind["margin_z_local"] = z_local
+    if best[0] < z_local:
+        return False
+    z, w, d, ia, ib = best
+    reason = (
+        (
+            f"the curves at equal Fex/Fn differ by a uniform factor ({gain_text}) "
+            "and, with it removed, "
+            if gain_text
+            else ""
+        )
+        + f"the curves at {_pair_name(recs, ia, ib)} coincide over most of the "
+        f"band but differ by {d:.3g} (log amplitude) at {w:.5g}, {z:.3g} noise "
+        f"units beyond {level:.3g} where both are resolved ({z_local:.2g} "
+        "needed): ratio invariance fails there only. Step 1 leaves out the "
+        "worst 20 % of the band and so cannot say whether this is roughness or "
+        "one curve measured under other conditions (another contact state or "
+        "law): check that curve"
+    )
+    missing.append(reason)
+    warnings.warn("choose_contact_model: " + reason, DataWarning, stacklevel=3)
+    text[-1] += " But one pair differs locally (see below)."
+    return True
 
 
 def choose_contact_model(
@@ -361,11 +647,20 @@ def choose_contact_model(
 
     1. **Ratio invariance.** Curves whose ``Fex/Fn`` agree to ``ratio_rtol``
        but whose normal loads differ are compared: the RMS difference of
-       their log amplitudes over the common band (the worst 5 % of grid
+       their log amplitudes over the common band (the worst 20 % of grid
        points left out, so that a sharp peak missed by a coarse grid does not
        count) is the *spread*. Above the threshold (``spread_threshold``, at
        least 2.5 × the estimated noise) the FRFs are not a function of
-       ``Fex/Fn`` alone: roughness effects matter.
+       ``Fex/Fn`` alone: roughness effects matter — unless a uniform factor
+       per pair (its median log difference, a gain or calibration error)
+       explains it: then "undecided" with an ``hf.DataWarning``. Below the
+       threshold, a *local test* looks for a pair that differs, where both
+       curves are resolved (:func:`hbmfric.criterion.smoothing.smoothing_bias`
+       below the threshold), by more than ``LOCAL_FACTOR`` (3) times the
+       threshold past the chord error and the noise, the margin raised for
+       the stretches searched (a curve of another law swapped in differs
+       near its resonance only, inside the 20 % left out): "undecided" with
+       an ``hf.DataWarning`` naming the pair.
     2. **Mostly stuck peaks.** One curve per ratio: the mean of the group's
        curves without roughness, the curve at the highest normal load with
        roughness (step 3: asperities crushed). The *stuck reference* is
@@ -438,7 +733,9 @@ def choose_contact_model(
         The family cannot answer a step, and the explanation says what is
         missing (no records, a single ratio, no two normal loads at the same
         ratio, no mostly stuck curve, a stuck resonance outside the measured
-        band, curves leaving the envelope above the stuck resonance).
+        band, curves leaving the envelope above the stuck resonance), or
+        the curves at one ratio are inconsistent in a way that is not
+        roughness (a uniform factor, a local difference; step 1 above).
     ``"undecided"``, ``indicators["undecided_reason"] == "noise"``
         The data cannot tell: some margin is inside ±3 noise units (or the
         stuck resonance does not stand out of the noise); the explanation
@@ -502,7 +799,19 @@ def choose_contact_model(
         noise units of step 1 and of the largest excess, ``stuck_rise`` the
         reference's rise (log amplitude), ``unclear_stuck_ratios`` the
         curves left out as neither stuck nor mostly stuck, and
-        ``undecided_reason`` None, "data" or "noise".
+        ``undecided_reason`` None, "data" or "noise". After step 1:
+        ``gain_ratio_by_pair`` and ``ratio_spread_shape`` (with
+        ``margin["ratio_spread_shape"]``, the spread with each pair's
+        uniform factor removed) when it read roughness;
+        ``local_difference`` (log amplitude), ``local_difference_frequency``,
+        ``margin["local_difference"]`` (None when no point is resolved)
+        and ``margin_z_local`` (the margin the local test needs) when it
+        did not. Step 2:
+        ``stuck_stretch_gain`` (each mostly stuck curve's factor to the
+        stuck reference below ``LOW_STRETCH`` (0.6) times the stuck
+        resonance, where both are stuck) and ``verdict_without_gains``
+        (whether the verdict holds with the factors that stand out of the
+        noise removed; if not, "undecided" with an ``hf.DataWarning``).
 
     Raises
     ------
@@ -623,6 +932,7 @@ def choose_contact_model(
     corr = max(2.0 * width, spacing)
     min_overlap = max(10, n_grid // 10)
     worst = None
+    pairs: list[tuple[float, int, int]] = []
     for g, gr in zip(groups, group_ratio, strict=True):
         best = None
         for a in range(len(g)):
@@ -635,6 +945,7 @@ def choose_contact_model(
                 if s is None:
                     continue
                 ind["n_pairs"] += 1
+                pairs.append((gr, ia, ib))
                 if best is None or s > best[0]:
                     best = (
                         s,
@@ -695,6 +1006,43 @@ def choose_contact_model(
                 "and step 2 uses the highest normal load of each ratio."
                 if roughness
                 else "depend on Fex/Fn only: no roughness effects."
+            )
+        if abs(margin) >= MARGIN_Z:
+            bias = [
+                smoothing_bias(w, y, grid, width, nz)
+                for (w, y), nz in zip(samples, noise, strict=True)
+            ]
+        if margin >= MARGIN_Z:
+            _check_gain(
+                ind,
+                text,
+                missing,
+                unclear,
+                recs,
+                grid,
+                smoothed,
+                sd,
+                chord,
+                bias,
+                pairs,
+                threshold,
+                corr,
+                min_overlap,
+            )
+        elif margin <= -MARGIN_Z:
+            _check_local(
+                ind,
+                text,
+                missing,
+                recs,
+                grid,
+                smoothed,
+                sd,
+                chord,
+                bias,
+                pairs,
+                threshold,
+                corr,
             )
     ind["roughness"] = roughness
 
@@ -861,6 +1209,12 @@ def choose_contact_model(
     # needs grows with the number of independent stretches searched
     stretches = {"below": 0.0, "above": 0.0}
     evidence["mostly_stuck"] = []
+    # step 2's gain check: the margins once each mostly stuck curve's gain
+    # relative to the reference (read on the stuck stretch) is removed
+    ind["stuck_stretch_gain"] = {}
+    gains_seen: list[tuple[float, float]] = []
+    margin_g = {"below": -math.inf, "above": -math.inf}
+    out_gain = {"below": -math.inf, "above": -math.inf}
     for c in mostly if w_ref is not None else []:
         y = c["curve"]
         ok = np.isfinite(y) & np.isfinite(ref)
@@ -883,6 +1237,42 @@ def choose_contact_model(
         ratio_m[ok] = (excess[ok] + bound[ok] - excess_threshold) / unit[ok]
         out_m = np.full(grid.shape, -np.inf)
         out_m[ok] = (excess[ok] - bound[ok] - excess_threshold) / unit[ok]
+        # the same margins with the curve's gain relative to the reference
+        # removed, the gain read far below the resonance where both are stuck
+        ratio_g, out_g = ratio_m, out_m
+        low = ok & (grid < LOW_STRETCH * w_ref)
+        n_low = np.count_nonzero(low) * (grid[1] - grid[0]) / corr
+        if n_low >= 1.0:
+            g_log = float(np.median(y[low] - ref[low]))
+            g_unit = float(np.median(np.hypot(c["sd"][low], ref_sd[low])))
+            ind["stuck_stretch_gain"][c["ratio"]] = math.exp(g_log)
+            if abs(g_log) > MARGIN_Z * g_unit / math.sqrt(n_low):
+                gains_seen.append((c["ratio"], math.exp(g_log)))
+                yg = y - g_log
+                excess_g = np.full(grid.shape, -np.inf)
+                excess_g[ok] = (np.exp(yg[ok]) - np.exp(ref[ok])) / math.exp(
+                    top - g_log
+                )
+                unit_g = np.full(grid.shape, np.inf)
+                unit_g[ok] = np.hypot(
+                    np.exp(yg[ok]) * c["sd"][ok], np.exp(ref[ok]) * ref_sd[ok]
+                ) / math.exp(top - g_log)
+                bound_g = np.zeros(grid.shape)
+                bound_g[ok] = (
+                    np.exp(yg[ok]) * c["chord"][ok] + np.exp(ref[ok]) * ref_chord[ok]
+                ) / math.exp(top - g_log)
+                ratio_g = np.full(grid.shape, -np.inf)
+                ratio_g[ok] = (excess_g[ok] + bound_g[ok] - excess_threshold) / unit_g[
+                    ok
+                ]
+                out_g = np.full(grid.shape, -np.inf)
+                out_g[ok] = (excess_g[ok] - bound_g[ok] - excess_threshold) / unit_g[ok]
+        for side, mask in (("below", grid < w_ref), ("above", grid >= w_ref)):
+            if np.any(mask & ok):
+                m = float(np.max(np.where(mask & ok, ratio_g, -np.inf)))
+                margin_g[side] = max(margin_g[side], m)
+                m = float(np.max(np.where(mask & ok, out_g, -np.inf)))
+                out_gain[side] = max(out_gain[side], m)
         for side, mask in (("below", grid < w_ref), ("above", grid >= w_ref)):
             if not np.any(mask & ok):
                 continue
@@ -1006,6 +1396,29 @@ def choose_contact_model(
                     "cannot tell whether the mostly stuck peaks leave the stuck "
                     "envelope"
                 )
+    if model != "undecided" and gains_seen:
+        # a verdict must not hang on a gain between the mostly stuck curves
+        # and the stuck reference: read again with the gains removed
+        if model == "microslip":
+            holds = out_gain["below"] >= z_leave["below"]
+        else:
+            holds = (
+                margin_g["below"] <= -MARGIN_Z
+                and margin_g["above"] <= -MARGIN_Z
+                and out_gain["above"] < z_leave["above"]
+            )
+        ind["verdict_without_gains"] = holds
+        if not holds:
+            listed = ", ".join(f"{g:.4g} at Fex/Fn = {r:.3g}" for r, g in gains_seen)
+            reason = (
+                "the mostly stuck curves differ from the stuck reference by a "
+                f"uniform factor below {LOW_STRETCH:g} times the stuck resonance, "
+                f"where both are stuck ({listed}): a gain (calibration) "
+                f"difference, and with it removed step 2 does not read {model}; "
+                "check the calibration of force and response"
+            )
+            missing.append(reason)
+            warnings.warn("choose_contact_model: " + reason, DataWarning, stacklevel=2)
     if model == "undecided" and not missing and not unclear:
         # no verdict leaves without its reason (stop 31: a stuck_frequency
         # below the band ended in "Verdict: undecided" and no reason)

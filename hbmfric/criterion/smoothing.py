@@ -379,3 +379,63 @@ def smoothed_noise(
     var = np.asarray(c.multiply(c).sum(axis=1)).ravel()
     out[inside] = sigma * np.sqrt(var[inside])
     return out
+
+
+#: a change of the smoothed curve, when the window is halved, within this
+#: many of its own noise's standard deviations is read as noise
+#: (:func:`smoothing_bias`)
+SMOOTHING_BIAS_NOISE_Z = 3.0
+
+
+def smoothing_bias(
+    omega: np.ndarray,
+    log_amp: np.ndarray,
+    grid: np.ndarray,
+    half_width: float,
+    noise: float = 0.0,
+) -> np.ndarray:
+    """Estimated bias of :func:`smooth_grid` at ``half_width``: the change
+    of the smoothed curve when the half width is halved, less
+    ``SMOOTHING_BIAS_NOISE_Z`` standard deviations of that change's noise.
+
+    Where the window is narrow against the curve's features the change is
+    small; on a resonance peak narrower than the window (a fully stuck or
+    fully sliding curve of a lightly damped structure smoothed over 5 % of
+    the band) it is the part of the peak the smoother flattens, which
+    differs from one sampling of the curve to the next (the samples on the
+    flanks then lie below the flattened curve and some are dropped as
+    dips). The criterion compares curves point by point only where this
+    is small (:func:`hbmfric.criterion.choose_contact_model`, step 1's
+    local test).
+
+    Parameters
+    ----------
+    omega, log_amp : ndarray, shape (n,)
+        Samples (increasing ``omega``) and their log amplitudes.
+    grid : ndarray, shape (n_grid,)
+        Uniform common grid.
+    half_width : float
+        Smoothing half width (unit of ``omega``); ``<= 0``: no smoothing,
+        no bias.
+    noise : float, default 0
+        Standard deviation of the samples' log-amplitude noise.
+
+    Returns
+    -------
+    ndarray, shape (n_grid,)
+        Non-negative; NaN outside the sampled range.
+    """
+    base = interp_log(omega, log_amp, grid)
+    if half_width <= 0.0:
+        return np.where(np.isfinite(base), 0.0, np.nan)
+    full = smooth_grid(grid, base, half_width)
+    half = smooth_grid(grid, base, 0.5 * half_width)
+    with np.errstate(invalid="ignore"):
+        change = np.abs(half - full)
+        if noise > 0.0:
+            sd_full = smoothed_noise(omega, grid, half_width, noise)
+            sd_half = smoothed_noise(omega, grid, 0.5 * half_width, noise)
+            sd = np.sqrt(np.maximum(sd_half**2 - sd_full**2, 0.0))
+            change = np.maximum(change - SMOOTHING_BIAS_NOISE_Z * sd, 0.0)
+    change[~np.isfinite(full)] = np.nan
+    return change
