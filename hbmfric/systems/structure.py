@@ -545,9 +545,20 @@ class LinearStructure:
     def with_contact(
         self, contact: ContactLaw | None, contact_dof: int | str | None = None
     ) -> LinearStructure:
-        """The same structure with another contact (on the same DOF unless
-        ``contact_dof`` is given; a :class:`~hbmfric.ReducedStructure`
-        stays one, with its transformation and valid range)."""
+        """The same structure with another contact law (on the same DOF, or
+        between the same DOFs, unless ``contact_dof`` is given; a
+        :class:`~hbmfric.ReducedStructure` stays one, with its
+        transformation and valid range). ``None``: the linear structure,
+        without any contact.
+
+        Raises
+        ------
+        ValueError
+            ``contact`` is not a contact law, or the structure has several
+            contacts (``contacts=``: say which law goes where by building
+            it again), or ``contact_dof`` is given for a contact between
+            two DOFs or a 2D element.
+        """
         new = object.__new__(type(self))
         new.__dict__.update(self.__dict__)
         new._names = dict(self._names)
@@ -556,6 +567,33 @@ class LinearStructure:
                 "contact must be a contact law such as hf.Jenkins, or None, got "
                 f"{type(contact).__name__}"
             )
+        placed = self.contacts or ()
+        if contact is not None and len(placed) > 1:
+            # the others were dropped without a word (stop 35)
+            raise ValueError(
+                f"the structure has {len(placed)} contacts: with_contact replaces "
+                "the law of one; build it again with contacts=[hf.Contact(law, "
+                "dof, other=...), ...] (or with_contact(None) for the linear "
+                "structure)"
+            )
+        if contact is not None and len(placed) == 1:
+            c = placed[0]
+            joined = (c.other, c.normal, c.normal_other) != (None, None, None)
+            if contact_dof is None:
+                # keep where it acts: a contact between two DOFs became one
+                # to ground on the first of them (stop 35)
+                try:
+                    one = Contact(contact, c.dof, c.other, c.normal, c.normal_other)
+                except (TypeError, ValueError) as exc:
+                    raise ValueError(f"with_contact: {exc}") from None
+                new.contact, new.contacts = contact, (one,)
+                return new
+            if joined:
+                raise ValueError(
+                    "contact_dof moves a contact to ground; this structure's "
+                    "contact acts between DOFs (or is a 2D element): build it "
+                    "again with contacts=[hf.Contact(law, dof, other=...)]"
+                )
         new.contact = contact
         new.contacts = None
         if contact_dof is not None:
