@@ -58,6 +58,15 @@ class FRFRecord:
         :meth:`from_branch` gives ``"rad/s"``); None: not stated.
         :func:`~hbmfric.criterion.choose_contact_model` refuses a family
         whose records state different units.
+    gaps : sequence of (float, float), optional
+        Frequency intervals ``(low, high)`` inside the record's range where
+        it has no data although its samples lie on both sides (a computed
+        branch that did not cover its band, :attr:`hbmfric.Branch.gaps`;
+        :meth:`from_branch` fills it), in the unit of ``omega``. The
+        criterion joins the samples across them by a straight line, which
+        misses a resonance there:
+        :func:`~hbmfric.criterion.choose_contact_model` warns
+        (:class:`~hbmfric.CoverageWarning`).
 
     Raises
     ------
@@ -73,6 +82,7 @@ class FRFRecord:
     amplitude: np.ndarray
     label: str = ""
     omega_unit: str | None = None
+    gaps: tuple = ()
 
     def __post_init__(self) -> None:
         force = finite_float("force", self.force, low=0.0, low_open=True)
@@ -113,6 +123,7 @@ class FRFRecord:
                     f"omega_unit must be None, 'rad/s' or 'Hz', got {unit!r}"
                 )
             object.__setattr__(self, "omega_unit", known[unit.strip().lower()])
+        object.__setattr__(self, "gaps", _gaps(self.gaps, omega))
 
     @property
     def ratio(self) -> float:
@@ -166,9 +177,30 @@ class FRFRecord:
             amp = dense.amplitude(harmonic=harmonic, dof=dof)
         # a branch through folds has repeated abscissae: keep the first point
         _, keep = np.unique(omega, return_index=True)
+        # the parts of the band no piece covers, between the first and the
+        # last sample: the record would join its samples across them (stop
+        # 35: a family of branches that missed their resonances read
+        # "undecided: add values of Fex/Fn", for another reason)
+        w = omega[keep]
+        gaps = tuple((lo, hi) for lo, hi in branch.gaps if lo > w[0] and hi < w[-1])
         return cls(
-            branch.force, normal_load, omega[keep], amp[keep], omega_unit="rad/s"
+            branch.force, normal_load, w, amp[keep], omega_unit="rad/s", gaps=gaps
         )
+
+
+def _gaps(value, omega: np.ndarray) -> tuple:
+    """``gaps`` of a record checked: pairs ``low < high`` of finite
+    numbers, sorted, as a tuple of float pairs."""
+    try:
+        pairs = [(float(lo), float(hi)) for lo, hi in value]
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"gaps must be a sequence of (low, high) pairs, got {value!r}"
+        ) from None
+    for lo, hi in pairs:
+        if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+            raise ValueError(f"a gap must be finite with low < high, got ({lo}, {hi})")
+    return tuple(sorted(pairs))
 
 
 def _vector(name: str, value) -> np.ndarray:
@@ -253,6 +285,11 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
     Separator: a comma, or a semicolon or tab when the header has no comma
     (numbers must use a decimal point either way). A quoted field cannot
     span lines.
+
+    A file written by :meth:`hbmfric.study.StudyResult.to_csv` with
+    ``<stem>.partial.csv`` beside it (the sets whose branch did not cover
+    the band) gives those curves their :attr:`FRFRecord.gaps`, so that
+    :func:`~hbmfric.criterion.choose_contact_model` says so.
 
     Returns
     -------
@@ -373,6 +410,7 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
         raise ValueError(f"{path}: no data rows")
     if delimiter == ",":
         _warn_hidden_decimal_commas(path, header, index, numeric, rows)
+    gaps = _partial_gaps(path) if "curve" in index else {}
     records = []
     for key, c in curves.items():
         try:
@@ -384,11 +422,45 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
                     c["a"],
                     label=key,
                     omega_unit=omega_unit,
+                    gaps=_inside(gaps.get(key, ()), c["w"]),
                 )
             )
         except ValueError as err:
             raise ValueError(f"{path}: curve {key!r}: {err}") from None
     return records
+
+
+_SPAN = re.compile(r"\[\s*([^,\]]+?)\s*,\s*([^\]]+?)\s*\]")
+
+
+def _partial_gaps(path: Path) -> dict[str, list]:
+    """The gaps of the curves listed in ``<stem>.partial.csv`` beside
+    ``path`` (written by :meth:`hbmfric.study.StudyResult.to_csv` for the
+    sets whose branch did not cover the band): curve label (the study's run
+    index) → ``[(low, high), ...]``; empty when there is no such file."""
+    side = path.with_name(path.stem + ".partial.csv")
+    if not side.is_file():
+        return {}
+    out: dict[str, list] = {}
+    with open(side, newline="", encoding="utf-8") as fh:
+        for n, row in enumerate(csv.reader(fh), start=1):
+            if n == 1 or not row or not row[0].strip():
+                continue
+            try:
+                spans = [(float(a), float(b)) for a, b in _SPAN.findall(row[-1])]
+            except ValueError:
+                raise ValueError(
+                    f"{side}: line {n}: gaps must be [low, high] pairs, got {row[-1]!r}"
+                ) from None
+            out[row[0].strip()] = spans
+    return out
+
+
+def _inside(gaps, omega) -> tuple:
+    """The gaps that lie between the first and the last of ``omega``
+    (a gap at an end of the band only shortens the record)."""
+    lo, hi = min(omega), max(omega)
+    return tuple((a, b) for a, b in gaps if a > lo and b < hi)
 
 
 _INTEGER = re.compile(r"[-+]?\d+")
