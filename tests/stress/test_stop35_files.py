@@ -1,0 +1,174 @@
+"""Stress rows for stop 35 (hunt37): an FE engineer's own files and studies.
+
+* Fine beam meshes in SI units (translations and rotations): accepted,
+  their first three natural frequencies against the Euler–Bernoulli
+  cantilever (closed form) and against the same beam in mm–tonne units;
+  the clamped beam is not taken for a free-floating one, the free beam
+  is. On main the meshes with elements of 0.2 mm and less were refused as
+  "not positive definite", and ``condensation._singular`` called the
+  clamped 50-element 1 cm beam singular.
+* The same beams condensed with a static load (harmonic 0) against the
+  full solve.
+* ``scipy.sparse.save_npz`` files (every format, M, K and C) against the
+  dense matrices.
+* ``with_contact`` on a relative contact, law by law, against the
+  structure built directly (main put the new law to ground).
+* A study traced with few steps: every incomplete set listed with its
+  gaps, read back by ``read_frfs`` into ``FRFRecord.gaps``, and the
+  criterion warns; the complete branch's peak lies in a gap.
+
+Run with ``python -m pytest -m stress tests/stress/test_stop35_files.py``.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+import hbmfric as hf
+from hbmfric.condensation import _singular
+from hbmfric.criterion import choose_contact_model, read_frfs
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from test_hunt_fe_units import RHO, B, E, T, beam, to_mm_tonne  # noqa: E402
+
+pytestmark = pytest.mark.stress
+
+MESHES = [(50, 0.01), (40, 0.004), (100, 0.02), (200, 0.04), (20, 0.001), (60, 0.5)]
+BETA_L = np.array([1.875104069, 4.694091133, 7.854757438])
+
+
+def _exact(length):
+    ei, rho_a = E * B * T**3 / 12.0, RHO * B * T
+    return BETA_L**2 / (2 * math.pi) * math.sqrt(ei / (rho_a * length**4))
+
+
+@pytest.mark.parametrize("n_el, length", MESHES)
+def test_fine_mesh_frequencies_and_regular_stiffness(n_el, length):
+    M, K = beam(n_el, length)
+    f = hf.LinearStructure(M, K, modal_damping=0.01).natural_frequencies(3)
+    np.testing.assert_allclose(f, _exact(length), rtol=1e-4)
+    f_mm = hf.LinearStructure(*to_mm_tonne(M, K)).natural_frequencies(3)
+    np.testing.assert_allclose(f_mm, f, rtol=1e-5)  # SI rounds at 5e-7 (200 el.)
+    assert not _singular(K)
+    assert _singular(beam(n_el, length, clamped=False)[1])
+
+
+@pytest.mark.parametrize("n_el, length", [(50, 0.01), (20, 0.001)])
+def test_condensed_with_a_mean_against_full(n_el, length):
+    M, K = beam(n_el, length)
+    tip = M.shape[0] - 2
+    k_tip = 3 * E * B * T**3 / 12.0 / length**3
+    s = hf.LinearStructure(
+        M,
+        K,
+        modal_damping=0.01,
+        contact=hf.Jenkins(0.25 * k_tip, 2.0),
+        contact_dof=tip,
+        load={tip: 1.0},
+        static_load={tip: 0.5},
+    )
+    w1 = 2 * math.pi * s.natural_frequencies(1)[0]
+    for omega in (0.9 * w1, 1.02 * w1, 1.2 * w1):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", hf.AccuracyWarning)
+            c = hf.periodic_solution(s, 3.0, omega, harmonics=3, condense=True)
+            f = hf.periodic_solution(s, 3.0, omega, harmonics=3, condense=False)
+        a, b = c.coefficients[tip], f.coefficients[tip]
+        assert np.max(np.abs(a - b)) <= 1e-5 * np.max(np.abs(b))
+
+
+@pytest.mark.parametrize("fmt", ["csr", "csc", "coo", "bsr", "dia", "lil", "dok"])
+def test_save_npz_matrices(tmp_path, fmt):
+    M, K = beam(10, 0.2)
+    C = 1e-4 * K + 0.5 * M
+    for name, a in (("M", M), ("K", K), ("C", C)):
+        try:
+            sp.save_npz(tmp_path / f"{name}.npz", sp.csr_matrix(a).asformat(fmt))
+        except NotImplementedError:
+            pytest.skip(f"scipy does not save {fmt}")
+    s = hf.LinearStructure.from_files(
+        tmp_path / "M.npz", tmp_path / "K.npz", tmp_path / "C.npz"
+    )
+    m, c, k = s.matrices()
+    np.testing.assert_array_equal(m, M)
+    np.testing.assert_array_equal(k, K)
+    np.testing.assert_allclose(c, C, rtol=0, atol=1e-15 * np.max(np.abs(C)))
+
+
+N = 5
+K5 = 1e4 * (2 * np.eye(N) - np.eye(N, k=1) - np.eye(N, k=-1))
+K5[-1, -1] = 1e4
+LAWS = {
+    "jenkins": hf.Jenkins(5e3, 0.3),
+    "menq": hf.Menq.from_stiffness(5e3, 0.3),
+    "iwan": hf.Iwan((2e3, 3e3), (0.1, 0.3)),
+}
+
+
+@pytest.mark.parametrize("name", [k for k, v in LAWS.items() if v is not None])
+def test_with_contact_relative(name):
+    def chain(law):
+        return hf.LinearStructure(
+            0.1 * np.eye(N),
+            K5,
+            modal_damping=0.01,
+            load={0: 1.0},
+            contacts=[hf.Contact(law, 2, other=4)],
+        )
+
+    old, new = hf.Jenkins(5e3, 1.0), LAWS[name]
+    swapped, direct = chain(old).with_contact(new), chain(new)
+    w1 = 2 * math.pi * direct.natural_frequencies(1)[0]
+    for omega in (0.9 * w1, 1.05 * w1):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", hf.AccuracyWarning)
+            a = hf.periodic_solution(swapped, 1.0, omega, harmonics=5)
+            b = hf.periodic_solution(direct, 1.0, omega, harmonics=5)
+        np.testing.assert_allclose(a.coefficients, b.coefficients, atol=1e-12)
+
+
+def _build(p):
+    return hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(3.0, 0.3 * p["normal_load"]))
+
+
+@pytest.mark.parametrize("max_steps", [40, 60, 120, 200])
+def test_study_gaps_reach_the_criterion(tmp_path, max_steps):
+    grid = hf.grid(force=[0.02, 0.2, 2.0], normal_load=[1.0, 10.0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        short = hf.study(
+            _build, grid, (0.5, 3.0), executor="serial", max_steps=max_steps
+        )
+        full = hf.study(_build, grid, (0.5, 3.0), executor="serial")
+    path = short.to_csv(tmp_path / "f.csv")
+    records = read_frfs(path)
+    inner = 0
+    for r, run, ref in zip(records, short.runs, full.runs, strict=True):
+        gaps = [
+            (lo, hi)
+            for lo, hi in run.branch.gaps
+            if lo > run.branch.omega.min() and hi < run.branch.omega.max()
+        ]
+        assert len(r.gaps) == len(gaps)
+        for (lo, hi), (a, b) in zip(r.gaps, gaps, strict=True):
+            assert lo == pytest.approx(a, rel=1e-11)
+            assert hi == pytest.approx(b, rel=1e-11)
+            assert not np.any((r.omega > lo) & (r.omega < hi))
+        inner += bool(gaps)
+        peak = ref.branch.omega[np.argmax(ref.branch.amplitude())]
+        if gaps and not run.branch.complete:
+            covered = [(run.branch.omega.min(), run.branch.omega.max())]
+            assert covered  # the peak is either in a gap or sampled
+            in_gap = any(lo < peak < hi for lo, hi in gaps)
+            near = np.min(np.abs(run.branch.omega - peak)) < 1e-2
+            assert in_gap or near
+    if inner:
+        with pytest.warns(hf.CoverageWarning, match="records have gaps"):
+            choose_contact_model(records)
