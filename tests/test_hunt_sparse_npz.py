@@ -46,3 +46,17 @@ def test_zero_based_matrix_market_names_the_file(tmp_path):
     )
     with pytest.raises(ValueError, match=r"zero\.mtx.*count from 1"):
         hf.read_matrix(path)
+
+
+@pytest.mark.parametrize("triangle", [np.triu, np.tril])
+def test_one_triangle_in_a_mat_file_is_named(tmp_path, triangle):
+    import scipy.io
+
+    path = tmp_path / "model.mat"
+    scipy.io.savemat(path, {"M": 0.1 * np.eye(3), "K": sp.csc_matrix(triangle(K))})
+    with pytest.raises(ValueError, match="holds only its (upper|lower) triangle"):
+        hf.LinearStructure.from_file(path)
+    # expanded as the message says: the symmetric matrix
+    half = hf.read_matrix(path, "K")
+    full = half + half.T - np.diag(np.diag(half))
+    np.testing.assert_array_equal(full, K)

@@ -65,7 +65,7 @@ def _square(label: str, value, n: int | None = None) -> np.ndarray:
     if asym > SYMMETRY_TOL * max(scale, 1e-300):
         raise ValueError(
             f"{label} must be symmetric; max |A - Aᵀ| = {asym:.3g} "
-            f"(max |A| = {scale:.3g})"
+            f"(max |A| = {scale:.3g}){_asymmetry_hint(a, asym, scale)}"
         )
     return np.ascontiguousarray(0.5 * (a + a.T))
 
@@ -103,6 +103,26 @@ def _positive_definite(label: str, a: np.ndarray) -> None:
             "to a unit diagonal its smallest eigenvalue is "
             f"{eig[0]:.3g} (largest {eig[-1]:.3g})"
         )
+
+
+def _asymmetry_hint(a: np.ndarray, asym: float, scale: float) -> str:
+    """What a non-symmetric matrix from a file most often is: one triangle
+    of a symmetric matrix (FE codes store one; a dense copy of it has zeros
+    in the other), or a symmetric matrix with rounding."""
+    lower, upper = np.tril(a, -1), np.triu(a, 1)
+    for held, empty in (("upper", lower), ("lower", upper)):
+        if not np.any(empty) and np.any(a - np.diag(np.diag(a))):
+            return (
+                f": it holds only its {held} triangle (the storage of a "
+                "symmetric matrix by FE codes); expand it first, A + Aᵀ - "
+                "diag(diag(A))"
+            )
+    if asym <= 1e-6 * scale:
+        return (
+            ": nearly symmetric; if that is rounding (a matrix computed in "
+            "single precision, or printed with few digits), pass (A + Aᵀ) / 2"
+        )
+    return ""
 
 
 def _semidefinite(label: str, a: np.ndarray, strict: bool) -> np.ndarray:
