@@ -167,16 +167,34 @@ class FRFRecord:
             between computed points, so that the criterion, which joins a
             record's samples by straight lines, follows the branch between
             its points; None: the computed points alone.
+
+        Notes
+        -----
+        A branch through folds has several amplitudes at one frequency; the
+        record keeps, per traced piece, what a sweep along the path
+        measures: the points beyond the highest frequency reached so far
+        (a piece traced downwards: below the lowest), so that the sheet
+        between two folds is left out and the curve jumps at the fold, as
+        a measured sweep does. Where pieces overlap, the first one's
+        points are kept.
         """
         if resample is None:
             omega = np.asarray(branch.omega, dtype=np.float64)
             amp = branch.amplitude(harmonic=harmonic, dof=dof)
+            parts = branch.piece_slices()
         else:
-            dense = branch.resample(resample)
+            from .._validate import positive_int
+
+            dense, parts = branch._resample(positive_int("resample", resample))
             omega = np.asarray(dense.omega, dtype=np.float64)
             amp = dense.amplitude(harmonic=harmonic, dof=dof)
-        # a branch through folds has repeated abscissae: keep the first point
-        _, keep = np.unique(omega, return_index=True)
+        # a branch through folds has several amplitudes at one frequency:
+        # sorted by frequency its sheets interleaved (stop 35: a Duffing
+        # branch with two folds gave a record whose slope changed sign 1654
+        # times between them); keep what a sweep along the path measures
+        sweep = np.nonzero(_swept(omega, parts))[0]
+        _, first = np.unique(omega[sweep], return_index=True)
+        keep = sweep[first]
         # the parts of the band no piece covers, between the first and the
         # last sample: the record would join its samples across them (stop
         # 35: a family of branches that missed their resonances read
@@ -186,6 +204,29 @@ class FRFRecord:
         return cls(
             branch.force, normal_load, w, amp[keep], omega_unit="rad/s", gaps=gaps
         )
+
+
+def _swept(omega: np.ndarray, parts) -> np.ndarray:
+    """Mask of the samples a sweep along each piece (slices ``parts`` of
+    ``omega``, path order) measures: those beyond every earlier sample of
+    the piece in its direction, and outside the range the earlier pieces'
+    kept samples cover."""
+    keep = np.zeros(omega.size, dtype=bool)
+    covered: list[tuple[float, float]] = []
+    for sl in parts:
+        w = omega[sl]
+        if w.size == 0:
+            continue
+        if w[-1] >= w[0]:
+            k = np.concatenate(([True], w[1:] > np.maximum.accumulate(w)[:-1]))
+        else:
+            k = np.concatenate(([True], w[1:] < np.minimum.accumulate(w)[:-1]))
+        for lo, hi in covered:
+            k &= ~((w > lo) & (w < hi))
+        keep[sl] = k
+        if k.any():
+            covered.append((float(w[k].min()), float(w[k].max())))
+    return keep
 
 
 def _gaps(value, omega: np.ndarray) -> tuple:
@@ -410,6 +451,7 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
         raise ValueError(f"{path}: no data rows")
     if delimiter == ",":
         _warn_hidden_decimal_commas(path, header, index, numeric, rows)
+    _warn_turning_rows(path, curves)
     gaps = _partial_gaps(path) if "curve" in index else {}
     records = []
     for key, c in curves.items():
@@ -461,6 +503,71 @@ def _inside(gaps, omega) -> tuple:
     (a gap at an end of the band only shortens the record)."""
     lo, hi = min(omega), max(omega)
     return tuple((a, b) for a, b in gaps if a > lo and b < hi)
+
+
+#: most turns in frequency, in file order, a curve's rows may make to be
+#: read as sweeps through folds (more: rows in no particular order)
+MAX_TURNS = 8
+
+
+def _warn_turning_rows(path: Path, curves: dict) -> None:
+    """A :class:`~hbmfric.DataWarning` for a curve whose rows, in file
+    order, run up and down in frequency over a common range a few times,
+    each run at least 3 rows: several amplitudes at one frequency (a
+    computed branch through folds, written in path order, or a sweep up
+    and a sweep down under one label). Sorted by frequency the sheets
+    interleave and the curve zigzags between them (stop 35: a Duffing
+    branch with two folds)."""
+    for key, c in curves.items():
+        w = np.asarray(c["w"], dtype=np.float64)
+        step = np.sign(np.diff(w))
+        step = step[step != 0]
+        turns = np.nonzero(step[1:] != step[:-1])[0]
+        if not 1 <= turns.size <= MAX_TURNS:
+            continue
+        edges = np.concatenate(([0], turns + 1, [step.size]))
+        if np.min(np.diff(edges)) < 2:
+            continue  # a run of fewer than 3 rows: unordered rows or noise
+        runs = _runs(w)
+        overlap = []
+        for i, a in enumerate(runs):
+            for b in runs[i + 1 :]:
+                lo, hi = max(a.min(), b.min()), min(a.max(), b.max())
+                # both runs sampled inside the common range: two sheets
+                if all(np.any((r > lo) & (r < hi)) for r in (a, b)):
+                    overlap.append((lo, hi))
+        if not overlap:
+            continue
+        lo = min(o[0] for o in overlap)
+        hi = max(o[1] for o in overlap)
+        warnings.warn(
+            f"{path}: curve {key!r}: its rows turn back in frequency "
+            f"{turns.size} time(s) in file order and give several amplitudes "
+            f"between {lo:.6g} and {hi:.6g} (a computed branch through folds, "
+            "or a sweep up and a sweep down under one name); sorted by "
+            "frequency into one record, the sheets interleave. Give each sweep "
+            "its own curve, or build the record with FRFRecord.from_branch "
+            "(which keeps what a sweep measures)",
+            DataWarning,
+            stacklevel=3,
+        )
+
+
+def _runs(w: np.ndarray) -> list[np.ndarray]:
+    """The monotonic runs of ``w`` (file order), a turn point belonging to
+    both runs it joins."""
+    runs = []
+    start, direction = 0, 0
+    for i in range(1, w.size):
+        d = np.sign(w[i] - w[i - 1])
+        if d == 0:
+            continue
+        if direction and d != direction:
+            runs.append(w[start:i])
+            start = i - 1
+        direction = d
+    runs.append(w[start:])
+    return runs
 
 
 _INTEGER = re.compile(r"[-+]?\d+")
