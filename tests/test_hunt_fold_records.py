@@ -7,7 +7,8 @@ slope changed sign 1654 times between the folds). The study's CSV of such
 a branch, read by ``read_frfs``, did the same without a word. Reference:
 the one-term harmonic balance of the Duffing oscillator (closed form),
 whose largest root a sweep up measures between the folds and whose
-smallest a sweep down measures.
+smallest a sweep down measures (at Ω = 1.4 the record of the sweep up read
+0.325 on main (the lower sheet), the one-term roots are 0.325, 1.425, 1.727, the branch 1.707).
 """
 
 from __future__ import annotations
@@ -53,11 +54,11 @@ def test_record_keeps_what_a_sweep_measures(branches, side):
     r = FRFRecord.from_branch(branch, 1.0)
     slope = np.sign(np.diff(r.amplitude))
     assert np.count_nonzero(np.diff(slope[slope != 0])) <= 1  # one peak
-    roots = one_term_roots(1.8)
+    roots = one_term_roots(1.4)  # upper and middle sheets 21 % apart
     assert roots.size == 3  # between the folds
     want = roots[-1] if side == "up" else roots[0]
-    got = np.interp(1.8, r.omega, r.amplitude)
-    assert got == pytest.approx(want, rel=0.05)
+    got = np.interp(1.4, r.omega, r.amplitude)
+    assert got == pytest.approx(want, rel=0.03)  # H = 7 against one term: 1.2 %
 
 
 def test_study_csv_of_a_folded_branch_is_said(tmp_path):
