@@ -7,8 +7,9 @@ slope changed sign 1654 times between the folds). The study's CSV of such
 a branch, read by ``read_frfs``, did the same without a word. Reference:
 the one-term harmonic balance of the Duffing oscillator (closed form),
 whose largest root a sweep up measures between the folds and whose
-smallest a sweep down measures (at Ω = 1.4 the record of the sweep up read
-0.325 on main (the lower sheet), the one-term roots are 0.325, 1.425, 1.727, the branch 1.707).
+smallest a sweep down measures (at Ω = 1.4 the record of the sweep up
+read 0.325 on main, the lower sheet; the one-term roots are 0.325, 1.425
+and 1.727, the branch's upper sheet 1.707).
 """
 
 from __future__ import annotations

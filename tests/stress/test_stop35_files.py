@@ -16,6 +16,10 @@
 * A study traced with few steps: every incomplete set listed with its
   gaps, read back by ``read_frfs`` into ``FRFRecord.gaps``, and the
   criterion warns; the complete branch's peak lies in a gap.
+* Duffing branches through two folds as records: one peak, and between
+  the folds the one-term closed form's largest root (sweep up) or
+  smallest (sweep down); ``read_frfs`` warns on rows that turn back over a
+  common range and not on sorted, reversed or shuffled rows.
 
 Run with ``python -m pytest -m stress tests/stress/test_stop35_files.py``.
 """
@@ -172,3 +176,78 @@ def test_study_gaps_reach_the_criterion(tmp_path, max_steps):
     if inner:
         with pytest.warns(hf.CoverageWarning, match="records have gaps"):
             choose_contact_model(records)
+
+
+def _roots(c, k3, f, omega):
+    d, e = 1.0 - omega**2, 0.75 * k3
+    s = np.roots([e * e, 2 * d * e, d * d + (c * omega) ** 2, -f * f])
+    s = np.sort(s[np.abs(s.imag) < 1e-9].real)
+    return np.sqrt(s[s > 0])
+
+
+@pytest.mark.parametrize("k3", [0.3, 0.5, 1.0])
+@pytest.mark.parametrize("force", [0.2, 0.3])
+@pytest.mark.parametrize("sweep", ["up", "down"])
+def test_fold_records(k3, force, sweep):
+    from hbmfric.criterion import FRFRecord
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", hf.AccuracyWarning)
+        b = hf.frf(
+            hf.Oscillator(1.0, 0.05, 1.0, hf.Cubic(k3)),
+            force,
+            (0.5, 3.5),
+            harmonics=7,
+            sweep=sweep,
+        )
+    turns = np.nonzero(np.diff(np.sign(np.diff(b.omega))))[0]
+    r = FRFRecord.from_branch(b, 1.0)
+    slope = np.sign(np.diff(r.amplitude))
+    assert np.count_nonzero(np.diff(slope[slope != 0])) <= 1
+    if turns.size < 2:
+        return
+    lo, hi = np.sort(b.omega[turns + 1])
+    # where the one-term sheets are furthest apart, inside the folds
+    grid = np.linspace(lo, hi, 41)[4:-4]
+    sep = []
+    for w in grid:
+        roots = _roots(0.05, k3, force, w)
+        sep.append((roots[-1] - roots[1]) / roots[-1] if roots.size == 3 else 0.0)
+    w = grid[int(np.argmax(sep))]
+    roots = _roots(0.05, k3, force, w)
+    assert roots.size == 3 and max(sep) > 0.1
+    want = roots[-1] if sweep == "up" else roots[0]
+    assert np.interp(w, r.omega, r.amplitude) == pytest.approx(want, rel=0.03)
+
+
+@pytest.mark.parametrize(
+    "order, warns",
+    [
+        ("sorted", False),
+        ("reversed", False),
+        ("shuffled", False),
+        ("down then up, disjoint", False),
+        ("up then down", True),
+        ("up, down, up", True),
+    ],
+)
+def test_read_frfs_turning_rows(tmp_path, order, warns):
+    w = np.linspace(1.0, 10.0, 30)
+    rows = {
+        "sorted": w,
+        "reversed": w[::-1],
+        "shuffled": np.random.default_rng(3).permutation(w),
+        "down then up, disjoint": np.r_[w[:10][::-1], w[10:]],
+        "up then down": np.r_[w, w[::-1][1:] - 0.05],
+        "up, down, up": np.r_[w[:20], w[5:19][::-1] + 0.01, w[5:] + 0.02],
+    }[order]
+    path = tmp_path / "f.csv"
+    with open(path, "w") as fh:
+        fh.write("force,normal_load,omega,amplitude\n")
+        for x in rows:
+            fh.write(f"1,1,{float(x)!r},{1.0 / (abs(float(x) - 5.0) + 0.1)!r}\n")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        read_frfs(path)
+    said = [c for c in caught if issubclass(c.category, hf.DataWarning)]
+    assert bool(said) == warns
