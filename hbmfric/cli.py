@@ -211,6 +211,11 @@ def _run(args: argparse.Namespace) -> int:
     except SceneError as exc:
         print(f"hbmfric run: {exc}", file=sys.stderr, flush=True)
         return 2
+    except MemoryError as exc:
+        # the memory guard's refusal of a model too large for the machine
+        # (with what to do): the message, not a traceback above it
+        print(f"hbmfric run: {args.scene}: {exc}", file=sys.stderr, flush=True)
+        return 2
     study = result.get("study")
     if study is not None and study.failures:
         # the others are written; a script (make, CI) must still see it

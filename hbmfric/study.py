@@ -331,10 +331,29 @@ class StudyResult:
         that NumPy, pandas and spreadsheets read as is); when some sets
         failed, they are written beside it to ``<stem>.failed.csv``
         (columns ``index``, ``parameters``, ``error``), so that the files
-        never drop a set unmarked. Returns the path of the table."""
+        never drop a set unmarked; the traced sets whose branch does not
+        cover the band (:attr:`hbmfric.Branch.gaps`, a
+        :class:`~hbmfric.CoverageWarning` when traced) to
+        ``<stem>.partial.csv`` (columns ``index``, ``parameters``,
+        ``gaps``, rad/s): the table's rows of such a set have no points in
+        its gaps, and read back (:func:`~hbmfric.criterion.read_frfs`) the
+        curve is joined across them. Returns the path of the table."""
         path = Path(path)
         t = self.table(harmonic, dof)
         names = list(t)
+        partial = path.with_name(path.stem + ".partial.csv")
+        gapped = [r for r in self.runs if r.ok and len(r.branch) and r.branch.gaps]
+        if gapped:
+            with open(partial, "w", newline="") as fh:
+                w = csv.writer(fh)
+                w.writerow(["index", "parameters", "gaps"])
+                for r in gapped:
+                    spans = " ".join(
+                        f"[{lo:.12g}, {hi:.12g}]" for lo, hi in r.branch.gaps
+                    )
+                    w.writerow([r.index, repr(r.parameters), spans])
+        elif partial.exists():
+            partial.unlink()  # from an earlier study written to the same path
         failed = path.with_name(path.stem + ".failed.csv")
         if self.failures:
             with open(failed, "w", newline="") as fh:

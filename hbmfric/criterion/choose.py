@@ -16,7 +16,7 @@ import numpy as np
 from scipy.ndimage import maximum_filter1d
 
 from .._validate import finite_float, positive_int
-from ..errors import DataWarning
+from ..errors import CoverageWarning, DataWarning
 from .records import FRFRecord
 from .smoothing import (
     interp_log,
@@ -262,6 +262,27 @@ def _check_units(pool: tuple[FRFRecord, ...]) -> None:
                     f"({b.omega[0]:.5g}-{b.omega[-1]:.5g}): one is in rad/s and "
                     "the other in Hz? Convert them to one unit"
                 )
+
+
+def _warn_gaps(pool: tuple[FRFRecord, ...]) -> None:
+    """One :class:`~hbmfric.CoverageWarning` naming the records with gaps
+    (:attr:`FRFRecord.gaps`): their samples are joined across each gap by
+    a straight line, so a resonance there is missing from every step,
+    and a verdict (or its "undecided" reason) may be about the chord."""
+    gapped = [r for r in pool if r.gaps]
+    if not gapped:
+        return
+    first = gapped[0]
+    spans = ", ".join(f"[{lo:.6g}, {hi:.6g}]" for lo, hi in first.gaps)
+    warnings.warn(
+        f"{len(gapped)} of {len(pool)} records have gaps in their data (first: "
+        f"{first.name!r}, no data in {spans}): the criterion joins their samples "
+        "across a gap by a straight line, which misses a resonance there; "
+        "trace those branches complete (hf.frf's CoverageWarning says why "
+        "they stopped) or measure there",
+        CoverageWarning,
+        stacklevel=3,
+    )
 
 
 def _groups(ratios: np.ndarray, rtol: float) -> list[list[int]]:
@@ -830,6 +851,7 @@ def choose_contact_model(
     if stuck is not None and not isinstance(stuck, FRFRecord):
         raise ValueError(f"stuck must be an FRFRecord, got {type(stuck).__name__}")
     _check_units(recs + ((stuck,) if stuck is not None else ()))
+    _warn_gaps(recs + ((stuck,) if stuck is not None else ()))
     if stuck_frequency is not None:
         stuck_frequency = finite_float(
             "stuck_frequency", stuck_frequency, low=0.0, low_open=True

@@ -58,6 +58,15 @@ class FRFRecord:
         :meth:`from_branch` gives ``"rad/s"``); None: not stated.
         :func:`~hbmfric.criterion.choose_contact_model` refuses a family
         whose records state different units.
+    gaps : sequence of (float, float), optional
+        Frequency intervals ``(low, high)`` inside the record's range where
+        it has no data although its samples lie on both sides (a computed
+        branch that did not cover its band, :attr:`hbmfric.Branch.gaps`;
+        :meth:`from_branch` fills it), in the unit of ``omega``. The
+        criterion joins the samples across them by a straight line, which
+        misses a resonance there:
+        :func:`~hbmfric.criterion.choose_contact_model` warns
+        (:class:`~hbmfric.CoverageWarning`).
 
     Raises
     ------
@@ -73,6 +82,7 @@ class FRFRecord:
     amplitude: np.ndarray
     label: str = ""
     omega_unit: str | None = None
+    gaps: tuple = ()
 
     def __post_init__(self) -> None:
         force = finite_float("force", self.force, low=0.0, low_open=True)
@@ -113,6 +123,7 @@ class FRFRecord:
                     f"omega_unit must be None, 'rad/s' or 'Hz', got {unit!r}"
                 )
             object.__setattr__(self, "omega_unit", known[unit.strip().lower()])
+        object.__setattr__(self, "gaps", _gaps(self.gaps, omega))
 
     @property
     def ratio(self) -> float:
@@ -156,19 +167,81 @@ class FRFRecord:
             between computed points, so that the criterion, which joins a
             record's samples by straight lines, follows the branch between
             its points; None: the computed points alone.
+
+        Notes
+        -----
+        A branch through folds has several amplitudes at one frequency; the
+        record keeps, per traced piece, what a sweep along the path
+        measures: the points beyond the highest frequency reached so far
+        (a piece traced downwards: below the lowest), so that the sheet
+        between two folds is left out and the curve jumps at the fold, as
+        a measured sweep does. Where pieces overlap, the first one's
+        points are kept.
         """
         if resample is None:
             omega = np.asarray(branch.omega, dtype=np.float64)
             amp = branch.amplitude(harmonic=harmonic, dof=dof)
+            parts = branch.piece_slices()
         else:
-            dense = branch.resample(resample)
+            from .._validate import positive_int
+
+            dense, parts = branch._resample(positive_int("resample", resample))
             omega = np.asarray(dense.omega, dtype=np.float64)
             amp = dense.amplitude(harmonic=harmonic, dof=dof)
-        # a branch through folds has repeated abscissae: keep the first point
-        _, keep = np.unique(omega, return_index=True)
+        # a branch through folds has several amplitudes at one frequency:
+        # sorted by frequency its sheets interleaved (stop 35: a Duffing
+        # branch with two folds gave a record whose slope changed sign 1654
+        # times between them); keep what a sweep along the path measures
+        sweep = np.nonzero(_swept(omega, parts))[0]
+        _, first = np.unique(omega[sweep], return_index=True)
+        keep = sweep[first]
+        # the parts of the band no piece covers, between the first and the
+        # last sample: the record would join its samples across them (stop
+        # 35: a family of branches that missed their resonances read
+        # "undecided: add values of Fex/Fn", for another reason)
+        w = omega[keep]
+        gaps = tuple((lo, hi) for lo, hi in branch.gaps if lo > w[0] and hi < w[-1])
         return cls(
-            branch.force, normal_load, omega[keep], amp[keep], omega_unit="rad/s"
+            branch.force, normal_load, w, amp[keep], omega_unit="rad/s", gaps=gaps
         )
+
+
+def _swept(omega: np.ndarray, parts) -> np.ndarray:
+    """Mask of the samples a sweep along each piece (slices ``parts`` of
+    ``omega``, path order) measures: those beyond every earlier sample of
+    the piece in its direction, and outside the range the earlier pieces'
+    kept samples cover."""
+    keep = np.zeros(omega.size, dtype=bool)
+    covered: list[tuple[float, float]] = []
+    for sl in parts:
+        w = omega[sl]
+        if w.size == 0:
+            continue
+        if w[-1] >= w[0]:
+            k = np.concatenate(([True], w[1:] > np.maximum.accumulate(w)[:-1]))
+        else:
+            k = np.concatenate(([True], w[1:] < np.minimum.accumulate(w)[:-1]))
+        for lo, hi in covered:
+            k &= ~((w > lo) & (w < hi))
+        keep[sl] = k
+        if k.any():
+            covered.append((float(w[k].min()), float(w[k].max())))
+    return keep
+
+
+def _gaps(value, omega: np.ndarray) -> tuple:
+    """``gaps`` of a record checked: pairs ``low < high`` of finite
+    numbers, sorted, as a tuple of float pairs."""
+    try:
+        pairs = [(float(lo), float(hi)) for lo, hi in value]
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"gaps must be a sequence of (low, high) pairs, got {value!r}"
+        ) from None
+    for lo, hi in pairs:
+        if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+            raise ValueError(f"a gap must be finite with low < high, got ({lo}, {hi})")
+    return tuple(sorted(pairs))
 
 
 def _vector(name: str, value) -> np.ndarray:
@@ -253,6 +326,11 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
     Separator: a comma, or a semicolon or tab when the header has no comma
     (numbers must use a decimal point either way). A quoted field cannot
     span lines.
+
+    A file written by :meth:`hbmfric.study.StudyResult.to_csv` with
+    ``<stem>.partial.csv`` beside it (the sets whose branch did not cover
+    the band) gives those curves their :attr:`FRFRecord.gaps`, so that
+    :func:`~hbmfric.criterion.choose_contact_model` says so.
 
     Returns
     -------
@@ -373,6 +451,8 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
         raise ValueError(f"{path}: no data rows")
     if delimiter == ",":
         _warn_hidden_decimal_commas(path, header, index, numeric, rows)
+    _warn_turning_rows(path, curves)
+    gaps = _partial_gaps(path) if "curve" in index else {}
     records = []
     for key, c in curves.items():
         try:
@@ -384,11 +464,110 @@ def read_frfs(path: str | Path) -> list[FRFRecord]:
                     c["a"],
                     label=key,
                     omega_unit=omega_unit,
+                    gaps=_inside(gaps.get(key, ()), c["w"]),
                 )
             )
         except ValueError as err:
             raise ValueError(f"{path}: curve {key!r}: {err}") from None
     return records
+
+
+_SPAN = re.compile(r"\[\s*([^,\]]+?)\s*,\s*([^\]]+?)\s*\]")
+
+
+def _partial_gaps(path: Path) -> dict[str, list]:
+    """The gaps of the curves listed in ``<stem>.partial.csv`` beside
+    ``path`` (written by :meth:`hbmfric.study.StudyResult.to_csv` for the
+    sets whose branch did not cover the band): curve label (the study's run
+    index) → ``[(low, high), ...]``; empty when there is no such file."""
+    side = path.with_name(path.stem + ".partial.csv")
+    if not side.is_file():
+        return {}
+    out: dict[str, list] = {}
+    with open(side, newline="", encoding="utf-8") as fh:
+        for n, row in enumerate(csv.reader(fh), start=1):
+            if n == 1 or not row or not row[0].strip():
+                continue
+            try:
+                spans = [(float(a), float(b)) for a, b in _SPAN.findall(row[-1])]
+            except ValueError:
+                raise ValueError(
+                    f"{side}: line {n}: gaps must be [low, high] pairs, got {row[-1]!r}"
+                ) from None
+            out[row[0].strip()] = spans
+    return out
+
+
+def _inside(gaps, omega) -> tuple:
+    """The gaps that lie between the first and the last of ``omega``
+    (a gap at an end of the band only shortens the record)."""
+    lo, hi = min(omega), max(omega)
+    return tuple((a, b) for a, b in gaps if a > lo and b < hi)
+
+
+#: most turns in frequency, in file order, a curve's rows may make to be
+#: read as sweeps through folds (more: rows in no particular order)
+MAX_TURNS = 8
+
+
+def _warn_turning_rows(path: Path, curves: dict) -> None:
+    """A :class:`~hbmfric.DataWarning` for a curve whose rows, in file
+    order, run up and down in frequency over a common range a few times,
+    each run at least 3 rows: several amplitudes at one frequency (a
+    computed branch through folds, written in path order, or a sweep up
+    and a sweep down under one label). Sorted by frequency the sheets
+    interleave and the curve zigzags between them (stop 35: a Duffing
+    branch with two folds)."""
+    for key, c in curves.items():
+        w = np.asarray(c["w"], dtype=np.float64)
+        step = np.sign(np.diff(w))
+        step = step[step != 0]
+        turns = np.nonzero(step[1:] != step[:-1])[0]
+        if not 1 <= turns.size <= MAX_TURNS:
+            continue
+        edges = np.concatenate(([0], turns + 1, [step.size]))
+        if np.min(np.diff(edges)) < 2:
+            continue  # a run of fewer than 3 rows: unordered rows or noise
+        runs = _runs(w)
+        overlap = []
+        for i, a in enumerate(runs):
+            for b in runs[i + 1 :]:
+                lo, hi = max(a.min(), b.min()), min(a.max(), b.max())
+                # both runs sampled inside the common range: two sheets
+                if all(np.any((r > lo) & (r < hi)) for r in (a, b)):
+                    overlap.append((lo, hi))
+        if not overlap:
+            continue
+        lo = min(o[0] for o in overlap)
+        hi = max(o[1] for o in overlap)
+        warnings.warn(
+            f"{path}: curve {key!r}: its rows turn back in frequency "
+            f"{turns.size} time(s) in file order and give several amplitudes "
+            f"between {lo:.6g} and {hi:.6g} (a computed branch through folds, "
+            "or a sweep up and a sweep down under one name); sorted by "
+            "frequency into one record, the sheets interleave. Give each sweep "
+            "its own curve, or build the record with FRFRecord.from_branch "
+            "(which keeps what a sweep measures)",
+            DataWarning,
+            stacklevel=3,
+        )
+
+
+def _runs(w: np.ndarray) -> list[np.ndarray]:
+    """The monotonic runs of ``w`` (file order), a turn point belonging to
+    both runs it joins."""
+    runs = []
+    start, direction = 0, 0
+    for i in range(1, w.size):
+        d = np.sign(w[i] - w[i - 1])
+        if d == 0:
+            continue
+        if direction and d != direction:
+            runs.append(w[start:i])
+            start = i - 1
+        direction = d
+    runs.append(w[start:])
+    return runs
 
 
 _INTEGER = re.compile(r"[-+]?\d+")

@@ -14,7 +14,8 @@ Formats, chosen by the file suffix:
 ``.mat`` (MATLAB, version 5 to 7.2)
     Several named variables per file, read by :func:`scipy.io.loadmat`.
 ``.npz`` / ``.npy`` (NumPy)
-    Several named arrays per file, or one.
+    Several named arrays per file, or one; or one sparse matrix written by
+    :func:`scipy.sparse.save_npz`.
 
 Sparse matrices are returned dense: the harmonic balance works on dense
 (reduced) matrices of up to a few thousand DOFs; reduce larger models first
@@ -74,7 +75,16 @@ def _read_matrix_market(path: Path) -> np.ndarray:
             f"{path} is a 'pattern' Matrix Market file: it stores the positions "
             "of the entries but no values"
         )
-    value = mmread(str(path))
+    try:
+        value = mmread(str(path))
+    except ValueError as exc:
+        # scipy's parser names neither the file nor the convention
+        # ("Line 3: Row index out of bounds" for a 0-based export)
+        raise ValueError(
+            f"{path}: not a valid Matrix Market file ({exc}); indices count "
+            "from 1 and the size line gives rows, columns and the number of "
+            "entries that follow"
+        ) from None
     if layout == "coordinate" and symmetry != "general":
         # mmread mirrors every off-diagonal entry of a symmetric file; a
         # file that already stores both triangles would be summed twice
@@ -91,6 +101,38 @@ def _read_matrix_market(path: Path) -> np.ndarray:
                 "off-diagonal terms. Write the file with the 'general' header, "
                 "or with one triangle only"
             )
+    return _dense(value, str(path))
+
+
+#: the arrays of a file written by :func:`scipy.sparse.save_npz`
+_SPARSE_NPZ = {"format", "shape", "data"}
+
+
+def _sparse_npz(path: Path) -> bool:
+    """True for a file written by :func:`scipy.sparse.save_npz` (one sparse
+    matrix, stored as its ``data``, ``indices``, ``indptr`` or ``row`` /
+    ``col``, ``shape`` and ``format`` arrays)."""
+    with np.load(path, allow_pickle=False) as data:
+        return _SPARSE_NPZ <= set(data.files)
+
+
+def _read_sparse_npz(path: Path, name: str | None) -> np.ndarray:
+    """The one matrix of a :func:`scipy.sparse.save_npz` file, dense (it was
+    refused as "holds 5 arrays (data, format, indices, indptr, shape)",
+    and ``name="data"`` gave its nonzeros as a vector)."""
+    from scipy.sparse import load_npz
+
+    if name is not None:
+        raise ValueError(
+            f"{path} holds one sparse matrix (written by scipy.sparse.save_npz), "
+            f"not named arrays: read it without a name (got {name!r}); save "
+            "several matrices in one file with numpy.savez(path, M=..., K=...) "
+            "of dense arrays, or one save_npz file per matrix"
+        )
+    try:
+        value = load_npz(path)
+    except (ValueError, KeyError, OSError) as exc:
+        raise ValueError(f"{path}: not a readable scipy.sparse file ({exc})") from None
     return _dense(value, str(path))
 
 
@@ -135,6 +177,8 @@ def read_matrix(path: str | Path, name: str | None = None) -> np.ndarray:
             raise ValueError(_V73.format(path=path)) from None
         arrays = {k: v for k, v in data.items() if not k.startswith("__")}
     elif suffix == ".npz":
+        if _sparse_npz(path):
+            return _read_sparse_npz(path, name)
         with np.load(path, allow_pickle=False) as data:
             arrays = {k: data[k] for k in data.files}
     else:
@@ -201,6 +245,13 @@ def read_matrices(
     else:
         if not path.is_file():
             raise FileNotFoundError(f"no such matrix file: {path}")
+        if _sparse_npz(path):
+            raise ValueError(
+                f"{path} holds one sparse matrix (written by "
+                "scipy.sparse.save_npz), not named mass and stiffness arrays: "
+                "read each matrix from its own file (LinearStructure.from_files, "
+                "or read_matrix)"
+            )
         with np.load(path, allow_pickle=False) as data:
             present = list(data.files)
     out = {}

@@ -65,21 +65,73 @@ def _square(label: str, value, n: int | None = None) -> np.ndarray:
     if asym > SYMMETRY_TOL * max(scale, 1e-300):
         raise ValueError(
             f"{label} must be symmetric; max |A - Aᵀ| = {asym:.3g} "
-            f"(max |A| = {scale:.3g})"
+            f"(max |A| = {scale:.3g}){_asymmetry_hint(a, asym, scale)}"
         )
     return np.ascontiguousarray(0.5 * (a + a.T))
 
 
+def _positive_definite(label: str, a: np.ndarray) -> None:
+    """ValueError unless ``a`` (a mass matrix) is positive definite.
+
+    Tested on the matrix scaled to a unit diagonal, ``D^-1/2 A D^-1/2``
+    with ``D = diag(A)``, whose eigenvalues do not depend on the units of
+    the DOFs. The eigenvalues of ``A`` itself do: a beam or shell model
+    mixes translations (entries ~ m) with rotations (~ m L²), and with
+    elements of 0.2 mm in SI units the consistent mass of a 1 cm beam has
+    eigenvalues 4.9e-11 of its largest (stop 35: refused as "not positive
+    definite", while in mm its ratio is 1e3 times larger; the same matrix
+    scaled has 0.034)."""
+    diag = np.diag(a)
+    if not np.all(diag > 0.0):
+        j = int(np.argmin(diag))
+        raise ValueError(
+            f"{label} must be positive definite (every DOF needs mass): DOF {j} "
+            f"has {label}[{j}, {j}] = {diag[j]:.3g}"
+            + (
+                " (a massless DOF, such as the rotations of a lumped mass "
+                "matrix: condense it out statically before, e.g. in the FE "
+                "code)"
+                if diag[j] == 0.0
+                else ""
+            )
+        )
+    d = 1.0 / np.sqrt(diag)
+    eig = np.linalg.eigvalsh(a * d[:, None] * d[None, :])
+    if not eig[0] > NEGATIVE_TOL * float(eig[-1]):
+        raise ValueError(
+            f"{label} must be positive definite (every DOF needs mass); scaled "
+            "to a unit diagonal its smallest eigenvalue is "
+            f"{eig[0]:.3g} (largest {eig[-1]:.3g})"
+        )
+
+
+def _asymmetry_hint(a: np.ndarray, asym: float, scale: float) -> str:
+    """What a non-symmetric matrix from a file most often is: one triangle
+    of a symmetric matrix (FE codes store one; a dense copy of it has zeros
+    in the other), or a symmetric matrix with rounding."""
+    lower, upper = np.tril(a, -1), np.triu(a, 1)
+    for held, empty in (("upper", lower), ("lower", upper)):
+        if not np.any(empty) and np.any(a - np.diag(np.diag(a))):
+            return (
+                f": it holds only its {held} triangle (the storage of a "
+                "symmetric matrix by FE codes); expand it first, A + Aᵀ - "
+                "diag(diag(A))"
+            )
+    if asym <= 1e-6 * scale:
+        return (
+            ": nearly symmetric; if that is rounding (a matrix computed in "
+            "single precision, or printed with few digits), pass (A + Aᵀ) / 2"
+        )
+    return ""
+
+
 def _semidefinite(label: str, a: np.ndarray, strict: bool) -> np.ndarray:
-    """Eigenvalues of ``a``; ValueError if it is indefinite (or singular
-    with ``strict``)."""
+    """Eigenvalues of ``a``; ValueError if it is indefinite (or not
+    positive definite with ``strict``: :func:`_positive_definite`)."""
+    if strict:
+        _positive_definite(label, a)
     eig = np.linalg.eigvalsh(a)
     top = max(float(np.max(np.abs(eig))), 1e-300)
-    if strict and not eig[0] > NEGATIVE_TOL * top:
-        raise ValueError(
-            f"{label} must be positive definite (every DOF needs mass); its "
-            f"smallest eigenvalue is {eig[0]:.3g} (largest {eig[-1]:.3g})"
-        )
     if eig[0] < -NEGATIVE_TOL * top:
         raise ValueError(
             f"{label} must be positive semi-definite; it has the negative "
@@ -513,9 +565,20 @@ class LinearStructure:
     def with_contact(
         self, contact: ContactLaw | None, contact_dof: int | str | None = None
     ) -> LinearStructure:
-        """The same structure with another contact (on the same DOF unless
-        ``contact_dof`` is given; a :class:`~hbmfric.ReducedStructure`
-        stays one, with its transformation and valid range)."""
+        """The same structure with another contact law (on the same DOF, or
+        between the same DOFs, unless ``contact_dof`` is given; a
+        :class:`~hbmfric.ReducedStructure` stays one, with its
+        transformation and valid range). ``None``: the linear structure,
+        without any contact.
+
+        Raises
+        ------
+        ValueError
+            ``contact`` is not a contact law, or the structure has several
+            contacts (``contacts=``: say which law goes where by building
+            it again), or ``contact_dof`` is given for a contact between
+            two DOFs or a 2D element.
+        """
         new = object.__new__(type(self))
         new.__dict__.update(self.__dict__)
         new._names = dict(self._names)
@@ -524,6 +587,33 @@ class LinearStructure:
                 "contact must be a contact law such as hf.Jenkins, or None, got "
                 f"{type(contact).__name__}"
             )
+        placed = self.contacts or ()
+        if contact is not None and len(placed) > 1:
+            # the others were dropped without a word (stop 35)
+            raise ValueError(
+                f"the structure has {len(placed)} contacts: with_contact replaces "
+                "the law of one; build it again with contacts=[hf.Contact(law, "
+                "dof, other=...), ...] (or with_contact(None) for the linear "
+                "structure)"
+            )
+        if contact is not None and len(placed) == 1:
+            c = placed[0]
+            joined = (c.other, c.normal, c.normal_other) != (None, None, None)
+            if contact_dof is None:
+                # keep where it acts: a contact between two DOFs became one
+                # to ground on the first of them (stop 35)
+                try:
+                    one = Contact(contact, c.dof, c.other, c.normal, c.normal_other)
+                except (TypeError, ValueError) as exc:
+                    raise ValueError(f"with_contact: {exc}") from None
+                new.contact, new.contacts = contact, (one,)
+                return new
+            if joined:
+                raise ValueError(
+                    "contact_dof moves a contact to ground; this structure's "
+                    "contact acts between DOFs (or is a 2D element): build it "
+                    "again with contacts=[hf.Contact(law, dof, other=...)]"
+                )
         new.contact = contact
         new.contacts = None
         if contact_dof is not None:
