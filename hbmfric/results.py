@@ -1071,7 +1071,9 @@ class Branch:
         does not cover its asked range (not :attr:`complete`) warns
         (:class:`~hbmfric.CoverageWarning`), naming the covered parts and
         the gaps, which the file cannot show (a period-doubled branch that
-        returned to its parent is whole where it exists: no warning)."""
+        returned to its parent or reached an end of the range is whole
+        where it exists: no warning, as from
+        :func:`hbmfric.period_doubled_branch`)."""
         import csv
 
         path = Path(path)
@@ -1102,14 +1104,21 @@ class Branch:
         cover its asked range (:attr:`complete`), for an output (``what``:
         "the CSV holds") that does not show the range itself. Silent when
         the branch does not record its range, and for a period-doubled
-        branch that returned to its parent (it exists only there)."""
+        branch that returned to its parent or reached an end of the range
+        (it exists only from its birth on)."""
         rng = self.omega_range
         if rng is None or self.complete:
             return
-        if self.info.get("born_at") is not None and self.stop_reason.startswith(
-            "returned to the period-T branch"
-        ):
-            return
+        if self.info.get("born_at") is not None:
+            from .continuation.palc import RANGE_END, RANGE_START
+
+            # a period-doubled branch exists from its birth on: it has said
+            # all it could not cover when it stopped otherwise (as
+            # period_doubled_branch warns)
+            if self.stop_reason in (RANGE_END, RANGE_START) or (
+                self.stop_reason.startswith("returned to the period-T branch")
+            ):
+                return
         import warnings
 
         from .errors import CoverageWarning

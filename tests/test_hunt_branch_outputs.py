@@ -108,9 +108,7 @@ def test_csv_rows_break_between_pieces_and_say_the_gap(two_pieces, tmp_path):
     gap = first.stop
     assert np.all(np.isnan([rows[n][gap] for n in rows.dtype.names]))
     np.testing.assert_allclose(rows["omega"][:gap], b.omega[first], rtol=1e-11)
-    np.testing.assert_allclose(
-        rows["omega"][gap + 1 :], b.omega[second], rtol=1e-11
-    )
+    np.testing.assert_allclose(rows["omega"][gap + 1 :], b.omega[second], rtol=1e-11)
     # a line through the rows never spans the gap
     w = rows["omega"]
     a, c = b.gaps[0]
