@@ -1066,7 +1066,10 @@ class Branch:
     # ------------------------------------------------------------------
     def to_csv(self, path: str | Path, dof=None) -> Path:
         """Write one DOF's FRF as CSV, the columns of ``hbmfric run``'s:
-        ``omega`` (rad/s, path order), ``amplitude`` (first-harmonic
+        ``omega`` (rad/s, path order; on a subharmonic branch such as
+        :func:`hbmfric.period_doubled_branch`'s its ``omega``, Ω/ν, and
+        ``amplitude`` that of the Ω/ν harmonic, while :meth:`plot` draws
+        against the forcing Ω), ``amplitude`` (first-harmonic
         amplitude of ``dof``, index or name, default the contact DOF, m)
         and ``truncation_error`` (the per-point estimate of the output the
         harmonic control watches; empty estimates as ``nan``).
