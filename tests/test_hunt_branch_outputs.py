@@ -138,3 +138,38 @@ def test_complete_branches_say_nothing(doubled, tmp_path):
             branch.plot()
     rows = np.genfromtxt(tmp_path / "x.csv", delimiter=",", names=True)
     assert rows.size == len(b2) and np.all(np.isfinite(rows["omega"]))
+
+
+def test_record_of_a_folded_branch_warns():
+    """A criterion record is one amplitude per frequency: sorted by Ω, the
+    samples of a Duffing branch through its two folds interleave the three
+    sheets (1-term harmonic balance: three amplitudes at Ω = 1.2, 0.046,
+    0.756, 0.774), which the criterion would join by straight lines."""
+    from hbmfric.criterion import FRFRecord
+
+    duf = hf.Oscillator(1.0, 0.02, 1.0, hf.Cubic(1.0))
+    b = hf.frf(duf, 0.02, (0.5, 2.0))
+    assert b.folds.size == 2
+    with pytest.warns(hf.AccuracyWarning, match=r"2 fold\(s\)"):
+        record = FRFRecord.from_branch(b, 1.0)
+    jumps = np.abs(np.diff(np.log(record.amplitude)))
+    assert jumps.max() > 1.0  # what the warning is about: sheet to sheet
+
+
+def test_record_of_a_branch_with_a_gap_warns(two_pieces):
+    from hbmfric.criterion import FRFRecord
+
+    with pytest.warns(hf.AccuracyWarning, match="straight line"):
+        FRFRecord.from_branch(two_pieces, 1.0)
+
+
+def test_record_of_a_plain_branch_is_quiet():
+    from hbmfric.criterion import FRFRecord
+
+    osc = hf.Oscillator(1.0, 0.02, 1.0, hf.Jenkins(3.0, 1.0))
+    for sweep in ("up", "down"):
+        b = hf.frf(osc, 0.5, (0.5, 3.0), sweep=sweep)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", hf.AccuracyWarning)
+            FRFRecord.from_branch(b, 1.0)
+            FRFRecord.from_branch(b, 1.0, resample=None)

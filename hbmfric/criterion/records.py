@@ -156,6 +156,14 @@ class FRFRecord:
             between computed points, so that the criterion, which joins a
             record's samples by straight lines, follows the branch between
             its points; None: the computed points alone.
+
+        Warns
+        -----
+        AccuracyWarning
+            When the branch turns back in Ω (folds: the record, one
+            amplitude per frequency sorted by frequency, interleaves the
+            sheets between the folds) or leaves gaps inside its span (the
+            record joins across them by a straight line).
         """
         if resample is None:
             omega = np.asarray(branch.omega, dtype=np.float64)
@@ -164,7 +172,8 @@ class FRFRecord:
             dense = branch.resample(resample)
             omega = np.asarray(dense.omega, dtype=np.float64)
             amp = dense.amplitude(harmonic=harmonic, dof=dof)
-        # a branch through folds has repeated abscissae: keep the first point
+        _warn_not_a_function(branch)
+        # repeated abscissae (a sample on a point of two pieces): keep the first
         _, keep = np.unique(omega, return_index=True)
         return cls(
             branch.force, normal_load, omega[keep], amp[keep], omega_unit="rad/s"
@@ -467,3 +476,48 @@ def write_frfs(path: str | Path, records) -> Path:
                     ]
                 )
     return path
+
+
+def _warn_not_a_function(branch) -> None:
+    """An :class:`~hbmfric.errors.AccuracyWarning` when a branch is not one
+    amplitude per Ω over a covered interval, what a record is: it turns
+    back in Ω within a piece (folds), or its pieces leave a gap between
+    them."""
+    from ..errors import AccuracyWarning
+
+    w = np.asarray(branch.omega, dtype=np.float64)
+    notes = []
+    turns = []
+    for piece in branch.piece_slices():
+        d = np.diff(w[piece])
+        d = d[d != 0.0]
+        flips = np.flatnonzero(np.sign(d[1:]) != np.sign(d[:-1]))
+        turns += [float(w[piece][1:][d != 0.0][i]) for i in flips]
+    if turns:
+        notes.append(
+            f"it turns back in Ω at {len(turns)} fold(s) (Ω = "
+            + ", ".join(f"{x:.6g}" for x in turns[:4])
+            + (", ..." if len(turns) > 4 else "")
+            + " rad/s): sorted by Ω, the record interleaves the sheets between "
+            "them"
+        )
+    if len(w):
+        inner = [
+            (a, b)
+            for a, b in getattr(branch, "gaps", [])
+            if a > w.min() and b < w.max()
+        ]
+        if inner:
+            notes.append(
+                "its pieces leave "
+                + ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in inner)
+                + " rad/s uncovered: the record joins across by a straight line"
+            )
+    if notes:
+        warnings.warn(
+            "FRFRecord.from_branch: a record holds one amplitude per frequency, "
+            "but " + "; and ".join(notes) + "; build the record from the points "
+            "of one sheet (FRFRecord(force, normal_load, omega, amplitude))",
+            AccuracyWarning,
+            stacklevel=3,
+        )

@@ -9,6 +9,9 @@
 * Incomplete branches: ``to_csv`` and ``plot`` say which part of the range
   is covered (``CoverageWarning``) and the CSV breaks between pieces (a row
   of nan). Rows: step budgets × retrace × sweep × H.
+* ``FRFRecord.from_branch`` of a branch through folds or with a gap warns
+  (the record, one amplitude per Ω, interleaved the sheets). Rows: Duffing
+  forces × H; Jenkins branches that must stay quiet.
 * Period-doubled branches: ``omega_range`` in the units of ``omega`` (no gap
   holds a point) and ``plot`` at the forcing Ω (the curve starts at the
   period doubling it was born at). Rows: two preloads × the two doublings.
@@ -101,3 +104,28 @@ def test_period_doubled_branch_range_and_plot(preload, which):
         ax = b2.plot(harmonic=1, curve="polyline")
     curves = [line.get_xdata() for line in ax.lines if line.get_marker() != "x"]
     assert curves[0][0] == pytest.approx(points[which].omega, rel=1e-4)
+
+
+@pytest.mark.parametrize("harmonics", [5, "auto"])
+@pytest.mark.parametrize("force", [0.01, 0.02, 0.04])
+def test_record_of_a_folded_branch_warns(force, harmonics):
+    from hbmfric.criterion import FRFRecord
+
+    duf = hf.Oscillator(1.0, 0.02, 1.0, hf.Cubic(1.0))
+    b = hf.frf(duf, force, (0.5, 2.5), harmonics)
+    assert b.folds.size == 2
+    with pytest.warns(hf.AccuracyWarning, match="fold"):
+        FRFRecord.from_branch(b, 1.0)
+
+
+@pytest.mark.parametrize("sweep", ["up", "down"])
+@pytest.mark.parametrize("force", [0.3, 2.0])
+@pytest.mark.parametrize("damping", [0.02, 0.002])
+def test_record_of_a_jenkins_branch_is_quiet(damping, force, sweep):
+    from hbmfric.criterion import FRFRecord
+
+    osc = hf.Oscillator(1.0, damping, 1.0, hf.Jenkins(3.0, 1.0))
+    b = hf.frf(osc, force, (0.5, 3.0), sweep=sweep)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", hf.AccuracyWarning)
+        FRFRecord.from_branch(b, 1.0)
