@@ -87,7 +87,10 @@ def period_doubled_branch(
         (rad/s; the forcing pulsation is ``2 * omega``),
         ``harmonic_numbers`` are harmonics of it; ``info["subharmonic"]``
         is 2 and ``info["born_at"]`` the forcing Ω of the period doubling.
-        ``stability()`` works as for any branch.
+        ``omega_range`` (and so ``coverage``, ``gaps``) is in the units of
+        ``omega``, half the forcing range asked for (that one is
+        ``info["forcing_omega_range"]``); ``plot()`` draws against the
+        forcing Ω. ``stability()`` works as for any branch.
 
     Raises
     ------
@@ -171,7 +174,11 @@ def period_doubled_branch(
         system,
         problem,
         {
-            "omega_range": [lo, hi],
+            # the range of the branch's own ``omega`` (the fundamental Ω/2),
+            # as every subharmonic branch records it: coverage, gaps and the
+            # arc-length metric of the tangents read it against ``omega``
+            "omega_range": list(bounds),
+            "forcing_omega_range": [lo, hi],
             "sweep": "up" if direction > 0 else "down",
             "amplitude_scale": base_scale,
             "subharmonic": 2,

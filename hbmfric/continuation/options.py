@@ -48,9 +48,12 @@ class ContinuationOptions:
         Largest step growth factor after success; factor after rejection.
     curve_tolerance : float or None
         Largest estimated distance between the branch and the straight
-        line joining two consecutive points, in the plane users draw
-        (Ω against the first-harmonic amplitude of the contact DOF, both
-        on log axes: a relative amplitude error), from the points' tangents
+        line joining two consecutive points, in the plane of Ω and the
+        first-harmonic amplitude of the contact DOF (linear axes; measured
+        relative to the amplitude, as read off a log axis; a segment drawn
+        on log-log axes is straight in the logarithms and can be several
+        times further off: :attr:`hbmfric.Branch.curve_errors`), from the
+        points' tangents
         (:func:`hbmfric.kernels.steps.arclength.chord_error`); a longer step is
         rejected and the next step is sized to keep below it. With
         ``harmonics="auto"`` the points' own estimated truncation error is

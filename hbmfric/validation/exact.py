@@ -235,6 +235,22 @@ def _first_down_crossing(func, ta: float, tb: float, n_grid: int):
         return float(func(np.array([s]))[1][0])
 
     pos = h > 0.0
+    if h[0] <= start_level and not pos[1]:
+        # the phase starts on the boundary and is outside it at the first
+        # grid point: it may have gone inside and come back within that
+        # step (a stick phase of a stiff contact entered at a velocity
+        # reversal far from the static slip load lasts 2 f_s / (k_t |ẍ|),
+        # shorter than the grid step of its stuck mode's period / 16: Jenkins
+        # k_t = 1e6 on 1 N/m at the resonance, the contact force then stayed
+        # stuck at 72 f_s with a period-map residual of 7e-16). Look inside
+        # that step on instants closing in on the start geometrically.
+        width = t[1] - t[0]
+        for k in range(1, 60):
+            s = t[0] + width * 2.0**-k
+            if s <= t[0]:
+                break
+            if f(s) > 0.0:
+                return _root(f, s, t[1])
     cross = pos[:-1] & ~pos[1:]
     dip = pos[:-1] & pos[1:] & (dh[:-1] < 0.0) & (dh[1:] > 0.0)
     if dip.size and h[0] <= start_level:
