@@ -43,6 +43,13 @@ def _points(system, omegas, harmonics):
     return sols[0].harmonic_numbers, coefficients
 
 
+def _case(n_dof: int, harmonics: int, omegas=(0.1, 0.12)):
+    """The chain of ``n_dof`` DOFs and its solutions at ``omegas``."""
+    system = _chain(n_dof)
+    omegas = np.array(omegas)
+    return (system, omegas, *_points(system, omegas, harmonics))
+
+
 def _plan(n_dof: int, harmonics: int, n_points: int, split: bool) -> float:
     n = n_dof * (2 * harmonics + 1)  # Hill's basis 0 … H of every DOF
     orders = [n] if not split else [n_dof * (harmonics + 1), n_dof * harmonics]
@@ -53,9 +60,7 @@ def _plan(n_dof: int, harmonics: int, n_points: int, split: bool) -> float:
 def test_plan_covers_the_measured_peak():
     # 24 DOFs at H = 9: Jacobians of order 456, the whole pencil (no split)
     n_dof, h = 24, 9
-    system = _chain(n_dof)
-    omegas = np.array([0.1, 0.11, 0.12])
-    hn, coef = _points(system, omegas, h)
+    system, omegas, hn, coef = _case(n_dof, h, (0.1, 0.11, 0.12))
     # compiled (or loaded from the cache) before the measure: Numba's own
     # allocations are not the problem's
     stability_of_points(
@@ -78,9 +83,7 @@ def test_plan_covers_the_measured_peak():
 
 def test_too_large_raises_before_any_jacobian(monkeypatch):
     n_dof, h = 6, 7
-    system = _chain(n_dof)
-    omegas = np.array([0.1, 0.12])
-    hn, coef = _points(system, omegas, h)
+    system, omegas, hn, coef = _case(n_dof, h)
     whole = _plan(n_dof, h, 2, split=False)
     monkeypatch.setattr(_memory, "budget", lambda: 0.9 * whole)
 
@@ -107,9 +110,7 @@ def test_split_blocks_fit_where_the_whole_would_not(monkeypatch):
     # need about a third of the whole pencil; a budget between the two plans
     # refuses only the whole
     n_dof, h = 6, 7
-    system = _chain(n_dof)
-    omegas = np.array([0.1, 0.12])
-    hn, coef = _points(system, omegas, h)
+    system, omegas, hn, coef = _case(n_dof, h)
     split = _plan(n_dof, h, 2, split=True)
     whole = _plan(n_dof, h, 2, split=False)
     assert split < 0.6 * whole
@@ -147,9 +148,7 @@ def test_a_long_hill_call_warns_before_its_eigenvalues(monkeypatch):
     # word; the estimate is checked here on a small chain with the
     # threshold lowered, before any eigenvalue solve
     n_dof, h = 6, 15
-    system = _chain(n_dof)
-    omegas = np.array([0.1, 0.12])
-    hn, coef = _points(system, omegas, h)
+    system, omegas, hn, coef = _case(n_dof, h)
     seconds = _stability.hill_seconds([(2, [n_dof * (2 * h + 1)])])
     monkeypatch.setattr(_stability, "COST_WARNING_SECONDS", 0.5 * seconds)
 

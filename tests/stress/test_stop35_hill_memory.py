@@ -18,6 +18,7 @@ import warnings
 
 import numpy as np
 import pytest
+from test_stability_memory import _chain
 
 import hbmfric as hf
 from hbmfric.stability import hill_bytes, stability_of_points
@@ -34,17 +35,6 @@ CASES = [
     (30, 15, 2, False),  # order 930: one Jacobian 6.9 MB, companion 28 MB
     (30, 15, 2, True),
 ]
-
-
-def _chain(n: int):
-    k = 2.0 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1)
-    return hf.LinearStructure(
-        mass=np.eye(n),
-        stiffness=k,
-        damping=0.01 * k + 0.01 * np.eye(n),
-        contacts=[hf.Contact(hf.Jenkins(stiffness=2.0, slip_force=0.3), n - 1)],
-        load={n - 1: 1.0},
-    )
 
 
 @pytest.mark.parametrize(("n_dof", "harmonics", "n_points", "symmetric"), CASES)
